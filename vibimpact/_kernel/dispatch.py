@@ -1,0 +1,72 @@
+"""Calls from the generic kernel into a model's functions (resolved at compile time).
+
+The kernel's functions take a ``model`` argument.  For a built-in model it is an integer
+(:data:`ROTOR` or :data:`DUFFING`) and the calls below branch to the model's functions, which
+keeps every signature free of function objects so numba can cache it on disk.  For a user
+model it is a tuple ``(rhs, switches, transition)`` of numba functions, called directly
+(compiled per process: numba cannot cache functions passed as arguments).
+"""
+from numba import types
+from numba.extending import overload
+
+from . import duffing, rotor
+
+ROTOR = 0
+DUFFING = 1
+
+
+def model_rhs(model, s, y, p, mode, out):
+    """Write the model's right-hand side into ``out``."""
+
+
+def model_switches(model, s, y, p, mode, g):
+    """Write the model's switching functions into ``g``."""
+
+
+def model_transition(model, s, y, p, mode, which):
+    """Apply the model's mode change at an event of switch ``which``."""
+
+
+@overload(model_rhs, jit_options={"error_model": "numpy"})
+def _ol_rhs(model, s, y, p, mode, out):
+    if isinstance(model, types.Integer):
+        def impl(model, s, y, p, mode, out):
+            if model == ROTOR:
+                rotor.rhs(s, y, p, mode, out)
+            else:
+                duffing.rhs(s, y, p, mode, out)
+        return impl
+
+    def impl_user(model, s, y, p, mode, out):
+        model[0](s, y, p, mode, out)
+    return impl_user
+
+
+@overload(model_switches, jit_options={"error_model": "numpy"})
+def _ol_switches(model, s, y, p, mode, g):
+    if isinstance(model, types.Integer):
+        def impl(model, s, y, p, mode, g):
+            if model == ROTOR:
+                rotor.switches(s, y, p, mode, g)
+            else:
+                duffing.switches(s, y, p, mode, g)
+        return impl
+
+    def impl_user(model, s, y, p, mode, g):
+        model[1](s, y, p, mode, g)
+    return impl_user
+
+
+@overload(model_transition, jit_options={"error_model": "numpy"})
+def _ol_transition(model, s, y, p, mode, which):
+    if isinstance(model, types.Integer):
+        def impl(model, s, y, p, mode, which):
+            if model == ROTOR:
+                rotor.transition(s, y, p, mode, which)
+            else:
+                duffing.transition(s, y, p, mode, which)
+        return impl
+
+    def impl_user(model, s, y, p, mode, which):
+        model[2](s, y, p, mode, which)
+    return impl_user

@@ -1,0 +1,314 @@
+"""The integration loop: steps, events, stroboscopic and dense samples (``@njit``).
+
+:func:`integrate` is generic over the model: an integer for a built-in model (cached on
+disk) or a tuple of numba functions for a user model (see :mod:`.dispatch`).
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .dispatch import model_rhs, model_transition
+from .events import BRACKETED, IMMEDIATE, detect, locate, retake
+from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
+                         DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
+                         O_BOUND, O_EVTOL, O_HFIX, O_HMAX, O_MAXSTEPS, O_RTOL, OK,
+                         STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
+                         rk_step)
+from .tableaux import RK4
+
+
+@njit(cache=True, error_model="numpy")
+def _log(n_ev, t, which, mode_before, mode_after, y, ev_t, ev_which, ev_mode, ev_y):
+    nm = mode_before.size
+    ev_t[n_ev] = t
+    ev_which[n_ev] = which
+    for m in range(nm):
+        ev_mode[n_ev, m] = mode_before[m]
+        ev_mode[n_ev, nm + m] = mode_after[m]
+    for m in range(y.size):
+        ev_y[n_ev, m] = y[m]
+    return n_ev + 1
+
+
+@njit(cache=True, error_model="numpy")
+def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
+              n_stages, p, omega, y, mode, ks, opts, k_end, k_record, strobe, ev_t,
+              ev_which, ev_mode, ev_y, n_ev, dense_m, dense, counters):
+    """Integrate from ``(k, s) = ks[:2]`` until the start of forcing period ``k_end``.
+
+    Parameters
+    ----------
+    model : int or tuple
+        A built-in model id (:mod:`.dispatch`) or ``(rhs, switches, transition)``.
+    terminal : int64 array, shape (n_switch,)
+        1 for a terminal (mode-changing) switch, 0 for an observer.
+    method, A, B, C, E, E3, D, P, order, n_stages
+        The Runge--Kutta method as data (:mod:`.tableaux`).
+    p : float64 array
+        Model parameters.
+    omega : float
+        Forcing frequency; the period is ``T = 2 pi / omega``.
+    y : float64 array, shape (n,)
+        State at ``(k, s)``; overwritten with the final state.
+    mode : int64 array
+        Discrete mode, consistent with ``y``; overwritten.
+    ks : float64 array, shape (3,)
+        ``(k, s, h)``: period index, local time, next step size; overwritten.
+    opts : float64 array
+        ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period)``.
+    k_end, k_record : int
+        Stop at ``tau = k_end T``; record samples and events from ``tau = k_record T``.
+    strobe : float64 array, shape (k_end - k_record + 1, n)
+        Row ``j`` receives the state at ``tau = (k_record + j) T`` (row 0 by the caller
+        when the run starts there).
+    ev_t, ev_which, ev_mode, ev_y : arrays, shapes (cap,), (cap,), (cap, 2 n_mode), (cap, n)
+        Event log: absolute time, switch index, mode before and after, state.
+    n_ev : int
+        Entries of the log already used.
+    dense_m : int
+        Dense samples per period (0: none); ``dense`` has shape
+        ``((k_end - k_record) dense_m + 1, n)``.
+    counters : int64 array, shape (5,)
+        Accumulates steps, RHS evaluations, rejected steps, events, observed crossings.
+
+    Returns
+    -------
+    status : int
+        OK, or why the run stopped (see :mod:`.integrator`); LOG_FULL asks the caller to
+        empty the log and call again.
+    n_ev : int
+        Entries of the log used.
+    """
+    T = 2.0 * math.pi / omega
+    n = y.size
+    nsw = terminal.size
+    nm = mode.size
+    K = np.zeros((16, n))
+    Kr = np.zeros((16, n))
+    F = np.zeros((7, n))
+    ytmp = np.empty(n)
+    y1 = np.empty(n)
+    yev = np.empty(n)
+    yint = np.empty(n)
+    f0 = np.empty(n)
+    f1r = np.empty(n)
+    G = np.empty((5, nsw))
+    gbuf = np.empty(nsw)
+    flag = np.zeros(nsw, dtype=np.int64)
+    lo = np.zeros(nsw)
+    hi = np.zeros(nsw)
+    obs_th = np.empty(nsw)
+    obs_i = np.empty(nsw, dtype=np.int64)
+    mode_old = mode.copy()
+    rtol = opts[O_RTOL]
+    atol = opts[O_ATOL]
+    bound = opts[O_BOUND]
+    evtol = opts[O_EVTOL]
+    fsal = method != RK4
+    expo = -1.0 / order
+    cap = ev_t.size
+
+    k = int(ks[0])
+    s = ks[1]
+    h = ks[2]
+    model_rhs(model, s, y, p, mode, f0)
+    counters[C_RHS] += 1
+    status = OK
+    steps_in_period = 0
+    zeno = 0
+    while k < k_end:
+        if n_ev + nsw + 2 > cap:
+            status = LOG_FULL
+            break
+        if steps_in_period > opts[O_MAXSTEPS]:
+            status = MAX_STEPS
+            break
+        if method == RK4:
+            hf = opts[O_HFIX]
+            h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
+        h = min(h, opts[O_HMAX])
+        h_prop = h
+        lands = False
+        if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
+            h = T - s
+            lands = True
+        if h < 1e-13 * T and not lands:
+            status = STEP_UNDERFLOW
+            break
+        for m in range(n):
+            K[0, m] = f0[m]
+        counters[C_RHS] += rk_step(model, p, mode, A, B, C, n_stages, fsal, s, y, h, K, ytmp,
+                                   y1)
+        h_next = h
+        if fsal:
+            err = error_norm(method, E, E3, K, n_stages, h, y, y1, rtol, atol)
+            if not np.isfinite(err) or err > 1.0:
+                counters[C_REJECTED] += 1
+                fac = 0.2 if not np.isfinite(err) else max(0.2, 0.9 * err ** expo)
+                h = h * fac
+                if h < 1e-13 * T:
+                    status = STEP_UNDERFLOW
+                    break
+                continue
+            fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** expo))
+            h_next = h * fac
+            if lands and h_prop > h_next:
+                h_next = h_prop
+            for m in range(n):
+                f1r[m] = K[n_stages, m]
+        else:
+            model_rhs(model, s + h, y1, p, mode, f1r)
+            counters[C_RHS] += 1
+        finite = True
+        big = 0.0
+        for m in range(n):
+            if not np.isfinite(y1[m]):
+                finite = False
+            elif abs(y1[m]) > big:
+                big = abs(y1[m])
+        if not finite:
+            status = DIVERGED_NONFINITE
+            break
+        if big > bound:
+            status = DIVERGED_BOUND
+            break
+        counters[C_STEPS] += 1
+        steps_in_period += 1
+
+        # --- events ------------------------------------------------------------------
+        dense_ready = False
+        th_end = 1.0
+        which = -1
+        n_obs = 0
+        if detect(model, p, mode, terminal, s, h, y, f0, y1, f1r, G, ytmp, flag, lo, hi):
+            imm = -1
+            for i in range(nsw):
+                if flag[i] == IMMEDIATE:
+                    imm = i
+                    break
+            if imm >= 0:
+                zeno += 1
+                if zeno > 50:
+                    status = ZENO
+                    break
+                for m in range(nm):
+                    mode_old[m] = mode[m]
+                model_transition(model, s, y, p, mode, imm)
+                counters[C_EVENTS] += 1
+                if k >= k_record:
+                    n_ev = _log(n_ev, k * T + s, imm, mode_old, mode, y, ev_t, ev_which,
+                                ev_mode, ev_y)
+                model_rhs(model, s, y, p, mode, f0)
+                counters[C_RHS] += 1
+                continue
+            counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s,
+                                             y, h, K, y1, ytmp, F)
+            dense_ready = True
+            th_term = 2.0
+            for i in range(nsw):
+                if flag[i] == BRACKETED and terminal[i] == 1:
+                    th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F, lo[i],
+                                hi[i], ytmp, gbuf)
+                    if th >= 0.0 and th < th_term:
+                        th_term = th
+                        which = i
+            for i in range(nsw):
+                if flag[i] == BRACKETED and terminal[i] == 0:
+                    th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F, lo[i],
+                                hi[i], ytmp, gbuf)
+                    if th >= 0.0 and th <= th_term:
+                        obs_th[n_obs] = th
+                        obs_i[n_obs] = i
+                        n_obs += 1
+            if which >= 0:
+                hs, nr = retake(model, p, mode, which, method, A, B, C, n_stages,
+                                fsal, s, y, f0, h, y1, f1r, F, th_term, evtol, Kr, ytmp,
+                                gbuf, yev)
+                counters[C_RHS] += nr
+                th_end = hs / h
+                lands = False
+        if th_end > 0.0:
+            zeno = 0
+
+        # --- observer crossings, in time order ------------------------------------------
+        for a in range(n_obs):
+            best = a
+            for b in range(a + 1, n_obs):
+                if obs_th[b] < obs_th[best]:
+                    best = b
+            th = obs_th[best]
+            i = obs_i[best]
+            obs_th[best] = obs_th[a]
+            obs_i[best] = obs_i[a]
+            t_abs = k * T + s + th * h
+            counters[C_OBSERVED] += 1
+            if t_abs >= k_record * T:
+                interpolate(method, th, h, y, f0, y1, f1r, F, yint)
+                n_ev = _log(n_ev, t_abs, i, mode, mode, yint, ev_t, ev_which, ev_mode,
+                            ev_y)
+
+        # --- dense and stroboscopic samples -----------------------------------------------
+        s_abs_end = T if lands else s + th_end * h
+        y_end = y1 if which < 0 else yev
+        if dense_m > 0 and k >= k_record:
+            dt = T / dense_m
+            j = int(math.floor(s / dt)) + 1
+            while j <= dense_m and (j * dt <= s_abs_end or (lands and j == dense_m)):
+                idx = (k - k_record) * dense_m + j
+                if idx < dense.shape[0]:
+                    if j == dense_m and lands:
+                        for m in range(n):
+                            dense[idx, m] = y_end[m]
+                    else:
+                        if not dense_ready:
+                            counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D,
+                                                             P, n_stages, s, y, h, K, y1,
+                                                             ytmp, F)
+                            dense_ready = True
+                        interpolate(method, (j * dt - s) / h, h, y, f0, y1, f1r, F, yint)
+                        for m in range(n):
+                            dense[idx, m] = yint[m]
+                j += 1
+        k_start = k
+        s_start = s
+        if lands or s_abs_end >= T:
+            k += 1
+            steps_in_period = 0
+            if k >= k_record and k - k_record < strobe.shape[0]:
+                row = k - k_record
+                if lands:
+                    for m in range(n):
+                        strobe[row, m] = y_end[m]
+                else:
+                    if not dense_ready:
+                        counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P,
+                                                         n_stages, s, y, h, K, y1, ytmp, F)
+                        dense_ready = True
+                    interpolate(method, (T - s) / h, h, y, f0, y1, f1r, F, yint)
+                    for m in range(n):
+                        strobe[row, m] = yint[m]
+            s = 0.0 if lands else s_abs_end - T
+        else:
+            s = s_abs_end
+        for m in range(n):
+            y[m] = y_end[m]
+        if which >= 0:
+            for m in range(nm):
+                mode_old[m] = mode[m]
+            model_transition(model, s, y, p, mode, which)
+            counters[C_EVENTS] += 1
+            t_abs = k_start * T + s_start + th_end * h
+            if t_abs >= k_record * T:
+                n_ev = _log(n_ev, t_abs, which, mode_old, mode, y, ev_t, ev_which, ev_mode,
+                            ev_y)
+            model_rhs(model, s, y, p, mode, f0)
+            counters[C_RHS] += 1
+        else:
+            for m in range(n):
+                f0[m] = f1r[m]
+        h = h_next
+    ks[0] = k
+    ks[1] = s
+    ks[2] = h
+    return status, n_ev

@@ -1,0 +1,55 @@
+"""Forced Duffing oscillator ``x'' + delta x' + alpha x + beta x^3 = gamma cos(omega t)``.
+
+A smooth second model of the kernel, built in so that every integrator and analyser can be
+checked on a system with published results (Guckenheimer & Holmes 1983, sec. 2.2;
+Kovacic & Brennan (eds.), *The Duffing Equation*, Wiley 2011).
+
+State ``y = (x, x')``; ``p = (delta, alpha, beta, gamma, omega)``.  One switching function,
+an observer: ``x'`` (its crossings to negative values mark the maxima of ``x``).  The mode
+array is unused but kept so the model has the kernel's common signature.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+PARAM_NAMES = ("delta", "alpha", "beta", "gamma", "omega")
+N_STATE = 2
+N_MODE = 1
+N_SWITCH = 1
+TERMINAL = np.array([0], dtype=np.int64)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(s, y, p, mode, out):
+    """Right-hand side; writes ``out`` (shape (2,))."""
+    x, v = y[0], y[1]
+    out[0] = v
+    out[1] = p[3] * math.cos(p[4] * s) - p[0] * v - p[1] * x - p[2] * x * x * x
+
+
+@njit(cache=True, error_model="numpy")
+def jac(s, y, p, mode, J):
+    """Analytic Jacobian; writes ``J`` (shape (2, 2))."""
+    J[0, 0] = 0.0
+    J[0, 1] = 1.0
+    J[1, 0] = -p[1] - 3.0 * p[2] * y[0] * y[0]
+    J[1, 1] = -p[0]
+
+
+@njit(cache=True, error_model="numpy")
+def switches(s, y, p, mode, g):
+    """Observer: velocity (maxima of ``x`` where it turns negative)."""
+    g[0] = y[1]
+
+
+@njit(cache=True, error_model="numpy")
+def init_mode(s, y, p, mode):
+    """The Duffing oscillator is smooth: a single mode."""
+    mode[0] = 0
+
+
+@njit(cache=True, error_model="numpy")
+def transition(s, y, p, mode, which):
+    """No terminal switches: nothing to do."""
+    return

@@ -1,0 +1,193 @@
+"""Explicit Runge--Kutta integration of a piecewise-smooth model with event location.
+
+Everything here is ``@njit``; plain float64/int64 arrays in and out.  A *model* is four
+jitted functions with a common signature (see :mod:`vibimpact._kernel.rotor`)::
+
+    model_rhs(model, s, y, p, mode, out)          # writes dy/ds into out
+    model_switches(model, s, y, p, mode, g)       # writes the switching functions into g
+    model_transition(model, s, y, p, mode, which) # updates mode at an event of terminal switch `which`
+    (+ an int64 array `terminal`: 1 for a mode-changing switch, 0 for an observer)
+
+Time is kept as ``(k, s)``: the forcing period index ``k`` and the local time
+``s in [0, T)``, ``T = 2 pi / omega``.  The model sees the local time (it is forced with
+period ``T``), so the phase of the forcing stays exact over 1e5 periods.
+
+Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
+
+1. one Runge--Kutta step of size ``h`` (:func:`rk_step`), error estimate and step-size
+   control for the embedded pairs (Hairer, Norsett & Wanner 1993, II.4 and II.10);
+2. every switching function is sampled at the step's start, at three interior points of
+   the cubic Hermite interpolant and at the step's end.  The first sample where a function is
+   negative brackets its crossing, so a contact that begins and ends inside one step
+   (a grazing contact) is still found when it lasts longer than a quarter step;
+3. the crossing is refined on the method's own continuous extension (Illinois method),
+   then the step is *retaken* from its start to the event time and the time corrected by
+   Newton iterations on the retaken step until ``|g| <= event_tol``: the state at the event
+   has the full order of the method, and the next step restarts there in the new mode
+   (Hairer et al. 1993, II.6; Shampine & Thompson 2000, "Event location for ordinary
+   differential equations", Comput. Math. Appl. 39, 43-54);
+4. observer crossings before the event are refined and logged without a restart;
+5. stroboscopic samples at ``s = T`` and optional dense samples are taken from the
+   continuous extension.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .dispatch import model_rhs
+from .tableaux import DOP853, DP5, RK4
+
+# status codes (mirrored in vibimpact.run.Status)
+OK = 0
+DIVERGED_NONFINITE = 1
+DIVERGED_BOUND = 2
+STEP_UNDERFLOW = 3
+MAX_STEPS = 4
+ZENO = 5
+LOG_FULL = 6
+
+# option vector layout
+O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS = range(7)
+N_OPTS = 7
+
+# counters layout
+C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)
+N_COUNTERS = 5
+
+_SAMPLES = (0.25, 0.5, 0.75)
+
+
+@njit(cache=True, error_model="numpy")
+def rk_step(model, p, mode, A, B, C, n_stages, fsal, s0, y0, h, K, ytmp, y1):
+    """One explicit Runge--Kutta step.
+
+    ``K[0]`` must hold ``f(s0, y0)`` on entry.  Fills ``K[1:n_stages]``, writes the new
+    state into ``y1`` and, for FSAL methods, ``f(s0 + h, y1)`` into ``K[n_stages]``.
+    Returns the number of right-hand-side evaluations made.
+    """
+    n = y0.size
+    for i in range(1, n_stages):
+        for m in range(n):
+            acc = 0.0
+            for j in range(i):
+                acc += A[i, j] * K[j, m]
+            ytmp[m] = y0[m] + h * acc
+        model_rhs(model, s0 + C[i] * h, ytmp, p, mode, K[i])
+    for m in range(n):
+        acc = 0.0
+        for j in range(n_stages):
+            acc += B[j] * K[j, m]
+        y1[m] = y0[m] + h * acc
+    if fsal:
+        model_rhs(model, s0 + h, y1, p, mode, K[n_stages])
+        return n_stages
+    return n_stages - 1
+
+
+@njit(cache=True, error_model="numpy")
+def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol):
+    """Scaled error norm of an embedded pair (<= 1 means the step is accepted)."""
+    n = y0.size
+    if method == DP5:
+        acc = 0.0
+        for m in range(n):
+            e = 0.0
+            for j in range(n_stages + 1):
+                e += E[j] * K[j, m]
+            sc = atol + rtol * max(abs(y0[m]), abs(y1[m]))
+            acc += (h * e / sc) ** 2
+        return math.sqrt(acc / n)
+    # DOP853: Hairer's combination of the 5th- and 3rd-order estimators
+    e5 = 0.0
+    e3 = 0.0
+    for m in range(n):
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(n_stages + 1):
+            a5 += E[j] * K[j, m]
+            a3 += E3[j] * K[j, m]
+        sc = atol + rtol * max(abs(y0[m]), abs(y1[m]))
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    den = e5 + 0.01 * e3
+    if den == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt(den * n)
+
+
+@njit(cache=True, error_model="numpy")
+def prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s0, y0, h, K, y1, ytmp, F):
+    """Coefficients of the continuous extension of the last step into ``F``.
+
+    DP5: ``F[0:4]`` = ``h K^T P``.  DOP853: three extra stages, then ``F[0:7]`` as in
+    Hairer's CONTD8.  RK4 uses the cubic Hermite interpolant and needs nothing.
+    Returns the number of right-hand-side evaluations made.
+    """
+    n = y0.size
+    if method == DP5:
+        for r in range(4):
+            for m in range(n):
+                acc = 0.0
+                for j in range(n_stages + 1):
+                    acc += K[j, m] * P[j, r]
+                F[r, m] = h * acc
+        return 0
+    if method == DOP853:
+        for i in range(n_stages + 1, n_stages + 4):
+            for m in range(n):
+                acc = 0.0
+                for j in range(i):
+                    acc += A[i, j] * K[j, m]
+                ytmp[m] = y0[m] + h * acc
+            model_rhs(model, s0 + C[i] * h, ytmp, p, mode, K[i])
+        for m in range(n):
+            dy = y1[m] - y0[m]
+            bspl = h * K[0, m] - dy
+            F[0, m] = dy
+            F[1, m] = bspl
+            F[2, m] = dy - h * K[n_stages, m] - bspl
+            for r in range(4):
+                acc = 0.0
+                for j in range(n_stages + 4):
+                    acc += D[r, j] * K[j, m]
+                F[3 + r, m] = h * acc
+        return 3
+    return 0
+
+
+@njit(cache=True, error_model="numpy")
+def hermite(theta, h, y0, f0, y1, f1, out):
+    """Cubic Hermite interpolant between two states with their derivatives."""
+    t2 = theta * theta
+    t3 = t2 * theta
+    a = 2.0 * t3 - 3.0 * t2 + 1.0
+    b = t3 - 2.0 * t2 + theta
+    c = -2.0 * t3 + 3.0 * t2
+    d = t3 - t2
+    for m in range(y0.size):
+        out[m] = a * y0[m] + h * b * f0[m] + c * y1[m] + h * d * f1[m]
+
+
+@njit(cache=True, error_model="numpy")
+def interpolate(method, theta, h, y0, f0, y1, f1, F, out):
+    """State at ``s0 + theta h`` from the method's continuous extension."""
+    n = y0.size
+    if method == DP5:
+        for m in range(n):
+            out[m] = y0[m] + theta * (F[0, m] + theta * (F[1, m] + theta * (
+                F[2, m] + theta * F[3, m])))
+    elif method == DOP853:
+        x = theta
+        x1 = 1.0 - theta
+        for m in range(n):
+            acc = F[6, m]
+            acc = F[5, m] + x * acc
+            acc = F[4, m] + x1 * acc
+            acc = F[3, m] + x * acc
+            acc = F[2, m] + x1 * acc
+            acc = F[1, m] + x * acc
+            acc = F[0, m] + x1 * acc
+            out[m] = y0[m] + x * acc
+    else:
+        hermite(theta, h, y0, f0, y1, f1, out)

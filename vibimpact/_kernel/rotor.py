@@ -1,0 +1,291 @@
+"""The rotor of Pust & Kozanek, eq. (5), as a kernel model (all ``@njit``).
+
+State ``y = (X, Y, X', Y')``; parameter vector ``p`` laid out as :data:`PARAM_NAMES`
+(the order of SPEC section 1, then the friction regularisation ``eps``).
+
+The right-hand side is piecewise smooth.  The kernel keeps a *discrete mode* next to the
+state, an int64 array of two entries:
+
+``mode[0]``
+    0 = free flight, 1 = contact with the retainer (``R > 1``).
+``mode[1]``
+    friction state in contact: +1 slipping with ``v_t > 0``, -1 slipping with ``v_t < 0``,
+    0 sticking (Filippov sliding mode on ``v_t = 0``).
+
+Within one mode the field is smooth; the integrator switches modes only at located events,
+so no step ever straddles a discontinuity.  Switching functions are written so that each is
+*positive while the current mode is consistent*; an event is its crossing to negative values.
+
+=====  ====================================================  ==========
+index  switching function                                    kind
+=====  ====================================================  ==========
+0      free: ``1 - R``; contact: ``R - 1``                     terminal
+1      slip: ``s v_t``; stick: ``f F_r - |lambda|``;           terminal
+       otherwise 1 (inactive)
+2      ``dR/dtau`` (extrema of ``R``: peak penetration in      observer
+       contact, closest approach in free flight)
+=====  ====================================================  ==========
+
+Filippov stick (Filippov 1988, *Differential Equations with Discontinuous Righthand Sides*;
+Leine & Nijmeijer 2004, *Dynamics and Bifurcations of Non-Smooth Mechanical Systems*, ch. 2):
+with ``L = X Y' - Y X'`` one has ``v_t = L/R + Rr eta`` and
+``dv_t/dtau = e_t . a - (v_t - Rr eta) R'/R`` where ``e_t = (-Y, X)/R``.  The tangential
+force that keeps ``v_t = 0`` is ``T = (v_t - Rr eta) R'/R - e_t . (F_ext - B v)`` (the
+radial forces have no tangential part).  Of it, ``lambda = T + B_T v_t`` is friction; the
+rotor sticks while ``|lambda| <= f F_r``.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps")
+I_B, I_K3, I_KH, I_BH, I_BT, I_F, I_RR, I_EC, I_G, I_ETA, I_EPS = range(11)
+
+N_STATE = 4
+N_MODE = 2
+N_SWITCH = 3
+#: 1 = terminal switch (mode change, step restarted), 0 = observer (logged only)
+TERMINAL = np.array([1, 1, 0], dtype=np.int64)
+
+SW_CONTACT = 0
+SW_FRICTION = 1
+SW_EXTREMUM = 2
+
+
+@njit(cache=True, error_model="numpy")
+def _geometry(y, p):
+    """Radius, unit normal, unit tangent, radial speed, tangential contact speed."""
+    X, Y, U, V = y[0], y[1], y[2], y[3]
+    R = math.sqrt(X * X + Y * Y)
+    if R > 0.0:
+        nx = X / R
+        ny = Y / R
+    else:  # at the centre any direction will do (no contact there)
+        nx = 1.0
+        ny = 0.0
+    Rd = nx * U + ny * V
+    vt = nx * V - ny * U + p[I_RR] * p[I_ETA]
+    return R, nx, ny, Rd, vt
+
+
+@njit(cache=True, error_model="numpy")
+def _normal_force(R, Rd, p):
+    """Hertz force ``F_r = kh (R-1)^{3/2} (1 + Bh R')`` and its partials dF/dR, dF/dR'."""
+    d = R - 1.0
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    sq = math.sqrt(d)
+    damp = 1.0 + p[I_BH] * Rd
+    Fr = p[I_KH] * d * sq * damp
+    return Fr, 1.5 * p[I_KH] * sq * damp, p[I_KH] * d * sq * p[I_BH]
+
+
+@njit(cache=True, error_model="numpy")
+def _external(s, y, p):
+    """Forcing, weight and magnetic-support force (everything outside the contact)."""
+    X, Y, U, V = y[0], y[1], y[2], y[3]
+    eta = p[I_ETA]
+    amp = p[I_EC] * eta * eta
+    R2 = X * X + Y * Y
+    lin = 1.0 + p[I_K3] * R2
+    ax = amp * math.cos(eta * s) - p[I_B] * U - X * lin
+    ay = amp * math.sin(eta * s) + p[I_G] - p[I_B] * V - Y * lin
+    return ax, ay
+
+
+@njit(cache=True, error_model="numpy")
+def _stick_force(s, y, p, R, nx, ny, Rd, vt):
+    """Total tangential force that holds ``dv_t/dtau = 0`` (Filippov sliding)."""
+    eta = p[I_ETA]
+    amp = p[I_EC] * eta * eta
+    fx = amp * math.cos(eta * s) - p[I_B] * y[2]
+    fy = amp * math.sin(eta * s) + p[I_G] - p[I_B] * y[3]
+    return (vt - p[I_RR] * eta) * Rd / R - (-ny * fx + nx * fy)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(s, y, p, mode, out):
+    """Right-hand side of eq. (5) in the given mode; writes ``out`` (shape (4,))."""
+    ax, ay = _external(s, y, p)
+    if mode[0] == 1:
+        R, nx, ny, Rd, vt = _geometry(y, p)
+        Fr, _, _ = _normal_force(R, Rd, p)
+        if mode[1] == 0 and p[I_F] > 0.0 and p[I_EPS] == 0.0:
+            T = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+        else:
+            T = -p[I_BT] * vt
+            if p[I_F] > 0.0:
+                if p[I_EPS] > 0.0:
+                    T -= p[I_F] * Fr * math.tanh(vt / p[I_EPS])
+                else:
+                    T -= p[I_F] * Fr * mode[1]
+        ax += -Fr * nx - T * ny
+        ay += -Fr * ny + T * nx
+    out[0] = y[2]
+    out[1] = y[3]
+    out[2] = ax
+    out[3] = ay
+
+
+@njit(cache=True, error_model="numpy")
+def jac(s, y, p, mode, J):
+    """Analytic Jacobian ``d rhs / d y`` in the given mode; writes ``J`` (shape (4, 4))."""
+    X, Y, U, V = y[0], y[1], y[2], y[3]
+    B, k3 = p[I_B], p[I_K3]
+    for i in range(4):
+        for j in range(4):
+            J[i, j] = 0.0
+    J[0, 2] = 1.0
+    J[1, 3] = 1.0
+    R2 = X * X + Y * Y
+    lin = 1.0 + k3 * R2
+    J[2, 0] = -lin - 2.0 * k3 * X * X
+    J[2, 1] = -2.0 * k3 * X * Y
+    J[3, 0] = -2.0 * k3 * X * Y
+    J[3, 1] = -lin - 2.0 * k3 * Y * Y
+    J[2, 2] = -B
+    J[3, 3] = -B
+    if mode[0] != 1:
+        return
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    Fr, dF_dR, dF_dRd = _normal_force(R, Rd, p)
+    # partials of the geometric quantities w.r.t. (X, Y, U, V)
+    dR = (nx, ny, 0.0, 0.0)
+    # dn/dx = (I - n n^T)/R ; e_t = (-ny, nx)
+    dnx = ((1.0 - nx * nx) / R, -nx * ny / R, 0.0, 0.0)
+    dny = (-nx * ny / R, (1.0 - ny * ny) / R, 0.0, 0.0)
+    dRd = ((U - Rd * nx) / R, (V - Rd * ny) / R, nx, ny)
+    L = X * V - Y * U
+    dvt = ((V - L * nx / R) / R, (-U - L * ny / R) / R, -ny, nx)
+    dF = (dF_dR * dR[0] + dF_dRd * dRd[0], dF_dR * dR[1] + dF_dRd * dRd[1],
+          dF_dRd * dRd[2], dF_dRd * dRd[3])
+    stick = mode[1] == 0 and p[I_F] > 0.0 and p[I_EPS] == 0.0
+    dT0 = 0.0
+    dT1 = 0.0
+    dT2 = 0.0
+    dT3 = 0.0
+    if stick:
+        eta = p[I_ETA]
+        amp = p[I_EC] * eta * eta
+        fx = amp * math.cos(eta * s) - B * U
+        fy = amp * math.sin(eta * s) + p[I_G] - B * V
+        T = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+        w = (vt - p[I_RR] * eta) / R  # = L / R^2
+        # T = w Rd - (-ny fx + nx fy);  w = L/R^2
+        dL = (V, -U, -Y, X)
+        dfx = (0.0, 0.0, -B, 0.0)
+        dfy = (0.0, 0.0, 0.0, -B)
+        R3 = R * R * R
+        dT0 = (dL[0] / (R * R) - 2.0 * L * dR[0] / R3) * Rd + w * dRd[0] \
+            - (-dny[0] * fx + dnx[0] * fy)
+        dT1 = (dL[1] / (R * R) - 2.0 * L * dR[1] / R3) * Rd + w * dRd[1] \
+            - (-dny[1] * fx + dnx[1] * fy)
+        dT2 = dL[2] / (R * R) * Rd + w * dRd[2] - (-ny * dfx[2])
+        dT3 = dL[3] / (R * R) * Rd + w * dRd[3] - (nx * dfy[3])
+    else:
+        T = -p[I_BT] * vt
+        c = -p[I_BT]
+        cf = 0.0
+        if p[I_F] > 0.0:
+            if p[I_EPS] > 0.0:
+                th = math.tanh(vt / p[I_EPS])
+                T -= p[I_F] * Fr * th
+                c -= p[I_F] * Fr * (1.0 - th * th) / p[I_EPS]
+                cf = -p[I_F] * th
+            else:
+                T -= p[I_F] * Fr * mode[1]
+                cf = -p[I_F] * mode[1]
+        dT0 = c * dvt[0] + cf * dF[0]
+        dT1 = c * dvt[1] + cf * dF[1]
+        dT2 = c * dvt[2] + cf * dF[2]
+        dT3 = c * dvt[3] + cf * dF[3]
+    dTs = (dT0, dT1, dT2, dT3)
+    # contact acceleration: a_x += -Fr nx - T ny ; a_y += -Fr ny + T nx
+    for j in range(4):
+        J[2, j] += -dF[j] * nx - Fr * dnx[j] - dTs[j] * ny - T * dny[j]
+        J[3, j] += -dF[j] * ny - Fr * dny[j] + dTs[j] * nx + T * dnx[j]
+
+
+@njit(cache=True, error_model="numpy")
+def switches(s, y, p, mode, g):
+    """Switching functions (see module docstring); writes ``g`` (shape (3,))."""
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    if mode[0] == 1:
+        g[0] = R - 1.0
+        if p[I_F] > 0.0 and p[I_EPS] == 0.0:
+            if mode[1] == 0:
+                Fr, _, _ = _normal_force(R, Rd, p)
+                lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+                g[1] = p[I_F] * Fr - abs(lam)
+            else:
+                g[1] = mode[1] * vt
+        else:
+            g[1] = 1.0
+    else:
+        g[0] = 1.0 - R
+        g[1] = 1.0
+    g[2] = Rd
+
+
+@njit(cache=True, error_model="numpy")
+def _friction_state(s, y, p):
+    """Filippov choice of the friction state at a point in contact.
+
+    Slip in the direction of ``v_t`` when it is non-zero; at ``v_t = 0`` stick when the
+    friction cone can hold the rotor (``|lambda| < f F_r``), otherwise slip in the
+    direction the unbalanced tangential force drives it.
+    """
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    Fr, _, _ = _normal_force(R, Rd, p)
+    lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+    if abs(vt) > 1e-9 * (1.0 + abs(p[I_RR] * p[I_ETA])):
+        return 1 if vt > 0.0 else -1
+    if abs(lam) < p[I_F] * Fr:
+        return 0
+    return -1 if lam > 0.0 else 1
+
+
+@njit(cache=True, error_model="numpy")
+def init_mode(s, y, p, mode):
+    """Mode consistent with a state (contact iff ``R > 1``)."""
+    R = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    mode[0] = 1 if R > 1.0 else 0
+    mode[1] = 0
+    if mode[0] == 1 and p[I_F] > 0.0 and p[I_EPS] == 0.0:
+        mode[1] = _friction_state(s, y, p)
+
+
+@njit(cache=True, error_model="numpy")
+def transition(s, y, p, mode, which):
+    """Mode change at a located event of terminal switch ``which``."""
+    if which == SW_CONTACT:
+        if mode[0] == 1:
+            mode[0] = 0
+            mode[1] = 0
+        else:
+            mode[0] = 1
+            mode[1] = 0
+            if p[I_F] > 0.0 and p[I_EPS] == 0.0:
+                mode[1] = _friction_state(s, y, p)
+    elif which == SW_FRICTION:
+        R, nx, ny, Rd, vt = _geometry(y, p)
+        Fr, _, _ = _normal_force(R, Rd, p)
+        lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+        if mode[1] == 0:
+            mode[1] = -1 if lam > 0.0 else 1
+        elif abs(lam) < p[I_F] * Fr:
+            mode[1] = 0
+        else:
+            mode[1] = -1 if lam > 0.0 else 1
+
+
+@njit(cache=True, error_model="numpy")
+def energy(y, p):
+    """Mechanical energy ``1/2|v|^2 + 1/2 R^2 + 1/4 k3 R^4 + 2/5 kh (R-1)^{5/2} H(R-1)``."""
+    R2 = y[0] * y[0] + y[1] * y[1]
+    e = 0.5 * (y[2] * y[2] + y[3] * y[3]) + 0.5 * R2 + 0.25 * p[I_K3] * R2 * R2
+    R = math.sqrt(R2)
+    if R > 1.0:
+        e += 0.4 * p[I_KH] * (R - 1.0) ** 2.5
+    return e

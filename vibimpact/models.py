@@ -1,0 +1,94 @@
+"""Models known to the kernel: the rotor of eq. (5), the forced Duffing oscillator, and
+user models built from numba functions.
+
+A model is its right-hand side, Jacobian, switching surfaces and mode transitions (all
+``@njit``, signatures in :mod:`vibimpact._kernel.integrator`) plus a little metadata.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ._kernel import duffing as _duffing
+from ._kernel import dispatch as _dispatch
+from ._kernel import rotor as _rotor
+
+
+@dataclass(frozen=True)
+class Model:
+    """A piecewise-smooth, periodically forced model for :func:`vibimpact.simulate`.
+
+    Attributes
+    ----------
+    name : str
+    state_names : tuple of str
+    param_names : tuple of str
+        Order of the parameter vector the kernel reads.
+    omega_index : int
+        Index of the forcing frequency in the parameter vector.
+    n_mode : int
+        Length of the discrete-mode vector.
+    terminal : ndarray of int64, shape (n_switch,)
+        1 for a mode-changing switching function, 0 for an observer.
+    kernel_model : int or tuple
+        What the kernel receives as ``model``: a built-in id or ``(rhs, switches,
+        transition)``.
+    rhs, jac, switches, transition, init_mode : numba functions
+    bound : float
+        A state component larger than this in magnitude ends the run as DIVERGED.
+    """
+
+    name: str
+    state_names: tuple
+    param_names: tuple
+    omega_index: int
+    n_mode: int
+    terminal: np.ndarray
+    kernel_model: object
+    rhs: Callable
+    jac: Callable
+    switches: Callable
+    transition: Callable
+    init_mode: Callable
+    bound: float = 1e3
+
+    @classmethod
+    def from_functions(cls, name, rhs, jac, switches, transition, init_mode, terminal,
+                       state_names, param_names, omega_index, n_mode=1, bound=1e3):
+        """A user model from numba functions (compiled on first use, not cached on disk).
+
+        Parameters
+        ----------
+        rhs, jac, switches, transition, init_mode : numba ``@njit`` functions
+            With the signatures of :mod:`vibimpact._kernel.rotor`.
+        terminal : sequence of int
+            One entry per switching function: 1 terminal, 0 observer.  A smooth model
+            gives one observer (e.g. a velocity) so that the array is never empty.
+        state_names, param_names : sequence of str
+        omega_index : int
+            Index of the forcing frequency in the parameter vector.
+        """
+        term = np.asarray(terminal, dtype=np.int64)
+        if term.ndim != 1 or term.size == 0:
+            raise ValueError("terminal must list at least one switching function")
+
+        return cls(name=name, state_names=tuple(state_names), param_names=tuple(param_names),
+                   omega_index=int(omega_index), n_mode=int(n_mode), terminal=term,
+                   kernel_model=(rhs, switches, transition),
+                   rhs=rhs, jac=jac, switches=switches, transition=transition,
+                   init_mode=init_mode, bound=float(bound))
+
+
+ROTOR = Model(name="rotor", state_names=("X", "Y", "dX", "dY"), param_names=_rotor.PARAM_NAMES,
+              omega_index=_rotor.I_ETA, n_mode=_rotor.N_MODE, terminal=_rotor.TERMINAL,
+              kernel_model=_dispatch.ROTOR, rhs=_rotor.rhs, jac=_rotor.jac,
+              switches=_rotor.switches, transition=_rotor.transition,
+              init_mode=_rotor.init_mode, bound=1e3)
+
+DUFFING = Model(name="duffing", state_names=("x", "dx"), param_names=_duffing.PARAM_NAMES,
+                omega_index=4, n_mode=_duffing.N_MODE, terminal=_duffing.TERMINAL,
+                kernel_model=_dispatch.DUFFING, rhs=_duffing.rhs, jac=_duffing.jac,
+                switches=_duffing.switches, transition=_duffing.transition,
+                init_mode=_duffing.init_mode, bound=1e6)

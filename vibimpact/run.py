@@ -1,0 +1,154 @@
+"""The result of a simulation: :class:`Run`, its :class:`Status`, and the impact log."""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._kernel import integrator as _k
+from ._kernel import rotor as _rotor
+
+
+class Status(enum.Enum):
+    """How a run ended."""
+
+    OK = "ok"
+    #: the state became non-finite or left the bound: a blow-up, not data
+    DIVERGED = "diverged"
+    #: the integrator could not go on (step-size underflow, step limit, Zeno events)
+    FAILED = "failed"
+
+
+_REASONS = {
+    _k.OK: (Status.OK, ""),
+    _k.DIVERGED_NONFINITE: (Status.DIVERGED, "state became non-finite"),
+    _k.DIVERGED_BOUND: (Status.DIVERGED, "state left the bound"),
+    _k.STEP_UNDERFLOW: (Status.FAILED, "step size underflow"),
+    _k.MAX_STEPS: (Status.FAILED, "step limit per forcing period reached"),
+    _k.ZENO: (Status.FAILED, "accumulating switching events (Zeno)"),
+}
+
+
+def status_of(code):
+    """(Status, reason) of a kernel status code."""
+    return _REASONS[int(code)]
+
+
+#: fields of :attr:`Run.impacts`, one record per contact
+IMPACT_DTYPE = np.dtype([
+    ("t_entry", "f8"),      # dimensionless time of contact entry (R = 1)
+    ("theta", "f8"),        # angle atan2(Y, X) at entry, degrees in (-180, 180]; +90 = bottom
+    ("v_impact", "f8"),     # normal impact speed dR/dtau at entry (> 0)
+    ("penetration", "f8"),  # maximum R - 1 during the contact
+    ("duration", "f8"),     # t_exit - t_entry; NaN while the contact is still open at the end
+    ("t_exit", "f8"),       # time of contact exit (R = 1); NaN: still open at the end
+    ("period", "i8"),       # forcing period of the entry, counted from the recorded start
+])
+
+#: fields of :attr:`Run.events`, one record per located switching event
+EVENT_DTYPE_FIELDS = ("t", "which", "mode_before", "mode_after", "state")
+
+
+@dataclass
+class Run:
+    """Result of :func:`vibimpact.simulate`.
+
+    Attributes
+    ----------
+    params : Params or DuffingParams or ndarray
+    model : str
+    strobe : ndarray, shape (periods + 1, n)
+        Stroboscopic (Poincare) samples at ``tau_k = 2 pi k / eta`` for
+        ``k = transient, ..., transient + periods``.  Fewer rows when the run stopped early
+        (see :attr:`status`): rows are never padded with NaN.
+    t_strobe : ndarray, shape (len(strobe),)
+    impacts : ndarray of :data:`IMPACT_DTYPE`
+        One record per contact entered after the transient (rotor model only).
+    events : dict of ndarray
+        Raw event log: ``t``, ``which`` (switch index), ``mode_before``, ``mode_after``,
+        ``state``.  For the rotor, switch 0 is contact entry/exit, 1 a friction switch,
+        2 an extremum of ``R`` (observer).
+    dense : ndarray, shape (periods * dense + 1, n) or None
+        Evenly spaced samples, only when asked for.
+    t_dense : ndarray or None
+    status : Status
+    reason : str
+        Why the run stopped, empty when OK.
+    counters : dict
+        ``steps``, ``rhs_evals``, ``rejected``, ``events``, ``observed``.
+    final_state : ndarray, shape (n,)
+        State at the last stroboscopic time (the last row of ``strobe``).
+    solver : dict
+        ``method``, ``rtol``, ``atol``, ``steps_per_period``, ``max_step``, ``event_tol``.
+    """
+
+    params: object
+    model: str
+    strobe: np.ndarray
+    t_strobe: np.ndarray
+    impacts: np.ndarray
+    events: dict
+    dense: np.ndarray | None
+    t_dense: np.ndarray | None
+    status: Status
+    reason: str
+    counters: dict
+    final_state: np.ndarray
+    solver: dict = field(default_factory=dict)
+
+    @property
+    def ok(self):
+        """True when the run reached its end."""
+        return self.status is Status.OK
+
+
+def impacts_from_events(t, which, mode_before, state, t0, period):
+    """Contact records of the rotor from its event log (vectorised).
+
+    Parameters
+    ----------
+    t, which : ndarray, shape (m,)
+    mode_before : ndarray, shape (m, 2)
+    state : ndarray, shape (m, 4)
+    t0 : float
+        Start of the recorded window.
+    period : float
+        Forcing period (for the ``period`` field).
+
+    Returns
+    -------
+    ndarray of :data:`IMPACT_DTYPE`
+    """
+    contact = which == _rotor.SW_CONTACT
+    entry = np.flatnonzero(contact & (mode_before[:, 0] == 0))
+    exits = np.flatnonzero(contact & (mode_before[:, 0] == 1))
+    out = np.zeros(entry.size, dtype=IMPACT_DTYPE)
+    if entry.size == 0:
+        return out
+    X, Y, U, V = (state[entry, j] for j in range(4))
+    R = np.hypot(X, Y)
+    out["t_entry"] = t[entry]
+    out["theta"] = np.degrees(np.arctan2(Y, X))
+    out["v_impact"] = (X * U + Y * V) / R
+    out["period"] = np.floor((t[entry] - t0) / period + 1e-12).astype(np.int64)
+    # the exit of each contact is the first exit event after its entry
+    j = np.searchsorted(exits, entry)
+    has_exit = j < exits.size
+    t_exit = np.full(entry.size, np.nan)
+    t_exit[has_exit] = t[exits[j[has_exit]]]
+    out["t_exit"] = t_exit
+    out["duration"] = t_exit - out["t_entry"]
+    # peak penetration: the largest R - 1 at extrema of R inside the contact
+    ext = np.flatnonzero((which == _rotor.SW_EXTREMUM) & (mode_before[:, 0] == 1))
+    pen = np.zeros(entry.size)
+    if ext.size:
+        owner = np.searchsorted(entry, ext) - 1
+        keep = owner >= 0
+        owner = owner[keep]
+        ext = ext[keep]
+        inside = ~(has_exit[owner] & (exits[np.minimum(j[owner], exits.size - 1)] < ext))
+        rr = np.hypot(state[ext, 0], state[ext, 1]) - 1.0
+        np.maximum.at(pen, owner[inside], rr[inside])
+    out["penetration"] = pen
+    return out
