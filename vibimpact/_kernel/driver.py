@@ -19,6 +19,22 @@ from .tableaux import RK4
 
 
 @njit(cache=True, error_model="numpy")
+def graded_step(hf, t):
+    """Fixed-step size graded towards a switching surface ``t`` time units away.
+
+    The Hertz force ``(R-1)^{3/2}`` makes the solution behave like ``t^{7/2}`` next to a
+    contact entry or exit, so a fourth-order step of size ``h`` a time ``t`` away from the
+    surface has a local error ``~h^5 t^{-3/2}`` (``~h^{5/2}`` when it touches it).  Steps of
+    ``max(hf^2, hf t^{0.3})`` (``t`` in units of the forcing time, scale ``tau = 1``) keep
+    those errors at the ``hf^5`` of the regular steps; measured global order on contact
+    trajectories about 3.6 instead of 2.7 without grading (tests/test_kernel_accuracy.py).
+    Used by RK4 only: the adaptive methods grade their steps by their error estimate.
+    """
+    tau = 1.0
+    return max(hf * hf / tau, hf * (t / tau) ** 0.3)
+
+
+@njit(cache=True, error_model="numpy")
 def _log(n_ev, t, which, mode_before, mode_after, y, ev_t, ev_which, ev_mode, ev_y):
     nm = mode_before.size
     ev_t[n_ev] = t
@@ -117,6 +133,8 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     status = OK
     steps_in_period = 0
     zeno = 0
+    t_since_event = 1e300
+    t_to_switch = 1e300
     while k < k_end:
         if n_ev + nsw + 2 > cap:
             status = LOG_FULL
@@ -127,6 +145,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         if method == RK4:
             hf = opts[O_HFIX]
             h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
+            h = min(h, graded_step(hf, min(t_since_event, t_to_switch)))
         h = min(h, opts[O_HMAX])
         h_prop = h
         lands = False
@@ -230,6 +249,13 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 lands = False
         if th_end > 0.0:
             zeno = 0
+        # distance in time to the nearest terminal surface (for the graded RK4 steps)
+        t_since_event = 0.0 if which >= 0 else t_since_event + h
+        t_to_switch = 1e300
+        if which < 0:
+            for i in range(nsw):
+                if terminal[i] == 1 and G[0, i] > G[4, i] > 0.0:
+                    t_to_switch = min(t_to_switch, G[4, i] * h / (G[0, i] - G[4, i]))
 
         # --- observer crossings, in time order ------------------------------------------
         for a in range(n_obs):

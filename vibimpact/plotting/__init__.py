@@ -1,0 +1,9 @@
+"""Figures drawn from datasets made by :mod:`vibimpact.io` (never from a live run).
+
+Every function takes an ``xarray.Dataset`` and draws with matplotlib's object API (a
+:class:`matplotlib.figure.Figure` rendered by Agg), so the global pyplot state and the
+interactive backend are never touched.
+"""
+from .xy import plot_xy, save_figure
+
+__all__ = ["plot_xy", "save_figure"]

@@ -1,0 +1,126 @@
+"""Orbit of the rotor centre in the clearance plane, with the retainer and the impacts."""
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numpy as np
+
+
+def save_figure(fig, path, dpi=150):
+    """Save a figure atomically (temporary file in the same directory, then rename).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    path : str or os.PathLike
+        The format follows the extension (``.png``, ``.pdf``, ``.svg``, ...).
+    dpi : int
+
+    Raises
+    ------
+    ValueError
+        For a missing directory or an unsupported extension.
+    OSError
+        When the file cannot be written (no temporary file is left behind).
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
+    ext = os.path.splitext(path)[1].lstrip(".").lower()
+    supported = fig.canvas.get_supported_filetypes()
+    if ext not in supported:
+        raise ValueError(f"cannot save a figure as {path!r}: unknown extension; use one of "
+                         f"{', '.join('.' + e for e in sorted(supported))}")
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
+                               dir=directory)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format=ext, dpi=dpi)
+        mask = os.umask(0o022)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _title(ds):
+    a = ds.attrs
+    parts = []
+    if a.get("preset"):
+        parts.append(str(a["preset"]))
+    for name in ("eta", "kh", "G", "Bh", "BT", "f", "Rr"):
+        key = f"param_{name}"
+        if key in a and (name in ("eta", "kh", "G") or float(a[key]) != 0.0):
+            parts.append(f"{'η' if name == 'eta' else name} = {float(a[key]):g}")
+    status = a.get("status", "ok")
+    if status != "ok":
+        parts.append(str(status).upper())
+    return ", ".join(parts)
+
+
+def plot_xy(ds, path=None, ax=None):
+    """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Made by :func:`vibimpact.io.run_to_dataset` (rotor model): uses ``trajectory`` if
+        present, else ``strobe``, and ``impact_theta``.
+    path : str or os.PathLike, optional
+        Save the figure there (atomically, format from the extension).
+    ax : matplotlib.axes.Axes, optional
+        Draw into these axes; a new 6 x 6 inch figure otherwise.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Notes
+    -----
+    Lengths are in clearances: the retainer is the circle ``R = 1`` of the centre.  Gravity
+    acts along +Y, so the Y axis is inverted: the bottom of the retainer
+    (``theta = +90`` degrees) is drawn at the bottom.  Impact markers sit at the contact
+    entry point ``(cos theta, sin theta)``.
+
+    Examples
+    --------
+    >>> from vibimpact.io import read_netcdf
+    >>> from vibimpact.plotting import plot_xy
+    >>> ax = plot_xy(read_netcdf("run.nc"), "xy.png")  # doctest: +SKIP
+    """
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(6, 6), layout="constrained")
+        ax = fig.add_subplot()
+    states = [str(s) for s in ds["state"].values]
+    if states[:2] != ["X", "Y"]:
+        raise ValueError(f"plot_xy needs the rotor states X, Y; the dataset has {states}")
+    phi = np.linspace(0.0, 2.0 * np.pi, 721)
+    ax.plot(np.cos(phi), np.sin(phi), color="0.3", lw=1.5, label="retainer R = 1")
+    if "trajectory" in ds:
+        traj = ds["trajectory"].values
+        ax.plot(traj[:, 0], traj[:, 1], color="C0", lw=0.7, alpha=0.8, label="trajectory")
+    strobe = ds["strobe"].values
+    ax.plot(strobe[:, 0], strobe[:, 1], ls="none", marker="o", ms=3.5, color="C1",
+            mfc="none" if "trajectory" in ds else "C1",
+            label=f"stroboscopic points ({len(strobe)})")
+    if "impact_theta" in ds and ds.sizes.get("impact", 0):
+        th = np.radians(ds["impact_theta"].values)
+        ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=1.5, color="C3",
+                label=f"impacts ({th.size})")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("X")
+    ax.set_ylabel("Y  (+Y down, along gravity)")
+    if not ax.yaxis_inverted():
+        ax.invert_yaxis()
+    ax.set_title(_title(ds), fontsize="medium")
+    ax.legend(loc="upper right", fontsize="small", framealpha=0.85)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    if path is not None:
+        save_figure(ax.figure, path)
+    return ax
