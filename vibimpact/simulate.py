@@ -69,7 +69,7 @@ def _positive(name, value, allow_none=False):
 
 
 def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-9,
-             atol=1e-12, *, steps_per_period=400, dense=0, max_step=None, bound=None,
+             atol=1e-12, *, steps_per_period=400, adaptive=True, dense=0, max_step=None, bound=None,
              event_tol=1e-12, max_steps_per_period=1_000_000, model=None):
     """Integrate the model and sample it stroboscopically.
 
@@ -87,7 +87,11 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     rtol, atol : float
         Tolerances of the adaptive methods.
     steps_per_period : int
-        RK4 only: steps per forcing period (steps are also cut at events).
+        Fixed-step runs (RK4, or ``adaptive=False``): steps per forcing period.  Steps are
+        also cut at events and graded next to contact surfaces (see
+        ``vibimpact._kernel.driver.graded_step``).
+    adaptive : bool
+        False runs DP5 or DOP853 with fixed steps, no error control (to measure orders).
     dense : int
         Evenly spaced samples per period to keep (0: none; memory stays flat).
     max_step : float, optional
@@ -151,10 +155,10 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     h_fixed = T / steps_per_period
     opts = np.array([rtol, atol, h_fixed, T / 4.0 if max_step is None else max_step,
                      mdl.bound if bound is None else bound, event_tol,
-                     float(max_steps_per_period)])
+                     float(max_steps_per_period), 0.0 if adaptive else 1.0])
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, y, pvec, mode)
-    ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]) if tab[0] != _tab.RK4 else h_fixed])
+    ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX])])
     k_end = transient + periods
     strobe = np.empty((periods + 1, n))
     strobe[0] = y if transient == 0 else np.nan
@@ -211,7 +215,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
         counters=dict(zip(("steps", "rhs_evals", "rejected", "events", "observed"),
                           (int(c) for c in counters))),
         final_state=strobe[-1].copy() if rows else y.copy(),
-        solver=dict(method=method, rtol=rtol, atol=atol, steps_per_period=steps_per_period,
+        solver=dict(method=method, adaptive=bool(adaptive and method != "rk4"), rtol=rtol, atol=atol, steps_per_period=steps_per_period,
                     max_step=float(opts[_k.O_HMAX]), event_tol=event_tol,
                     bound=float(opts[_k.O_BOUND])),
     )

@@ -48,8 +48,8 @@ ZENO = 5
 LOG_FULL = 6
 
 # option vector layout
-O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS = range(7)
-N_OPTS = 7
+O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED = range(8)
+N_OPTS = 8
 
 # counters layout
 C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)
