@@ -137,6 +137,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     steps_in_period = 0
     zeno = 0
     t_since_event = 1e300
+    h_cap = 1e300
     t_to_switch = 1e300
     while k < k_end:
         if n_ev + nsw + 2 > cap:
@@ -149,7 +150,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             hf = opts[O_HFIX]
             h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
             h = min(h, graded_step(hf, min(t_since_event, t_to_switch), order))
-        h = min(h, opts[O_HMAX])
+        h = min(h, opts[O_HMAX], h_cap)
         h_prop = h
         lands = False
         if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
@@ -218,6 +219,16 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 for m in range(nm):
                     mode_old[m] = mode[m]
                 model_transition(model, s, y, p, mode, imm)
+                same = True
+                for m in range(nm):
+                    if mode[m] != mode_old[m]:
+                        same = False
+                if same:
+                    # the mode is right at the start: the switch value sits within rounding
+                    # of zero and the crossing back happens before the first sample.
+                    # Retry with a shorter step so the samples resolve it.
+                    h_cap = 0.125 * h
+                    continue
                 counters[C_EVENTS] += 1
                 if k >= k_record:
                     n_ev = _log(n_ev, k * T + s, imm, mode_old, mode, y, ev_t, ev_which,
@@ -253,6 +264,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 lands = False
         if th_end > 0.0:
             zeno = 0
+        h_cap = 1e300
         # distance in time to the nearest terminal surface (for the graded RK4 steps)
         t_since_event = 0.0 if which >= 0 else t_since_event + h
         t_to_switch = 1e300
@@ -281,13 +293,16 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         # --- dense and stroboscopic samples -----------------------------------------------
         s_abs_end = T if lands else s + th_end * h
         y_end = y1 if which < 0 else yev
-        if dense_m > 0 and k >= k_record:
+        if dense_m > 0 and k + 1 >= k_record:
+            # samples at local times j T / dense_m inside this step; j >= dense_m belong to
+            # the next period (a step may run past the period's end)
             dt = T / dense_m
             j = int(math.floor(s / dt)) + 1
-            while j <= dense_m and (j * dt <= s_abs_end or (lands and j == dense_m)):
-                idx = (k - k_record) * dense_m + j
-                if idx < dense.shape[0]:
-                    if j == dense_m and lands:
+            while j * dt <= s_abs_end or (lands and j == dense_m):
+                kk = k + j // dense_m
+                idx = (kk - k_record) * dense_m + j % dense_m
+                if kk >= k_record and idx < dense.shape[0]:
+                    if lands and j == dense_m:
                         for m in range(n):
                             dense[idx, m] = y_end[m]
                     else:
@@ -296,9 +311,12 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                                                              P, n_stages, s, y, h, K, y1,
                                                              ytmp, F)
                             dense_ready = True
-                        interpolate(method, (j * dt - s) / h, h, y, f0, y1, f1r, F, yint)
+                        interpolate(method, min((j * dt - s) / h, th_end), h, y, f0, y1,
+                                    f1r, F, yint)
                         for m in range(n):
                             dense[idx, m] = yint[m]
+                if lands and j == dense_m:
+                    break
                 j += 1
         k_start = k
         s_start = s

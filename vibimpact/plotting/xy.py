@@ -52,9 +52,9 @@ def _title(ds):
     parts = []
     if a.get("preset"):
         parts.append(str(a["preset"]))
-    for name in ("eta", "kh", "G", "Bh", "BT", "f", "Rr"):
+    for name in ("eta", "kh", "G", "B", "Ec", "Bh", "BT", "f", "Rr"):
         key = f"param_{name}"
-        if key in a and (name in ("eta", "kh", "G") or float(a[key]) != 0.0):
+        if key in a and (name in ("eta", "kh", "G", "B", "Ec") or float(a[key]) != 0.0):
             parts.append(f"{'η' if name == 'eta' else name} = {float(a[key]):g}")
     status = a.get("status", "ok")
     if status != "ok":
@@ -73,7 +73,7 @@ def plot_xy(ds, path=None, ax=None):
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
     ax : matplotlib.axes.Axes, optional
-        Draw into these axes; a new 6 x 6 inch figure otherwise.
+        Draw into these axes; a new 6 x 6.6 inch figure otherwise.
 
     Returns
     -------
@@ -95,7 +95,7 @@ def plot_xy(ds, path=None, ax=None):
     if ax is None:
         from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(6, 6), layout="constrained")
+        fig = Figure(figsize=(6, 6.6), layout="constrained")
         ax = fig.add_subplot()
     states = [str(s) for s in ds["state"].values]
     if states[:2] != ["X", "Y"]:
@@ -119,7 +119,8 @@ def plot_xy(ds, path=None, ax=None):
     if not ax.yaxis_inverted():
         ax.invert_yaxis()
     ax.set_title(_title(ds), fontsize="medium")
-    ax.legend(loc="upper right", fontsize="small", framealpha=0.85)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize="small",
+              frameon=False)
     ax.grid(True, lw=0.4, alpha=0.5)
     if path is not None:
         save_figure(ax.figure, path)
