@@ -147,7 +147,9 @@ def _cmd_simulate(args):
             raise _UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
     try:
-        params = presets.get(args.preset).replace(eta=args.eta, **_parse_sets(args.set))
+        base = presets.get(args.preset)
+        eta = base.eta if args.eta is None else args.eta
+        params = base.replace(eta=eta, **_parse_sets(args.set))
     except ValueError as exc:
         raise _UsageError(str(exc)) from None
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
@@ -212,8 +214,8 @@ def build_parser():
                        formatter_class=fmt)
     s.add_argument("--preset", default="fig8", help="parameter set (default: fig8); "
                    "see 'vibimpact presets'")
-    s.add_argument("--eta", type=_float, required=True,
-                   help="forcing (rotor speed) frequency ratio, > 0")
+    s.add_argument("--eta", type=_float, default=None,
+                   help="forcing (rotor speed) frequency ratio, > 0 (default: the preset's, 1.0)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     s.add_argument("--periods", type=_positive_int(1), default=200,

@@ -28,6 +28,8 @@ _TABLE = {
 
 #: the preset used when none is named
 DEFAULT = "fig8"
+#: rotor speed of a preset until changed (resonance: the rotor reaches the retainer)
+DEFAULT_ETA = 1.0
 
 
 def names():
@@ -58,4 +60,4 @@ def get(name=DEFAULT):
     """
     kh, G, Bh, BT, f, Rr, _ = _row(name)
     return Params(B=DEFAULT_B, k3=-0.002, kh=kh, Bh=Bh, BT=BT, f=f, Rr=Rr, Ec=DEFAULT_EC, G=G,
-                  eta=1.2)
+                  eta=DEFAULT_ETA)
