@@ -125,7 +125,7 @@ BAD = {
     "non-finite value": (["--eta", "1.2", "--set", "G=nan"], "G"),
     "eta <= 0": (["--eta", "0"], "eta"),
     "non-numeric eta": (["--eta", "fast"], "fast"),
-    "missing eta": ([], "--eta"),
+    "eta NaN": (["--eta", "nan"], "nan"),
     "periods 0": (["--eta", "1.2", "--periods", "0"], "periods"),
     "bad method": (["--eta", "1.2", "--method", "euler"], "euler"),
     "negative rtol": (["--eta", "1.2", "--rtol", "-1e-9"], "rtol"),
