@@ -11,7 +11,7 @@ from ._kernel import tableaux as _tab
 from ._kernel.driver import integrate as _integrate
 from .models import DUFFING, ROTOR, Model
 from .params import DuffingParams, Params
-from .run import Run, Status, impacts_from_events, status_of
+from .run import IMPACT_DTYPE, Run, Status, impacts_from_events, status_of
 
 METHODS = tuple(_tab.METHOD_IDS)
 
@@ -186,20 +186,19 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     strobe = strobe[:rows]
     if st is not Status.OK:
         reason = f"{reason} at tau = {k_done * T + ks[1]:.6g} (forcing period {k_done})"
-    t_ev = np.concatenate([c[0] for c in chunks])
+    modes = np.concatenate([c[2] for c in chunks])
     events = {
-        "t": t_ev,
+        "t": np.concatenate([c[0] for c in chunks]),
         "which": np.concatenate([c[1] for c in chunks]),
-        "mode_before": np.concatenate([c[2] for c in chunks])[:, :mdl.n_mode],
-        "mode_after": np.concatenate([c[2] for c in chunks])[:, mdl.n_mode:],
+        "mode_before": modes[:, :mdl.n_mode],
+        "mode_after": modes[:, mdl.n_mode:],
         "state": np.concatenate([c[3] for c in chunks]),
     }
     if mdl is ROTOR:
         impacts = impacts_from_events(events["t"], events["which"], events["mode_before"],
                                       events["state"], transient * T, T)
     else:
-        impacts = impacts_from_events(np.empty(0), np.empty(0, np.int64),
-                                      np.empty((0, 2), np.int64), np.empty((0, 4)), 0.0, T)
+        impacts = np.zeros(0, dtype=IMPACT_DTYPE)
     if dense:
         n_dense = periods * dense + 1 if st is Status.OK else max(0, rows - 1) * dense + (
             1 if rows else 0)
