@@ -28,10 +28,12 @@ _EXPORTS = {
     "Model": ("models", "Model"),
     "ROTOR": ("models", "ROTOR"),
     "DUFFING": ("models", "DUFFING"),
+    "Regime": ("analysis.classify", "Regime"),
+    "analysis": ("analysis", None),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
-           "ROTOR", "DUFFING", "METHODS", "__version__"]
+           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "__version__"]
 
 
 def _load(name):

@@ -54,6 +54,19 @@ class Model:
     init_mode: Callable
     bound: float = 1e3
 
+    @property
+    def variational_kernel_model(self):
+        """What the kernel receives for the variational equations of this model.
+
+        The state followed by tangent vectors, mapped by saltation matrices at every
+        switch (:mod:`vibimpact._kernel.variational`).
+        """
+        if isinstance(self.kernel_model, int):
+            return self.kernel_model + _dispatch.VAR_OFFSET
+        rhs, switches, transition = self.kernel_model
+        return (rhs, switches, transition, self.jac, len(self.state_names),
+                int(self.terminal.size))
+
     @classmethod
     def from_functions(cls, name, rhs, jac, switches, transition, init_mode, terminal,
                        state_names, param_names, omega_index, n_mode=1, bound=1e3):

@@ -5,14 +5,25 @@ The kernel's functions take a ``model`` argument.  For a built-in model it is an
 keeps every signature free of function objects so numba can cache it on disk.  For a user
 model it is a tuple ``(rhs, switches, transition)`` of numba functions, called directly
 (compiled per process: numba cannot cache functions passed as arguments).
+
+The *variational* versions of the models (state followed by tangent vectors, saltation at
+every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR` and
+:data:`DUFFING_VAR`, or the tuple ``(rhs, switches, transition, jac, n_state, n_switch)``
+for a user model.  Their switching functions are the base model's (they read the first
+``n_state`` entries only).
 """
 from numba import types
 from numba.extending import overload
 
-from . import duffing, rotor
+from . import duffing, rotor, variational
 
 ROTOR = 0
 DUFFING = 1
+ROTOR_VAR = 2
+DUFFING_VAR = 3
+
+#: offset from a built-in model id to the id of its variational version
+VAR_OFFSET = 2
 
 
 def model_rhs(model, s, y, p, mode, out):
@@ -33,9 +44,18 @@ def _ol_rhs(model, s, y, p, mode, out):
         def impl(model, s, y, p, mode, out):
             if model == ROTOR:
                 rotor.rhs(s, y, p, mode, out)
-            else:
+            elif model == DUFFING:
                 duffing.rhs(s, y, p, mode, out)
+            elif model == ROTOR_VAR:
+                variational.rotor_rhs(s, y, p, mode, out)
+            else:
+                variational.duffing_rhs(s, y, p, mode, out)
         return impl
+
+    if len(model.types) == 6:
+        def impl_var(model, s, y, p, mode, out):
+            variational.user_rhs(model[0], model[3], model[4], s, y, p, mode, out)
+        return impl_var
 
     def impl_user(model, s, y, p, mode, out):
         model[0](s, y, p, mode, out)
@@ -46,7 +66,7 @@ def _ol_rhs(model, s, y, p, mode, out):
 def _ol_switches(model, s, y, p, mode, g):
     if isinstance(model, types.Integer):
         def impl(model, s, y, p, mode, g):
-            if model == ROTOR:
+            if model == ROTOR or model == ROTOR_VAR:
                 rotor.switches(s, y, p, mode, g)
             else:
                 duffing.switches(s, y, p, mode, g)
@@ -63,9 +83,17 @@ def _ol_transition(model, s, y, p, mode, which):
         def impl(model, s, y, p, mode, which):
             if model == ROTOR:
                 rotor.transition(s, y, p, mode, which)
+            elif model == ROTOR_VAR:
+                variational.rotor_transition(s, y, p, mode, which)
             else:
                 duffing.transition(s, y, p, mode, which)
         return impl
+
+    if len(model.types) == 6:
+        def impl_var(model, s, y, p, mode, which):
+            variational.user_transition(model[0], model[1], model[2], model[4], model[5], s,
+                                        y, p, mode, which)
+        return impl_var
 
     def impl_user(model, s, y, p, mode, which):
         model[2](s, y, p, mode, which)

@@ -12,7 +12,7 @@ from .dispatch import model_rhs, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
-                         O_BOUND, O_EVTOL, O_FIXED, O_HFIX, O_HMAX, O_MAXSTEPS, O_RTOL, OK,
+                         O_BOUND, O_EVTOL, O_FIXED, O_HFIX, O_HMAX, O_MAXSTEPS, O_NBOUND, O_RTOL, OK,
                          STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
                          rk_step)
 from .tableaux import RK4
@@ -74,7 +74,8 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     ks : float64 array, shape (3,)
         ``(k, s, h)``: period index, local time, next step size; overwritten.
     opts : float64 array
-        ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period)``.
+        ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period, fixed,
+        n_bound)`` (:mod:`.integrator`).
     k_end, k_record : int
         Stop at ``tau = k_end T``; record samples and events from ``tau = k_record T``.
     strobe : float64 array, shape (k_end - k_record + 1, n)
@@ -127,6 +128,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     fixed = method == RK4 or opts[O_FIXED] > 0.0
     expo = -1.0 / order
     cap = ev_t.size
+    n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
 
     k = int(ks[0])
     s = ks[1]
@@ -189,7 +191,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         for m in range(n):
             if not np.isfinite(y1[m]):
                 finite = False
-            elif abs(y1[m]) > big:
+            elif m < n_bound and abs(y1[m]) > big:
                 big = abs(y1[m])
         if not finite:
             status = DIVERGED_NONFINITE

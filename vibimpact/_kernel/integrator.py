@@ -48,8 +48,10 @@ ZENO = 5
 LOG_FULL = 6
 
 # option vector layout
-O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED = range(8)
-N_OPTS = 8
+#: O_NBOUND: how many leading state entries the bound applies to (0: all; the model
+#: state of a variational run, not its tangent vectors)
+O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED, O_NBOUND = range(9)
+N_OPTS = 9
 
 # counters layout
 C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)

@@ -1,0 +1,175 @@
+"""Lyapunov exponents: analytic spectra, published values, and cross-checks between the
+variational (saltation), two-trajectory, monodromy and time-series routes."""
+import math
+
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact.analysis import (largest_lyapunov, lyapunov_from_jacobians,
+                                lyapunov_from_series, lyapunov_spectrum,
+                                strobe_map_jacobian)
+from conftest import continued_state
+
+
+def test_damped_linear_oscillator_spectrum_is_analytic():
+    """x'' + 3x' + x = 0 has exponents (-3 +- sqrt(5))/2: the variational route returns them
+    (distinct real eigenvalues, so the QR estimate converges fast)."""
+    p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
+    res = lyapunov_spectrum(p, state0=[1.0, 0.0], transient=0, min_periods=100,
+                            max_periods=200)
+    exact = np.array([(-3 + math.sqrt(5)) / 2, (-3 - math.sqrt(5)) / 2])
+    np.testing.assert_allclose(res.exponents, exact, atol=2e-3)
+    # trace of the Jacobian; the second tangent vector shrinks by e^-16 per period, to
+    # within a few thousand of the absolute tolerance, hence 1e-5 and not 1e-8
+    assert abs(res.exponents.sum() + 3.0) < 1e-5
+
+
+def test_rotor_without_contact_has_all_exponents_minus_half_damping():
+    """Far from the retainer (eta = 0.5, no contact) with k3 = 0 the rotor is two damped
+    linear oscillators: four exponents -B/2 (underdamped), sum exactly -2B."""
+    p = vi.presets.get("fig8").replace(eta=0.5, k3=0.0)
+    res = lyapunov_spectrum(p, transient=20, min_periods=200, max_periods=400)
+    np.testing.assert_allclose(res.exponents, -0.05, atol=1e-3)
+    assert abs(res.exponents.sum() + 0.2) < 1e-8
+
+
+def test_henon_largest_exponent_through_the_map_route():
+    """The Hénon map (a = 1.4, b = 0.3) has largest exponent 0.419 per iteration
+    (Sprott 2003, *Chaos and Time-Series Analysis*, App. A: 0.41922); the exponents sum
+    to ln b because det J = -b."""
+    a, b = 1.4, 0.3
+    x, y = 0.1, 0.1
+    for _ in range(1000):
+        x, y = 1 - a * x * x + y, b * x
+    n = 100_000
+    xs = np.empty(n)
+    for k in range(n):
+        xs[k] = x
+        x, y = 1 - a * x * x + y, b * x
+    J = np.zeros((n, 2, 2))
+    J[:, 0, 0] = -2 * a * xs
+    J[:, 0, 1] = 1.0
+    J[:, 1, 0] = b
+    res = lyapunov_from_jacobians(J)
+    assert abs(res.exponents[0] - 0.419) < 0.01
+    assert abs(res.exponents.sum() - math.log(b)) < 1e-9
+
+
+UEDA = vi.DuffingParams(delta=0.05, alpha=0.0, beta=1.0, gamma=7.5, omega=1.0)
+
+
+@pytest.fixture(scope="module")
+def ueda():
+    """Variational and two-trajectory estimates on Ueda's chaotic oscillator."""
+    kw = dict(state0=[2.5, 0.0], transient=100, min_periods=600, max_periods=3000,
+              target_stderr=4e-3)
+    return lyapunov_spectrum(UEDA, **kw), largest_lyapunov(UEDA, **kw)
+
+
+def test_ueda_oscillator_matches_published_exponent(ueda):
+    """Ueda's oscillator x'' + 0.05 x' + x^3 = 7.5 cos t is chaotic (Ueda 1979, J. Stat.
+    Phys. 20, 181) with largest exponent 0.10 per unit time (Sprott 2003, App. A, two
+    significant digits); the spectrum sums to -0.05 (the Jacobian's trace)."""
+    var, _ = ueda
+    assert var.converged and var.stderr[0] <= 4e-3
+    assert abs(var.exponents[0] - 0.10) < 0.01
+    assert abs(var.exponents.sum() + 0.05) < 1e-8
+
+
+def test_two_trajectory_agrees_with_variational_on_ueda(ueda):
+    """Two independent routes (no Jacobian in the second) agree within their errors."""
+    var, two = ueda
+    assert abs(var.exponents[0] - two.exponents[0]) < 3 * math.hypot(var.stderr[0],
+                                                                     two.stderr[0])
+
+
+@pytest.mark.parametrize("preset, eta", [("fig8", 1.18), ("fig10", 1.02), ("fig11", 1.22)])
+def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(preset, eta):
+    """On a periodic impacting orbit the largest exponent from the variational equations
+    (with saltation matrices where the field jumps: BT at contact entry/exit in fig10,
+    friction in fig11) equals ln|mu_max|/T from the monodromy matrix by finite differences
+    of the Poincaré map, within 2 %."""
+    p = vi.presets.get(preset).replace(eta=eta)
+    x = continued_state(preset, eta, transient=300)
+    run = vi.simulate(p, periods=3, state0=x)
+    assert len(run.impacts) >= 2 and np.ptp(run.strobe, axis=0).max() < 1e-6
+    res = lyapunov_spectrum(p, state0=x, transient=0, min_periods=300, max_periods=1500,
+                            target_stderr=5e-4)
+    mu = np.linalg.eigvals(strobe_map_jacobian(p, x))
+    floquet = np.log(np.abs(mu)).max() / res.period
+    assert abs(res.exponents[0] - floquet) <= 0.02 * abs(floquet)
+
+
+@pytest.fixture(scope="module")
+def fig8_exponents(fig8_chaotic):
+    p, x = fig8_chaotic
+    kw = dict(state0=x, transient=100, min_periods=1500, max_periods=1500)
+    return p, x, lyapunov_spectrum(p, **kw), largest_lyapunov(p, **kw)
+
+
+def test_fig8_chaotic_point_variational_and_two_trajectory_agree(fig8_exponents):
+    """Inside the paper's chaotic interval (fig8, eta = 1.22) the largest exponent is
+    positive, and the variational and two-trajectory estimates agree within 10 %."""
+    _, _, var, two = fig8_exponents
+    assert var.exponents[0] > 3 * var.stderr[0] > 0
+    assert abs(var.exponents[0] - two.exponents[0]) <= 0.1 * var.exponents[0]
+
+
+def test_fig8_spectrum_pairs_to_minus_damping(fig8_exponents):
+    """With Bh = BT = f = 0 the contact force is conservative and the damping uniform, so
+    the flow is conformally symplectic: exponents pair as l1 + l4 = l2 + l3 = -B
+    (Dressler 1988, Phys. Rev. A 38, 2103)."""
+    p, _, var, _ = fig8_exponents
+    lam = var.exponents
+    assert abs(lam[0] + lam[3] + p.B) < 1e-6
+    assert abs(lam[1] + lam[2] + p.B) < 1e-6
+
+
+def test_nolds_time_series_estimate_confirms_the_sign(fig8_exponents):
+    """Cross-check only: Rosenstein's estimate from the Poincaré X series is positive at the
+    chaotic point and within a factor 2 of the variational value."""
+    pytest.importorskip("nolds")
+    p, x, var, _ = fig8_exponents
+    run = vi.simulate(p, periods=1500, state0=x)
+    est = lyapunov_from_series(run.strobe[:, 0], period=var.period)
+    assert var.exponents[0] / 2 < est < 2 * var.exponents[0]
+
+
+def test_map_exponents_are_flow_exponents_times_period():
+    """The stroboscopic map's exponents are the flow's times T; include_phase appends the
+    forcing phase's exact zero."""
+    p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=2.0)
+    res = lyapunov_spectrum(p, state0=[1.0, 0.0], transient=0, min_periods=100,
+                            max_periods=100, include_phase=True)
+    assert res.exponents.shape == (3,) and res.exponents[0] == 0.0
+    np.testing.assert_allclose(res.map_exponents, res.exponents * math.pi)
+
+
+def test_tighter_target_integrates_longer_and_meets_it():
+    """Convergence control: the run goes on until the largest exponent's standard error
+    reaches the target, so a tighter target needs more periods and is met."""
+    kw = dict(state0=[2.5, 0.0], transient=50, min_periods=200, max_periods=20000)
+    loose = largest_lyapunov(UEDA, target_stderr=1e-2, **kw)
+    tight = largest_lyapunov(UEDA, target_stderr=3e-3, **kw)
+    assert loose.stderr[0] <= 1e-2 and tight.stderr[0] <= 3e-3
+    assert tight.periods > loose.periods
+
+
+def test_blow_up_is_labelled_not_returned_as_exponents():
+    """A trajectory that escapes (softening Duffing, strong forcing) gives status DIVERGED
+    and NaN exponents, never numbers."""
+    p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=-1.0, gamma=5.0, omega=1.0)
+    res = lyapunov_spectrum(p, transient=0, min_periods=50, max_periods=100)
+    assert res.status is vi.Status.DIVERGED and np.all(np.isnan(res.exponents))
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(n_exponents=5), "n_exponents"), (dict(min_periods=10, max_periods=5),
+                                          "max_periods"),
+    (dict(method="rk4"), "method"), (dict(target_stderr=-1.0), "target_stderr"),
+    (dict(state0=[1.0, 2.0]), "state0")])
+def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
+    """Invalid arguments raise ValueError naming the argument."""
+    with pytest.raises(ValueError, match=name):
+        lyapunov_spectrum(vi.presets.get("fig8"), **kwargs)

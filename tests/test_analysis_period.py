@@ -1,0 +1,167 @@
+"""detect_period on synthetic Poincare sequences with known answers, the two sections of a
+run, and the fig8 rotor at eta = 1.185 (paper: two bottom impacts A, B per period)."""
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact.analysis.impacts import contact_arcs, impact_count
+from vibimpact.analysis.period import detect_period, impact_map, poincare_section
+
+GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
+
+
+def periodic_orbit(n, repeats=4, d=4, noise=1e-9, seed=0):
+    """A period-n sequence of random points in [-1, 1]^d (successive points distinct),
+    repeated, plus Gaussian noise."""
+    rng = np.random.default_rng(seed + n)
+    orbit = rng.uniform(-1.0, 1.0, size=(n, d))
+    x = np.tile(orbit, (repeats, 1))
+    x = np.vstack([x, orbit[:1]])                      # repeats * n + 1 points
+    return x + noise * rng.standard_normal(x.shape)
+
+
+def logistic(m, x0=0.3, r=4.0, transient=1000):
+    x = x0
+    for _ in range(transient):
+        x = r * x * (1.0 - x)
+    out = np.empty(m)
+    for k in range(m):
+        x = r * x * (1.0 - x)
+        out[k] = x
+    return out
+
+
+@pytest.mark.parametrize("n", range(1, 65))
+def test_noisy_periodic_sequences_of_period_1_to_64_are_found_exactly(n):
+    """A period-n orbit of random points in R^4 with 1e-9 noise, 4 repetitions, has period
+    exactly n (not a multiple, not 0) for every n = 1..64."""
+    assert detect_period(periodic_orbit(n), tol=1e-6, max_period=64) == n
+
+
+def test_period_needs_min_repeats_full_repetitions():
+    """A period is only accepted when the window holds min_repeats * n + 1 points."""
+    x = periodic_orbit(5, repeats=3)                  # 16 points = 3 * 5 + 1
+    assert detect_period(x) == 5
+    assert detect_period(x[:-1]) == 0
+    assert detect_period(x[:-1], min_repeats=2) == 5
+
+
+def test_period_above_max_period_gives_zero():
+    """A period-10 orbit is not found when max_period is 9."""
+    assert detect_period(periodic_orbit(10), max_period=9) == 0
+
+
+def test_exact_fixed_point_and_one_dimensional_input_give_period_one():
+    """A constant sequence (size 0, even at the origin) is period 1; (m,) arrays are d = 1."""
+    assert detect_period(np.zeros((10, 4))) == 1
+    assert detect_period(np.full(10, 3.5)) == 1
+    assert detect_period(np.tile([0.1, 0.7], 8)) == 2
+
+
+def test_fixed_point_with_integration_noise_is_period_one():
+    """Noise of relative size 1e-9 around a fixed point far from 0 is below tol: period 1."""
+    rng = np.random.default_rng(3)
+    x = np.array([0.3, -0.8, 0.1, 0.5]) + 1e-9 * rng.standard_normal((61, 4))
+    assert detect_period(x, tol=1e-6) == 1
+
+
+def test_geometric_transient_toward_fixed_point_is_not_periodic():
+    """x_k = 0.9^k a converges to a fixed point, but its first steps exceed tol: 0."""
+    a = np.array([1.0, -0.5, 0.3, 0.2])
+    x = 0.9 ** np.arange(200)[:, None] * a
+    assert detect_period(x, tol=1e-6) == 0
+
+
+def test_golden_ratio_circle_rotation_is_not_periodic():
+    """A quasi-periodic rotation by the golden ratio never returns within tol: 0."""
+    phase = 2.0 * np.pi * GOLDEN * np.arange(1000)
+    assert detect_period(np.column_stack([np.cos(phase), np.sin(phase)])) == 0
+
+
+def test_logistic_map_at_r4_is_not_periodic():
+    """The chaotic logistic map at r = 4 has no period <= 64: 0."""
+    assert detect_period(logistic(1000)) == 0
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(points=[[0.0, np.nan]] * 10), "points"),
+    (dict(points=[1.0, np.inf, 2.0]), "points"),
+    (dict(points=np.zeros((3, 2, 2))), "points"),
+    (dict(points=np.zeros(10), tol=0.0), "tol"),
+    (dict(points=np.zeros(10), tol=-1e-6), "tol"),
+    (dict(points=np.zeros(10), max_period=0), "max_period"),
+    (dict(points=np.zeros(10), max_period=2.5), "max_period"),
+    (dict(points=np.zeros(10), min_repeats=0), "min_repeats"),
+    (dict(points=np.zeros(10), scale=-1.0), "scale"),
+])
+def test_bad_detect_period_input_raises_value_error_naming_argument(kwargs, name):
+    """Invalid points, tol, max_period, min_repeats or scale raise ValueError naming it."""
+    with pytest.raises(ValueError, match=name):
+        detect_period(**kwargs)
+
+
+class _FakeRun:
+    """Only the attributes the sections read."""
+
+    def __init__(self, strobe, events):
+        self.strobe = strobe
+        self.events = events
+
+
+def test_impact_map_keeps_only_contact_entries():
+    """Only events with which == 0 going from free flight (mode 0) into contact (mode 1)
+    are impacts; exits and other switches are dropped; a section is a copy."""
+    state = np.arange(20.0).reshape(5, 4)
+    events = dict(t=np.arange(5.0), which=np.array([0, 0, 2, 0, 1]),
+                  mode_before=np.array([[0, 0], [1, 0], [1, 0], [0, 0], [1, 0]]),
+                  mode_after=np.array([[1, 0], [0, 0], [1, 0], [1, 0], [1, 1]]), state=state)
+    run = _FakeRun(np.ones((3, 4)), events)
+    np.testing.assert_array_equal(impact_map(run), state[[0, 3]])
+    section = poincare_section(run)
+    section[0, 0] = 5.0
+    assert run.strobe[0, 0] == 1.0
+
+
+def test_sections_without_impacts_have_shape_0_by_4():
+    """No events (or an empty log) gives an empty (0, 4) impact map."""
+    empty = dict(t=np.zeros(0), which=np.zeros(0, int), mode_before=np.zeros((0, 2), int),
+                 mode_after=np.zeros((0, 2), int), state=np.zeros((0, 4)))
+    assert impact_map(_FakeRun(np.ones((3, 4)), empty)).shape == (0, 4)
+    assert impact_map(_FakeRun(np.ones((3, 4)), {})).shape == (0, 4)
+    assert poincare_section(_FakeRun(np.zeros((0, 4)), {})).shape == (0, 4)
+
+
+@pytest.fixture(scope="module")
+def fig8_1185():
+    """fig8 at eta = 1.185 from rest, and from a state on the impacting branch."""
+    p = vi.presets.get("fig8").replace(eta=1.185)
+    rest = vi.simulate(p, periods=60, transient=400)
+    upper = vi.simulate(p, periods=60, transient=400, state0=[1.0, 0.0, 0.0, 1.185])
+    return rest, upper
+
+
+def test_fig8_at_1185_from_rest_is_impactless_period_one(fig8_1185):
+    """Started from rest, fig8 at eta = 1.185 settles on the lower, impactless branch: a
+    period-1 orbit (the rotor never reaches the retainer)."""
+    rest, _ = fig8_1185
+    assert rest.ok
+    assert detect_period(poincare_section(rest), tol=1e-6) == 1
+    assert rest.impacts.size == 0 and impact_map(rest).shape == (0, 4)
+
+
+def test_fig8_at_1185_upper_branch_is_period_one_with_two_bottom_impacts(fig8_1185):
+    """On the impacting branch, fig8 at eta = 1.185 is period 1 with two impacts (A, B)
+    per period at two fixed points of the bottom half, as the paper describes."""
+    _, run = fig8_1185
+    assert run.ok
+    n = detect_period(poincare_section(run), tol=1e-6)
+    assert n == 1
+    count = impact_count(run.impacts["period"], len(run.strobe) - 1, period=n)
+    assert count.constant and count.per_period == 2
+    states = impact_map(run)
+    theta = np.degrees(np.arctan2(states[:, 1], states[:, 0]))
+    np.testing.assert_allclose(theta, run.impacts["theta"], atol=1e-9)
+    assert np.all((theta > 0.0) & (theta < 180.0))
+    arcs = contact_arcs(theta)
+    assert arcs.summary == "2 small arcs"
+    assert np.all(arcs.width < 1e-3)

@@ -1,0 +1,146 @@
+"""Lyapunov-exponent loops over forcing periods (``@njit``).
+
+:func:`benettin` integrates the variational model (:mod:`.variational`) one forcing period
+at a time and re-orthonormalises the tangent vectors by a QR factorisation after each
+(Benettin, Galgani, Giorgilli & Strelcyn 1980, Meccanica 15, 9-30; Shimada & Nagashima
+1979, Prog. Theor. Phys. 61, 1605).  :func:`two_trajectory` follows a reference and a
+perturbed trajectory and renormalises their separation after each period (Benettin,
+Galgani & Strelcyn 1976, Phys. Rev. A 14, 2338).  Both write one row of logarithmic growth
+factors per period; the caller turns them into exponents and error bars.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .driver import integrate
+from .integrator import DIVERGED_BOUND, OK
+
+
+@njit(cache=True, error_model="numpy")
+def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, omega, y,
+             mode, ks, opts, n_state, bound, n_periods, logs, counters):
+    """Integrate ``n_periods`` forcing periods with QR re-orthonormalisation after each.
+
+    Parameters
+    ----------
+    model : int or tuple
+        A *variational* model (:mod:`.dispatch`).
+    y : float64 array, shape (n_state (1 + m),)
+        State followed by ``m`` orthonormal tangent columns; overwritten.
+    ks : float64 array, shape (3,)
+        ``(k, s, h)`` as in :func:`.driver.integrate`; ``s`` must be 0.
+    bound : float
+        Divergence bound on the model state (the tangent part is unbounded).
+    logs : float64 array, shape (n_periods, m)
+        Row ``j`` receives ``log |R_ii|`` of period ``j``.
+
+    Returns
+    -------
+    status : int
+    done : int
+        Periods completed (rows of ``logs`` written).
+    """
+    n = n_state
+    m = (y.size - n) // n
+    strobe = np.empty((1, y.size))
+    ev_t = np.empty(64)
+    ev_which = np.empty(64, dtype=np.int64)
+    ev_mode = np.empty((64, 2 * mode.size), dtype=np.int64)
+    ev_y = np.empty((64, y.size))
+    dense = np.empty((1, y.size))
+    Q = np.empty((n, m))
+    for j in range(n_periods):
+        k_next = int(ks[0]) + 1
+        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
+                              n_stages, p, omega, y, mode, ks, opts, k_next, k_next, strobe,
+                              ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        if status != OK:
+            return status, j
+        for i in range(n):
+            if abs(y[i]) > bound:
+                return DIVERGED_BOUND, j
+        for c in range(m):
+            for i in range(n):
+                Q[i, c] = y[n + c * n + i]
+        q, r = np.linalg.qr(Q)
+        for c in range(m):
+            rc = r[c, c]
+            logs[j, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf
+            sg = 1.0 if rc >= 0.0 else -1.0
+            for i in range(n):
+                y[n + c * n + i] = sg * q[i, c]
+    return OK, n_periods
+
+
+@njit(cache=True, error_model="numpy")
+def two_trajectory(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p,
+                   omega, y, mode, ks, y2, mode2, ks2, opts, d0, scale, bound, n_periods,
+                   logs, counters):
+    """Reference ``y`` and perturbed ``y2`` over ``n_periods`` periods, renormalised to ``d0``.
+
+    The separation is measured in the norm ``|(y2 - y) / scale|``.  After each period the
+    perturbed state is put back at distance ``d0`` along the current separation and takes
+    the reference's mode; in the rare case that the two lie on different sides of a
+    switching surface, the driver's first step finds the switching function negative and
+    corrects the mode (an immediate event).  ``logs[j, 0]`` receives ``log(d_j / d0)``.
+    """
+    n = y.size
+    strobe = np.empty((1, n))
+    ev_t = np.empty(64)
+    ev_which = np.empty(64, dtype=np.int64)
+    ev_mode = np.empty((64, 2 * mode.size), dtype=np.int64)
+    ev_y = np.empty((64, n))
+    dense = np.empty((1, n))
+    for j in range(n_periods):
+        k_next = int(ks[0]) + 1
+        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
+                              n_stages, p, omega, y, mode, ks, opts, k_next, k_next, strobe,
+                              ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        if status != OK:
+            return status, j
+        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
+                              n_stages, p, omega, y2, mode2, ks2, opts, k_next, k_next,
+                              strobe, ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        if status != OK:
+            return status, j
+        d = 0.0
+        for i in range(n):
+            if abs(y[i]) > bound:
+                return DIVERGED_BOUND, j
+            e = (y2[i] - y[i]) / scale[i]
+            d += e * e
+        d = math.sqrt(d)
+        logs[j, 0] = math.log(d / d0) if d > 0.0 else -np.inf
+        if d == 0.0:
+            d = d0
+            y2[0] = y[0] + d0 * scale[0]
+            for i in range(1, n):
+                y2[i] = y[i]
+        else:
+            for i in range(n):
+                y2[i] = y[i] + (y2[i] - y[i]) * (d0 / d)
+        for i in range(mode.size):
+            mode2[i] = mode[i]
+        ks2[2] = ks[2]
+    return OK, n_periods
+
+
+@njit(cache=True, error_model="numpy")
+def qr_growth(J, logs):
+    """``log |R_ii|`` of the QR re-orthonormalised product of map Jacobians.
+
+    ``J`` has shape (N, d, d); row ``k`` of ``logs`` (shape (N, d)) receives the growth
+    factors of step ``k`` (Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 617, sec. III.B).
+    """
+    N = J.shape[0]
+    d = J.shape[1]
+    Q = np.eye(d)
+    for k in range(N):
+        q, r = np.linalg.qr(J[k] @ Q)
+        for c in range(d):
+            rc = r[c, c]
+            logs[k, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf
+            sg = 1.0 if rc >= 0.0 else -1.0
+            for i in range(d):
+                Q[i, c] = sg * q[i, c]

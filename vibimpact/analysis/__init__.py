@@ -1,0 +1,34 @@
+"""Analysers: verbs over arrays (Poincaré points, impact logs, Jacobians, time series).
+
+==========================  ==========================================================
+:func:`poincare_section`    stroboscopic samples of a run, shape (m, n)
+:func:`impact_map`          the state at each contact entry, shape (k, n)
+:func:`detect_period`       smallest ``n`` with ``x[k+n] = x[k]``; 0 if none
+:func:`impact_count`        contacts per forcing period and per motion period
+:func:`contact_arcs`        contact angles grouped into arcs on the retainer circle
+:func:`impact_statistics`   impact speeds, penetrations, contact durations
+:func:`lyapunov_spectrum`   variational equations + saltation matrices (Benettin/QR)
+:func:`largest_lyapunov`    two-trajectory estimate (independent check)
+:func:`lyapunov_from_jacobians`  QR method for any map
+:func:`lyapunov_from_series`     nolds (Rosenstein) on a series, a cross-check only
+:func:`strobe_map_jacobian` finite-difference Jacobian of the stroboscopic map
+:func:`test01`              Gottwald--Melbourne 0-1 test for chaos
+:func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED)
+:func:`classify_params`     simulate one parameter point and classify it
+==========================  ==========================================================
+"""
+from .chaos01 import test01
+from .classify import DEFAULT_RULE, DecisionRule, Label, Regime, classify, classify_params
+from .impacts import (ContactArcs, ImpactCount, ImpactStatistics, contact_arcs,
+                      impact_count, impact_statistics)
+from .lyapunov import (LyapunovResult, largest_lyapunov, lyapunov_from_jacobians,
+                       lyapunov_from_series, lyapunov_spectrum, strobe_map_jacobian)
+from .period import detect_period, impact_map, poincare_section
+
+__all__ = [
+    "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
+    "Label", "LyapunovResult", "Regime", "classify", "classify_params", "contact_arcs",
+    "detect_period", "impact_count", "impact_map", "impact_statistics",
+    "largest_lyapunov", "lyapunov_from_jacobians", "lyapunov_from_series",
+    "lyapunov_spectrum", "poincare_section", "strobe_map_jacobian", "test01",
+]

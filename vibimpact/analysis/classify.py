@@ -1,0 +1,302 @@
+"""The classifier: periodic (with its period), quasi-periodic, chaotic, or diverged.
+
+The decision combines three independent tests -- the period test on the stroboscopic
+points, the largest Lyapunov exponent with its standard error, and the 0-1 test -- by the
+rule written out once, in :class:`DecisionRule` and :func:`decide`.  Everything else in
+vibimpact (sweeps, interval maps, the CLI) calls :func:`classify`.
+"""
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .chaos01 import test01
+from .period import detect_period
+
+
+class Label(str, enum.Enum):
+    """What kind of motion a point is."""
+
+    PERIODIC = "periodic"
+    QUASIPERIODIC = "quasi-periodic"
+    CHAOTIC = "chaotic"
+    DIVERGED = "diverged"
+
+
+@dataclass(frozen=True)
+class DecisionRule:
+    """Thresholds of the classifier, in one documented place.
+
+    Attributes
+    ----------
+    period_tol : float
+        Relative tolerance of the period test (:func:`detect_period`).
+    max_period : int
+        Longest period looked for, in forcing periods.
+    z : float
+        An exponent is *significantly* positive (negative) when it exceeds ``+zero``
+        (falls below ``-zero``) by ``z`` standard errors.
+    zero : float
+        Half-width of the band around 0 in which the largest exponent counts as zero, per
+        forcing period (a map exponent ``lambda T``): a stable long-period orbit and a
+        torus both have exponents within a few 1e-3 of 0 per period close to their
+        bifurcations.
+    k_chaos : float
+        The 0-1 test's ``K`` above this reads "chaotic", below it "regular"
+        (Gottwald & Melbourne 2009 recommend a threshold between the limits 0 and 1).
+    min_points_01 : int
+        Fewest stroboscopic points on which the 0-1 test is run.
+
+    Notes
+    -----
+    The rule, applied by :func:`decide` in this order:
+
+    1. a non-finite or diverged run is DIVERGED;
+    2. a period ``n`` found by the period test is PERIODIC with that ``n``; confidence 1,
+       lowered to 0.5 if a significantly positive exponent contradicts it;
+    3. with an exponent ``lambda`` (per forcing period ``lambda T``, error ``sigma T``):
+       significantly positive -> CHAOTIC; significantly negative -> PERIODIC with
+       ``n = 0`` (attracting orbit whose period is longer than ``max_period`` or not yet
+       converged); in the zero band -> QUASIPERIODIC if ``K < k_chaos``, else CHAOTIC
+       with low confidence;
+    4. without an exponent the 0-1 test decides: CHAOTIC if ``K > k_chaos``, else
+       QUASIPERIODIC.
+
+    Confidence is 1 when every available test agrees with the label, 0.5 when one
+    disagrees or the exponent sits in the zero band, and ``|2K - 1|`` when ``K`` alone
+    decided.
+    """
+
+    period_tol: float = 1e-6
+    max_period: int = 64
+    z: float = 3.0
+    zero: float = 5e-3
+    k_chaos: float = 0.5
+    min_points_01: int = 100
+
+
+DEFAULT_RULE = DecisionRule()
+
+
+@dataclass(frozen=True)
+class Regime:
+    """The classifier's answer for one parameter point.
+
+    Attributes
+    ----------
+    label : Label
+    n : int
+        Period in forcing periods (``T_motion = n 2 pi / eta``) for PERIODIC; 0 when
+        unknown or not periodic.
+    impacting : bool or None
+        Whether the motion has contacts with the retainer (None: not known).
+    impacts_per_period : float
+        Contacts per motion period (per forcing period when ``n = 0``); NaN if unknown.
+    confidence : float
+        In [0, 1]: how well the tests agree (see :class:`DecisionRule`).
+    lyapunov, lyapunov_err : float
+        Largest exponent per unit ``tau`` and its standard error (NaN: not computed).
+    k01 : float
+        The 0-1 test's ``K`` (NaN: not computed).
+    reason : str
+        The rule's branch, in words.
+    """
+
+    label: Label
+    n: int = 0
+    impacting: bool | None = None
+    impacts_per_period: float = math.nan
+    confidence: float = 1.0
+    lyapunov: float = math.nan
+    lyapunov_err: float = math.nan
+    k01: float = math.nan
+    reason: str = ""
+
+    PERIODIC = Label.PERIODIC
+    QUASIPERIODIC = Label.QUASIPERIODIC
+    CHAOTIC = Label.CHAOTIC
+    DIVERGED = Label.DIVERGED
+
+    def __str__(self):
+        if self.label is Label.PERIODIC:
+            text = f"P{self.n}" if self.n else "periodic (long period)"
+        else:
+            text = self.label.value
+        if self.impacting is False:
+            text += " impactless"
+        elif self.impacting and math.isfinite(self.impacts_per_period):
+            k = self.impacts_per_period
+            text += f", {k:.0f} impacts" if k == round(k) else f", {k:.2f} impacts/period"
+        return text
+
+
+def _finite_number(name, value, allow_nan=True):
+    if value is None:
+        return math.nan
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if math.isnan(v) and allow_nan:
+        return v
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE):
+    """Apply the decision rule (see :class:`DecisionRule`).
+
+    Parameters
+    ----------
+    n : int
+        Detected period, 0 if none.
+    lam_map, err_map : float
+        Largest exponent and its error per forcing period (NaN: not computed).
+    k01 : float
+        0-1 test ``K`` (NaN: not computed).
+
+    Returns
+    -------
+    (Label, n, confidence, reason)
+    """
+    have_lam = math.isfinite(lam_map)
+    err = err_map if math.isfinite(err_map) else 0.0
+    pos = have_lam and lam_map - rule.z * err > rule.zero
+    neg = have_lam and lam_map + rule.z * err < -rule.zero
+    have_k = math.isfinite(k01)
+    if n >= 1:
+        if pos:
+            return Label.PERIODIC, n, 0.5, "period found, but the exponent is positive"
+        return Label.PERIODIC, n, 1.0, "period found"
+    if have_lam:
+        if pos:
+            conf = 1.0 if (not have_k or k01 > rule.k_chaos) else 0.5
+            return Label.CHAOTIC, 0, conf, "largest exponent significantly positive"
+        if neg:
+            return (Label.PERIODIC, 0, 0.5,
+                    f"largest exponent negative, no period <= {rule.max_period} found")
+        if not have_k or k01 < rule.k_chaos:
+            return Label.QUASIPERIODIC, 0, 1.0 if have_k else 0.5, \
+                "largest exponent zero within its error"
+        return Label.CHAOTIC, 0, 0.5, "exponent near zero, 0-1 test chaotic"
+    if have_k:
+        label = Label.CHAOTIC if k01 > rule.k_chaos else Label.QUASIPERIODIC
+        return label, 0, abs(2.0 * k01 - 1.0), "0-1 test only"
+    return Label.QUASIPERIODIC, 0, 0.0, "no period found and no other test available"
+
+
+def classify(points, *, lyapunov=None, lyapunov_err=None, period=1.0, k01=None,
+             impacts_per_period=None, diverged=False, rule=DEFAULT_RULE):
+    """Classify a motion from its stroboscopic (Poincaré) points.
+
+    Array-level: works on points from any system.
+
+    Parameters
+    ----------
+    points : array_like, shape (m, d) or (m,)
+        Stroboscopic samples after the transient, one per forcing period.
+    lyapunov, lyapunov_err : float, optional
+        Largest Lyapunov exponent per unit time and its standard error
+        (e.g. from :func:`~vibimpact.analysis.lyapunov_spectrum`).
+    period : float
+        Time between points (forcing period ``T``), to express the exponent per period.
+    k01 : float, optional
+        The 0-1 test's ``K``; computed from ``points`` when omitted, no period is found
+        and there are at least ``rule.min_points_01`` points.
+    impacts_per_period : float, optional
+        Contacts per forcing period (``impacting`` is derived from it).
+    diverged : bool
+        The run blew up; the label is DIVERGED whatever the points say.
+    rule : DecisionRule
+
+    Returns
+    -------
+    Regime
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vibimpact.analysis import classify
+    >>> str(classify(np.tile([[0.0], [1.0], [2.0]], (30, 1))))
+    'P3'
+    """
+    if diverged:
+        return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.ndim == 1:
+        pts = pts[:, None]
+    if pts.ndim != 2 or pts.shape[0] < 2:
+        raise ValueError(f"points must have shape (m >= 2, d), got {np.shape(points)}")
+    if not np.all(np.isfinite(pts)):
+        return Regime(Label.DIVERGED, confidence=1.0, reason="non-finite points")
+    period = _finite_number("period", period, allow_nan=False)
+    if period <= 0.0:
+        raise ValueError(f"period must be > 0, got {period}")
+    lam = _finite_number("lyapunov", lyapunov)
+    err = _finite_number("lyapunov_err", lyapunov_err)
+    k = _finite_number("k01", k01)
+    ipp = _finite_number("impacts_per_period", impacts_per_period)
+    n = detect_period(pts, tol=rule.period_tol, max_period=rule.max_period)
+    if n == 0 and math.isnan(k) and pts.shape[0] >= rule.min_points_01:
+        k = test01(pts[:, int(np.argmax(np.ptp(pts, axis=0)))])
+    label, n, conf, reason = decide(n, lam * period, err * period, k, rule)
+    impacting = None if math.isnan(ipp) else bool(ipp > 0.0)
+    per = ipp * n if (n >= 1 and math.isfinite(ipp)) else ipp
+    return Regime(label, n, impacting, per, conf, lam, err, k, reason)
+
+
+def classify_params(p, state0=None, *, transient=500, periods=200, lyapunov="auto",
+                    rule=DEFAULT_RULE, method="dop853", rtol=1e-9, atol=1e-12,
+                    lyapunov_kw=None, model=None):
+    """Simulate one parameter point and classify it.
+
+    Parameters
+    ----------
+    p : Params or DuffingParams
+    state0 : array_like, optional
+        Initial state (rest by default); continuation passes the previous point's state.
+    transient, periods : int
+        Forcing periods discarded, then recorded for the period and 0-1 tests.
+    lyapunov : {"auto", True, False}
+        "auto" computes the largest exponent only when no period is found (a proven
+        periodic orbit needs none).
+    lyapunov_kw : dict, optional
+        Passed to :func:`~vibimpact.analysis.lyapunov_spectrum` (one exponent).
+
+    Returns
+    -------
+    (Regime, Run)
+        The regime and the recorded run (for impacts and Poincaré points).
+    """
+    from ..simulate import simulate
+    from ..run import Status
+    from .lyapunov import lyapunov_spectrum
+
+    if lyapunov not in ("auto", True, False):
+        raise ValueError(f"lyapunov must be 'auto', True or False, got {lyapunov!r}")
+    run = simulate(p, periods=periods, transient=transient, state0=state0, method=method,
+                   rtol=rtol, atol=atol, model=model)
+    T = float(run.t_strobe[1] - run.t_strobe[0]) if len(run.t_strobe) > 1 else 1.0
+    if run.status is not Status.OK:
+        return Regime(Label.DIVERGED, confidence=1.0,
+                      reason=f"{run.status.value}: {run.reason}"), run
+    ipp = len(run.impacts) / periods if run.model == "rotor" else None
+    n = detect_period(run.strobe, tol=rule.period_tol, max_period=rule.max_period)
+    lam = err = None
+    if lyapunov is True or (lyapunov == "auto" and n == 0):
+        kw = dict(transient=0, min_periods=200, max_periods=2000, target_stderr=2e-3,
+                  align=20)
+        kw.update(lyapunov_kw or {})
+        res = lyapunov_spectrum(p, state0=run.final_state, n_exponents=1, method=method,
+                                model=model, **kw)
+        if res.status is not Status.OK:
+            return Regime(Label.DIVERGED, confidence=1.0,
+                          reason=f"{res.status.value}: {res.reason}"), run
+        lam, err = res.exponents[0], res.stderr[0]
+    regime = classify(run.strobe, lyapunov=lam, lyapunov_err=err, period=T,
+                      impacts_per_period=ipp, rule=rule)
+    return regime, run
