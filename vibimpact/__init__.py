@@ -30,10 +30,14 @@ _EXPORTS = {
     "DUFFING": ("models", "DUFFING"),
     "Regime": ("analysis.classify", "Regime"),
     "analysis": ("analysis", None),
+    "sweep": ("sweeps.sweep", "sweep"),
+    "intervals": ("sweeps.dataset", "intervals"),
+    "SweepSettings": ("sweeps.point", "SweepSettings"),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
-           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "__version__"]
+           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings",
+           "__version__"]
 
 
 def _load(name):

@@ -165,8 +165,10 @@ def _estimate(logs, T, block):
     return lam, err, history
 
 
-def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip):
-    """Call ``step(n, logs)`` block by block until the largest exponent's error is small."""
+def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decisive=None):
+    """Call ``step(n, logs)`` block by block until the largest exponent's error is small
+    (or, with ``decisive = (band, z)``, until its sign is settled: ``|lambda| - z sigma``
+    beyond ``band``)."""
     logs = np.empty((max_periods + skip, m))
     done = 0
     status = _k.OK
@@ -180,6 +182,8 @@ def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip):
         if used >= min_periods:
             lam, err, _ = _estimate(logs[skip:done], T, block)
             if err[0] <= target:
+                break
+            if decisive is not None and abs(lam.max()) - decisive[1] * err[0] > decisive[0]:
                 break
     return logs[skip:done] if done > skip else logs[:0], status
 
@@ -201,8 +205,8 @@ def _result(logs, status, T, block, target, method, kind, order=True):
 
 def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_periods=400,
                       max_periods=20000, block=50, target_stderr=2e-3, align=50,
-                      include_phase=False, method="dop853", rtol=1e-10, atol=1e-12,
-                      max_step=None, event_tol=1e-12, model=None):
+                      include_phase=False, decisive=None, method="dop853", rtol=1e-10,
+                      atol=1e-12, max_step=None, event_tol=1e-12, model=None):
     """Lyapunov spectrum by variational equations with saltation matrices (Benettin/QR).
 
     The tangent vectors follow ``v' = J v`` with the model's analytic Jacobian inside each
@@ -233,6 +237,10 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         Lyapunov directions.
     include_phase : bool
         Append the forcing phase's exponent 0 (spectrum of the autonomous extension).
+    decisive : (float, float), optional
+        ``(band, z)``: also stop once the largest exponent is at least ``z`` standard
+        errors outside ``(-band, band)`` (its sign is settled; used by sweeps, which only
+        need the sign).  ``converged`` then reports whether ``target_stderr`` was met.
     method, rtol, atol, max_step, event_tol
         Integrator settings, as in :func:`vibimpact.simulate` (adaptive methods only).
     model : Model, optional
@@ -281,7 +289,10 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         return _benettin(vmodel, mdl.terminal, *tab, pvec, omega, y, mode, ks, opts, n,
                          mdl.bound, count, out, counters)
 
-    logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align)
+    if decisive is not None:
+        decisive = (float(decisive[0]), float(decisive[1]))
+    logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align,
+                               decisive)
     res = _result(logs, status, T, block, target, "variational", kind)
     if include_phase and res.status is Status.OK:
         lam = np.concatenate([res.exponents, [0.0]])

@@ -1,0 +1,8 @@
+"""Frequency sweeps: per-point analysis, continuation in blocks, checkpoints, datasets and
+the labelled interval map."""
+from .dataset import format_intervals, intervals, to_dataset
+from .point import ANALYSES, SweepSettings, analyse_point
+from .sweep import DIRECTIONS, parse_range, sweep
+
+__all__ = ["ANALYSES", "DIRECTIONS", "SweepSettings", "analyse_point", "format_intervals",
+           "intervals", "parse_range", "sweep", "to_dataset"]

@@ -1,0 +1,224 @@
+"""Sweep results as a CF-style ``xarray.Dataset``, and the labelled interval map.
+
+All lengths are in units of the radial clearance and times in the dimensionless ``tau``
+(units "1").  ``regime`` is an integer flag variable (CF ``flag_values`` /
+``flag_meanings``) and ``label`` its readable form, so the file opens with plain xarray
+and any NetCDF tool.
+"""
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+from .. import __version__
+from ..analysis.classify import Label
+from .point import REGIME_CODES, REGIME_FLAGS, SCALARS
+
+#: variable -> (dtype, units, long_name)
+VARIABLES = {
+    "regime": ("i1", "1", "kind of motion (flag)"),
+    "period": ("i4", "1", "period n of the motion in forcing periods, T = n 2 pi / eta "
+               "(0: none or not resolved)"),
+    "confidence": ("f8", "1", "agreement of the classifier's tests, 0..1"),
+    "impacts_per_period": ("f8", "1", "contacts per motion period (per forcing period "
+                           "when period = 0)"),
+    "impacts_constant": ("i1", "1", "1 when every motion period has the same number of "
+                         "contacts"),
+    "lyapunov": ("f8", "1", "largest Lyapunov exponent per unit tau (NaN: not computed)"),
+    "lyapunov_err": ("f8", "1", "standard error of the largest Lyapunov exponent"),
+    "k01": ("f8", "1", "Gottwald-Melbourne 0-1 test K (NaN: not computed)"),
+    "X_m": ("f8", "1", "response amplitude max |X| / clearance"),
+    "Y_m": ("f8", "1", "response amplitude max |Y| / clearance"),
+    "R_m": ("f8", "1", "largest radial displacement max R / clearance"),
+    "min_gap": ("f8", "1", "smallest gap to the retainer 1 - R_m (negative: penetration)"),
+    "n_arcs": ("i4", "1", "number of loaded arcs of the retainer"),
+    "v_impact_max": ("f8", "1", "largest normal impact speed dR/dtau"),
+    "v_impact_mean": ("f8", "1", "mean normal impact speed dR/dtau"),
+    "penetration_max": ("f8", "1", "largest penetration (R - 1) / clearance"),
+    "transient": ("i4", "1", "forcing periods of transient integrated"),
+    "recorded": ("i4", "1", "forcing periods recorded after the transient"),
+}
+
+
+def _label_text(code, n, ipp, arcs):
+    label = {v: k for k, v in REGIME_CODES.items()}.get(int(code))
+    if label is None:
+        return "not computed"
+    if label is Label.PERIODIC:
+        head = f"P{n}" if n else "periodic (long period)"
+    else:
+        head = label.value
+    if label is Label.DIVERGED:
+        return head
+    if not np.isfinite(ipp):
+        return head
+    if ipp == 0:
+        return f"{head} impactless"
+    if label is Label.PERIODIC and float(ipp).is_integer():
+        text = f"{head}, {ipp:.0f} impacts"
+    else:  # a mean count varies from point to point: it would split every interval
+        text = f"{head}, impacting"
+    return f"{text}, {arcs}" if arcs else text
+
+
+def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blocks,
+               command=None):
+    """Assemble per-point results into a Dataset (dims ``eta`` [, ``direction``])."""
+    import xarray as xr
+
+    n = etas.size
+    ns = settings.n_samples
+
+    def stack(key, fill, dtype):
+        arr = np.full((len(dirs), n), fill, dtype=dtype)
+        for a, d in enumerate(dirs):
+            order = np.arange(n) if d == "up" else np.arange(n)[::-1]
+            for i, r in enumerate(results[d]):
+                if r is not None:
+                    arr[a, order[i]] = r.get(key, fill)
+        return arr
+
+    data = {}
+    for key, (dt, units, long) in VARIABLES.items():
+        fill = SCALARS[key]
+        data[key] = (stack(key, fill, dt), dict(units=units, long_name=long))
+    samples = np.full((len(dirs), n, ns, 4), np.nan)
+    final = np.full((len(dirs), n, 4), np.nan)
+    arcs = np.full((len(dirs), n), "", dtype=object)
+    reason = np.full((len(dirs), n), "", dtype=object)
+    for a, d in enumerate(dirs):
+        order = np.arange(n) if d == "up" else np.arange(n)[::-1]
+        for i, r in enumerate(results[d]):
+            if r is None:
+                continue
+            samples[a, order[i]] = r["samples"]
+            final[a, order[i]] = r["final_state"]
+            arcs[a, order[i]] = str(r.get("arcs", ""))
+            reason[a, order[i]] = str(r.get("reason", ""))
+    labels = np.empty((len(dirs), n), dtype=object)
+    for a in range(len(dirs)):
+        for j in range(n):
+            labels[a, j] = _label_text(data["regime"][0][a, j], data["period"][0][a, j],
+                                       data["impacts_per_period"][0][a, j], arcs[a, j])
+    dims = ("direction", "eta")
+    ds = xr.Dataset(
+        {k: (dims, v, attrs) for k, (v, attrs) in data.items()},
+        coords={"eta": ("eta", etas, dict(units="1", long_name="forcing frequency ratio "
+                                          "eta = omega sqrt(m/k)")),
+                "direction": ("direction", np.array(dirs, dtype=object),
+                              dict(long_name="sweep direction"))})
+    ds["regime"].attrs.update(flag_values=np.array(sorted(REGIME_CODES.values()),
+                                                   dtype="i1"),
+                              flag_meanings=REGIME_FLAGS)
+    ds["label"] = (dims, labels, dict(long_name="regime in words"))
+    ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the retainer, in words"))
+    ds["reason"] = (dims, reason, dict(long_name="classifier's decision branch"))
+    ds["poincare_X"] = (dims + ("sample",), samples[..., 0],
+                        dict(units="1", long_name="stroboscopic samples of X / clearance"))
+    ds["poincare_Y"] = (dims + ("sample",), samples[..., 1],
+                        dict(units="1", long_name="stroboscopic samples of Y / clearance"))
+    ds["final_state"] = (dims + ("state",), final,
+                         dict(units="1", long_name="state (X, Y, dX, dY) at the end of "
+                              "the point, the next point's initial state"))
+    ds = ds.assign_coords(state=("state", np.array(["X", "Y", "dX", "dY"], dtype=object)))
+    if direction != "both":
+        ds = ds.isel(direction=0, drop=True)
+        ds.attrs["direction"] = direction
+    params = p.as_dict()
+    params.pop("eta", None)
+    ds.attrs.update(
+        title="vibimpact frequency sweep",
+        Conventions="CF-1.8",
+        source=f"vibimpact {__version__}",
+        params=json.dumps(params, sort_keys=True),
+        settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
+        sweep_direction=direction, continuation=int(bool(continuation)),
+        blocks=int(blocks), command=command if command is not None else " ".join(sys.argv),
+    )
+    for k, v in params.items():
+        ds.attrs[f"param_{k}"] = float(v)
+    return ds
+
+
+def intervals(ds, direction=None):
+    """The labelled frequency-interval map of a sweep.
+
+    Consecutive grid points with the same label (kind of motion, period, impacts per
+    period, loaded arcs) form one interval.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`vibimpact.sweep`.
+    direction : {"up", "down"}, optional
+        For a ``direction="both"`` sweep: which one (both, one after the other, if None).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dim ``interval``: ``start``, ``end`` (eta of the first and last point), ``label``,
+        ``regime``, ``period``, ``impacts``, ``arcs``, ``points``, ``direction``.
+    """
+    import xarray as xr
+
+    if "label" not in ds or "eta" not in ds.dims:
+        raise ValueError("ds must be a sweep dataset (variables label, regime; dim eta)")
+    if "direction" in ds.dims:
+        dirs = [direction] if direction else list(ds["direction"].values)
+        rows = []
+        for d in dirs:
+            sub = ds.sel(direction=d).drop_vars("direction")
+            sub.attrs["sweep_direction"] = d
+            rows.append(intervals(sub))
+        return xr.concat(rows, dim="interval")
+    eta = ds["eta"].values
+    lab = ds["label"].values
+    order = np.arange(eta.size)
+    if ds.attrs.get("sweep_direction", ds.attrs.get("direction")) == "down":
+        order = order[::-1]
+    cols = {k: [] for k in ("start", "end", "label", "regime", "period", "impacts", "arcs",
+                            "points")}
+    i = 0
+    while i < order.size:
+        j = i
+        while j + 1 < order.size and lab[order[j + 1]] == lab[order[i]]:
+            j += 1
+        a, b = order[i], order[j]
+        cols["start"].append(eta[a])
+        cols["end"].append(eta[b])
+        cols["label"].append(lab[a])
+        cols["regime"].append(int(ds["regime"].values[a]))
+        cols["period"].append(int(ds["period"].values[a]))
+        cols["impacts"].append(float(ds["impacts_per_period"].values[a]))
+        cols["arcs"].append(str(ds["arcs"].values[a]))
+        cols["points"].append(j - i + 1)
+        i = j + 1
+    d = ds.attrs.get("sweep_direction", "up")
+    out = xr.Dataset(
+        {"start": ("interval", np.array(cols["start"]), dict(units="1",
+                                                             long_name="first eta")),
+         "end": ("interval", np.array(cols["end"]), dict(units="1", long_name="last eta")),
+         "label": ("interval", np.array(cols["label"], dtype=object)),
+         "regime": ("interval", np.array(cols["regime"], dtype="i1"),
+                    dict(flag_values=np.array(sorted(REGIME_CODES.values()), dtype="i1"),
+                         flag_meanings=REGIME_FLAGS)),
+         "period": ("interval", np.array(cols["period"], dtype="i4")),
+         "impacts": ("interval", np.array(cols["impacts"])),
+         "arcs": ("interval", np.array(cols["arcs"], dtype=object)),
+         "points": ("interval", np.array(cols["points"], dtype="i4")),
+         "direction": ("interval", np.array([d] * len(cols["start"]), dtype=object))},
+        attrs=dict(title="vibimpact frequency-interval map", source=ds.attrs.get("source",
+                                                                              "")))
+    return out
+
+
+def format_intervals(iv):
+    """The interval map as an aligned text table."""
+    lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
+    for k in range(iv.sizes["interval"]):
+        lines.append(f"{str(iv['direction'].values[k]):<9} {iv['start'].values[k]:8.4f} "
+                     f"{iv['end'].values[k]:8.4f} {int(iv['points'].values[k]):6d}  "
+                     f"{iv['label'].values[k]}")
+    return "\n".join(lines)

@@ -1,0 +1,244 @@
+"""One point of a sweep: integrate, stop the transient early, analyse only what is asked.
+
+:func:`analyse_point` is a pure function of ``(params, state0, settings)``: the same
+input gives the same numbers in any process, which makes parallel sweeps and resumed
+sweeps bit-identical to serial, uninterrupted ones.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..analysis.chaos01 import test01
+from ..analysis.classify import DecisionRule, Label, decide
+from ..analysis.impacts import contact_arcs, impact_count
+from ..analysis.lyapunov import lyapunov_spectrum
+from ..analysis.period import detect_period
+from ..run import Status
+from ..simulate import simulate
+
+#: analyses a sweep can compute ("period" always runs: it ends the transient)
+ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01")
+
+#: regime label -> integer code stored in datasets (CF flag_values / flag_meanings)
+REGIME_CODES = {Label.PERIODIC: 1, Label.QUASIPERIODIC: 2, Label.CHAOTIC: 3,
+                Label.DIVERGED: 4}
+REGIME_FLAGS = "periodic quasi_periodic chaotic diverged"
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """What each sweep point computes, and how long it integrates.
+
+    Attributes
+    ----------
+    analyses : tuple of str
+        Subset of :data:`ANALYSES`.
+    transient_max : int
+        Longest transient in forcing periods; it ends earlier as soon as the stroboscopic
+        points repeat with a period ``n`` (checked every ``chunk`` periods).
+    chunk : int
+        Periods between convergence checks.
+    record : int
+        Periods recorded after a transient that did not converge to a periodic orbit
+        (0-1 test, impacts per period, Poincaré samples).
+    record_periodic : int
+        At least this many periods (and at least 4 motion periods) recorded on a
+        converged periodic orbit.
+    n_samples : int
+        Poincaré samples stored per point (a periodic orbit's cycle is repeated to fill).
+    dense : int
+        Samples per period used, and discarded, to find the response maxima X_m, Y_m.
+    lyapunov : {"auto", "always"}
+        "auto": the largest exponent only where no period is found.
+    lyap_min, lyap_max, lyap_target : int, int, float
+        Periods and target standard error (per unit tau) of the largest exponent.
+    rule : DecisionRule
+    method, rtol, atol : integrator settings
+    """
+
+    analyses: tuple = ANALYSES
+    transient_max: int = 300
+    chunk: int = 10
+    record: int = 150
+    record_periodic: int = 8
+    n_samples: int = 64
+    dense: int = 48
+    lyapunov: str = "auto"
+    lyap_min: int = 100
+    lyap_max: int = 600
+    lyap_target: float = 3e-3
+    rule: DecisionRule = DecisionRule()
+    method: str = "dop853"
+    rtol: float = 1e-9
+    atol: float = 1e-12
+
+    def as_attrs(self):
+        """Flat dict for dataset attributes."""
+        d = asdict(self)
+        rule = d.pop("rule")
+        d["analyses"] = ",".join(self.analyses)
+        d.update({f"rule_{k}": v for k, v in rule.items()})
+        return d
+
+
+#: scalar result fields of a point, with their fill value
+SCALARS = {
+    "regime": 0, "period": 0, "confidence": np.nan, "impacts_per_period": np.nan,
+    "impacts_constant": 0, "lyapunov": np.nan, "lyapunov_err": np.nan, "k01": np.nan,
+    "X_m": np.nan, "Y_m": np.nan, "R_m": np.nan, "min_gap": np.nan, "n_arcs": 0,
+    "v_impact_max": np.nan, "v_impact_mean": np.nan, "penetration_max": np.nan,
+    "transient": 0, "recorded": 0,
+}
+
+
+def _converged_period(strobe, rule):
+    """Period of the tail of the transient's strobe sequence, or 0."""
+    m = strobe.shape[0]
+    for w in (7, 13, 25, 49, 97, 3 * rule.max_period + 1):
+        if w > m:
+            break
+        n = detect_period(strobe[-w:], tol=rule.period_tol,
+                          max_period=min(rule.max_period, (w - 1) // 3))
+        if n:
+            return n
+    return 0
+
+
+def _maxima(dense):
+    """Largest |X|, |Y| and R of densely sampled motion, refined by a parabola through the
+    sample at the maximum and its neighbours (error O(h^3) instead of O(h^2))."""
+    out = []
+    R = np.hypot(dense[:, 0], dense[:, 1])
+    for v in (np.abs(dense[:, 0]), np.abs(dense[:, 1]), R):
+        i = int(np.argmax(v))
+        best = v[i]
+        if 0 < i < v.size - 1:
+            a, b, c = v[i - 1], v[i], v[i + 1]
+            den = a - 2.0 * b + c
+            if den < 0.0:
+                best = b - 0.125 * (a - c) ** 2 / den
+        out.append(float(best))
+    return out
+
+
+def analyse_point(p, state0, settings):
+    """Analyse one parameter point.
+
+    Parameters
+    ----------
+    p : Params
+    state0 : ndarray, shape (4,) or None
+        Initial state at tau = 0 (rest when None).
+    settings : SweepSettings
+
+    Returns
+    -------
+    result : dict
+        :data:`SCALARS` entries, ``arcs`` (str), ``samples`` (n_samples, 4) Poincaré
+        points (NaN where not computed), ``final_state`` (4,) for the next point.
+    """
+    st = settings
+    rule = st.rule
+    want = set(st.analyses)
+    res = dict(SCALARS)
+    res["arcs"] = ""
+    res["reason"] = ""
+    res["samples"] = np.full((st.n_samples, 4), np.nan)
+    x = np.zeros(4) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
+    res["final_state"] = np.full(4, np.nan)
+    kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
+
+    def diverged(run, where):
+        res["regime"] = REGIME_CODES[Label.DIVERGED]
+        res["confidence"] = 1.0
+        res["reason"] = f"{where}: {run.status.value}, {run.reason}"
+        return res
+
+    # --- transient, ended early on a converged periodic orbit -----------------------
+    tail = [x[None, :]]
+    done = 0
+    n = 0
+    while done < st.transient_max:
+        todo = min(st.chunk, st.transient_max - done)
+        run = simulate(p, periods=todo, state0=x, **kw)
+        if run.status is not Status.OK:
+            return diverged(run, "transient")
+        done += todo
+        x = run.final_state
+        tail.append(run.strobe[1:])
+        strobe = np.concatenate(tail)[-(3 * rule.max_period + 1):]
+        tail = [strobe]
+        n = _converged_period(strobe, rule)
+        if n:
+            break
+    res["transient"] = done
+
+    # --- record -----------------------------------------------------------------------
+    if n:
+        rec = max(st.record_periodic, 4 * n)
+    else:
+        rec = st.record
+    need_dense = "response" in want
+    run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0, **kw)
+    if run.status is not Status.OK:
+        return diverged(run, "record")
+    res["recorded"] = rec
+    x = run.final_state
+    res["final_state"] = x.copy()
+    pts = run.strobe[1:]
+    if n:
+        n = detect_period(run.strobe, tol=rule.period_tol,
+                          max_period=min(rule.max_period, rec // 3)) or n
+    res["period"] = n
+
+    imp = run.impacts
+    if "impacts" in want or "response" in want:
+        cnt = impact_count(imp["period"], rec, period=max(n, 1))
+        res["impacts_per_period"] = cnt.per_period
+        res["impacts_constant"] = int(cnt.constant)
+        arcs = contact_arcs(imp["theta"])
+        res["arcs"] = arcs.summary
+        res["n_arcs"] = arcs.n_arcs
+        if imp.size:
+            res["v_impact_max"] = float(imp["v_impact"].max())
+            res["v_impact_mean"] = float(imp["v_impact"].mean())
+            res["penetration_max"] = float(imp["penetration"].max())
+        else:
+            res["v_impact_max"] = res["v_impact_mean"] = res["penetration_max"] = 0.0
+    if need_dense:
+        Xm, Ym, Rm = _maxima(run.dense)
+        ext = run.events["which"] == 2  # exact extrema of R from the event log
+        if np.any(ext):
+            Rm = max(Rm, float(np.hypot(*run.events["state"][ext, :2].T).max()))
+        res["X_m"], res["Y_m"], res["R_m"] = Xm, Ym, Rm
+        res["min_gap"] = 1.0 - Rm
+    if "poincare" in want:
+        if n:  # the cycle, repeated
+            cyc = pts[-n:]
+            res["samples"] = np.tile(cyc, (-(-st.n_samples // n), 1))[:st.n_samples]
+        else:
+            k = min(st.n_samples, pts.shape[0])
+            res["samples"][:k] = pts[-k:]
+
+    # --- chaos tests, only where no period was found ----------------------------------
+    T = 2.0 * math.pi / p.eta
+    lam = err = k = math.nan
+    if not n and "test01" in want:
+        k = test01(pts[:, int(np.argmax(np.ptp(pts, axis=0)))])
+    if "lyapunov" in want and (not n or st.lyapunov == "always"):
+        ly = lyapunov_spectrum(p, state0=x, n_exponents=1, transient=0,
+                               min_periods=st.lyap_min, max_periods=st.lyap_max,
+                               target_stderr=st.lyap_target, align=20,
+                               decisive=(rule.zero / T, rule.z), **kw)
+        if ly.status is not Status.OK:
+            res["regime"] = REGIME_CODES[Label.DIVERGED]
+            res["reason"] = f"lyapunov: {ly.status.value}, {ly.reason}"
+            return res
+        lam, err = float(ly.exponents[0]), float(ly.stderr[0])
+    label, n_out, conf, reason = decide(n, lam * T, err * T, k, rule)
+    res.update(regime=REGIME_CODES[label], period=n_out, confidence=conf, lyapunov=lam,
+               lyapunov_err=err, k01=k, reason=reason)
+    return res

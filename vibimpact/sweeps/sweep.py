@@ -1,0 +1,304 @@
+"""`sweep`: the rotor speed swept up and/or down with continuation, into an xarray Dataset.
+
+Continuation and parallelism
+----------------------------
+Each point starts from the previous point's final state (in sweep order), so hysteresis
+and jumps show as in the paper.  To use several cores without breaking that, the sweep
+order is cut into ``blocks`` contiguous blocks.  Block ``b`` starts from a *seed*: the
+state reached by a cheap serial pass that continues through every grid point before it
+(``seed_periods`` forcing periods per point, no analyses).  Blocks then run
+independently, so ``workers`` only decides how many run at once: the result depends on
+``blocks`` (1 = pure serial continuation), never on ``workers``, and serial and parallel
+runs are bit-identical.  With ``direction="both"`` the up and down sweeps are independent
+streams as well.
+"""
+from __future__ import annotations
+
+import math
+import multiprocessing as mp
+import os
+import queue as _queue
+import sys
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from ..params import Params
+from ..run import Status
+from ..simulate import _count, simulate
+from . import checkpoint as ck
+from .point import ANALYSES, SweepSettings, analyse_point
+
+DIRECTIONS = ("up", "down", "both")
+
+
+def _grid(eta):
+    try:
+        arr = np.array(eta, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"eta must be numbers, got {eta!r}") from None
+    if arr.size == 0:
+        raise ValueError("eta must not be empty")
+    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+        raise ValueError("eta must be finite and > 0")
+    if arr.size > 1 and not (np.all(np.diff(arr) > 0.0)):
+        raise ValueError("eta must be strictly increasing (the direction is a separate "
+                         "argument)")
+    return arr
+
+
+def _block_starts(n, blocks):
+    """First indices of ``blocks`` contiguous, nearly equal blocks of ``n`` points."""
+    blocks = max(1, min(blocks, n))
+    return [int(round(b * n / blocks)) for b in range(blocks)] + [n]
+
+
+def _seeds(p, etas, starts, state0, seed_periods):
+    """States at the block starts from a cheap continuation pass over the grid."""
+    seeds = {0: None if state0 is None else np.array(state0, dtype=np.float64)}
+    x = seeds[0]
+    last = max(starts[:-1])
+    for i in range(1, last + 1):
+        run = simulate(p.replace(eta=float(etas[i - 1])), periods=1,
+                       transient=seed_periods - 1, state0=x)
+        x = run.final_state if run.status is Status.OK else None
+        if i in starts[:-1]:
+            seeds[i] = None if x is None else x.copy()
+    return seeds
+
+
+_PROGRESS = None
+
+
+def _init_worker(q):
+    global _PROGRESS
+    _PROGRESS = q
+
+
+def _run_block(task):
+    """Compute one block in order; returns [(index, result)].  Runs in a worker."""
+    p, etas, direction, idx, seed, settings, fixed_state0, ckdir, done = task
+    out = []
+    x = seed
+    for i in idx:
+        res = done.get(i)
+        if res is None:
+            s0 = fixed_state0 if fixed_state0 is not None else x
+            res = analyse_point(p.replace(eta=float(etas[i])), s0, settings)
+            if ckdir is not None:
+                ck.save_point(ckdir, direction, i, res)
+            if _PROGRESS is not None:
+                _PROGRESS.put(1)
+        out.append((i, res))
+        fs = res["final_state"]
+        x = None if not np.all(np.isfinite(fs)) else np.asarray(fs)
+    return direction, out
+
+
+def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuation=True,
+          settings=None, blocks=16, workers=1, seed_periods=10, checkpoint=None,
+          resume=False, progress=False, command=None):
+    """Sweep the forcing frequency ``eta`` and classify the motion at every point.
+
+    Parameters
+    ----------
+    p : Params
+        All other parameters (its ``eta`` is ignored).
+    eta : array_like, shape (n,)
+        Strictly increasing grid; ``direction`` decides the order it is swept in.
+    direction : {"up", "down", "both"}
+    analyses : sequence of str
+        Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01")``;
+        only these are computed ("period" always runs, it ends the transients).
+    state0 : array_like, shape (4,), optional
+        State at the first point of each direction (rest by default).
+    continuation : bool
+        True: each point starts from the previous point's final state.  False: every
+        point starts from ``state0`` (a fixed initial state).
+    settings : SweepSettings, optional
+        Transient, record length, Lyapunov and classifier settings.
+    blocks : int
+        Contiguous blocks per direction (see the module docstring); the result depends on
+        it, not on ``workers``.
+    workers : int
+        Processes that compute blocks at once (1: in this process).
+    seed_periods : int
+        Forcing periods per grid point of the seeding pass.
+    checkpoint : path, optional
+        Directory where every finished point is saved at once; with ``resume=True`` the
+        points found there are loaded instead of recomputed.
+    progress : bool
+        A progress bar on stderr.
+    command : str, optional
+        Command line to record in the attributes.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`vibimpact.sweeps.dataset.to_dataset`.
+
+    Examples
+    --------
+    >>> import numpy as np, vibimpact as vi
+    >>> ds = vi.sweep(vi.presets.get("fig8"), eta=np.arange(1.0, 1.1, 0.02))
+    >>> ds.regime.dims
+    ('eta',)
+    """
+    from .dataset import to_dataset
+
+    if not isinstance(p, Params):
+        raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
+    etas = _grid(eta)
+    if direction not in DIRECTIONS:
+        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, "
+                         f"got {direction!r}")
+    analyses = tuple(analyses)
+    bad = [a for a in analyses if a not in ANALYSES]
+    if bad:
+        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
+                         f"{', '.join(ANALYSES)}")
+    analyses = tuple(a for a in ANALYSES if a in analyses or a == "period")
+    settings = SweepSettings() if settings is None else settings
+    if not isinstance(settings, SweepSettings):
+        raise ValueError("settings must be a SweepSettings")
+    settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
+    blocks = _count("blocks", blocks, 1)
+    workers = _count("workers", workers, 1)
+    seed_periods = _count("seed_periods", seed_periods, 1)
+    if state0 is not None:
+        s = np.array(state0, dtype=np.float64).reshape(-1)
+        if s.size != 4 or not np.all(np.isfinite(s)):
+            raise ValueError(f"state0 must be 4 finite numbers, got {state0!r}")
+        state0 = s
+    dirs = ("up", "down") if direction == "both" else (direction,)
+    request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(), directions=dirs,
+                   settings=settings.as_attrs(), state0=None if state0 is None else
+                   state0.tolist(), continuation=continuation, blocks=blocks,
+                   seed_periods=seed_periods)
+    ckdir = ck.open_checkpoint(checkpoint, request, resume) if checkpoint else None
+
+    tasks = []
+    n = etas.size
+    total = 0
+    for d in dirs:
+        order = etas if d == "up" else etas[::-1]
+        done = {}
+        if ckdir is not None:
+            for i in range(n):
+                r = ck.load_point(ckdir, d, i)
+                if r is not None:
+                    done[i] = r
+        total += n - len(done)
+        if not continuation:
+            starts = [0, n]
+            seeds = {0: None}
+        else:
+            starts = _block_starts(n, blocks)
+            need = [s for s in starts[1:-1] if any(i not in done for i in
+                                                   range(s, starts[starts.index(s) + 1]))]
+            seeds = {0: state0}
+            if need:
+                seeds.update(_seeds(p, order, starts, state0, seed_periods))
+        for b in range(len(starts) - 1):
+            idx = list(range(starts[b], starts[b + 1]))
+            if all(i in done for i in idx):
+                tasks.append((p, order, d, idx, None, settings, None, None,
+                              {i: done[i] for i in idx}))
+                continue
+            tasks.append((p, order, d, idx, seeds.get(starts[b]), settings,
+                          None if continuation else state0, ckdir,
+                          {i: done[i] for i in idx if i in done}))
+
+    results = {d: [None] * n for d in dirs}
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=total, desc="classify", unit="pt", file=sys.stderr)
+    try:
+        if workers == 1 or len(tasks) == 1:
+            global _PROGRESS
+            q = _LocalBar(bar)
+            _PROGRESS = q
+            try:
+                for t in tasks:
+                    d, out = _run_block(t)
+                    for i, r in out:
+                        results[d][i] = r
+            finally:
+                _PROGRESS = None
+        else:
+            ctx = mp.get_context("fork" if sys.platform != "win32" else "spawn")
+            q = ctx.Queue()
+            with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
+                                     initializer=_init_worker, initargs=(q,)) as ex:
+                futures = [ex.submit(_run_block, t) for t in tasks]
+                pending = set(futures)
+                while pending:
+                    _drain(q, bar)
+                    finished = {f for f in pending if f.done()}
+                    for f in finished:
+                        d, out = f.result()
+                        for i, r in out:
+                            results[d][i] = r
+                    pending -= finished
+                    if pending:
+                        try:
+                            q.get(timeout=0.05)
+                            if bar is not None:
+                                bar.update(1)
+                        except _queue.Empty:
+                            pass
+                _drain(q, bar)
+    finally:
+        if bar is not None:
+            bar.close()
+    return to_dataset(p, etas, dirs, results, settings, direction=direction,
+                      continuation=continuation, blocks=blocks, command=command)
+
+
+class _LocalBar:
+    def __init__(self, bar):
+        self.bar = bar
+
+    def put(self, k):
+        if self.bar is not None:
+            self.bar.update(k)
+
+
+def _drain(q, bar):
+    while True:
+        try:
+            q.get_nowait()
+        except (_queue.Empty, OSError, ValueError):
+            return
+        if bar is not None:
+            bar.update(1)
+
+
+def parse_range(text):
+    """``"START:STOP:STEP"`` -> grid including STOP when it lies on the grid.
+
+    Raises
+    ------
+    ValueError
+        Naming ``eta``, for anything else.
+    """
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise ValueError(f"eta must be START:STOP:STEP, got {text!r}")
+    try:
+        a, b, h = (float(x) for x in parts)
+    except ValueError:
+        raise ValueError(f"eta must be three numbers START:STOP:STEP, got {text!r}") from None
+    if not all(math.isfinite(v) for v in (a, b, h)):
+        raise ValueError(f"eta must be finite, got {text!r}")
+    if h <= 0.0:
+        raise ValueError(f"eta STEP must be > 0, got {text!r}")
+    if b < a:
+        raise ValueError(f"eta STOP must be >= START, got {text!r}")
+    if a <= 0.0:
+        raise ValueError(f"eta START must be > 0, got {text!r}")
+    count = int(math.floor((b - a) / h + 1e-9)) + 1
+    if count > 100_000:
+        raise ValueError(f"eta grid has {count} points; at most 100000")
+    return np.round(a + h * np.arange(count), 12)
