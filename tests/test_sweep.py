@@ -1,0 +1,199 @@
+"""Frequency sweeps: continuation, determinism (serial == parallel, resumed ==
+uninterrupted), requested work only, the interval map, NetCDF round trip, bad input."""
+import numpy as np
+import pytest
+import xarray as xr
+
+import vibimpact as vi
+from vibimpact.io import read_netcdf, write_netcdf
+from vibimpact.sweeps import SweepSettings, analyse_point, parse_range
+from vibimpact.sweeps import checkpoint as ck
+from conftest import continued_state
+
+FIG8 = vi.presets.get("fig8")
+GRID = np.round(np.arange(1.16, 1.24 + 1e-9, 0.01), 12)  # crosses into the chaotic interval
+#: start on the impacting branch (reached by continuation from eta = 1.0)
+X0 = continued_state("fig8", 1.16)
+
+
+def _same(a, b):
+    """Every data variable equal to the bit (NaN == NaN)."""
+    assert set(a.data_vars) == set(b.data_vars)
+    for v in a.data_vars:
+        x, y = a[v].values, b[v].values
+        if x.dtype.kind == "f":
+            assert np.array_equal(x, y, equal_nan=True), v
+        else:
+            assert (x == y).all(), v
+    return True
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return vi.sweep(FIG8, GRID, state0=X0, blocks=3, workers=1, seed_periods=10)
+
+
+def test_parallel_sweep_is_bit_identical_to_serial(serial):
+    """Blocks are seeded by the same serial pass, so 2 worker processes give exactly the
+    serial numbers."""
+    par = vi.sweep(FIG8, GRID, state0=X0, blocks=3, workers=2, seed_periods=10)
+    assert _same(serial, par)
+
+
+def test_one_block_is_plain_continuation():
+    """blocks=1: every point starts from the previous point's final state."""
+    grid = GRID[:4]
+    ds = vi.sweep(FIG8, grid, blocks=1)
+    x = None
+    for k, eta in enumerate(grid):
+        r = analyse_point(FIG8.replace(eta=float(eta)), x, SweepSettings())
+        x = r["final_state"]
+        assert ds["regime"].values[k] == r["regime"]
+        assert ds["X_m"].values[k] == r["X_m"]
+        np.testing.assert_array_equal(ds["final_state"].values[k], r["final_state"])
+
+
+def test_continuation_reaches_impacting_branch_that_rest_start_misses():
+    """Hysteresis: at eta = 1.18, sweeping up from 1.0 follows the impacting branch (two
+    bottom impacts A and B), while starting every point from rest lands on the impactless
+    low branch."""
+    grid = np.round(np.arange(1.0, 1.18 + 1e-9, 0.02), 12)
+    cont = vi.sweep(FIG8, grid, blocks=1, analyses=("period", "impacts"))
+    fixed = vi.sweep(FIG8, grid, continuation=False, analyses=("period", "impacts"))
+    assert cont["impacts_per_period"].values[-1] == 2.0
+    assert cont["label"].values[-1].startswith("P1, 2 impacts")
+    assert fixed["impacts_per_period"].values[-1] == 0.0
+
+
+def test_sweep_finds_chaos_inside_paper_interval_and_periodic_orbit_below(serial):
+    """On fig8 the sweep labels eta = 1.22 (inside the paper's (1.21, 1.29)) chaotic with a
+    positive exponent and eta = 1.16 P1 with two impacts."""
+    lab = dict(zip(serial["eta"].values.round(3), serial["label"].values))
+    assert lab[1.16] == "P1, 2 impacts, 2 small arcs"
+    k = int(np.argmin(abs(serial["eta"].values - 1.22)))
+    assert serial["regime"].values[k] == 3 and serial["lyapunov"].values[k] > 0
+
+
+def test_only_requested_work_is_done(serial):
+    """Exponents are computed only where no period was found; a period-only sweep computes
+    no exponent, no 0-1 test and no response; periodic transients end early."""
+    per = serial["period"].values > 0
+    assert np.all(np.isnan(serial["lyapunov"].values[per]))
+    assert np.all(np.isfinite(serial["lyapunov"].values[~per]))
+    assert np.all(serial["transient"].values[per] < SweepSettings().transient_max)
+    lean = vi.sweep(FIG8, GRID[:3], analyses=("period",))
+    for v in ("lyapunov", "k01", "X_m", "impacts_per_period"):
+        assert np.all(np.isnan(lean[v].values)), v
+
+
+def test_both_directions_have_their_own_dimension_and_order():
+    """direction='both' gives a direction dim; the down sweep starts at the top eta from
+    rest, so its first point equals a fixed-state point there."""
+    grid = GRID[:3]
+    ds = vi.sweep(FIG8, grid, direction="both", blocks=1, analyses=("period", "impacts"))
+    assert ds["regime"].dims == ("direction", "eta")
+    top = analyse_point(FIG8.replace(eta=float(grid[-1])), None,
+                        SweepSettings(analyses=("period", "impacts")))
+    assert ds["final_state"].sel(direction="down").values[-1].tolist() == \
+        top["final_state"].tolist()
+    iv = vi.intervals(ds)
+    assert set(iv["direction"].values) == {"up", "down"}
+
+
+def test_netcdf_round_trip_with_plain_xarray(serial, tmp_path):
+    """The dataset written atomically opens with plain xarray and holds the same values,
+    with CF units/long names and the regime flags."""
+    path = tmp_path / "sweep.nc"
+    write_netcdf(serial, path)
+    with xr.open_dataset(path) as back:
+        back.load()
+    assert _same(serial, back)
+    assert back["regime"].attrs["flag_meanings"].split()[2] == "chaotic"
+    assert back["X_m"].attrs["units"] == "1"
+    assert _same(serial, read_netcdf(path))
+
+
+def test_intervals_group_consecutive_equal_labels():
+    """Consecutive points with the same label form one interval; start/end are the first
+    and last eta; a down sweep's intervals run downward."""
+    eta = np.array([1.0, 1.1, 1.2, 1.3, 1.4])
+    lab = np.array(["P1 impactless", "P1 impactless", "chaotic, impacting, whole circle",
+                    "P3, 8 impacts, whole circle", "P3, 8 impacts, whole circle"],
+                   dtype=object)
+    ds = xr.Dataset({"label": ("eta", lab), "regime": ("eta", [1, 1, 3, 1, 1]),
+                     "period": ("eta", [1, 1, 0, 3, 3]),
+                     "impacts_per_period": ("eta", [0.0, 0.0, 2.4, 8.0, 8.0]),
+                     "arcs": ("eta", ["none", "none", "whole circle", "whole circle",
+                                      "whole circle"])}, coords={"eta": eta},
+                    attrs={"sweep_direction": "up"})
+    iv = vi.intervals(ds)
+    assert iv["start"].values.tolist() == [1.0, 1.2, 1.3]
+    assert iv["end"].values.tolist() == [1.1, 1.2, 1.4]
+    assert iv["period"].values.tolist() == [1, 0, 3]
+    assert iv["points"].values.tolist() == [2, 1, 2]
+    ds.attrs["sweep_direction"] = "down"
+    assert vi.intervals(ds)["start"].values.tolist() == [1.4, 1.2, 1.1]
+
+
+def test_resumed_sweep_equals_uninterrupted_and_reuses_saved_points(serial, tmp_path):
+    """A checkpointed sweep whose last points were lost (as after a kill) resumes from the
+    saved points without recomputing them and gives the uninterrupted numbers."""
+    ckdir = tmp_path / "ck"
+    vi.sweep(FIG8, GRID, state0=X0, blocks=3, checkpoint=ckdir)
+    files = sorted(ckdir.glob("up_*.npz"))
+    assert len(files) == GRID.size
+    for f in files[5:]:
+        f.unlink()
+    kept = {f.name: f.stat().st_mtime_ns for f in files[:5]}
+    again = vi.sweep(FIG8, GRID, state0=X0, blocks=3, checkpoint=ckdir, resume=True)
+    assert _same(serial, again)
+    assert {f.name: f.stat().st_mtime_ns for f in files[:5]} == kept
+
+
+def test_checkpoint_refuses_other_request_or_missing_resume(tmp_path):
+    """A checkpoint belongs to one request: reusing it without resume, or for another
+    grid, raises ValueError naming the checkpoint."""
+    ckdir = tmp_path / "ck"
+    vi.sweep(FIG8, GRID[:2], checkpoint=ckdir)
+    with pytest.raises(ValueError, match="checkpoint"):
+        vi.sweep(FIG8, GRID[:2], checkpoint=ckdir)
+    with pytest.raises(ValueError, match="checkpoint"):
+        vi.sweep(FIG8, GRID[:3], checkpoint=ckdir, resume=True)
+    assert ck.fingerprint({"a": 1}) != ck.fingerprint({"a": 2})
+
+
+def test_blow_up_is_labelled_diverged_not_stored_as_data():
+    """A point that escapes (strong softening, weak contact) is DIVERGED with NaN response,
+    and the reason says where it happened."""
+    p = FIG8.replace(k3=-0.5, kh=1.0, Ec=2.0)
+    ds = vi.sweep(p, [1.0, 1.1], state0=[5.0, 0.0, 0.0, 0.0], continuation=False)
+    assert list(ds["label"].values) == ["diverged", "diverged"]
+    assert np.all(np.isnan(ds["X_m"].values))
+    assert "diverged" in ds["reason"].values[0]
+
+
+def test_eta_range_includes_stop_on_the_grid():
+    """START:STOP:STEP includes STOP when it lies on the grid (SPEC section 5)."""
+    assert parse_range("0.9:1.5:0.002").size == 301
+    assert parse_range("1:1.05:0.02").tolist() == [1.0, 1.02, 1.04]
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(eta=[1.2, 1.1]), "eta"), (dict(eta=[]), "eta"), (dict(eta=[1.0, np.nan]), "eta"),
+    (dict(direction="sideways"), "direction"), (dict(analyses=("fft",)), "analyses"),
+    (dict(blocks=0), "blocks"), (dict(workers=0), "workers"),
+    (dict(state0=[1.0, 2.0]), "state0")])
+def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
+    """Invalid sweep arguments raise ValueError naming the argument."""
+    args = dict(eta=[1.0, 1.1])
+    args.update(kwargs)
+    eta = args.pop("eta")
+    with pytest.raises(ValueError, match=name):
+        vi.sweep(FIG8, eta, **args)
+
+
+@pytest.mark.parametrize("text", ["1:0.5:0.1", "a:b:c", "1:2:0", "1:2", "-1:1:0.1"])
+def test_bad_eta_range_text_raises_naming_eta(text):
+    """Malformed START:STOP:STEP raises ValueError naming eta."""
+    with pytest.raises(ValueError, match="eta"):
+        parse_range(text)
