@@ -22,6 +22,7 @@ import time
 from pathlib import Path
 
 import matplotlib
+from _report import write_section
 import numba
 import numpy as np
 import scipy
@@ -220,9 +221,7 @@ def report(s0, n_imp, rows, cross, series, rat):
         gm = float(np.exp(np.mean(np.log([r[3] for r in rat]))))
         L += ["", f"Geometric mean of the ratio over these error levels: **{gm:.0f}x**."]
     L += ["", f"![work-precision]({FIGURE.name})", ""]
-    tmp = REPORT.with_name(REPORT.name + ".tmp")
-    tmp.write_text("\n".join(L))
-    os.replace(tmp, REPORT)
+    write_section(REPORT, "kernel", "\n".join(L))
 
 
 def main():
