@@ -13,6 +13,9 @@ _MAIN_EPILOG = """\
 examples:
   vibimpact presets
   vibimpact simulate --preset fig8 --eta 1.25 -o run.nc --plot xy.png
+  vibimpact classify --eta 0.9:1.5:0.002 -o fig8.nc
+  vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
+  vibimpact plot fig8.nc --kind response -o response.png
 
 'vibimpact COMMAND --help' shows the options and an example of each command.
 """
@@ -240,6 +243,10 @@ def build_parser():
     s.add_argument("--overwrite", action="store_true",
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
+
+    from .cli_sweep import add_parsers
+
+    add_parsers(sub, fmt)
     return parser
 
 
@@ -254,7 +261,7 @@ def main(argv=None):
     Returns
     -------
     int
-        The exit status: 0 success, 2 bad input.
+        The exit status: 0 success, 2 bad input, 130 interrupted.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
@@ -270,4 +277,8 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # ``python -m vibimpact.cli``: use the package's module, not this ``__main__`` copy, so
+    # that the commands in cli_sweep and this module share one _UsageError class
+    from vibimpact.cli import main as _main
+
+    sys.exit(_main())

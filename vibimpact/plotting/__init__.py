@@ -1,9 +1,12 @@
-"""Figures drawn from datasets made by :mod:`vibimpact.io` (never from a live run).
+"""Figures drawn from datasets made by :mod:`vibimpact.io` and :func:`vibimpact.sweep`
+(never from a live run).
 
 Every function takes an ``xarray.Dataset`` and draws with matplotlib's object API (a
 :class:`matplotlib.figure.Figure` rendered by Agg), so the global pyplot state and the
 interactive backend are never touched.
 """
+from .bifurcation import plot_bifurcation
+from .response import plot_intervals, plot_response
 from .xy import plot_xy, save_figure
 
-__all__ = ["plot_xy", "save_figure"]
+__all__ = ["plot_bifurcation", "plot_intervals", "plot_response", "plot_xy", "save_figure"]

@@ -71,8 +71,32 @@ _PROGRESS = None
 
 
 def _init_worker(q):
+    """Worker set-up: progress queue; Ctrl-C is the parent's to handle; die with it."""
     global _PROGRESS
     _PROGRESS = q
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:  # PR_SET_PDEATHSIG: SIGKILL this worker when the parent process dies
+            import ctypes
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+        except (OSError, AttributeError):
+            pass
+        if os.getppid() == 1:  # the parent died before the line above
+            os._exit(1)
+
+
+def _stop_pool(ex, futures):
+    """Cancel queued blocks and kill running workers (after an interrupt): the finished
+    points are already in the checkpoint, the points in flight are lost."""
+    for f in futures:
+        f.cancel()
+    for proc in list(getattr(ex, "_processes", {}).values()):
+        try:
+            proc.kill()
+        except (OSError, AttributeError):
+            pass
+    ex.shutdown(wait=False, cancel_futures=True)
 
 
 def _run_block(task):
@@ -229,8 +253,10 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
         else:
             ctx = mp.get_context("fork" if sys.platform != "win32" else "spawn")
             q = ctx.Queue()
-            with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
-                                     initializer=_init_worker, initargs=(q,)) as ex:
+            ex = ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
+                                     initializer=_init_worker, initargs=(q,))
+            futures = []
+            try:
                 futures = [ex.submit(_run_block, t) for t in tasks]
                 pending = set(futures)
                 while pending:
@@ -249,6 +275,10 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
                         except _queue.Empty:
                             pass
                 _drain(q, bar)
+            except BaseException:
+                _stop_pool(ex, futures)
+                raise
+            ex.shutdown(wait=True)
     finally:
         if bar is not None:
             bar.close()

@@ -1,0 +1,401 @@
+"""The sweep commands of the ``vibimpact`` command line: ``classify``, ``bifurcation`` and
+``plot`` (SPEC section 5).
+
+Like :mod:`vibimpact.cli`, this module imports only the standard library at module level;
+numpy, numba, xarray and matplotlib are imported inside the commands, so ``--help`` stays
+instant.
+"""
+import os
+import sys
+
+from .cli import _check_output, _parse_sets, _positive_int, _UsageError
+
+#: the main job of SPEC section 5
+DEFAULT_ETA = "0.9:1.5:0.002"
+DEFAULT_PRESET = "fig8"
+PLOT_KINDS = ("response", "bifurcation", "intervals", "xy")
+
+_CLASSIFY_EPILOG = """\
+examples:
+  vibimpact classify --eta 0.9:1.5:0.002 -o fig8.nc
+  vibimpact classify --eta 1.0:1.3:0.005 --preset fig10 --set BT=0.07 \\
+      --direction both --analyses period,impacts,response -o fig10.nc
+
+Every point starts from the previous point's final state (continuation), so jumps and
+hysteresis show as in the paper; the sweep is cut into --blocks seeded blocks that
+--workers processes compute at once.  The result depends on --blocks, never on --workers.
+
+Each finished point is saved at once in the checkpoint directory OUT.partial.  After
+Ctrl-C (exit status 130) or a crash, run the same command again with --resume: the saved
+points are loaded, not recomputed, and the file is identical to an uninterrupted run.
+The checkpoint is removed once OUT is written.
+
+The NetCDF file holds per eta (and direction): regime (flag), label, period,
+impacts_per_period, lyapunov, lyapunov_err, k01, X_m, Y_m, R_m, min_gap, arcs,
+poincare_X, poincare_Y, ...; every parameter and the command line as attributes.  The
+interval table (consecutive points with the same label) is printed on stdout.
+
+exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+"""
+
+_BIFURCATION_EPILOG = """\
+example:
+  vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
+
+Sweeps eta up and down (--direction both by default) computing only the period and the
+Poincare (stroboscopic) points, draws X and Y of the Poincare points against eta (up and
+down sweeps in two colours) and writes the data next to the image (bif.png -> bif.nc);
+'vibimpact plot bif.nc --kind bifurcation' redraws it.
+
+exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+"""
+
+_PLOT_EPILOG = """\
+examples:
+  vibimpact plot fig8.nc --kind response -o response.png
+  vibimpact plot fig8.nc --kind intervals -o intervals.png
+  vibimpact plot run.nc --kind xy -o xy.png
+
+kinds:
+  response     X_m and Y_m against eta, up/down sweeps, chaotic points marked (classify)
+  bifurcation  Poincare X and Y against eta (classify with poincare, or bifurcation)
+  intervals    coloured bands per regime along eta, one row per direction (classify)
+  xy           the orbit in the (X, Y) clearance plane (a 'vibimpact simulate' file)
+
+Without --kind: xy for a simulate file, response (or bifurcation when the file has no
+response data) for a sweep file.  Without -o: FILE_KIND.png next to FILE.
+"""
+
+
+def _default_workers():
+    return min(2, os.cpu_count() or 1)
+
+
+def _sweep_inputs(args):
+    """Grid, parameters from the parsed arguments; _UsageError for bad input."""
+    from . import presets
+    from .sweeps import parse_range
+
+    try:
+        etas = parse_range(args.eta)
+    except ValueError as exc:
+        raise _UsageError(f"--eta: {exc}") from None
+    try:
+        params = presets.get(args.preset).replace(**_parse_sets(args.set))
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
+    return etas, params
+
+
+def _parse_analyses(text):
+    from .sweeps import ANALYSES
+
+    names = [a.strip() for a in str(text).split(",") if a.strip()]
+    if not names:
+        raise _UsageError("--analyses: give a comma-separated list of "
+                          f"{', '.join(ANALYSES)} (or all)")
+    if names == ["all"]:
+        return tuple(ANALYSES)
+    bad = [a for a in names if a not in ANALYSES]
+    if bad:
+        raise _UsageError(f"--analyses: unknown {', '.join(map(repr, bad))}; choose from "
+                          f"{', '.join(ANALYSES)} (or all)")
+    return tuple(a for a in ANALYSES if a in names or a == "period")
+
+
+def _command_line(args):
+    import shlex
+
+    return shlex.join(["vibimpact"] + list(args.argv))
+
+
+def _saved_points(ckpt):
+    try:
+        return sum(1 for f in os.listdir(ckpt) if f.endswith(".npz") and
+                   not f.startswith("."))
+    except OSError:
+        return 0
+
+
+class _Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM during a sweep; ``signum`` decides the exit status 128 + signum."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+class _StopWorkersOnSignal:
+    """While a sweep runs: on SIGINT/SIGTERM stop the worker processes, then raise
+    :class:`_Interrupted` in the main thread.
+
+    Without it, Ctrl-C interrupts only the main process's wait for the process pool, whose
+    shutdown then waits for every queued block: the workers would go on computing (and
+    saving points) to the end of the sweep.  Killing them loses at most the points in
+    flight; finished points are already saved atomically.
+    """
+
+    def __enter__(self):
+        import signal
+
+        self._old = {}
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._handle)
+        except ValueError:  # not the main thread: leave the signals alone
+            self.__exit__(None, None, None)
+        return self
+
+    def _handle(self, signum, frame):
+        import multiprocessing
+
+        self.__exit__(None, None, None)  # a second Ctrl-C acts at once
+        for child in multiprocessing.active_children():
+            child.kill()
+        raise _Interrupted(signum)
+
+    def __exit__(self, *exc):
+        import signal
+
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        self._old = {}
+        return False
+
+
+def _interrupt_status(exc):
+    import signal
+
+    return 128 + int(getattr(exc, "signum", signal.SIGINT))
+
+
+def _cmd_classify(args):
+    import shutil
+
+    out = os.fspath(args.output)
+    ckpt = out + ".partial"
+    etas, params = _sweep_inputs(args)
+    analyses = _parse_analyses(args.analyses)
+    resuming = args.resume and os.path.isdir(ckpt)
+    # with --resume, an output next to its checkpoint is the remains of a run killed
+    # between writing the file and removing the checkpoint: it is replaced
+    _check_output(out, args.overwrite or resuming, "output file")
+    if os.path.exists(ckpt) and not os.path.isdir(ckpt):
+        raise _UsageError(f"checkpoint {ckpt!r} exists and is not a directory; remove it")
+    if os.path.isdir(ckpt) and not args.resume:
+        raise _UsageError(f"checkpoint {ckpt!r} exists (an interrupted run): pass --resume "
+                          "to continue it, or remove it")
+
+    import vibimpact as vi
+    from . import io
+    from .sweeps import format_intervals
+
+    loaded = _saved_points(ckpt) if resuming else 0
+    try:
+        with _StopWorkersOnSignal():
+            ds = vi.sweep(params, etas, direction=args.direction, analyses=analyses,
+                          blocks=args.blocks, workers=args.workers, checkpoint=ckpt,
+                          resume=args.resume, progress=not args.no_progress,
+                          command=_command_line(args))
+    except KeyboardInterrupt as exc:
+        if os.path.isdir(ckpt):
+            print(f"vibimpact: interrupted: {_saved_points(ckpt)} points saved in {ckpt}; "
+                  "rerun with --resume", file=sys.stderr)
+        else:
+            print("vibimpact: interrupted before any point was saved", file=sys.stderr)
+        return _interrupt_status(exc)
+    except ValueError as exc:  # e.g. a checkpoint of a different sweep
+        raise _UsageError(str(exc)) from None
+    ds.attrs.update(preset=args.preset, eta_range=args.eta)
+    try:
+        io.write_netcdf(ds, out, overwrite=args.overwrite or resuming)
+    except (ValueError, OSError) as exc:
+        raise _UsageError(f"{exc} (the computed points stay in {ckpt}; fix the problem "
+                          "and rerun with --resume)") from None
+    if not args.keep_checkpoint:
+        shutil.rmtree(ckpt, ignore_errors=True)
+    if resuming:
+        print(f"vibimpact: resumed from {ckpt}: {loaded} points loaded, not recomputed",
+              file=sys.stderr)
+    print(format_intervals(vi.intervals(ds)))
+    print(f"wrote {out}")
+    return 0
+
+
+def _image_ext_ok(path, what):
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    ext = os.path.splitext(path)[1].lstrip(".").lower()
+    if ext == "nc" or ext not in FigureCanvasBase.get_supported_filetypes():
+        raise _UsageError(f"{what} {path!r}: unknown image extension (use .png, .pdf or "
+                          ".svg)")
+
+
+def _cmd_bifurcation(args):
+    image = os.fspath(args.output)
+    _image_ext_ok(image, "-o")
+    data = os.path.splitext(image)[0] + ".nc"
+    etas, params = _sweep_inputs(args)
+    _check_output(image, args.overwrite, "image file")
+    _check_output(data, args.overwrite, "data file")
+
+    import vibimpact as vi
+    from . import io
+    from .plotting import plot_bifurcation, save_figure
+
+    try:
+        with _StopWorkersOnSignal():
+            ds = vi.sweep(params, etas, direction=args.direction,
+                          analyses=("period", "poincare"), blocks=args.blocks,
+                          workers=args.workers, progress=not args.no_progress,
+                          command=_command_line(args))
+    except KeyboardInterrupt as exc:
+        print("vibimpact: interrupted; nothing written", file=sys.stderr)
+        return _interrupt_status(exc)
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
+    ds.attrs.update(preset=args.preset, eta_range=args.eta)
+    try:
+        io.write_netcdf(ds, data, overwrite=args.overwrite)
+        save_figure(plot_bifurcation(ds), image)
+    except (ValueError, OSError) as exc:
+        raise _UsageError(str(exc)) from None
+    print(f"wrote {image} and {data}")
+    return 0
+
+
+def _kind_of(ds):
+    """'sweep', 'run' or None."""
+    if "regime" in ds and "eta" in ds.dims:
+        return "sweep"
+    if "strobe" in ds and "state" in ds.dims:
+        return "run"
+    return None
+
+
+def _has(ds, name):
+    import numpy as np
+
+    return name in ds and bool(np.isfinite(ds[name].values).any())
+
+
+def _cmd_plot(args):
+    path = os.fspath(args.file)
+    if not os.path.isfile(path):
+        raise _UsageError(f"{path!r}: no such file")
+    from . import io
+
+    try:
+        ds = io.read_netcdf(path)
+    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
+        raise _UsageError(f"cannot read {path!r} as NetCDF: "
+                          f"{type(exc).__name__}: {exc}") from None
+    what = _kind_of(ds)
+    if what is None:
+        raise _UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
+    kind = args.kind
+    if kind is None:
+        kind = "xy" if what == "run" else (
+            "bifurcation" if not _has(ds, "X_m") and _has(ds, "poincare_X") else "response")
+    if kind == "xy" and what != "run":
+        raise _UsageError(f"--kind xy needs a 'vibimpact simulate' file; {path!r} is a "
+                          "sweep (use response, bifurcation or intervals)")
+    if kind != "xy" and what != "sweep":
+        raise _UsageError(f"--kind {kind} needs a sweep file ('vibimpact classify' or "
+                          f"'bifurcation'); {path!r} is a simulate run (use --kind xy)")
+    if kind == "response" and not _has(ds, "X_m"):
+        raise _UsageError(f"{path!r} has no response data (X_m): sweep with --analyses "
+                          "including response")
+    if kind == "bifurcation" and not _has(ds, "poincare_X"):
+        raise _UsageError(f"{path!r} has no Poincare points: sweep with --analyses "
+                          "including poincare")
+    out = args.output
+    if out is None:
+        out = os.path.splitext(path)[0] + f"_{kind}.png"
+    out = os.fspath(out)
+    _image_ext_ok(out, "-o")
+    _check_output(out, args.overwrite, "image file")
+
+    from . import plotting
+
+    try:
+        if kind == "xy":
+            plotting.plot_xy(ds, out)
+        else:
+            draw = {"response": plotting.plot_response,
+                    "bifurcation": plotting.plot_bifurcation,
+                    "intervals": plotting.plot_intervals}[kind]
+            plotting.save_figure(draw(ds), out)
+    except (ValueError, KeyError, OSError) as exc:
+        raise _UsageError(f"cannot draw {kind} from {path!r}: {exc}") from None
+    print(f"wrote {out}")
+    return 0
+
+
+def _add_sweep_options(s, direction):
+    s.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP",
+                   help="grid of the forcing frequency ratio; STOP is included when it "
+                        f"lies on the grid (default: {DEFAULT_ETA})")
+    s.add_argument("--preset", default=DEFAULT_PRESET, help="parameter set (default: "
+                   f"{DEFAULT_PRESET}); see 'vibimpact presets'")
+    s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
+                   help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
+    s.add_argument("--direction", choices=("up", "down", "both"), default=direction,
+                   help=f"sweep direction (default: {direction})")
+    s.add_argument("--workers", type=_positive_int(1), default=_default_workers(),
+                   metavar="N", help="processes computing at once (default: min(2, CPUs) "
+                   f"= {_default_workers()}); does not change the result")
+    s.add_argument("--blocks", type=_positive_int(1), default=16, metavar="N",
+                   help="seeded blocks per direction, 1 = pure serial continuation "
+                        "(default: 16)")
+    s.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    s.add_argument("--no-progress", action="store_true",
+                   help="no progress bar on stderr")
+
+
+def add_parsers(sub, fmt):
+    """Add ``classify``, ``bifurcation`` and ``plot`` to the subparsers ``sub``."""
+    c = sub.add_parser("classify", help="sweep eta, classify every point, print the "
+                       "intervals", formatter_class=fmt, epilog=_CLASSIFY_EPILOG,
+                       description="Sweep the forcing frequency eta with continuation, "
+                                   "classify the motion at every point\n(period, impacts, "
+                                   "Lyapunov exponent, 0-1 test), write a NetCDF file and "
+                                   "print the\nlabelled frequency intervals.")
+    _add_sweep_options(c, "up")
+    c.add_argument("--analyses", default="all", metavar="A,B,...",
+                   help="what to compute: comma-separated subset of period, impacts, "
+                        "response, poincare, lyapunov, test01 (default: all; period "
+                        "always runs)")
+    c.add_argument("-o", "--output", default="classify.nc", metavar="OUT.nc",
+                   help="NetCDF file to write (default: classify.nc)")
+    c.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from its checkpoint OUT.partial")
+    c.add_argument("--keep-checkpoint", action="store_true",
+                   help="keep OUT.partial after OUT is written")
+    c.set_defaults(func=_cmd_classify)
+
+    b = sub.add_parser("bifurcation", help="sweep eta and draw the bifurcation diagram",
+                       formatter_class=fmt, epilog=_BIFURCATION_EPILOG,
+                       description="Sweep eta up and down and draw the Poincare points "
+                                   "against eta; the data is written\nnext to the image "
+                                   "as NetCDF.")
+    _add_sweep_options(b, "both")
+    b.add_argument("-o", "--output", default="bifurcation.png", metavar="FILE.png",
+                   help="image to write (default: bifurcation.png); the data goes to "
+                        "FILE.nc")
+    b.set_defaults(func=_cmd_bifurcation)
+
+    p = sub.add_parser("plot", help="draw a figure from a NetCDF file", formatter_class=fmt,
+                       epilog=_PLOT_EPILOG,
+                       description="Draw a figure from a file written by 'vibimpact "
+                                   "classify', 'bifurcation' or 'simulate'.")
+    p.add_argument("file", metavar="FILE.nc", help="NetCDF file to read")
+    p.add_argument("--kind", choices=PLOT_KINDS, default=None,
+                   help="figure to draw (default: from the file, see below)")
+    p.add_argument("-o", "--output", metavar="FIG.png", default=None,
+                   help="image to write (default: FILE_KIND.png)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing image")
+    p.set_defaults(func=_cmd_plot)
+
+
+__all__ = ["add_parsers", "DEFAULT_ETA", "PLOT_KINDS"]

@@ -1,0 +1,69 @@
+"""Helpers shared by the sweep figures: directions, colours, titles."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+#: colour of each sweep direction
+DIRECTION_COLORS = {"up": "tab:blue", "down": "tab:orange"}
+
+#: regime code (CF flag of the ``regime`` variable) -> name
+REGIME_NAMES = {0: "not computed", 1: "periodic", 2: "quasi-periodic", 3: "chaotic",
+                4: "diverged"}
+
+
+def check_sweep(ds, *names):
+    """Raise ValueError unless ``ds`` is a sweep dataset holding ``names``."""
+    if "eta" not in ds.dims:
+        raise ValueError("not a sweep dataset (no dimension eta); use a file from "
+                         "'vibimpact classify' or 'vibimpact bifurcation'")
+    missing = [n for n in names if n not in ds]
+    if missing:
+        raise ValueError(f"the sweep dataset has no {', '.join(missing)}")
+
+
+def directions(ds):
+    """``[(direction, dataset of that direction without the dim), ...]`` in the order up,
+    down."""
+    if "direction" in ds.dims:
+        out = []
+        for d in ds["direction"].values:
+            sub = ds.sel(direction=d)
+            if "direction" in sub.coords:
+                sub = sub.drop_vars("direction")
+            out.append((str(d), sub))
+        return out
+    return [(str(ds.attrs.get("sweep_direction", ds.attrs.get("direction", "up"))), ds)]
+
+
+def title(ds):
+    """``preset, kh = .., G = .., ...`` from the dataset's attributes."""
+    a = ds.attrs
+    parts = [str(a["preset"])] if a.get("preset") else []
+    params = {}
+    if "params" in a:
+        try:
+            params = json.loads(a["params"])
+        except (TypeError, ValueError):
+            params = {}
+    for name in ("kh", "G", "B", "Ec", "Bh", "BT", "f", "Rr"):
+        v = a.get(f"param_{name}", params.get(name))
+        if v is not None and (name in ("kh", "G", "B", "Ec") or float(v) != 0.0):
+            parts.append(f"{name} = {float(v):g}")
+    return ", ".join(parts)
+
+
+def new_figure(nrows, height):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, height), layout="constrained")
+    axes = fig.subplots(nrows, 1, sharex=True, squeeze=False)[:, 0]
+    return fig, list(axes)
+
+
+def grid_step(eta):
+    eta = np.asarray(eta, dtype=float)
+    if eta.size > 1:
+        return float(np.median(np.diff(eta)))
+    return 0.01 * float(eta[0]) if eta.size else 0.01
