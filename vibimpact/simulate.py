@@ -48,6 +48,19 @@ def _model_and_vector(p, model):
     raise ValueError(f"p must be vibimpact.Params or DuffingParams, got {type(p).__name__}")
 
 
+def _state0(state0, n):
+    """A validated copy of an initial state of ``n`` entries (rest when None)."""
+    if state0 is None:
+        return np.zeros(n)
+    try:
+        y = np.array(state0, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"state0 must be {n} numbers, got {state0!r}") from None
+    if y.size != n or not np.all(np.isfinite(y)):
+        raise ValueError(f"state0 must be {n} finite numbers, got {state0!r}")
+    return y
+
+
 def _count(name, value, minimum):
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise ValueError(f"{name} must be an integer, got {value!r}")
@@ -139,15 +152,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     max_step = _positive("max_step", max_step, allow_none=True)
     bound = _positive("bound", bound, allow_none=True)
     n = len(mdl.state_names)
-    if state0 is None:
-        y = np.zeros(n)
-    else:
-        try:
-            y = np.array(state0, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            raise ValueError(f"state0 must be {n} numbers, got {state0!r}") from None
-        if y.size != n or not np.all(np.isfinite(y)):
-            raise ValueError(f"state0 must be {n} finite numbers, got {state0!r}")
+    y = _state0(state0, n)
 
     omega = float(pvec[mdl.omega_index])
     T = 2.0 * math.pi / omega

@@ -33,7 +33,7 @@ from .._kernel.lyapunov import benettin as _benettin
 from .._kernel.lyapunov import qr_growth as _qr_growth
 from .._kernel.lyapunov import two_trajectory as _two_trajectory
 from ..run import Status, status_of
-from ..simulate import _count, _model_and_vector, _positive, _tableau, simulate
+from ..simulate import _count, _model_and_vector, _positive, _state0, _tableau, simulate
 
 
 @dataclass(frozen=True)
@@ -123,16 +123,7 @@ def _setup(p, model, method, rtol, atol, max_step, event_tol):
 
 def _start(p, mdl, pvec, state0, transient, model, method, rtol, atol):
     """State at the start of a forcing period after ``transient`` periods."""
-    n = len(mdl.state_names)
-    if state0 is None:
-        y = np.zeros(n)
-    else:
-        try:
-            y = np.array(state0, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            raise ValueError(f"state0 must be {n} numbers, got {state0!r}") from None
-        if y.size != n or not np.all(np.isfinite(y)):
-            raise ValueError(f"state0 must be {n} finite numbers, got {state0!r}")
+    y = _state0(state0, len(mdl.state_names))
     if transient == 0:
         return y, Status.OK, ""
     run = simulate(p, periods=1, transient=transient - 1, state0=y, method=method,

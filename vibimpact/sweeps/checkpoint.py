@@ -9,6 +9,7 @@ most the points in flight.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import tempfile
@@ -73,16 +74,9 @@ def point_file(path, direction, index):
 
 def save_point(path, direction, index, result):
     """Write one finished point atomically."""
-    target = point_file(path, direction, index)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=".npz")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **{k: np.asarray(v) for k, v in result.items()})
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    buf = io.BytesIO()
+    np.savez(buf, **{k: np.asarray(v) for k, v in result.items()})
+    _atomic_write_bytes(point_file(path, direction, index), buf.getvalue())
 
 
 def load_point(path, direction, index):
