@@ -8,7 +8,7 @@ instant.
 import os
 import sys
 
-from .cli import _check_output, _parse_sets, _positive_int, _UsageError
+from ._cli_common import _check_output, _parse_sets, _positive_int, _UsageError
 
 #: the main job of SPEC section 5
 DEFAULT_ETA = "0.9:1.5:0.002"
