@@ -126,13 +126,10 @@ class _Interrupted(KeyboardInterrupt):
 
 
 class _StopWorkersOnSignal:
-    """While a sweep runs: on SIGINT/SIGTERM stop the worker processes, then raise
-    :class:`_Interrupted` in the main thread.
-
-    Without it, Ctrl-C interrupts only the main process's wait for the process pool, whose
-    shutdown then waits for every queued block: the workers would go on computing (and
-    saving points) to the end of the sweep.  Killing them loses at most the points in
-    flight; finished points are already saved atomically.
+    """While a sweep runs: SIGINT and SIGTERM raise :class:`_Interrupted` in the main
+    thread, so both end with the saved-points message and exit status 128 + signum;
+    :func:`vibimpact.sweep` kills its workers on the way out (finished points are already
+    saved atomically, the points in flight are lost).
     """
 
     def __enter__(self):
@@ -147,12 +144,8 @@ class _StopWorkersOnSignal:
         return self
 
     def _handle(self, signum, frame):
-        import multiprocessing
-
         self.__exit__(None, None, None)  # a second Ctrl-C acts at once
-        for child in multiprocessing.active_children():
-            child.kill()
-        raise _Interrupted(signum)
+        raise _Interrupted(signum)  # vi.sweep stops its workers on the way out
 
     def __exit__(self, *exc):
         import signal

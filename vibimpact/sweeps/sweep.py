@@ -19,7 +19,6 @@ import multiprocessing as mp
 import os
 import queue as _queue
 import sys
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
@@ -76,6 +75,7 @@ def _init_worker(q):
     _PROGRESS = q
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not a handler inherited by fork
     if sys.platform.startswith("linux"):
         try:  # PR_SET_PDEATHSIG: SIGKILL this worker when the parent process dies
             import ctypes
@@ -84,19 +84,6 @@ def _init_worker(q):
             pass
         if os.getppid() == 1:  # the parent died before the line above
             os._exit(1)
-
-
-def _stop_pool(ex, futures):
-    """Cancel queued blocks and kill running workers (after an interrupt): the finished
-    points are already in the checkpoint, the points in flight are lost."""
-    for f in futures:
-        f.cancel()
-    for proc in list(getattr(ex, "_processes", {}).values()):
-        try:
-            proc.kill()
-        except (OSError, AttributeError):
-            pass
-    ex.shutdown(wait=False, cancel_futures=True)
 
 
 def _run_block(task):
@@ -253,20 +240,16 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
         else:
             ctx = mp.get_context("fork" if sys.platform != "win32" else "spawn")
             q = ctx.Queue()
-            ex = ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
-                                     initializer=_init_worker, initargs=(q,))
-            futures = []
+            pool = ctx.Pool(processes=min(workers, len(tasks)), initializer=_init_worker,
+                            initargs=(q,))
             try:
-                futures = [ex.submit(_run_block, t) for t in tasks]
-                pending = set(futures)
+                pending = [pool.apply_async(_run_block, (t,)) for t in tasks]
                 while pending:
-                    _drain(q, bar)
-                    finished = {f for f in pending if f.done()}
-                    for f in finished:
-                        d, out = f.result()
-                        for i, r in out:
-                            results[d][i] = r
-                    pending -= finished
+                    for r in [r for r in pending if r.ready()]:
+                        d, out = r.get()  # re-raises a worker's exception
+                        for i, res in out:
+                            results[d][i] = res
+                        pending.remove(r)
                     if pending:
                         try:
                             q.get(timeout=0.05)
@@ -275,10 +258,14 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
                         except _queue.Empty:
                             pass
                 _drain(q, bar)
+                pool.close()
             except BaseException:
-                _stop_pool(ex, futures)
+                # Ctrl-C or an error: kill the workers now (finished points are already in
+                # the checkpoint; the points in flight are lost)
+                pool.terminate()
                 raise
-            ex.shutdown(wait=True)
+            finally:
+                pool.join()
     finally:
         if bar is not None:
             bar.close()
