@@ -197,3 +197,17 @@ def test_bad_eta_range_text_raises_naming_eta(text):
     """Malformed START:STOP:STEP raises ValueError naming eta."""
     with pytest.raises(ValueError, match="eta"):
         parse_range(text)
+
+
+def test_rolling_on_the_retainer_is_permanent_contact_not_impactless():
+    """Above the chaotic interval the continued fig8 branch rolls on the retainer
+    (R > 1 throughout, no contact entry): labelled 'permanent contact', not impactless,
+    while the low branch reached from rest is free flight (R_m < 1)."""
+    eta = 1.35
+    x = continued_state("fig8", eta)
+    ds = vi.sweep(FIG8, [eta], state0=x, analyses=("period", "impacts", "response"))
+    assert int(ds["contact"].values[0]) == 2 and ds["R_m"].values[0] > 1.0
+    assert ds["label"].values[0] == "P1, permanent contact"
+    rest = vi.sweep(FIG8, [eta], analyses=("period", "impacts", "response"))
+    assert int(rest["contact"].values[0]) == 0 and rest["R_m"].values[0] < 1.0
+    assert rest["label"].values[0] == "P1 impactless"

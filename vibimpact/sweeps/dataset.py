@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import __version__
 from ..analysis.classify import Label
-from .point import REGIME_CODES, REGIME_FLAGS, SCALARS
+from .point import CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS
 
 #: variable -> (dtype, units, long_name)
 VARIABLES = {
@@ -26,6 +26,7 @@ VARIABLES = {
                            "when period = 0)"),
     "impacts_constant": ("i1", "1", "1 when every motion period has the same number of "
                          "contacts"),
+    "contact": ("i1", "1", "contact with the retainer (flag; -1: not computed)"),
     "lyapunov": ("f8", "1", "largest Lyapunov exponent per unit tau (NaN: not computed)"),
     "lyapunov_err": ("f8", "1", "standard error of the largest Lyapunov exponent"),
     "k01": ("f8", "1", "Gottwald-Melbourne 0-1 test K (NaN: not computed)"),
@@ -42,7 +43,7 @@ VARIABLES = {
 }
 
 
-def _label_text(code, n, ipp, arcs):
+def _label_text(code, n, ipp, arcs, contact=-1):
     label = {v: k for k, v in REGIME_CODES.items()}.get(int(code))
     if label is None:
         return "not computed"
@@ -55,7 +56,8 @@ def _label_text(code, n, ipp, arcs):
     if not np.isfinite(ipp):
         return head
     if ipp == 0:
-        return f"{head} impactless"
+        return f"{head}, permanent contact" if contact == CONTACT_PERMANENT else \
+            f"{head} impactless"
     if label is Label.PERIODIC and float(ipp).is_integer():
         text = f"{head}, {ipp:.0f} impacts"
     else:  # a mean count varies from point to point: it would split every interval
@@ -101,7 +103,8 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     for a in range(len(dirs)):
         for j in range(n):
             labels[a, j] = _label_text(data["regime"][0][a, j], data["period"][0][a, j],
-                                       data["impacts_per_period"][0][a, j], arcs[a, j])
+                                       data["impacts_per_period"][0][a, j], arcs[a, j],
+                                       data["contact"][0][a, j])
     dims = ("direction", "eta")
     ds = xr.Dataset(
         {k: (dims, v, attrs) for k, (v, attrs) in data.items()},
@@ -112,6 +115,8 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     ds["regime"].attrs.update(flag_values=np.array(sorted(REGIME_CODES.values()),
                                                    dtype="i1"),
                               flag_meanings=REGIME_FLAGS)
+    ds["contact"].attrs.update(flag_values=np.array([0, 1, 2], dtype="i1"),
+                               flag_meanings=CONTACT_FLAGS)
     ds["label"] = (dims, labels, dict(long_name="regime in words"))
     ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the retainer, in words"))
     ds["reason"] = (dims, reason, dict(long_name="classifier's decision branch"))

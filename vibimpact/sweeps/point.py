@@ -86,10 +86,15 @@ class SweepSettings:
         return d
 
 
+#: contact codes: free flight throughout, impacts (contact entries), or permanent contact
+#: (the rotor rolls or whirls on the retainer, R > 1 throughout, with no new impact)
+CONTACT_NONE, CONTACT_IMPACTING, CONTACT_PERMANENT = 0, 1, 2
+CONTACT_FLAGS = "none impacting permanent_contact"
+
 #: scalar result fields of a point, with their fill value
 SCALARS = {
     "regime": 0, "period": 0, "confidence": np.nan, "impacts_per_period": np.nan,
-    "impacts_constant": 0, "lyapunov": np.nan, "lyapunov_err": np.nan, "k01": np.nan,
+    "impacts_constant": 0, "contact": -1, "lyapunov": np.nan, "lyapunov_err": np.nan, "k01": np.nan,
     "X_m": np.nan, "Y_m": np.nan, "R_m": np.nan, "min_gap": np.nan, "n_arcs": 0,
     "v_impact_max": np.nan, "v_impact_mean": np.nan, "penetration_max": np.nan,
     "transient": 0, "recorded": 0,
@@ -184,6 +189,7 @@ def analyse_point(p, state0, settings):
     else:
         rec = st.record
     need_dense = "response" in want
+    r_start = math.hypot(x[0], x[1])
     run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0, **kw)
     if run.status is not Status.OK:
         return diverged(run, "record")
@@ -201,6 +207,10 @@ def analyse_point(p, state0, settings):
         cnt = impact_count(imp["period"], rec, period=max(n, 1))
         res["impacts_per_period"] = cnt.per_period
         res["impacts_constant"] = int(cnt.constant)
+        switched = np.any(run.events["which"] == 0)
+        res["contact"] = (CONTACT_IMPACTING if imp.size else
+                          CONTACT_PERMANENT if (r_start > 1.0 and not switched) else
+                          CONTACT_NONE)
         arcs = contact_arcs(imp["theta"])
         res["arcs"] = arcs.summary
         res["n_arcs"] = arcs.n_arcs
