@@ -67,3 +67,12 @@ def _check_output(path, overwrite, what):
     if not os.access(directory, os.W_OK | os.X_OK):
         raise _UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
                           "is not writable")
+    import tempfile
+
+    try:  # os.access says yes to root and knows nothing of read-only mounts: try it
+        fd, probe = tempfile.mkstemp(prefix=".vibimpact-probe-", dir=directory)
+    except OSError as exc:
+        raise _UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
+                          f"is not writable ({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(probe)

@@ -16,6 +16,7 @@ examples:
   vibimpact classify --eta 0.9:1.5:0.002 -o fig8.nc
   vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
   vibimpact plot fig8.nc --kind response -o response.png
+  vibimpact rerun fig8.nc
 
 'vibimpact COMMAND --help' shows the options and an example of each command.
 """
@@ -181,9 +182,11 @@ def build_parser():
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
 
+    from .cli_rerun import add_parser as add_rerun
     from .cli_sweep import add_parsers
 
     add_parsers(sub, fmt)
+    add_rerun(sub, fmt)
     return parser
 
 
@@ -198,7 +201,8 @@ def main(argv=None):
     Returns
     -------
     int
-        The exit status: 0 success, 2 bad input, 130 interrupted.
+        The exit status: 0 success, 1 ``rerun`` found a difference, 2 bad input,
+        130 interrupted.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)

@@ -199,6 +199,14 @@ def _cmd_classify(args):
         return _interrupt_status(exc)
     except ValueError as exc:  # e.g. a checkpoint of a different sweep
         raise _UsageError(str(exc)) from None
+    from .sweeps.checkpoint import corrupt_files
+
+    bad = corrupt_files(ckpt) if resuming else []
+    if bad:
+        loaded = max(0, loaded - len(bad))
+        print(f"vibimpact: warning: {len(bad)} damaged point files in {ckpt} were "
+              f"recomputed ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})",
+              file=sys.stderr)
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
     try:
         io.write_netcdf(ds, out, overwrite=args.overwrite or resuming)
@@ -225,11 +233,17 @@ def _image_ext_ok(path, what):
 
 
 def _cmd_bifurcation(args):
+    # ``vibimpact rerun`` sets ``data_only`` to the .nc path: no image is drawn then
+    data_only = getattr(args, "data_only", None)
     image = os.fspath(args.output)
-    _image_ext_ok(image, "-o")
-    data = os.path.splitext(image)[0] + ".nc"
+    if data_only is None:
+        _image_ext_ok(image, "-o")
+        data = os.path.splitext(image)[0] + ".nc"
+    else:
+        data = os.fspath(data_only)
     etas, params = _sweep_inputs(args)
-    _check_output(image, args.overwrite, "image file")
+    if data_only is None:
+        _check_output(image, args.overwrite, "image file")
     _check_output(data, args.overwrite, "data file")
 
     import vibimpact as vi
@@ -250,6 +264,9 @@ def _cmd_bifurcation(args):
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
     try:
         io.write_netcdf(ds, data, overwrite=args.overwrite)
+        if data_only is not None:
+            print(f"wrote {data}")
+            return 0
         save_figure(plot_bifurcation(ds), image)
     except (ValueError, OSError) as exc:
         raise _UsageError(str(exc)) from None
@@ -283,7 +300,10 @@ def _cmd_plot(args):
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
         raise _UsageError(f"cannot read {path!r} as NetCDF: "
                           f"{type(exc).__name__}: {exc}") from None
-    what = _kind_of(ds)
+    try:
+        what = _kind_of(ds)
+    except Exception as exc:
+        raise _UsageError(f"{path!r} is not a vibimpact file: {exc}") from None
     if what is None:
         raise _UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
     kind = args.kind
@@ -319,8 +339,10 @@ def _cmd_plot(args):
                     "bifurcation": plotting.plot_bifurcation,
                     "intervals": plotting.plot_intervals}[kind]
             plotting.save_figure(draw(ds), out)
-    except (ValueError, KeyError, OSError) as exc:
-        raise _UsageError(f"cannot draw {kind} from {path!r}: {exc}") from None
+    except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing;
+        # save_figure writes atomically, so nothing partial is left
+        raise _UsageError(f"cannot draw {kind} from {path!r}: "
+                          f"{type(exc).__name__}: {exc}") from None
     print(f"wrote {out}")
     return 0
 

@@ -9,6 +9,7 @@ import numpy as np
 from ._kernel import integrator as _k
 from ._kernel import tableaux as _tab
 from ._kernel.driver import integrate as _integrate
+from . import _limits
 from .models import DUFFING, ROTOR, Model
 from .params import DuffingParams, Params
 from .run import IMPACT_DTYPE, Run, Status, impacts_from_events, status_of
@@ -128,7 +129,9 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     Raises
     ------
     ValueError
-        Naming the offending argument.
+        Naming the offending argument; also for more than
+        :data:`vibimpact._limits.MAX_PERIODS` forcing periods (``periods + transient``),
+        with the estimated time.
 
     Examples
     --------
@@ -141,6 +144,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     mdl, pvec = _model_and_vector(p, model)
     periods = _count("periods", periods, 1)
     transient = _count("transient", transient, 0)
+    _limits.check_periods(periods, transient)
     steps_per_period = _count("steps_per_period", steps_per_period, 1)
     dense = _count("dense", dense, 0)
     max_steps_per_period = _count("max_steps_per_period", max_steps_per_period, 1)

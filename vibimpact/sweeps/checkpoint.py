@@ -5,6 +5,19 @@ resume never mixes two different sweeps) and ``<direction>_<index>.npz`` per fin
 point.  Each file is written to a temporary name and renamed, so a point is either
 completely on disk or absent: a sweep killed at any moment (Ctrl-C, SIGKILL) loses at
 most the points in flight.
+
+Damaged checkpoints
+-------------------
+* ``request.json`` unreadable, not JSON, or not a fingerprint record: :func:`open_checkpoint`
+  raises ``ValueError`` naming the file (the CLI reports it as one line, exit status 2).
+  Nothing is guessed: without the fingerprint a resume could mix two sweeps.
+* A point file that cannot be read back completely (truncated, garbage, a foreign ``.npz``
+  without the fields of a point, a directory in its place) can only come from a damaged
+  disk or a hand edit, since points are written atomically.  It is treated as **not done**:
+  :func:`load_point` renames it to ``<name>.corrupt`` (kept as evidence, no longer counted
+  as a saved point) and returns None, so the point is recomputed and saved again.  Every
+  point is a deterministic function of the request, so the resumed result is still
+  identical to an uninterrupted run.  :func:`corrupt_files` lists the renamed files.
 """
 from __future__ import annotations
 
@@ -45,6 +58,9 @@ def open_checkpoint(path, request, resume):
             old = json.loads(meta.read_text())
         except (OSError, ValueError):
             raise ValueError(f"checkpoint {path} has no readable request.json") from None
+        if not isinstance(old, dict) or "fingerprint" not in old:
+            raise ValueError(f"checkpoint {path}: {meta.name} is not a vibimpact checkpoint "
+                             "record") from None
         if old.get("fingerprint") != fp:
             raise ValueError(f"checkpoint {path} belongs to a different sweep request")
         return path
@@ -79,12 +95,15 @@ def save_point(path, direction, index, result):
     _atomic_write_bytes(point_file(path, direction, index), buf.getvalue())
 
 
-def load_point(path, direction, index):
-    """A finished point's result dict, or None."""
-    f = point_file(path, direction, index)
-    if not f.exists():
-        return None
+#: fields every saved point has besides :data:`SCALARS`
+_REQUIRED = ("final_state", "samples", "arcs", "reason")
+
+
+def _read_point(f):
     with np.load(f, allow_pickle=False) as z:
+        missing = [k for k in (*SCALARS, *_REQUIRED) if k not in z.files]
+        if missing:
+            raise ValueError(f"missing fields {missing}")
         out = {}
         for k in z.files:
             v = z[k]
@@ -94,4 +113,33 @@ def load_point(path, direction, index):
                 out[k] = str(v)
             else:
                 out[k] = v
-        return out
+    if np.shape(out["final_state"]) != (4,) or np.ndim(out["samples"]) != 2:
+        raise ValueError("bad shapes")
+    return out
+
+
+def load_point(path, direction, index):
+    """A finished point's result dict, or None when it is not done.
+
+    A damaged point file is renamed to ``<name>.corrupt`` and reported as not done (see
+    the module docstring), so the point is recomputed.
+    """
+    f = point_file(path, direction, index)
+    if not f.exists():
+        return None
+    try:
+        return _read_point(f)
+    except Exception:  # zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError, ...
+        try:
+            os.replace(f, f.with_name(f.name + ".corrupt"))
+        except OSError:
+            pass
+        return None
+
+
+def corrupt_files(path):
+    """Names of the damaged point files set aside by :func:`load_point`."""
+    try:
+        return sorted(n for n in os.listdir(path) if n.endswith(".npz.corrupt"))
+    except OSError:
+        return []

@@ -22,6 +22,7 @@ import sys
 
 import numpy as np
 
+from .. import _limits
 from ..params import Params
 from ..run import Status
 from ..simulate import _count, simulate
@@ -32,12 +33,16 @@ DIRECTIONS = ("up", "down", "both")
 
 
 def _grid(eta):
+    size = np.size(eta) if isinstance(eta, np.ndarray) else None
+    if size is not None:
+        _limits.check_points(size)  # before copying a huge array
     try:
         arr = np.array(eta, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
         raise ValueError(f"eta must be numbers, got {eta!r}") from None
     if arr.size == 0:
         raise ValueError("eta must not be empty")
+    _limits.check_points(arr.size)
     if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
         raise ValueError("eta must be finite and > 0")
     if arr.size > 1 and not (np.all(np.diff(arr) > 0.0)):
@@ -298,7 +303,8 @@ def parse_range(text):
     Raises
     ------
     ValueError
-        Naming ``eta``, for anything else.
+        Naming ``eta``, for anything else, and for a grid of more than
+        :data:`vibimpact._limits.MAX_POINTS` points (with the estimated time).
     """
     parts = str(text).split(":")
     if len(parts) != 3:
@@ -315,7 +321,9 @@ def parse_range(text):
         raise ValueError(f"eta STOP must be >= START, got {text!r}")
     if a <= 0.0:
         raise ValueError(f"eta START must be > 0, got {text!r}")
+    approx = (b - a) / h + 1.0
+    if approx > 1e15:  # beyond exact integers (or inf): refuse without converting
+        _limits.check_points(approx)
     count = int(math.floor((b - a) / h + 1e-9)) + 1
-    if count > 100_000:
-        raise ValueError(f"eta grid has {count} points; at most 100000")
+    _limits.check_points(count)
     return np.round(a + h * np.arange(count), 12)

@@ -1,0 +1,445 @@
+"""Bad input, damaged files and reproducibility (issue 7): every refusal is one clear line.
+
+CLI cases run ``vibimpact.cli.main`` in this process (fast) and check: exit status 2,
+exactly one stderr line starting with ``vibimpact: error:`` that names the problem, no
+traceback, nothing on stdout, and no new file (output, partial or temporary) in the
+working directory.  API cases check for a ``ValueError`` whose message names the
+parameter.  Then: a grid whose STOP is off the grid is accepted; ``vibimpact rerun``
+reproduces simulate, classify and bifurcation outputs bit for bit and reports an altered
+file; a checkpoint with damaged point files resumes to the uninterrupted result.
+"""
+import math
+import os
+import shutil
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vibimpact.cli import main
+
+SIM = ["simulate", "--eta", "1.2", "--periods", "5", "--transient", "5"]
+ONE = ["classify", "--eta", "1.0:1.0:0.01", "--no-progress", "--workers", "1"]
+
+
+def run_cli(argv, capfd):
+    """main(argv) in this process -> (status, stdout, stderr); SystemExit is a status."""
+    try:
+        rc = main([str(a) for a in argv])
+    except SystemExit as exc:
+        rc = exc.code
+    out, err = capfd.readouterr()
+    return rc, out, err
+
+
+def listing(d):
+    return sorted(p.name for p in Path(d).iterdir())
+
+
+def assert_refused(rc, out, err, needle):
+    assert rc == 2, (rc, out, err)
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("vibimpact: error: "), lines[0]
+    assert needle in lines[0], (needle, lines[0])
+    assert "Traceback" not in err and out == ""
+
+
+# --- files the cases start from ---------------------------------------------------------
+
+def _tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.nc"):
+    import xarray as xr
+
+    from vibimpact.io import write_netcdf
+
+    ds = xr.Dataset({"regime": ("eta", np.array([1, 3], dtype="i1")),
+                     "X_m": ("eta", [0.5, np.nan]),
+                     "poincare_X": (("eta", "sample"), np.ones((2, 64)))},
+                    coords={"eta": [1.0, 1.01]}, attrs={"command": command})
+    write_netcdf(ds, path)
+
+
+def _garbage(d, name="bad.nc"):
+    (Path(d) / name).write_bytes(b"this is not a NetCDF file\n" * 20)
+
+
+def _empty(d, name="bad.nc"):
+    (Path(d) / name).write_bytes(b"")
+
+
+def _truncated(d, name="bad.nc"):
+    full = Path(d) / ".full.nc"
+    _tiny_sweep_file(full)
+    data = full.read_bytes()
+    full.unlink()
+    (Path(d) / name).write_bytes(data[: len(data) // 2])
+
+
+def _foreign(d, name="bad.nc"):
+    """A valid NetCDF file that vibimpact did not write (no command, other variables)."""
+    import xarray as xr
+
+    xr.Dataset({"temperature": ("time", np.arange(5.0))}).to_netcdf(Path(d) / name)
+
+
+def _foreign_command(d, name="bad.nc"):
+    _tiny_sweep_file(Path(d) / name, command="rm -rf /")
+
+
+def _png_as_nc(d, name="bad.nc"):
+    (Path(d) / name).write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(200))
+
+
+def _existing(name):
+    def make(d):
+        (Path(d) / name).write_bytes(b"old")
+    return make
+
+
+def _checkpoint(request_text):
+    def make(d):
+        ck = Path(d) / "c.nc.partial"
+        ck.mkdir()
+        (ck / "request.json").write_text(request_text)
+    return make
+
+
+def _checkpoint_file(d):
+    (Path(d) / "c.nc.partial").write_text("not a directory")
+
+
+def _readonly_dir(d):
+    ro = Path(d) / "ro"
+    ro.mkdir()
+    ro.chmod(0o500)
+
+
+def _unwritable_target():
+    """A directory this process cannot write to: a read-only dir, or /sys for root."""
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        return "/sys/vibimpact_test_out.nc"
+    return "ro/out.nc"
+
+
+# --- CLI: id -> (argv, needle, setup) ----------------------------------------------------
+
+CLI_CASES = {
+    # eta ranges
+    "eta reversed": (["classify", "--eta", "1.2:1.0:0.01", "-o", "c.nc"], "eta", None),
+    "eta zero step": (["classify", "--eta", "1.0:1.2:0", "-o", "c.nc"], "eta", None),
+    "eta negative step": (["classify", "--eta", "1.0:1.2:-0.01", "-o", "c.nc"], "eta", None),
+    "eta negative start": (["classify", "--eta", "-1:1.2:0.1", "-o", "c.nc"], "eta", None),
+    "eta NaN": (["classify", "--eta", "nan:1.2:0.01", "-o", "c.nc"], "eta", None),
+    "eta inf": (["classify", "--eta", "1:inf:0.01", "-o", "c.nc"], "eta", None),
+    "eta non-numeric": (["classify", "--eta", "a:b:c", "-o", "c.nc"], "eta", None),
+    "eta two parts": (["classify", "--eta", "1.0:1.2", "-o", "c.nc"], "eta", None),
+    "eta 1e9 points": (["classify", "--eta", "0.5:1000000000.5:1", "-o", "c.nc"],
+                       "1000000001 points (about", None),
+    "eta step too small": (["classify", "--eta", "1:2:1e-320", "-o", "c.nc"], "eta", None),
+    "bifurcation reversed": (["bifurcation", "--eta", "2:1:0.1", "-o", "b.png"], "eta",
+                             None),
+    # names
+    "unknown preset (classify)": ([*ONE, "--preset", "fig99", "-o", "c.nc"], "fig99", None),
+    "unknown preset (simulate)": ([*SIM, "--preset", "fig99", "-o", "r.nc"], "fig99", None),
+    "unknown parameter (classify)": ([*ONE, "--set", "kq=1", "-o", "c.nc"], "kq", None),
+    "unknown parameter (simulate)": ([*SIM, "--set", "kq=1", "-o", "r.nc"], "kq", None),
+    "unknown analysis": ([*ONE, "--analyses", "period,spectrum", "-o", "c.nc"],
+                         "spectrum", None),
+    "unknown direction": ([*ONE, "--direction", "sideways", "-o", "c.nc"], "sideways", None),
+    "unknown plot kind": (["plot", "x.nc", "--kind", "spectrum"], "spectrum", None),
+    # the model's domain
+    "kh < 0": ([*SIM, "--set", "kh=-1", "-o", "r.nc"], "kh", None),
+    "B < 0": ([*SIM, "--set", "B=-0.1", "-o", "r.nc"], "B ", None),
+    "Bh < 0": ([*SIM, "--set", "Bh=-0.05", "-o", "r.nc"], "Bh", None),
+    "BT < 0": ([*SIM, "--set", "BT=-0.05", "-o", "r.nc"], "BT", None),
+    "f < 0": ([*SIM, "--set", "f=-0.1", "-o", "r.nc"], "f ", None),
+    "Ec < 0": ([*ONE, "--set", "Ec=-0.1", "-o", "c.nc"], "Ec", None),
+    "eta = 0": ([*SIM[:1], "--eta", "0", "-o", "r.nc"], "eta", None),
+    "eta < 0": ([*SIM[:1], "--eta", "-1.2", "-o", "r.nc"], "eta", None),
+    "G NaN": ([*SIM, "--set", "G=nan", "-o", "r.nc"], "G", None),
+    "kh inf": ([*ONE, "--set", "kh=inf", "-o", "c.nc"], "kh", None),
+    # absurd sizes
+    "periods 1e9": (["simulate", "--periods", "1000000000", "-o", "r.nc"],
+                    "periods=1000000000", None),
+    "transient 1e9": (["simulate", "--transient", "1000000000", "-o", "r.nc"], "about",
+                      None),
+    # output
+    "unwritable directory": ([*SIM, "-o", _unwritable_target()], "not writable",
+                             _readonly_dir),
+    "existing output (simulate)": ([*SIM, "-o", "r.nc"], "--overwrite", _existing("r.nc")),
+    "existing output (classify)": ([*ONE, "-o", "c.nc"], "--overwrite", _existing("c.nc")),
+    "existing image (bifurcation)": (["bifurcation", "--eta", "1:1.01:0.01", "-o", "b.png"],
+                                     "--overwrite", _existing("b.png")),
+    # damaged or foreign files to plot
+    "plot garbage": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _garbage),
+    "plot empty file": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _empty),
+    "plot truncated NetCDF": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _truncated),
+    "plot foreign NetCDF": (["plot", "bad.nc", "-o", "p.png"], "neither", _foreign),
+    "plot PNG named .nc": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _png_as_nc),
+    "plot missing file": (["plot", "missing.nc", "-o", "p.png"], "no such file", None),
+    # ... and to rerun
+    "rerun garbage": (["rerun", "bad.nc"], "cannot read", _garbage),
+    "rerun truncated NetCDF": (["rerun", "bad.nc"], "cannot read", _truncated),
+    "rerun foreign NetCDF": (["rerun", "bad.nc"], "no 'command' attribute", _foreign),
+    "rerun foreign command": (["rerun", "bad.nc"], "not a vibimpact", _foreign_command),
+    "rerun missing file": (["rerun", "missing.nc"], "no such file", None),
+    "rerun onto itself": (["rerun", "bad.nc", "-o", "bad.nc"], "differ", _foreign_command),
+    # damaged checkpoints
+    "resume garbage request.json": ([*ONE, "-o", "c.nc", "--resume"], "request.json",
+                                    _checkpoint("\x00garbage{")),
+    "resume foreign request.json": ([*ONE, "-o", "c.nc", "--resume"], "request.json",
+                                    _checkpoint("[1, 2, 3]")),
+    "checkpoint is a file": ([*ONE, "-o", "c.nc", "--resume"], "not a directory",
+                             _checkpoint_file),
+}
+
+
+@pytest.mark.parametrize("case", list(CLI_CASES))
+def test_cli_refuses_bad_input(case, tmp_path, monkeypatch, capfd):
+    """Exit 2, one line 'vibimpact: error: ...' naming the problem, no traceback, no
+    stdout, and no file created (nor removed) in the working directory."""
+    argv, needle, setup = CLI_CASES[case]
+    if setup is not None:
+        setup(tmp_path)
+    before = listing(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    try:
+        rc, out, err = run_cli(argv, capfd)
+    finally:
+        if (tmp_path / "ro").exists():
+            (tmp_path / "ro").chmod(0o700)
+    assert_refused(rc, out, err, needle)
+    assert listing(tmp_path) == before
+    if (tmp_path / "ro").exists():
+        assert listing(tmp_path / "ro") == []
+    assert not os.path.exists("/sys/vibimpact_test_out.nc")
+
+
+def test_too_many_points_message_has_the_estimate(tmp_path, monkeypatch, capfd):
+    """10^9 points: refused before any work with the estimated time and the limit."""
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = run_cli(["classify", "--eta", "0.5:1000000000.5:1", "-o", "c.nc"], capfd)
+    assert_refused(rc, out, err, "--eta: eta grid has 1000000001 points (about 347 days "
+                                 "at ~0.03 s per point); at most 100000")
+
+
+# --- API: id -> (callable, needle) --------------------------------------------------------
+
+def _params(**kw):
+    import vibimpact as vi
+
+    return vi.Params(**kw)
+
+
+def _replace(**kw):
+    import vibimpact as vi
+
+    return vi.presets.get("fig8").replace(**kw)
+
+
+def _parse(text):
+    from vibimpact.sweeps import parse_range
+
+    return parse_range(text)
+
+
+def _sweep(eta, **kw):
+    import vibimpact as vi
+
+    return vi.sweep(vi.presets.get("fig8"), eta, **kw)
+
+
+def _simulate(**kw):
+    import vibimpact as vi
+
+    return vi.simulate(vi.presets.get("fig8"), **kw)
+
+
+def _preset(name):
+    import vibimpact as vi
+
+    return vi.presets.get(name)
+
+
+API_CASES = {
+    "Params kh < 0": (lambda: _params(kh=-1.0), "kh"),
+    "Params B < 0": (lambda: _params(B=-0.1), "B "),
+    "Params Bh < 0": (lambda: _params(Bh=-0.1), "Bh"),
+    "Params BT < 0": (lambda: _params(BT=-0.1), "BT"),
+    "Params f < 0": (lambda: _params(f=-0.1), "f "),
+    "Params Ec < 0": (lambda: _params(Ec=-0.1), "Ec"),
+    "Params eta = 0": (lambda: _params(eta=0.0), "eta"),
+    "Params eta NaN": (lambda: _params(eta=math.nan), "eta"),
+    "Params G inf": (lambda: _params(G=math.inf), "G"),
+    "Params kh string": (lambda: _params(kh="120"), "kh"),
+    "replace kh < 0": (lambda: _replace(kh=-5.0), "kh"),
+    "replace eta < 0": (lambda: _replace(eta=-1.0), "eta"),
+    "replace Ec NaN": (lambda: _replace(Ec=math.nan), "Ec"),
+    "replace unknown name": (lambda: _replace(kq=1.0), "kq"),
+    "unknown preset": (lambda: _preset("fig99"), "fig99"),
+    "parse_range reversed": (lambda: _parse("1.2:1.0:0.01"), "eta"),
+    "parse_range zero step": (lambda: _parse("1:2:0"), "eta"),
+    "parse_range NaN": (lambda: _parse("1:nan:0.1"), "eta"),
+    "parse_range words": (lambda: _parse("one:two:three"), "eta"),
+    "parse_range 1e9 points": (lambda: _parse("0.5:1000000000.5:1"), "about"),
+    "sweep huge array": (lambda: _sweep(np.linspace(1.0, 2.0, 100_001)), "eta"),
+    "sweep decreasing eta": (lambda: _sweep([1.2, 1.1]), "eta"),
+    "sweep eta <= 0": (lambda: _sweep([0.0, 1.0]), "eta"),
+    "sweep NaN eta": (lambda: _sweep([1.0, math.nan]), "eta"),
+    "sweep direction": (lambda: _sweep([1.0], direction="sideways"), "direction"),
+    "sweep analysis": (lambda: _sweep([1.0], analyses=("spectrum",)), "analyses"),
+    "simulate 1e9 periods": (lambda: _simulate(periods=10**9), "periods"),
+    "simulate 1e9 transient": (lambda: _simulate(periods=1, transient=10**9), "transient"),
+    "simulate periods 0": (lambda: _simulate(periods=0), "periods"),
+}
+
+
+@pytest.mark.parametrize("case", list(API_CASES))
+def test_api_raises_value_error_naming_the_parameter(case):
+    """The public API refuses bad input with a ValueError whose message names it."""
+    call, needle = API_CASES[case]
+    with pytest.raises(ValueError) as info:
+        call()
+    assert needle in str(info.value), str(info.value)
+
+
+def test_simulate_periods_message_has_the_estimate():
+    """A run of 10^9 periods is refused at once with the estimated time."""
+    with pytest.raises(ValueError, match=r"periods=1000000000 .*about 2\.31 days"):
+        _simulate(periods=10**9)
+
+
+@pytest.mark.parametrize("text,grid", [("1.0:1.05:0.02", [1.0, 1.02, 1.04]),
+                                       ("1.0:1.06:0.02", [1.0, 1.02, 1.04, 1.06]),
+                                       ("1.0:1.0:0.5", [1.0])])
+def test_stop_off_the_grid_is_accepted(text, grid):
+    """STOP off the grid is not an error: the grid stops before it (STOP on the grid is
+    included)."""
+    assert _parse(text).tolist() == grid
+
+
+# --- rerun ---------------------------------------------------------------------------------
+
+def test_rerun_simulate_is_identical(tmp_path, monkeypatch, capfd):
+    """A simulate file (with --plot, which implies dense samples) reruns bit-identical;
+    the temporary rerun file is removed and the plot is not redrawn."""
+    monkeypatch.chdir(tmp_path)
+    rc, _, err = run_cli([*SIM, "--set", "Ec=0.3", "-o", "run.nc", "--plot", "xy.png"], capfd)
+    assert rc == 0, err
+    rc, out, err = run_cli(["rerun", "run.nc"], capfd)
+    assert rc == 0, err
+    assert out.startswith("identical: ") and out.strip().endswith("variables")
+    assert int(out.split()[1]) >= 10
+    assert listing(tmp_path) == ["run.nc", "xy.png"]
+
+
+@pytest.fixture(scope="module")
+def classified(tmp_path_factory):
+    """classify with STOP off the grid (1.025: the grid is 1.00, 1.01, 1.02), keeping its
+    checkpoint for the damaged-checkpoint test."""
+    d = tmp_path_factory.mktemp("rerun")
+    mp = pytest.MonkeyPatch()
+    mp.chdir(d)
+    try:
+        rc = main(["classify", "--eta", "1.0:1.025:0.01", "--no-progress", "--workers", "1",
+                   "--analyses", "period,impacts,response,poincare", "-o", "c.nc",
+                   "--keep-checkpoint"])
+    finally:
+        mp.undo()
+    assert rc == 0
+    return d
+
+
+def test_stop_off_the_grid_classifies(classified):
+    """The off-grid STOP is accepted by classify: three points, STOP excluded."""
+    from vibimpact.io import read_netcdf
+
+    ds = read_netcdf(classified / "c.nc")
+    assert ds["eta"].values.tolist() == [1.0, 1.01, 1.02]
+
+
+def test_rerun_classify_identical_and_altered_copy_differs(classified, monkeypatch, capfd):
+    """classify's file reruns identical (exit 0); a copy with one altered value is reported
+    as different, naming the variable (exit 1); -o keeps the rerun file."""
+    from vibimpact.io import read_netcdf, write_netcdf
+
+    monkeypatch.chdir(classified)
+    rc, out, err = run_cli(["rerun", "c.nc"], capfd)
+    assert rc == 0, err
+    assert out.startswith("identical: ")
+    ds = read_netcdf("c.nc")
+    ds["X_m"].values[1] = np.nextafter(ds["X_m"].values[1], 2.0)  # one bit
+    write_netcdf(ds, "altered.nc", overwrite=True)
+    rc, out, err = run_cli(["rerun", "altered.nc", "-o", "again.nc", "--overwrite"], capfd)
+    assert rc == 1, err
+    lines = out.splitlines()
+    assert lines[0].startswith("different: 1 of ")
+    assert lines[1].split(":")[0].strip() == "X_m"
+    assert (classified / "again.nc").is_file()
+    assert not [n for n in listing(classified) if "rerun" in n]
+
+
+def test_rerun_bifurcation_data(tmp_path, monkeypatch, capfd):
+    """bifurcation's data file reruns identical without drawing an image."""
+    monkeypatch.chdir(tmp_path)
+    rc, _, err = run_cli(["bifurcation", "--eta", "1.0:1.01:0.01", "--no-progress",
+                          "--workers", "1", "-o", "b.png"], capfd)
+    assert rc == 0, err
+    rc, out, err = run_cli(["rerun", "b.nc"], capfd)
+    assert rc == 0, err
+    assert out.startswith("identical: ")
+    assert listing(tmp_path) == ["b.nc", "b.png"]
+
+
+# --- damaged checkpoint points ----------------------------------------------------------------
+
+def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd):
+    """Garbage and truncated point files in a checkpoint are set aside as *.corrupt and
+    recomputed (one warning line); the resumed file equals the uninterrupted one."""
+    from vibimpact.cli_rerun import _differences
+    from vibimpact.io import read_netcdf
+
+    monkeypatch.chdir(classified)
+    if os.path.exists("d.nc.partial"):
+        shutil.rmtree("d.nc.partial")
+    shutil.copytree("c.nc.partial", "d.nc.partial")
+    ck = classified / "d.nc.partial"
+    (ck / "up_000000.npz").write_bytes(b"garbage")
+    good = (ck / "up_000001.npz").read_bytes()
+    (ck / "up_000001.npz").write_bytes(good[: len(good) // 2])
+    rc, out, err = run_cli(["classify", "--eta", "1.0:1.025:0.01", "--no-progress",
+                            "--workers", "1", "--analyses", "period,impacts,response,poincare",
+                            "-o", "d.nc", "--resume"], capfd)
+    assert rc == 0, err
+    assert "Traceback" not in err
+    assert "vibimpact: warning: 2 damaged point files" in err
+    assert "1 points loaded" in err
+    assert out.splitlines()[-1] == "wrote d.nc"
+    assert not ck.exists()
+    diffs, total = _differences(read_netcdf("c.nc"), read_netcdf("d.nc"))
+    assert diffs == [] and total > 10
+
+
+def test_load_point_sets_aside_a_foreign_npz(tmp_path):
+    """An .npz that loads but is not a point (missing fields) counts as not done."""
+    from vibimpact.sweeps import checkpoint as ck
+
+    np.savez(tmp_path / "up_000003.npz", a=np.arange(3))
+    assert ck.load_point(tmp_path, "up", 3) is None
+    assert ck.corrupt_files(tmp_path) == ["up_000003.npz.corrupt"]
+    assert ck.load_point(tmp_path, "up", 3) is None  # now simply absent
+
+
+def test_rerun_help_is_light():
+    """`rerun --help` exits 0 with an example and imports no heavy module."""
+    import subprocess
+
+    code = ("import sys\nfrom vibimpact.cli import main\n"
+            "try:\n    main(['rerun', '--help'])\nexcept SystemExit as e:\n    rc = e.code\n"
+            "heavy = [m for m in ('numba', 'numpy', 'xarray', 'matplotlib') "
+            "if m in sys.modules]\nprint('HEAVY', heavy, 'RC', rc)\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=60, cwd=Path(__file__).resolve().parents[1])
+    assert r.returncode == 0, r.stderr
+    assert "HEAVY [] RC 0" in r.stdout and "vibimpact rerun " in r.stdout

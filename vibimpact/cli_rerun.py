@@ -1,0 +1,204 @@
+"""``vibimpact rerun``: redo the command recorded in an output file and compare the data.
+
+Every file written by ``simulate``, ``classify`` and ``bifurcation`` (its ``.nc``) stores
+the command line in the global attribute ``command``.  ``rerun`` parses it with today's
+parser, runs it in this process with the output redirected to a new file, and compares
+every data variable and coordinate of the two files bit for bit (NaN equal to NaN, string
+variables as text).  Attributes are not compared: they hold the wall time and the output
+name.  Only the standard library is imported at module level.
+"""
+import contextlib
+import io as _stdio
+import os
+import shlex
+import sys
+
+from ._cli_common import _check_output, _UsageError
+
+RERUNNABLE = ("simulate", "classify", "bifurcation")
+
+_RERUN_EPILOG = """\
+examples:
+  vibimpact rerun fig8.nc                 # recompute into a temporary file, compare
+  vibimpact rerun run.nc -o again.nc      # keep the recomputed file
+
+The recorded command runs again exactly (same parameters, grid, solver settings, blocks),
+its output redirected: simulate's --plot image is not redrawn (its dense samples are
+kept), classify writes no interval table, bifurcation draws no image.
+
+exit status: 0 identical ('identical: N variables'), 1 different (the differing variables
+are listed), 2 bad input (missing, foreign or damaged file, no recorded command).
+"""
+
+
+def _read(path, what):
+    from . import io
+
+    if not os.path.isfile(path):
+        raise _UsageError(f"{what} {path!r}: no such file")
+    try:
+        return io.read_netcdf(path)
+    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
+        raise _UsageError(f"cannot read {path!r} as NetCDF: {type(exc).__name__}: "
+                          f"{exc}") from None
+
+
+def _recorded_args(path, command):
+    """Parse the recorded command line with today's parser; the argparse Namespace."""
+    if not isinstance(command, str) or not command.strip():
+        raise _UsageError(f"{path!r} has no 'command' attribute: not written by vibimpact "
+                          f"{', '.join(RERUNNABLE)}")
+    try:
+        argv = shlex.split(command)
+    except ValueError as exc:
+        raise _UsageError(f"{path!r}: cannot parse the recorded command {command!r}: "
+                          f"{exc}") from None
+    if len(argv) < 2 or os.path.basename(argv[0]) != "vibimpact" or \
+            argv[1] not in RERUNNABLE:
+        raise _UsageError(f"{path!r}: the recorded command {command!r} is not a vibimpact "
+                          f"{', '.join(RERUNNABLE)} command")
+    from .cli import build_parser
+
+    err = _stdio.StringIO()
+    try:
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(_stdio.StringIO()):
+            args = build_parser().parse_args(argv[1:])
+    except SystemExit:
+        why = " ".join(err.getvalue().split()) or "not accepted"
+        raise _UsageError(f"{path!r}: the recorded command {command!r} is not valid for "
+                          f"this version ({why})") from None
+    args.argv = argv[1:]
+    return args
+
+
+def _redirect(args, new, overwrite):
+    """Point the parsed command at ``new`` and switch off side outputs."""
+    args.overwrite = overwrite
+    if args.command == "simulate":
+        if args.plot is not None and args.dense is None:
+            args.dense = 64  # what --plot implied for the recorded file
+        args.plot = None
+        args.output = new
+    elif args.command == "classify":
+        args.output = new
+        args.resume = False
+        args.keep_checkpoint = False
+        args.no_progress = True
+    else:  # bifurcation: the data file only, no image
+        args.data_only = new
+        args.no_progress = True
+    return args
+
+
+def _differences(a, b):
+    """[(name, why)] for every data variable or coordinate that differs; and the count."""
+    import numpy as np
+
+    names_a = set(a.data_vars) | set(a.coords)
+    names_b = set(b.data_vars) | set(b.coords)
+    out = [(n, "only in the original") for n in sorted(names_a - names_b)]
+    out += [(n, "only in the rerun") for n in sorted(names_b - names_a)]
+    for name in sorted(names_a & names_b):
+        x, y = a[name], b[name]
+        if x.dims != y.dims or x.shape != y.shape:
+            out.append((name, f"shape {dict(x.sizes)} vs {dict(y.sizes)}"))
+            continue
+        x, y = x.values, y.values
+        if x.dtype.kind in "OUS" or y.dtype.kind in "OUS":
+            xs, ys = x.astype(str), y.astype(str)
+            if x.dtype.kind not in "OUS" or y.dtype.kind not in "OUS":
+                out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
+            elif not np.array_equal(xs, ys):
+                out.append((name, f"{int(np.sum(xs != ys))} of {xs.size} values differ"))
+            continue
+        if x.dtype != y.dtype:
+            out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
+            continue
+        if x.dtype.kind in "fc":
+            nx, ny = np.isnan(x), np.isnan(y)
+            same = (nx & ny) | ((~nx & ~ny) & (
+                x.view(f"u{x.dtype.itemsize}") == y.view(f"u{y.dtype.itemsize}")
+                if x.dtype.kind == "f" else x == y))
+        else:
+            same = x == y
+        same = np.asarray(same)
+        if not same.all():
+            out.append((name, f"{int(same.size - same.sum())} of {same.size} values differ"))
+    return out, len(names_a | names_b)
+
+
+def _cmd_rerun(args):
+    import shutil
+    import tempfile
+
+    from . import __version__
+
+    path = os.fspath(args.file)
+    keep = args.output is not None
+    if keep:
+        new = os.fspath(args.output)
+        if os.path.abspath(new) == os.path.abspath(path):
+            raise _UsageError("-o must differ from the file being rerun")
+        _check_output(new, args.overwrite, "output file")
+    old = _read(path, "file")
+    parsed = _recorded_args(path, old.attrs.get("command"))
+    if not keep:
+        directory = os.path.dirname(os.path.abspath(path))
+        try:
+            fd, new = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".rerun-",
+                                       suffix=".nc", dir=directory)
+        except OSError as exc:
+            raise _UsageError(f"cannot create a temporary file next to {path!r} "
+                              f"({exc.strerror or exc}); give -o NEW.nc") from None
+        os.close(fd)
+        os.unlink(new)
+    _redirect(parsed, new, args.overwrite if keep else False)
+
+    recorded = old.attrs.get("vibimpact_version")
+    if recorded and str(recorded) != __version__:
+        print(f"vibimpact: warning: {path!r} was written by vibimpact {recorded}, this is "
+              f"{__version__}", file=sys.stderr)
+    try:
+        with contextlib.redirect_stdout(_stdio.StringIO()):
+            try:
+                status = parsed.func(parsed)
+            except _UsageError as exc:
+                raise _UsageError(f"rerunning {old.attrs['command']!r}: {exc}") from None
+        if status != 0:
+            return status
+        fresh = _read(new, "rerun output")
+    finally:
+        if not keep:
+            for leftover in (new, new + ".partial"):
+                if os.path.isdir(leftover):
+                    shutil.rmtree(leftover, ignore_errors=True)
+                elif os.path.exists(leftover):
+                    os.unlink(leftover)
+
+    diffs, total = _differences(old, fresh)
+    if not diffs:
+        print(f"identical: {total} variables" + (f"; wrote {new}" if keep else ""))
+        return 0
+    print(f"different: {len(diffs)} of {total} variables differ"
+          + (f"; wrote {new}" if keep else ""))
+    for name, why in diffs:
+        print(f"  {name}: {why}")
+    return 1
+
+
+def add_parser(sub, fmt):
+    """Add ``rerun`` to the subparsers ``sub``."""
+    r = sub.add_parser("rerun", help="redo the command recorded in an output file and "
+                       "compare bit for bit", formatter_class=fmt, epilog=_RERUN_EPILOG,
+                       description="Run the command recorded in a simulate, classify or "
+                                   "bifurcation NetCDF file again and compare\nevery data "
+                                   "variable and coordinate with the file, bit for bit.")
+    r.add_argument("file", metavar="OUT.nc", help="NetCDF file written by vibimpact")
+    r.add_argument("-o", "--output", metavar="NEW.nc", default=None,
+                   help="keep the recomputed file here (default: a temporary file next "
+                        "to OUT.nc, removed afterwards)")
+    r.add_argument("--overwrite", action="store_true", help="replace an existing NEW.nc")
+    r.set_defaults(func=_cmd_rerun)
+
+
+__all__ = ["add_parser", "RERUNNABLE"]
