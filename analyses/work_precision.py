@@ -1,0 +1,462 @@
+"""Work-precision against SciPy, integrator overhead against the RHS floor, and start-up.
+
+Run as ``python analyses/work_precision.py``; writes the section ``work_precision`` of
+``reports/performance.md`` and ``reports/work_precision.png`` (both replaced atomically).
+Every number in the section is measured by this script in the same run (issue 6, parts
+1, 2 and 5).
+
+(1) Work-precision on four trajectories (fig8 periodic eta = 1.185 and chaotic eta = 1.22,
+    fig10 and fig11 at eta = 1.02, all on the branch continued up from eta = 1.0 in steps
+    of 0.02 with 200 transient periods each, as ``tests/conftest.py::continued_state``):
+    max abs stroboscopic error against our dop853 at rtol = atol = 1e-13 (cross-checked
+    with SciPy DOP853 at 1e-13) versus wall time, for our rk4 / dp5 / dop853 and for SciPy
+    ``solve_ivp`` RK45 / DOP853 / LSODA restarted at every switch with the compiled
+    right-hand side (:func:`vibimpact.reference.solve_reference`).  Ratio table: SciPy
+    DOP853 time / our dop853 time at equal error (log time interpolated linearly in log
+    error along each method's Pareto front).
+(2) Overhead: wall time per RHS evaluation inside our integrators (``counters
+    ['rhs_evals']``) against a bare compiled loop calling ``vibimpact._kernel.rotor.rhs``
+    as many times on states sampled along the same trajectory (with their modes); and the
+    RHS evaluations per forcing period each method needs at a fixed error.
+(5) Start-up: first-run JIT compile time (fresh ``NUMBA_CACHE_DIR``, in a subprocess),
+    the same run with the cache filled, ``vibimpact --help`` (and whether it writes
+    anything to the cache), and the first run of a tiny ``classify`` grid.
+"""
+import datetime
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import matplotlib
+from _report import write_section
+import numba
+import numpy as np
+import scipy
+from numba import njit
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import vibimpact as vi  # noqa: E402
+from vibimpact._kernel import rotor  # noqa: E402
+from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+REPORT = ROOT / "reports" / "performance.md"
+FIGURE = ROOT / "reports" / "work_precision.png"
+SECTION = "work_precision"
+
+# (label, preset, eta, periods): short enough that chaos does not swamp the error
+CASES = [("fig8 periodic", "fig8", 1.185, 20),
+         ("fig8 chaotic", "fig8", 1.22, 10),
+         ("fig10", "fig10", 1.02, 20),
+         ("fig11", "fig11", 1.02, 20)]
+REF_TOL = 1e-13
+RK4_STEPS = [50, 100, 200, 400, 800, 1600, 3200]
+OUR_TOLS = [10.0 ** -k for k in range(4, 13)]          # 1e-4 ... 1e-12
+SCIPY_TOLS = {"RK45": [10.0 ** -k for k in range(5, 12)],     # 1e-5 ... 1e-11 (slow)
+              "DOP853": [10.0 ** -k for k in range(5, 13)],   # 1e-5 ... 1e-12
+              "LSODA": [10.0 ** -k for k in range(5, 13)]}
+OUR_REPEATS, SCIPY_REPEATS = 5, 2
+ERR_FIXED = 1e-8            # error level of the "RHS evaluations per period" table
+OVERHEAD_PERIODS = 300
+OVERHEAD_SETTINGS = {"rk4": dict(steps_per_period=400),
+                     "dp5": dict(rtol=1e-9, atol=1e-9),
+                     "dop853": dict(rtol=1e-9, atol=1e-9)}
+METHODS = ["ours rk4", "ours dp5", "ours dop853", "SciPy RK45", "SciPy DOP853",
+           "SciPy LSODA"]
+STYLE = {"ours rk4": ("o", "-", "C0"), "ours dp5": ("s", "-", "C1"),
+         "ours dop853": ("D", "-", "C2"), "SciPy RK45": ("v", "--", "C3"),
+         "SciPy DOP853": ("^", "--", "C4"), "SciPy LSODA": ("x", "--", "C5")}
+TARGET_RATIO, TARGET_OVERHEAD, TARGET_FIRST_RUN = 300.0, 1.3, 15.0
+
+
+def best_time(fn, repeats):
+    """Best wall time of ``repeats`` calls and the last result."""
+    best, out = np.inf, None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def continued_state(preset, eta_stop, eta_start=1.0, step=0.02, transient=200):
+    """As ``tests/conftest.py::continued_state``: sweep eta up from rest, 200 periods each."""
+    base = vi.presets.get(preset)
+    x, eta = None, eta_start
+    for eta in np.arange(eta_start, eta_stop + 1e-9, step):
+        x = vi.simulate(base.replace(eta=float(eta)), periods=1, transient=transient,
+                        state0=x).final_state
+    if abs(eta_stop - eta) > 1e-9:
+        x = vi.simulate(base.replace(eta=float(eta_stop)), periods=1, transient=transient,
+                        state0=x).final_state
+    return x
+
+
+# ---------------------------------------------------------------- (1) work-precision
+def work_precision(p, s0, periods):
+    """Reference, its SciPy cross-check, and per method a list (setting, err, time, nfev)."""
+    tt = strobe_times(p.eta, periods)
+
+    def ours(method, **kw):
+        return lambda: vi.simulate(p, periods=periods, state0=s0, method=method, **kw)
+
+    ref = ours("dop853", rtol=REF_TOL, atol=REF_TOL)()
+    assert ref.ok, ref.reason
+    truth = ref.strobe
+    sp = solve_reference(p, tt[-1], s0, rtol=REF_TOL, atol=REF_TOL, method="DOP853",
+                         t_eval=tt)
+    cross = float(np.max(np.abs(sp.y - truth)))
+    series = {m: [] for m in METHODS}
+    jobs = [("ours rk4", f"{n}/period", ours("rk4", steps_per_period=n)) for n in RK4_STEPS]
+    for m in ("dp5", "dop853"):
+        jobs += [(f"ours {m}", f"{tol:.0e}", ours(m, rtol=tol, atol=tol)) for tol in OUR_TOLS]
+    for name, label, fn in jobs:
+        fn()  # warm-up
+        t, run = best_time(fn, OUR_REPEATS)
+        assert run.ok, (name, label, run.reason)
+        series[name].append((label, float(np.max(np.abs(run.strobe - truth))), t,
+                             run.counters["rhs_evals"]))
+    for m, tols in SCIPY_TOLS.items():
+        for tol in tols:
+            def fn(m=m, tol=tol):
+                return solve_reference(p, tt[-1], s0, rtol=tol, atol=tol, method=m,
+                                       t_eval=tt)
+            try:
+                t, sol = best_time(fn, SCIPY_REPEATS)
+            except RuntimeError as exc:   # report, do not hide
+                print(f"  SciPy {m} tol {tol:.0e} failed: {exc}")
+                continue
+            series[f"SciPy {m}"].append((f"{tol:.0e}", float(np.max(np.abs(sol.y - truth))),
+                                         t, sol.nfev))
+    return cross, len(ref.impacts), series
+
+
+def pareto(points, col=2):
+    """(error, cost) of the runs no other run beats in both, by increasing error."""
+    front = []
+    for q in sorted(points, key=lambda q: (q[1], q[col])):
+        if not front or q[col] < front[-1][1]:
+            front.append((q[1], q[col]))
+    return front
+
+
+def cost_at_error(points, err, col=2):
+    """Least cost (time, col 2, or RHS evaluations, col 3) reaching ``err``: log cost
+    interpolated linearly in log error along the Pareto front; NaN outside its range."""
+    front = pareto(points, col)
+    if not front:
+        return np.nan
+    e = np.log10([max(q[0], 1e-300) for q in front])
+    c = np.log10([q[1] for q in front])
+    x = np.log10(err)
+    if x < e[0] or x > e[-1]:
+        return np.nan
+    return 10.0 ** np.interp(x, e, c)
+
+
+def ratios(series, a="ours dop853", b="SciPy DOP853"):
+    """(error, time a, time b, b/a) at the decades of error both methods cover."""
+    A, B = series[a], series[b]
+    lo = max(min(q[1] for q in A), min(q[1] for q in B))
+    hi = min(max(q[1] for q in A), max(q[1] for q in B))
+    out = []
+    for k in range(int(np.floor(np.log10(hi))), int(np.ceil(np.log10(lo))) - 1, -1):
+        err = 10.0 ** k
+        ta, tb = cost_at_error(A, err), cost_at_error(B, err)
+        if np.isfinite(ta) and np.isfinite(tb):
+            out.append((err, ta, tb, tb / ta))
+    return out
+
+
+# ---------------------------------------------------------------- (2) overhead
+@njit(cache=False)
+def _bare_rhs_loop(ts, ys, modes, p, n):
+    """``n`` calls of the model RHS, cycling over sampled (t, state, mode)."""
+    out = np.empty(4)
+    acc = 0.0
+    m = ts.size
+    for i in range(n):
+        j = i % m
+        rotor.rhs(ts[j], ys[j], p, modes[j], out)
+        acc += out[2] + out[3]
+    return acc
+
+
+def overhead(p, s0):
+    """Rows (method, settings, rhs evals, time, ns/eval inside, ns/eval bare, ratio,
+    accepted steps, rejected steps, located events incl. observer events)."""
+    pa = np.ascontiguousarray(p.as_array())
+    samp = vi.simulate(p, periods=50, state0=s0, dense=64)
+    ys = np.ascontiguousarray(samp.dense)
+    ts = np.ascontiguousarray(samp.t_dense) - samp.t_dense[0]   # forcing phase from tau=0
+    modes = np.zeros((ys.shape[0], rotor.N_MODE), dtype=np.int64)
+    for j in range(ys.shape[0]):
+        rotor.init_mode(ts[j], ys[j], pa, modes[j])
+    contact_share = float(np.mean(modes[:, 0] == 1))
+    inc = np.flatnonzero(modes[:, 0] == 1)     # contact samples only (the dearer RHS)
+    if inc.size == 0:
+        inc = np.arange(ts.size)
+    _bare_rhs_loop(ts, ys, modes, pa, 10)   # compile
+    rows = []
+    for method, kw in OVERHEAD_SETTINGS.items():
+        def fn(method=method, kw=kw):
+            return vi.simulate(p, periods=OVERHEAD_PERIODS, state0=s0, method=method, **kw)
+        fn()
+        t, run = best_time(fn, 3)
+        n = run.counters["rhs_evals"]
+        tb, _ = best_time(lambda: _bare_rhs_loop(ts, ys, modes, pa, n), 3)
+        tc, _ = best_time(lambda: _bare_rhs_loop(ts[inc], ys[inc], modes[inc], pa, n), 3)
+        desc = ", ".join(f"{k}={v:g}" for k, v in kw.items())
+        c = run.counters
+        rows.append((method, desc, n, t, 1e9 * t / n, 1e9 * tb / n, t / tb, c["steps"],
+                     c["rejected"], c["events"] + c["observed"], 1e9 * tc / n))
+    return rows, contact_share
+
+
+# ---------------------------------------------------------------- (5) start-up
+def _timed(cmd, env, cwd):
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
+    dt = time.perf_counter() - t0
+    if r.returncode != 0:
+        print(r.stdout[-2000:], r.stderr[-2000:])
+    return dt, r.returncode
+
+
+def _n_files(d):
+    return sum(len(f) for _, _, f in os.walk(d))
+
+
+def startup():
+    """Rows (what, cache state, seconds, rc, files in cache after)."""
+    py = sys.executable
+    sim = [py, "-c", "import vibimpact as vi; vi.simulate(vi.presets.get('fig8'), periods=1)"]
+    hlp = [py, "-m", "vibimpact.cli", "--help"]
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ)
+        cache1 = os.path.join(tmp, "cache_sim")
+        os.makedirs(cache1)
+        env["NUMBA_CACHE_DIR"] = cache1
+        dt, rc = _timed(hlp, env, tmp)
+        rows.append(("`vibimpact --help`", "fresh (empty) cache", dt, rc, _n_files(cache1)))
+        dt, rc = _timed(sim, env, tmp)
+        rows.append(("`simulate(fig8, periods=1)`", "fresh (empty) cache: first run", dt, rc,
+                     _n_files(cache1)))
+        dt, rc = _timed(sim, env, tmp)
+        rows.append(("`simulate(fig8, periods=1)`", "cache filled by the run above", dt, rc,
+                     _n_files(cache1)))
+        dt, rc = _timed(hlp, env, tmp)
+        rows.append(("`vibimpact --help`", "filled cache", dt, rc, _n_files(cache1)))
+        cache2 = os.path.join(tmp, "cache_classify")
+        os.makedirs(cache2)
+        env["NUMBA_CACHE_DIR"] = cache2
+        cls = [py, "-m", "vibimpact.cli", "classify", "--eta", "1.0:1.02:0.01", "-o",
+               os.path.join(tmp, "tiny.nc"), "--no-progress", "--overwrite"]
+        dt, rc = _timed(cls, env, tmp)
+        rows.append(("`vibimpact classify --eta 1.0:1.02:0.01` (3 points, all analysers)",
+                     "fresh (empty) cache: first run", dt, rc, _n_files(cache2)))
+        dt, rc = _timed(cls, env, tmp)
+        rows.append(("`vibimpact classify --eta 1.0:1.02:0.01` (3 points, all analysers)",
+                     "cache filled by the run above", dt, rc, _n_files(cache2)))
+    return rows
+
+
+# ---------------------------------------------------------------- plot and report
+def plot(results, path):
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    for ax, (label, res) in zip(axes.flat, results.items()):
+        for name in METHODS:
+            pts = sorted(res["series"][name], key=lambda q: q[2])
+            if not pts:
+                continue
+            mk, ls, c = STYLE[name]
+            ax.loglog([max(q[1], 1e-17) for q in pts], [q[2] for q in pts], marker=mk,
+                      ls=ls, color=c, ms=4, lw=1, label=name)
+        ax.set_title(f"{label}: eta = {res['eta']}, {res['periods']} periods, "
+                     f"{res['impacts']} impacts", fontsize=9)
+        ax.set_xlabel("max abs strobe error vs dop853 at 1e-13")
+        ax.set_ylabel("wall time [s]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes.flat[0].legend(fontsize=7, loc="best")
+    fig.suptitle("Work-precision: vibimpact kernel (solid) vs SciPy solve_ivp restarted at "
+                 "switches, compiled RHS (dashed)", fontsize=10)
+    fig.tight_layout()
+    tmp = path.with_name(path.stem + ".tmp.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def numbalsoda_note():
+    try:
+        import numbalsoda  # noqa: F401
+    except ImportError:
+        return "not available here (pip build of numbalsoda failed on this machine)"
+    return "importable, but not benchmarked by this script"
+
+
+def report(results, ov, st, load, elapsed):
+    now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    L = ["# Work-precision, overhead and start-up (issue 6)", "",
+         "Written by `python analyses/work_precision.py`; every number below is measured by "
+         "that script in one run (nothing typed in by hand).", "",
+         f"- date: {now}; script wall time {elapsed:.0f} s",
+         f"- machine: `{platform.platform()}`, `os.cpu_count()` = {os.cpu_count()}; "
+         f"load average at start / end {load[0]:.2f} / {load[1]:.2f} (other work on the "
+         "machine inflates all timings alike; all timings single-threaded)",
+         f"- versions: Python {platform.python_version()}, numpy {np.__version__}, "
+         f"scipy {scipy.__version__}, numba {numba.__version__}, vibimpact {vi.__version__}",
+         f"- numbalsoda: {numbalsoda_note()}", "",
+         "## (1) Work-precision", "",
+         "Trajectories: continued up from eta = 1.0 (rest) in steps of 0.02 with 200 "
+         "transient periods at each step (the impacting branch), then integrated for the "
+         "periods stated. Error: max abs difference of the stroboscopic states from our "
+         f"dop853 at rtol = atol = {REF_TOL:g}. Our methods: rk4 at {RK4_STEPS} steps per "
+         f"period, dp5 and dop853 at rtol = atol = 1e-4 ... 1e-12 (best of {OUR_REPEATS} "
+         "after a warm-up). SciPy `solve_ivp` (scipy "
+         f"{scipy.__version__}) RK45, DOP853, LSODA with the compiled model RHS, restarted "
+         "at every switch and stopped at every strobe time (`vibimpact.reference."
+         f"solve_reference`), rtol = atol = 1e-5 ... 1e-12 (RK45 to 1e-11), best of "
+         f"{SCIPY_REPEATS}.", "",
+         "| trajectory | eta | periods | impacts | state0 | ref. cross-check: SciPy DOP853 "
+         f"{REF_TOL:g} vs ours {REF_TOL:g} |",
+         "| --- | ---: | ---: | ---: | --- | ---: |"]
+    for label, r in results.items():
+        L.append(f"| {label} | {r['eta']} | {r['periods']} | {r['impacts']} | "
+                 f"[{', '.join(f'{v:.6g}' for v in r['s0'])}] | {r['cross']:.2e} |")
+    L += ["", f"![work-precision]({FIGURE.name})", "",
+          "### Speed ratio at equal error: SciPy DOP853 time / our dop853 time", "",
+          "Least time reaching each error, log time interpolated linearly in log error along "
+          f"each method's Pareto front; target >= {TARGET_RATIO:.0f}x.", "",
+          "| trajectory | error | ours dop853 [ms] | SciPy DOP853 [ms] | ratio |",
+          "| --- | ---: | ---: | ---: | ---: |"]
+    summary = []
+    for label, r in results.items():
+        for err, ta, tb, q in r["ratios"]:
+            L.append(f"| {label} | {err:.0e} | {1e3 * ta:.2f} | {1e3 * tb:.1f} | {q:.0f} |")
+        qs = [x[3] for x in r["ratios"]]
+        if qs:
+            gm = float(np.exp(np.mean(np.log(qs))))
+            summary.append((label, min(qs), gm, max(qs)))
+    L += ["", "| trajectory | min ratio | geometric mean | max ratio | target >= "
+          f"{TARGET_RATIO:.0f}x met (at every error level) |",
+          "| --- | ---: | ---: | ---: | :---: |"]
+    for label, lo, gm, hi in summary:
+        L.append(f"| {label} | {lo:.0f} | {gm:.0f} | {hi:.0f} | "
+                 f"{'yes' if lo >= TARGET_RATIO else '**no**'} |")
+    # per-eval cost of SciPy, for context
+    sp_ns = [1e9 * q[2] / q[3] for r in results.values() for q in r["series"]["SciPy DOP853"]]
+    our_ns = [1e9 * q[2] / q[3] for r in results.values() for q in r["series"]["ours dop853"]]
+    L += ["", f"Wall time per RHS evaluation over these runs (median): SciPy DOP853 "
+          f"{np.median(sp_ns) / 1e3:.1f} us, ours dop853 {np.median(our_ns):.0f} ns "
+          f"({np.median(sp_ns) / np.median(our_ns):.0f}x). The time ratio at equal error is "
+          "this per-evaluation ratio times the ratio of evaluations each needs (table "
+          "below).", "",
+          f"### RHS evaluations per forcing period at error {ERR_FIXED:.0e}", "",
+          "Interpolated as above (log evaluations against log error along the Pareto front); "
+          "'-' where the method's runs do not bracket the error.", "",
+          "| trajectory | " + " | ".join(METHODS) + " |",
+          "| --- |" + " ---: |" * len(METHODS)]
+    for label, r in results.items():
+        cells = []
+        for m in METHODS:
+            n = cost_at_error(r["series"][m], ERR_FIXED, col=3)
+            cells.append("-" if not np.isfinite(n) else f"{n / r['periods']:.0f}")
+        L.append(f"| {label} | " + " | ".join(cells) + " |")
+    L += ["", "### All runs", "", "<details><summary>setting, error, time, RHS evaluations "
+          "per run</summary>", "",
+          "| trajectory | method | setting | error | time [ms] | RHS evals |",
+          "| --- | --- | --- | ---: | ---: | ---: |"]
+    for label, r in results.items():
+        for m in METHODS:
+            for s, e, t, n in r["series"][m]:
+                L.append(f"| {label} | {m} | {s} | {e:.2e} | {1e3 * t:.2f} | {n} |")
+    L += ["", "</details>", "",
+          "## (2) Integrator overhead against the RHS floor", "",
+          f"Inside: wall time of `vi.simulate` over {OVERHEAD_PERIODS} periods (best of 3, "
+          "warm) / `counters['rhs_evals']`; it includes everything the integrator does "
+          "besides the RHS (stage combinations, error norm, step control, switching "
+          "functions and event location, strobe and event logging, the Python wrapper). "
+          "Floor: a bare `@njit` loop calling `vibimpact._kernel.rotor.rhs` the same number "
+          "of times, cycling over 64 states per period sampled along 50 periods of the same "
+          "trajectory (with the mode each state is in), best of 3; the integrator spends "
+          "more of its evaluations in contact than this time-uniform sample does, so the "
+          "last two columns repeat the floor on the contact states only (the dearer RHS), "
+          f"an upper bound of the floor. Target: ratio <= {TARGET_OVERHEAD}.", "",
+          "| trajectory | contact share of samples | method | settings | accepted steps | "
+          "rejected | located events | RHS evals | RHS evals / accepted step | time [s] | "
+          "ns/eval inside | ns/eval bare | ratio | target met | ns/eval bare, contact states only "
+          "| ratio to it |",
+          "| --- | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+          "---: | :---: | ---: | ---: |"]
+    for label, (rows, share) in ov.items():
+        for m, desc, n, t, ns_in, ns_bare, q, acc, rej, nev, ns_c in rows:
+            L.append(f"| {label} | {share:.2f} | {m} | {desc} | {acc} | {rej} "
+                     f"({100 * rej / max(acc + rej, 1):.0f}%) | {nev} | {n} | {n / acc:.1f} | "
+                     f"{t:.4f} | {ns_in:.0f} | {ns_bare:.0f} | {q:.2f} | "
+                     f"{'yes' if q <= TARGET_OVERHEAD else '**no**'} | {ns_c:.0f} | "
+                     f"{ns_in / ns_c:.2f} |")
+    L += ["", "## (5) Start-up", "",
+          "Each command in a fresh subprocess with `NUMBA_CACHE_DIR` set to a new temporary "
+          "directory (so the first run compiles everything it needs, the second loads it); "
+          "wall time of the whole process including interpreter start and imports. "
+          f"Target: first full run <= {TARGET_FIRST_RUN:.0f} s including compilation.", "",
+          "| command | numba cache | wall time [s] | exit code | files in cache after |",
+          "| --- | --- | ---: | ---: | ---: |"]
+    for what, cache, dt, rc, nf in st:
+        L.append(f"| {what} | {cache} | {dt:.2f} | {rc} | {nf} |")
+    first_sim = st[1][2]
+    first_cls = st[4][2]
+    help_fresh_files = st[0][4]
+    L += ["",
+          f"- first `simulate` run {first_sim:.1f} s: target {TARGET_FIRST_RUN:.0f} s "
+          f"{'met' if first_sim <= TARGET_FIRST_RUN else '**not met**'}",
+          f"- first `classify` run (tiny grid, all analysers) {first_cls:.1f} s: target "
+          f"{TARGET_FIRST_RUN:.0f} s {'met' if first_cls <= TARGET_FIRST_RUN else '**not met**'}"
+          " (the full fig8 grid adds the integration time of 301 points to this)",
+          f"- `vibimpact --help` with an empty cache wrote {help_fresh_files} files to it: "
+          f"{'no compilation triggered' if help_fresh_files == 0 else '**it compiles**'}", ""]
+    write_section(REPORT, SECTION, "\n".join(L))
+
+
+def main():
+    t_start = time.perf_counter()
+    load0 = os.getloadavg()[0]
+    REPORT.parent.mkdir(parents=True, exist_ok=True)
+    results, ov = {}, {}
+    for label, preset, eta, periods in CASES:
+        t0 = time.perf_counter()
+        p = vi.presets.get(preset).replace(eta=eta)
+        s0 = continued_state(preset, eta)
+        cross, n_imp, series = work_precision(p, s0, periods)
+        results[label] = dict(eta=eta, periods=periods, s0=s0, cross=cross, impacts=n_imp,
+                              series=series, ratios=ratios(series))
+        ov[label] = overhead(p, s0)
+        print(f"{label}: cross-check {cross:.2e}, {n_imp} impacts, "
+              f"{time.perf_counter() - t0:.1f} s")
+        for err, ta, tb, q in results[label]["ratios"]:
+            print(f"   error {err:.0e}: ours {1e3 * ta:.2f} ms, SciPy {1e3 * tb:.1f} ms, "
+                  f"ratio {q:.0f}")
+        for m, desc, n, t, a, b, q, *_ in ov[label][0]:
+            print(f"   overhead {m:7s} {a:.0f} ns/eval vs bare {b:.0f} ns/eval: {q:.2f}x")
+    plot(results, FIGURE)
+    t0 = time.perf_counter()
+    st = startup()
+    for row in st:
+        print(f"   {row[0]} [{row[1]}]: {row[2]:.2f} s (rc {row[3]}, {row[4]} cache files)")
+    print(f"start-up {time.perf_counter() - t0:.1f} s")
+    load1 = os.getloadavg()[0]
+    report(results, ov, st, (load0, load1), time.perf_counter() - t_start)
+    print(f"wrote {REPORT.relative_to(ROOT)} (section {SECTION}) and "
+          f"{FIGURE.relative_to(ROOT)} in {time.perf_counter() - t_start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
