@@ -104,7 +104,7 @@ def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(preset,
 @pytest.fixture(scope="module")
 def fig8_exponents(fig8_chaotic):
     p, x = fig8_chaotic
-    kw = dict(state0=x, transient=100, min_periods=1500, max_periods=1500)
+    kw = dict(state0=x, transient=100, min_periods=4000, max_periods=4000)
     return p, x, lyapunov_spectrum(p, **kw), largest_lyapunov(p, **kw)
 
 

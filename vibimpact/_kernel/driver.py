@@ -8,7 +8,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .dispatch import model_rhs, model_transition
+from .dispatch import model_rhs, model_switches, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
@@ -114,6 +114,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     f1r = np.empty(n)
     G = np.empty((5, nsw))
     gbuf = np.empty(nsw)
+    gobs = np.empty(nsw)
     flag = np.zeros(nsw, dtype=np.int64)
     lo = np.zeros(nsw)
     hi = np.zeros(nsw)
@@ -218,6 +219,13 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 if zeno > 50:
                     status = ZENO
                     break
+                if abs(G[0, imm]) <= evtol and h > 1e-6 * T:
+                    # the state sits on the surface (an event just put it there) and the
+                    # switch is negative at the first sample: a crossing back shorter
+                    # than a quarter step (a shallow contact), not an inconsistent mode.
+                    # Retry with a shorter step so the samples resolve it.
+                    h_cap = 0.125 * h
+                    continue
                 for m in range(nm):
                     mode_old[m] = mode[m]
                 model_transition(model, s, y, p, mode, imm)
@@ -257,6 +265,31 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                         obs_th[n_obs] = th
                         obs_i[n_obs] = i
                         n_obs += 1
+            if which < 0 and n_obs > 0:
+                # a shallow crossing that begins and ends between the samples (a grazing
+                # contact) still shows at an observer point: the peak of R lies beyond the
+                # surface.  Locate the entry before that point.
+                for a in range(n_obs):
+                    interpolate(method, obs_th[a], h, y, f0, y1, f1r, F, yint)
+                    model_switches(model, s + obs_th[a] * h, yint, p, mode, gobs)
+                    for i in range(nsw):
+                        # deeper than the event tolerance: a shallower one is at the
+                        # resolution of the event location itself (it would flip the
+                        # mode back and forth: a false Zeno stop)
+                        if terminal[i] == 1 and gobs[i] < -10.0 * evtol:
+                            th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F,
+                                        0.0, obs_th[a], ytmp, gbuf)
+                            if th >= 0.0 and th < th_term:
+                                th_term = th
+                                which = i
+                if which >= 0:  # drop the observer crossings after the event
+                    kept = 0
+                    for a in range(n_obs):
+                        if obs_th[a] <= th_term:
+                            obs_th[kept] = obs_th[a]
+                            obs_i[kept] = obs_i[a]
+                            kept += 1
+                    n_obs = kept
             if which >= 0:
                 hs, nr = retake(model, p, mode, which, method, A, B, C, n_stages,
                                 fsal, s, y, f0, h, y1, f1r, F, th_term, evtol, Kr, ytmp,

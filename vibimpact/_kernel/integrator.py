@@ -18,8 +18,11 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
    control for the embedded pairs (Hairer, Norsett & Wanner 1993, II.4 and II.10);
 2. every switching function is sampled at the step's start, at three interior points of
    the cubic Hermite interpolant and at the step's end.  The first sample where a function is
-   negative brackets its crossing, so a contact that begins and ends inside one step
-   (a grazing contact) is still found when it lasts longer than a quarter step;
+   negative brackets its crossing, so a contact that begins and ends inside one step is
+   found when it lasts longer than a quarter step; a shorter (grazing) one shows at the
+   located extremum of an observer (the peak of R lies beyond the surface), and the
+   entry is located before it; a step that starts on a surface and sees the switch
+   negative at its first sample is retried shorter instead of flipping the mode;
 3. the crossing is refined on the method's own continuous extension (Illinois method),
    then the step is *retaken* from its start to the event time and the time corrected by
    Newton iterations on the retaken step until ``|g| <= event_tol``: the state at the event
