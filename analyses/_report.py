@@ -1,6 +1,7 @@
-"""Write one marked section of a Markdown report, keeping the other sections."""
+"""Helpers of the analyses scripts: timing, and one marked section of a Markdown report."""
 import os
 import re
+import time
 
 START = "<!-- section:{name} -->"
 END = "<!-- /section:{name} -->"
@@ -17,3 +18,13 @@ def write_section(path, name, text):
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(new)
     os.replace(tmp, path)
+
+
+def best_time(fn, repeats=3):
+    """Best wall time of ``repeats`` calls (after the caller's warm-up) and the last result."""
+    best, out = float("inf"), None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out

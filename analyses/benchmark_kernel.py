@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 import matplotlib
-from _report import write_section
+from _report import best_time, write_section
 import numba
 import numpy as np
 import scipy
@@ -45,16 +45,6 @@ TOLS = [10.0 ** (-k / 2) for k in range(12, 25)]   # 1e-6 ... 1e-12, half decade
 REPEATS = 3
 
 
-def best_time(fn, repeats=REPEATS):
-    """Best wall time of ``repeats`` calls (after the caller's warm-up) and the last result."""
-    best, out = np.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
 def throughput(p, s0):
     """Rows (method, settings, steps, rejected, rhs, time, steps/s, rhs/s)."""
     rows = []
@@ -64,7 +54,7 @@ def throughput(p, s0):
         def call():
             return vi.simulate(p, periods=THROUGHPUT_PERIODS, state0=s0, method=method, **kw)
         call()  # warm-up (JIT load)
-        t, run = best_time(call)
+        t, run = best_time(call, REPEATS)
         assert run.ok and len(run.impacts) > 0, (method, run.reason)
         c = run.counters
         desc = ", ".join(f"{k}={v:g}" for k, v in kw.items())

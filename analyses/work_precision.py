@@ -32,7 +32,7 @@ import time
 from pathlib import Path
 
 import matplotlib
-from _report import write_section
+from _report import best_time, write_section
 import numba
 import numpy as np
 import scipy
@@ -44,6 +44,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import vibimpact as vi  # noqa: E402
 from vibimpact._kernel import rotor  # noqa: E402
 from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
+from vibimpact.sweeps import continued_state as _continued  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"
@@ -75,27 +76,9 @@ STYLE = {"ours rk4": ("o", "-", "C0"), "ours dp5": ("s", "-", "C1"),
 TARGET_RATIO, TARGET_OVERHEAD, TARGET_FIRST_RUN = 300.0, 1.3, 15.0
 
 
-def best_time(fn, repeats):
-    """Best wall time of ``repeats`` calls and the last result."""
-    best, out = np.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
-def continued_state(preset, eta_stop, eta_start=1.0, step=0.02, transient=200):
-    """As ``tests/conftest.py::continued_state``: sweep eta up from rest, 200 periods each."""
-    base = vi.presets.get(preset)
-    x, eta = None, eta_start
-    for eta in np.arange(eta_start, eta_stop + 1e-9, step):
-        x = vi.simulate(base.replace(eta=float(eta)), periods=1, transient=transient,
-                        state0=x).final_state
-    if abs(eta_stop - eta) > 1e-9:
-        x = vi.simulate(base.replace(eta=float(eta_stop)), periods=1, transient=transient,
-                        state0=x).final_state
-    return x
+def continued_state(preset, eta):
+    """The impacting branch at ``eta`` (:func:`vibimpact.sweeps.continued_state`)."""
+    return _continued(vi.presets.get(preset), eta)
 
 
 # ---------------------------------------------------------------- (1) work-precision

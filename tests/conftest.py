@@ -16,21 +16,11 @@ def contact_case():
 
 
 def continued_state(preset, eta_stop, eta_start=1.0, step=0.02, transient=200):
-    """State on the branch reached by sweeping ``eta`` up from ``eta_start`` (from rest).
-
-    With the default B = Ec = 0.1 the impacting upper branch of fig8-fig11 above
-    eta ~ 1.18 is reached only by continuation: from rest the rotor stays on the low,
-    impactless branch.
-    """
-    base = vi.presets.get(preset)
-    x = None
-    for eta in np.arange(eta_start, eta_stop + 1e-9, step):
-        x = vi.simulate(base.replace(eta=float(eta)), periods=1, transient=transient,
-                        state0=x).final_state
-    if abs(eta_stop - eta) > 1e-9:
-        x = vi.simulate(base.replace(eta=float(eta_stop)), periods=1, transient=transient,
-                        state0=x).final_state
-    return x
+    """State on the impacting branch of ``preset`` at ``eta_stop``, reached by continuation
+    from ``eta_start`` (:func:`vibimpact.sweeps.continued_state`)."""
+    from vibimpact.sweeps import continued_state as _continued
+    return _continued(vi.presets.get(preset), eta_stop, eta_start=eta_start, step=step,
+                      transient=transient)
 
 
 @pytest.fixture(scope="session")

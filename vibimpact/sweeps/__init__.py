@@ -2,7 +2,7 @@
 the labelled interval map."""
 from .dataset import format_intervals, intervals, to_dataset
 from .point import ANALYSES, SweepSettings, analyse_point
-from .sweep import DIRECTIONS, parse_range, sweep
+from .sweep import DIRECTIONS, continued_state, parse_range, sweep
 
-__all__ = ["ANALYSES", "DIRECTIONS", "SweepSettings", "analyse_point", "format_intervals",
+__all__ = ["ANALYSES", "DIRECTIONS", "SweepSettings", "analyse_point", "continued_state", "format_intervals",
            "intervals", "parse_range", "sweep", "to_dataset"]

@@ -71,6 +71,32 @@ def _seeds(p, etas, starts, state0, seed_periods):
     return seeds
 
 
+def continued_state(p, eta, *, eta_start=1.0, step=0.02, transient=200, state0=None):
+    """State on the branch reached by sweeping ``eta`` up from ``eta_start``.
+
+    ``transient`` forcing periods at every grid point ``eta_start, eta_start + step, ...``
+    up to ``eta`` (and at ``eta`` itself when it is off that grid), each starting from the
+    previous point's final state (rest, or ``state0``, at the first).  With the default
+    B = Ec = 0.1 the impacting upper branch of fig8-fig11 above eta ~ 1.18 is reached only
+    this way: from rest the rotor stays on the low, impactless branch.
+
+    Returns
+    -------
+    ndarray, shape (4,)
+        The state at the start of a forcing period at ``eta``.
+    """
+    x = state0
+    last = eta_start
+    for e in np.arange(eta_start, eta + 1e-9, step):
+        x = simulate(p.replace(eta=float(e)), periods=1, transient=transient,
+                     state0=x).final_state
+        last = e
+    if abs(eta - last) > 1e-9:
+        x = simulate(p.replace(eta=float(eta)), periods=1, transient=transient,
+                     state0=x).final_state
+    return x
+
+
 _PROGRESS = None
 
 
