@@ -165,3 +165,18 @@ def test_fig8_at_1185_upper_branch_is_period_one_with_two_bottom_impacts(fig8_11
     arcs = contact_arcs(theta)
     assert arcs.summary == "2 small arcs"
     assert np.all(arcs.width < 1e-3)
+
+
+def test_spiral_transient_turning_a_third_per_sample_is_not_period_3():
+    """A transient spiralling into a fixed point while turning by ~1/3 turn per sample
+    returns within the tolerance every 3 samples before it has converged; it must give 0
+    (not converged), and the converged fixed point then gives 1 (found in fig10 with
+    B = 0.05 at eta = 1.47, where the free rotation per forcing period is ~240 degrees)."""
+    k = np.arange(40)
+    q = 0.9 * np.exp(1j * (2 * np.pi / 3 + 0.01))
+    z = 1.0 + 3e-6 * q ** k
+    pts = np.c_[z.real, z.imag]
+    assert np.max(np.abs(pts[3:] - pts[:-3])) <= 1e-6          # period 3 "fits" ...
+    assert detect_period(pts, tol=1e-6) == 0                    # ... but is refused
+    z = 1.0 + 3e-12 * q ** k
+    assert detect_period(np.c_[z.real, z.imag], tol=1e-6) == 1

@@ -147,7 +147,10 @@ def impacts_from_events(t, which, mode_before, state, t0, period):
         keep = owner >= 0
         owner = owner[keep]
         ext = ext[keep]
-        inside = ~(has_exit[owner] & (exits[np.minimum(j[owner], exits.size - 1)] < ext))
+        if exits.size:
+            inside = ~(has_exit[owner] & (exits[np.minimum(j[owner], exits.size - 1)] < ext))
+        else:  # no contact ends inside the window: every extremum is inside its contact
+            inside = np.ones(owner.size, dtype=bool)
         rr = np.hypot(state[ext, 0], state[ext, 1]) - 1.0
         np.maximum.at(pen, owner[inside], rr[inside])
     out["penetration"] = pen

@@ -32,6 +32,9 @@ __all__ = ["detect_period", "poincare_section", "impact_map", "SCALE_FLOOR"]
 #: relative floor of the reference length, so that an exactly constant sequence at the
 #: origin still has a positive scale (and is recognised as period 1)
 SCALE_FLOOR = 1e-12
+#: a period n is refused (0 returned) when a proper divisor d of n repeats within this
+#: many times the tolerance: the data are then a transient spiralling into the d-cycle
+DIVISOR_MARGIN = 1e3
 
 
 def _as_points(points):
@@ -106,7 +109,13 @@ def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None)
 
     Notes
     -----
-    Cost O(max_period * m * d).  A geometric transient ``x_k = x* + a q^k`` is rejected as
+    Cost O(max_period * m * d).  A transient that spirals into a fixed point (or an
+    ``d``-cycle) turning by nearly ``1/n`` of a turn per sample returns close to itself
+    every ``n`` samples long before it has converged; ``n`` is therefore refused (0 is
+    returned) when a proper divisor ``d`` of ``n`` repeats to within
+    :data:`DIVISOR_MARGIN` times the tolerance.  A true period-``n`` orbit whose points lie
+    closer than that to a ``d``-cycle (just after a period doubling) is reported as 0 too.
+    A geometric transient ``x_k = x* + a q^k`` is rejected as
     long as its first step ``|a| (1 - q)`` exceeds ``tol * scale``; a quasi-periodic orbit
     is rejected because its closest return in ``n <= max_period`` steps is of order
     ``1 / n`` of its size (three-distance theorem), far above ``tol``.
@@ -135,8 +144,16 @@ def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None)
         scale = _positive_float("scale", scale)
     threshold = tol * scale
     n_max = min(max_period, (m - 1) // min_repeats)
+    residual = {}
     for n in range(1, n_max + 1):
-        if np.max(np.abs(x[n:] - x[:-n])) <= threshold:
+        residual[n] = float(np.max(np.abs(x[n:] - x[:-n])))
+        if residual[n] <= threshold:
+            # a cycle whose points nearly coincide with a shorter one is a transient
+            # spiralling into that shorter cycle (its rotation per sample close to 1/n of a
+            # turn), not a period-n orbit
+            if any(residual[d] <= DIVISOR_MARGIN * threshold
+                   for d in range(1, n) if n % d == 0):
+                return 0
             return n
     return 0
 

@@ -20,7 +20,7 @@ def _save(fig, path):
     return fig
 
 
-def plot_response(ds, ax=None, path=None):
+def plot_response(ds, ax=None, path=None, bands=True):
     """Response amplitudes X_m and Y_m against eta, chaotic points marked.
 
     Parameters
@@ -31,6 +31,10 @@ def plot_response(ds, ax=None, path=None):
         Axes for X_m and Y_m; a new 8 x 6.5 inch figure otherwise.
     path : str or os.PathLike, optional
         Save the figure there.
+    bands : bool
+        Regime bands behind the curves (needs ``label``, ``period``,
+        ``impacts_per_period``): the up sweep's in the upper half of each panel, the down
+        sweep's in the lower half, coloured as in :func:`plot_intervals`.
 
     Returns
     -------
@@ -50,6 +54,9 @@ def plot_response(ds, ax=None, path=None):
         if len(axes) != 2:
             raise ValueError("ax must be two Axes (for X_m and for Y_m)")
         fig = axes[0].figure
+    band_handles = []
+    if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
+        band_handles = _bands(ds, axes)
     marked = set()
     for d, sub in directions(ds):
         eta = sub["eta"].values
@@ -71,9 +78,61 @@ def plot_response(ds, ax=None, path=None):
         a.set_ylabel(f"{name}  (max |{name[0]}| / clearance)")
         a.grid(True, lw=0.4, alpha=0.5)
     axes[0].legend(loc="best", fontsize="small")
+    if band_handles:
+        axes[-1].legend(handles=band_handles, loc="upper center", bbox_to_anchor=(0.5, -0.18),
+                        ncol=min(len(band_handles), 6), fontsize="small", frameon=False,
+                        title="bands: up sweep (upper half), down sweep (lower half)"
+                        if len(directions(ds)) > 1 else None, title_fontsize="small")
     axes[-1].set_xlabel("η")
     axes[0].set_title(title(ds), fontsize="medium")
     return _save(fig, path)
+
+
+def _band(iv, k, h):
+    """Extent, colour, legend name and key, and hatch of interval ``k`` of ``iv``.
+
+    Impactless intervals are hatched ``///``, permanent contact ``...``.
+    """
+    a = min(iv["start"].values[k], iv["end"].values[k]) - h / 2
+    b = max(iv["start"].values[k], iv["end"].values[k]) + h / 2
+    reg = int(iv["regime"].values[k])
+    per = int(iv["period"].values[k])
+    if reg == 1 and per:
+        color = PERIOD_COLORS[(per - 1) % len(PERIOD_COLORS)]
+        name, key = f"P{per}", (1, per)
+    elif reg == 1:
+        color, name, key = LONG_PERIOD_COLOR, "periodic, long period", (1, 10**6)
+    else:
+        color = REGIME_COLORS.get(reg, "0.85")
+        name, key = REGIME_NAMES.get(reg, "?"), (reg if reg else 9, 0)
+    hatch = None
+    if float(iv["impacts"].values[k]) == 0.0:
+        hatch = "..." if "permanent contact" in str(iv["label"].values[k]) else "///"
+    return a, b, color, name, key, hatch
+
+
+def _bands(ds, axes):
+    """Regime bands behind response curves: the up sweep in the upper half of each axes,
+    the down sweep in the lower half; returns legend handles of the colours used."""
+    from matplotlib.patches import Patch
+
+    from ..sweeps.dataset import intervals
+
+    h = grid_step(ds["eta"].values)
+    dirs = directions(ds)
+    used = {}
+    for row, (d, sub) in enumerate(dirs):
+        sub = sub.copy()
+        sub.attrs["sweep_direction"] = d
+        iv = intervals(sub)
+        lo, hi = (0.0, 1.0) if len(dirs) == 1 else ((0.5, 1.0) if row == 0 else (0.0, 0.5))
+        for k in range(iv.sizes["interval"]):
+            a, b, color, name, key, hatch = _band(iv, k, h)
+            used.setdefault(key, (name, color))
+            for ax in axes:
+                ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=0.35, lw=0,
+                           hatch=hatch, edgecolor="0.6" if hatch else None, zorder=0)
+    return [Patch(facecolor=c, alpha=0.35, label=n) for _, (n, c) in sorted(used.items())]
 
 
 def _short(label, regime, period):
@@ -127,25 +186,14 @@ def plot_intervals(ds, ax=None, path=None):
         sub.attrs["sweep_direction"] = d
         iv = intervals(sub)
         for k in range(iv.sizes["interval"]):
-            a = min(iv["start"].values[k], iv["end"].values[k]) - h / 2
-            b = max(iv["start"].values[k], iv["end"].values[k]) + h / 2
-            reg = int(iv["regime"].values[k])
-            per = int(iv["period"].values[k])
-            if reg == 1 and per:
-                color = PERIOD_COLORS[(per - 1) % len(PERIOD_COLORS)]
-                name, key = f"P{per}", (1, per)
-            elif reg == 1:
-                color, name, key = LONG_PERIOD_COLOR, "periodic, long period", (1, 10**6)
-            else:
-                color = REGIME_COLORS.get(reg, "0.85")
-                name, key = REGIME_NAMES.get(reg, "?"), (reg if reg else 9, 0)
-            impactless = float(iv["impacts"].values[k]) == 0.0
+            a, b, color, name, key, hatch = _band(iv, k, h)
             ax.broken_barh([(a, b - a)], (row - 0.4, 0.8), facecolors=color,
-                           edgecolors="white", linewidth=0.3,
-                           hatch="///" if impactless else None)
+                           edgecolors="white", linewidth=0.3, hatch=hatch)
             used.setdefault(key, (name, color))
             if (b - a) > 0.035 * span:
-                ax.text((a + b) / 2, row, _short(iv["label"].values[k], reg, per),
+                reg = int(iv["regime"].values[k])
+                ax.text((a + b) / 2, row, _short(iv["label"].values[k], reg,
+                                                 int(iv["period"].values[k])),
                         ha="center", va="center", fontsize="small",
                         color="white" if reg in (3, 4) else "black")
     ax.set_yticks(range(len(dirs)), [f"sweep {d}" for d, _ in dirs])
@@ -153,8 +201,9 @@ def plot_intervals(ds, ax=None, path=None):
     ax.set_xlim(float(eta.min()) - h / 2, float(eta.max()) + h / 2)
     ax.set_xlabel("η")
     handles = [Patch(facecolor=c, label=n) for _, (n, c) in sorted(used.items())]
-    handles.append(Patch(facecolor="white", edgecolor="0.3", hatch="///",
-                         label="impactless"))
+    handles += [Patch(facecolor="white", edgecolor="0.3", hatch="///", label="impactless"),
+                Patch(facecolor="white", edgecolor="0.3", hatch="...",
+                      label="permanent contact")]
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.35 if
               len(dirs) == 1 else -0.22), ncol=min(len(handles), 7), fontsize="small",
               frameon=False)

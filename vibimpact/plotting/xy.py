@@ -84,7 +84,9 @@ def plot_xy(ds, path=None, ax=None):
     Lengths are in clearances: the retainer is the circle ``R = 1`` of the centre.  Gravity
     acts along +Y, so the Y axis is inverted: the bottom of the retainer
     (``theta = +90`` degrees) is drawn at the bottom.  Impact markers sit at the contact
-    entry point ``(cos theta, sin theta)``.
+    entry point ``(cos theta, sin theta)``; the loaded arcs of
+    :func:`vibimpact.analysis.contact_arcs` are drawn as a thick band just outside the
+    retainer (the paper's figs 8a, 10a-c and 11b-d mark the same).
 
     Examples
     --------
@@ -110,7 +112,16 @@ def plot_xy(ds, path=None, ax=None):
             mfc="none" if "trajectory" in ds else "C1",
             label=f"stroboscopic points ({len(strobe)})")
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
-        th = np.radians(ds["impact_theta"].values)
+        from ..analysis.impacts import contact_arcs
+
+        deg = ds["impact_theta"].values
+        arcs = contact_arcs(deg)
+        for k, (a, w) in enumerate(zip(arcs.start, arcs.width)):
+            phi = np.radians(a + np.linspace(0.0, max(w, 2.0), 60) - (1.0 if w < 2 else 0.0))
+            ax.plot(1.04 * np.cos(phi), 1.04 * np.sin(phi), color="C3", lw=5, alpha=0.45,
+                    solid_capstyle="butt",
+                    label=f"loaded arcs: {arcs.summary}" if k == 0 else None)
+        th = np.radians(deg)
         ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=1.5, color="C3",
                 label=f"impacts ({th.size})")
     ax.set_aspect("equal", adjustable="datalim")

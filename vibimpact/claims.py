@@ -1,0 +1,283 @@
+"""The paper's claims (SPEC section 2) as data, and their automated check on sweeps.
+
+Every statement of Půst & Kozánek about a frequency interval ("chaos in η ∈ (1.21, 1.29)",
+"period 3 with 8 impacts near η = 1.40", ...) is one :class:`Claim`.  :func:`match_points`
+says which grid points of a sweep show the claimed kind of motion, :func:`detect` finds the
+detected interval nearest to the claim and :func:`score` measures the agreement (a Jaccard
+index of grid points), which is also the objective of the calibration of ``B`` and ``Ec``
+(``analyses/calibrate.py``).
+
+Kinds of motion a claim can name (``Claim.motion``):
+
+``"irregular"``
+    The paper's "chaos": impacting motion without a period up to the detector's maximum,
+    i.e. our *chaotic*, *quasi-periodic* and *periodic (long period)* labels.  The paper
+    judged the kind of motion from response curves and X-Y trajectories, on which these
+    look alike; the report names which of our labels make up a detected interval.
+``"periodic"``
+    A periodic orbit, with ``period`` (forcing periods) and ``impacts`` (per motion period)
+    when the claim gives them.
+``"impactless"``
+    Motion without contact.
+
+References
+----------
+L. Půst, J. Kozánek, "Vibrations of rotor supported in magnetic bearings with impacts",
+Institute of Thermomechanics AS CR (the paper of this project).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+MOTIONS = ("irregular", "periodic", "impactless")
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One statement of the paper about a frequency interval.
+
+    Attributes
+    ----------
+    key : str
+        Short identifier, e.g. ``"fig8-chaos"``.
+    preset : str
+        The preset (figure) it is about.
+    statement : str
+        The paper's words (abridged).
+    motion : {"irregular", "periodic", "impactless"}
+    lo, hi : float
+        The paper's interval of eta (``lo == hi`` for a claim "near eta").
+    period, impacts : int, optional
+        Period (forcing periods) and impacts per motion period, when stated.
+    arcs : str, optional
+        Where the impacts load the retainer ("bottom half", "whole circle",
+        "2 small arcs"), checked on the X-Y trajectory by the paper report.
+    impacting : bool
+        A periodic claim is about impacting motion (the paper's figures 8-11 are about
+        motion with impacts; "simple periodic motion" there hits the retainer).
+    near : bool
+        The paper's bound is approximate ("near eta = 1.40"): the detected interval may
+        start up to :data:`NEAR` away.
+    weight : float
+        Weight in the calibration objective (0: reported, not fitted).
+    """
+
+    key: str
+    preset: str
+    statement: str
+    motion: str
+    lo: float
+    hi: float
+    period: int | None = None
+    impacts: int | None = None
+    arcs: str | None = None
+    impacting: bool = True
+    near: bool = False
+    weight: float = 1.0
+
+
+#: how far "near eta" may be from the detected start
+NEAR = 0.02
+#: how far outside a claim a matching point still counts (against the claim) in the score
+WINDOW = 0.03
+
+#: the paper's interval claims, figure by figure (SPEC section 2)
+CLAIMS = (
+    Claim("fig6-chaos", "fig6", "a new chaotic motion near eta = 1.2 (kh = 40)",
+          "irregular", 1.2, 1.2, near=True, weight=0.5),
+    Claim("fig8-AB", "fig8", "eta = 1.185: two bottom impacts A, B (periodic)",
+          "periodic", 1.185, 1.185, period=1, impacts=2, arcs="2 small arcs, bottom half",
+          weight=0.5),
+    Claim("fig8-chaos", "fig8", "third contact point C: chaos in eta in (1.21, 1.29)",
+          "irregular", 1.21, 1.29, arcs="3 or more arcs"),
+    Claim("fig10-chaos-whole", "fig10", "at eta = 1.2 jumps again into chaos, impacts on "
+          "the whole surface", "irregular", 1.2, 1.40, arcs="whole circle"),
+    Claim("fig10-P3", "fig10", "near eta = 1.40 period 3 with 8 impacts per period "
+          "stabilises; chaos again at eta = 1.45", "periodic", 1.40, 1.445, period=3,
+          impacts=8, near=True),
+    Claim("fig10-chaos-1.45", "fig10", "turns back into chaotic oscillations at eta = 1.45",
+          "irregular", 1.45, 1.46, near=True, weight=0.5),
+    Claim("fig11-chaos-low", "fig11", "chaotic motion eta = 0.97-1.05", "irregular",
+          0.97, 1.045),
+    Claim("fig11-P6", "fig11", "eta = 1.05-1.07: period 6 with 8 impacts, bottom half only",
+          "periodic", 1.05, 1.07, period=6, impacts=8, arcs="bottom half"),
+    Claim("fig11-P1", "fig11", "eta = 1.14-1.19: simple periodic motion, two small loaded "
+          "segments", "periodic", 1.14, 1.19, period=1, arcs="2 small arcs"),
+    Claim("fig11-chaos", "fig11", "changes into chaos at eta = 1.19", "irregular",
+          1.195, 1.295),
+    Claim("fig11-P10", "fig11", "period 10 in eta = 1.3-1.33, similar (two small segments)",
+          "periodic", 1.30, 1.33, period=10, arcs="2 small arcs"),
+)
+
+
+def claims(preset=None):
+    """The claims, all or those of one preset."""
+    return tuple(c for c in CLAIMS if preset is None or c.preset == preset)
+
+
+def match_points(sub, claim):
+    """Which points of a one-direction sweep show the claim's kind of motion.
+
+    Parameters
+    ----------
+    sub : xarray.Dataset
+        A sweep of one direction (dim ``eta``) with ``regime``, ``period`` and
+        ``impacts_per_period``.
+    claim : Claim
+
+    Returns
+    -------
+    ndarray of bool, shape (n_eta,)
+    """
+    reg = np.asarray(sub["regime"].values, dtype=int)
+    per = np.asarray(sub["period"].values, dtype=int)
+    ipp = np.asarray(sub["impacts_per_period"].values, dtype=float)
+    impacting = np.isfinite(ipp) & (ipp > 0)
+    if claim.motion == "irregular":
+        return impacting & ((reg == 2) | (reg == 3) | ((reg == 1) & (per == 0)))
+    if claim.motion == "impactless":
+        contact = np.asarray(sub["contact"].values, dtype=int) if "contact" in sub else 0
+        return (reg == 1) & (ipp == 0) & (contact == 0)
+    if claim.motion == "periodic":
+        ok = (reg == 1) & (per > 0)
+        if claim.impacting:
+            ok &= impacting
+        if claim.period is not None:
+            ok &= per == claim.period
+        if claim.impacts is not None:
+            ok &= np.isfinite(ipp) & (np.abs(ipp - claim.impacts) < 0.5)
+        return ok
+    raise ValueError(f"claim.motion must be one of {', '.join(MOTIONS)}, got {claim.motion!r}")
+
+
+def _claimed(eta, claim, step):
+    lo = claim.lo - (NEAR if claim.near else 0.0)
+    hi = claim.hi + (NEAR if claim.near and claim.lo == claim.hi else 0.0)
+    return (eta >= lo - 1e-9 * step) & (eta <= hi + 1e-9 * step)
+
+
+@dataclass(frozen=True)
+class Detection:
+    """What a sweep shows for one claim (one direction).
+
+    Attributes
+    ----------
+    direction : str
+    start, end : float
+        Detected interval: the run of matching points overlapping (or nearest to) the
+        claim; NaN if no point in the window matches.
+    score : float
+        Jaccard index in [0, 1] of the claimed and the matching grid points inside the
+        claim widened by :data:`WINDOW`.
+    agree : bool
+        Both ends within one sweep step of the paper's (``near`` claims: start within
+        :data:`NEAR`, and a matching point at the claimed eta).
+    labels : tuple of str
+        The distinct labels of the detected interval's points.
+    """
+
+    direction: str
+    start: float
+    end: float
+    score: float
+    agree: bool
+    labels: tuple
+
+
+def _runs(ok):
+    runs, i = [], 0
+    while i < ok.size:
+        if ok[i]:
+            j = i
+            while j + 1 < ok.size and ok[j + 1]:
+                j += 1
+            runs.append((i, j))
+            i = j + 1
+        else:
+            i += 1
+    return runs
+
+
+def detect_one(sub, claim, direction="up"):
+    """Compare one claim with a one-direction sweep; see :class:`Detection`."""
+    eta = np.asarray(sub["eta"].values, dtype=float)
+    step = float(np.median(np.diff(eta))) if eta.size > 1 else 1.0
+    ok = match_points(sub, claim)
+    claimed = _claimed(eta, claim, step)
+    window = (eta >= claim.lo - WINDOW) & (eta <= claim.hi + WINDOW)
+    found = ok & window
+    union = claimed | found
+    score = float((claimed & found).sum() / union.sum()) if union.any() else 0.0
+    runs = [(a, b) for a, b in _runs(ok) if window[a:b + 1].any()]
+    if not runs:
+        return Detection(direction, np.nan, np.nan, score, False, ())
+    centre = 0.5 * (claim.lo + claim.hi)
+
+    def distance(r):
+        a, b = eta[r[0]], eta[r[1]]
+        overlap = min(b, claim.hi) - max(a, claim.lo)
+        return (-overlap, abs(0.5 * (a + b) - centre)) if overlap >= 0 else \
+            (0.0, min(abs(a - claim.hi), abs(b - claim.lo)))
+
+    a, b = min(runs, key=distance)
+    start, end = float(eta[a]), float(eta[b])
+    tol = step * (1 + 1e-6)
+    if claim.near:
+        agree = abs(start - claim.lo) <= NEAR + tol and bool(ok[claimed].any())
+    else:
+        agree = abs(start - claim.lo) <= tol and abs(end - claim.hi) <= tol
+    labels = tuple(dict.fromkeys(str(x) for x in sub["label"].values[a:b + 1]))
+    return Detection(direction, start, end, score, bool(agree), labels)
+
+
+def detect(ds, claim):
+    """Compare one claim with a sweep, in each of its directions.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`vibimpact.sweep` (any direction).
+    claim : Claim
+
+    Returns
+    -------
+    list of Detection
+        One per direction, the best (highest score) first.
+    """
+    if "direction" in ds.dims:
+        subs = [(str(d), ds.sel(direction=d)) for d in ds["direction"].values]
+    else:
+        subs = [(str(ds.attrs.get("sweep_direction", "up")), ds)]
+    out = [detect_one(sub, claim, d) for d, sub in subs]
+    return sorted(out, key=lambda x: -x.score)
+
+
+def score(datasets, weights=True):
+    """Calibration objective: weighted mean of (1 - best Jaccard) over the claims.
+
+    Parameters
+    ----------
+    datasets : dict
+        Preset name -> sweep dataset; claims of presets not given are skipped.
+    weights : bool
+        Use :attr:`Claim.weight` (else all claims count once).
+
+    Returns
+    -------
+    objective : float
+        In [0, 1]; 0 means every claimed interval is reproduced point for point.
+    per_claim : dict
+        Claim key -> best score in [0, 1].
+    """
+    per, num, den = {}, 0.0, 0.0
+    for c in CLAIMS:
+        if c.preset not in datasets:
+            continue
+        s = detect(datasets[c.preset], c)[0].score
+        per[c.key] = s
+        w = c.weight if weights else 1.0
+        num += w * (1.0 - s)
+        den += w
+    return (num / den if den else float("nan")), per
