@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from conftest import preset
 from vibimpact.analysis import Label, Regime, classify, classify_params
 from vibimpact.analysis.classify import decide
 
@@ -113,8 +114,8 @@ def test_fig8_inside_paper_chaotic_interval_is_chaotic(fig8_chaotic):
 def test_fig8_well_outside_chaotic_interval_is_p1_with_two_impacts():
     """fig8 at eta = 1.10 (well below the chaotic interval; the paper's orbit with the two
     bottom impacts A and B): P1 with 2 impacts per period, no exponent needed."""
-    from conftest import continued_state
-    p = vi.presets.get("fig8").replace(eta=1.10)
+    from conftest import continued_state, preset
+    p = preset("fig8").replace(eta=1.10)
     reg, _ = classify_params(p, state0=continued_state("fig8", 1.10), transient=100,
                              periods=100)
     assert reg.label is Regime.PERIODIC and reg.n == 1
@@ -130,4 +131,4 @@ def test_bad_arguments_raise_value_error_naming_them():
     with pytest.raises(ValueError, match="period"):
         classify(np.zeros((10, 2)), period=-1.0)
     with pytest.raises(ValueError, match="lyapunov"):
-        classify_params(vi.presets.get("fig8"), lyapunov="maybe")
+        classify_params(preset("fig8"), lyapunov="maybe")

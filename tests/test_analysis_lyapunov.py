@@ -9,7 +9,7 @@ import vibimpact as vi
 from vibimpact.analysis import (largest_lyapunov, lyapunov_from_jacobians,
                                 lyapunov_from_series, lyapunov_spectrum,
                                 strobe_map_jacobian)
-from conftest import continued_state
+from conftest import continued_state, preset
 
 
 def test_damped_linear_oscillator_spectrum_is_analytic():
@@ -28,7 +28,7 @@ def test_damped_linear_oscillator_spectrum_is_analytic():
 def test_rotor_without_contact_has_all_exponents_minus_half_damping():
     """Far from the retainer (eta = 0.5, no contact) with k3 = 0 the rotor is two damped
     linear oscillators: four exponents -B/2 (underdamped), sum exactly -2B."""
-    p = vi.presets.get("fig8").replace(eta=0.5, k3=0.0)
+    p = preset("fig8").replace(eta=0.5, k3=0.0)
     res = lyapunov_spectrum(p, transient=20, min_periods=200, max_periods=400)
     np.testing.assert_allclose(res.exponents, -0.05, atol=1e-3)
     assert abs(res.exponents.sum() + 0.2) < 1e-8
@@ -84,14 +84,14 @@ def test_two_trajectory_agrees_with_variational_on_ueda(ueda):
                                                                      two.stderr[0])
 
 
-@pytest.mark.parametrize("preset, eta", [("fig8", 1.185), ("fig10", 1.02), ("fig11", 1.22)])
-def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(preset, eta):
+@pytest.mark.parametrize("name, eta", [("fig8", 1.185), ("fig10", 1.02), ("fig11", 1.22)])
+def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(name, eta):
     """On a periodic impacting orbit the largest exponent from the variational equations
     (with saltation matrices where the field jumps: BT at contact entry/exit in fig10,
     friction in fig11) equals ln|mu_max|/T from the monodromy matrix by finite differences
     of the Poincaré map, within 2 %."""
-    p = vi.presets.get(preset).replace(eta=eta)
-    x = continued_state(preset, eta, transient=300)
+    p = preset(name).replace(eta=eta)
+    x = continued_state(name, eta, transient=300)
     run = vi.simulate(p, periods=3, state0=x)
     assert len(run.impacts) >= 2 and np.ptp(run.strobe, axis=0).max() < 1e-6
     res = lyapunov_spectrum(p, state0=x, transient=0, min_periods=300, max_periods=1500,
@@ -172,4 +172,4 @@ def test_blow_up_is_labelled_not_returned_as_exponents():
 def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
     """Invalid arguments raise ValueError naming the argument."""
     with pytest.raises(ValueError, match=name):
-        lyapunov_spectrum(vi.presets.get("fig8"), **kwargs)
+        lyapunov_spectrum(preset("fig8"), **kwargs)

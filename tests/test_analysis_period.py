@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from conftest import preset
 from vibimpact.analysis.impacts import contact_arcs, impact_count
 from vibimpact.analysis.period import detect_period, impact_map, poincare_section
 
@@ -134,7 +135,7 @@ def test_sections_without_impacts_have_shape_0_by_4():
 @pytest.fixture(scope="module")
 def fig8_1185():
     """fig8 at eta = 1.185 from rest, and from a state on the impacting branch."""
-    p = vi.presets.get("fig8").replace(eta=1.185)
+    p = preset("fig8").replace(eta=1.185)
     rest = vi.simulate(p, periods=60, transient=400)
     upper = vi.simulate(p, periods=60, transient=400, state0=[1.0, 0.0, 0.0, 1.185])
     return rest, upper

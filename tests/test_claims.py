@@ -113,3 +113,30 @@ def test_every_claim_names_a_known_preset_and_motion():
         assert c.motion in C.MOTIONS and c.lo <= c.hi
     with pytest.raises(ValueError, match="motion"):
         C.match_points(chaos_between(1.2, 1.3), C.Claim("x", "fig8", "", "odd", 1, 1))
+
+
+def test_subharmonic_window_with_another_period_earns_the_relaxed_credit():
+    """A claimed "P6 with 8 impacts" window reproduced exactly as a P3 window with 6
+    impacts scores RELAXED_CREDIT (the window is there, its period is not); a P1 window
+    there scores 0."""
+    claim = C.Claim("t-p6", "fig11", "P6, 8 impacts", "periodic", 1.05, 1.07, period=6,
+                    impacts=8)
+    reg, per, imp = background()
+    sel = (ETA >= 1.05 - 1e-9) & (ETA <= 1.07 + 1e-9)
+    per[sel], imp[sel] = 3, 6.0
+    assert C.detect_one(sweep_like(reg, per, imp), claim).score == 0.0
+    assert C.claim_score(sweep_like(reg, per, imp), claim) == pytest.approx(C.RELAXED_CREDIT)
+    reg, per, imp = background()
+    assert C.claim_score(sweep_like(reg, per, imp), claim) == 0.0
+
+
+def test_claim_with_a_direction_ignores_the_other_sweep():
+    """A claim about the up sweep is not satisfied by the down sweep's matching points."""
+    claim = C.Claim("t-up", "fig8", "chaos, up sweep", "irregular", 1.21, 1.29,
+                    direction="up")
+    up = chaos_between(1.40, 1.45)
+    down = chaos_between(1.21, 1.29)
+    ds = xr.concat([up, down], dim=xr.DataArray(["up", "down"], dims="direction",
+                                                 name="direction"))
+    best = C.detect(ds, claim)
+    assert [d.direction for d in best] == ["up"] and best[0].score == 0.0

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from conftest import preset
 from vibimpact.reference import solve_reference, strobe_times
 
 PERIODS = 20
@@ -53,7 +54,7 @@ def test_presets_agree_with_scipy(name, eta, tol):
     atol 1e-14) and SciPy's DOP853 (rtol = atol = 1e-12, restarted at every switch) give
     the same stroboscopic states over 20 forcing periods to ``tol`` (1e-8; 1e-6 for
     fig11), with the same sequence of contact and friction switches."""
-    p = vi.presets.get(name).replace(eta=eta)
+    p = preset(name).replace(eta=eta)
     s0 = _on_attractor(p)
     run, ref, err = _compare(p, s0)
     assert len(run.impacts) >= PERIODS, "the trajectory must impact"
@@ -65,7 +66,7 @@ def test_stick_phases_agree_with_scipy():
     """Hypothesis: with strong friction (f = 0.3) on a mass point (Rr = 0), where v_t
     reaches 0 in contact and Filippov stick phases occur, kernel and SciPy reference agree
     over 20 periods to 1e-6 and go through the same slip/stick switches."""
-    p = vi.presets.get("fig11").replace(eta=1.1, f=0.3, Rr=0.0)
+    p = preset("fig11").replace(eta=1.1, f=0.3, Rr=0.0)
     s0 = [1.05, 0.0, 0.0, 0.5]
     run, ref, err = _compare(p, s0)
     assert len(run.impacts) > 0
@@ -80,6 +81,6 @@ def test_short_slip_reversal_agrees_with_scipy():
     """Hypothesis: a slip reversal (-1 -> +1) followed 3.7e-3 time units later by v_t = 0
     again (then stick), as at tau = 85.398 here, is integrated through; the SciPy
     reference does so and the kernel should match it to 1e-6."""
-    p = vi.presets.get("fig11").replace(eta=1.2, f=0.3, Rr=0.0)
+    p = preset("fig11").replace(eta=1.2, f=0.3, Rr=0.0)
     run, ref, err = _compare(p, [1.05, 0.0, 0.0, 0.5])
     assert err < 1e-6

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from conftest import preset
 from vibimpact._kernel.rotor import energy
 
 CONS_START = [0.0, 0.0, 1.5, 0.5]
@@ -47,7 +48,7 @@ def test_stiff_hertz_kh_1e5_conserves_energy_to_1e8_over_50_periods():
 def test_extreme_hertz_stiffness_on_fig8_gives_finite_impacting_run(kh):
     """fig8 at eta = 1 with kh = 1 (soft, deep contacts) and kh = 1e5 (stiff): OK, finite,
     impacting, switches on the circle, steps per period bounded (< 200)."""
-    run = vi.simulate(vi.presets.get("fig8").replace(eta=1.0, kh=kh), periods=100)
+    run = vi.simulate(preset("fig8").replace(eta=1.0, kh=kh), periods=100)
     assert run.ok and np.all(np.isfinite(run.strobe)) and len(run.impacts) > 50
     assert _switch_error(run) < 1e-10
     assert run.counters["steps"] / 100 < 200
@@ -58,7 +59,7 @@ def test_large_hertz_damping_with_negative_factor_is_finite_or_labelled(Bh):
     """With Bh so large that 1 + Bh R' < 0 during restitution (the paper's formula, not
     clipped), the run is either OK with finite data or stopped with a DIVERGED/FAILED label and
     a reason; never NaN data with status OK."""
-    run = vi.simulate(vi.presets.get("fig8").replace(eta=1.0, Bh=Bh), periods=100)
+    run = vi.simulate(preset("fig8").replace(eta=1.0, Bh=Bh), periods=100)
     assert np.all(np.isfinite(run.strobe))
     if not run.ok:
         assert run.reason
@@ -75,7 +76,7 @@ def test_friction_f1_with_zero_radius_finds_filippov_stick_without_chatter():
     """f = 1, Rr = 0 (fig11 at eta = 1): Filippov stick phases are entered (friction switch
     into stick, at v_t = 0 to 1e-10), steps per period stay bounded (< 5000: no chattering
     through sgn), and the result is finite."""
-    run = vi.simulate(vi.presets.get("fig11").replace(eta=1.0, f=1.0, Rr=0.0), periods=200)
+    run = vi.simulate(preset("fig11").replace(eta=1.0, f=1.0, Rr=0.0), periods=200)
     assert run.ok and np.all(np.isfinite(run.strobe))
     ev = run.events
     stick = (ev["which"] == 1) & (ev["mode_after"][:, 1] == 0)
@@ -108,7 +109,7 @@ def _graze_ec(p, target, lo=0.17, hi=0.20, iters=40):
 
 
 def _graze_side(delta, max_step_div=None):
-    p = vi.presets.get("fig8").replace(eta=0.9)
+    p = preset("fig8").replace(eta=0.9)
     ec = _graze_ec(p, 1.0 + delta)
     kw = {} if max_step_div is None else {"max_step": p.period / max_step_div}
     return vi.simulate(p.replace(Ec=ec), periods=20, transient=150, **kw)
@@ -158,7 +159,7 @@ def test_contact_of_depth_1e6_below_grazing_has_no_impacts():
 def test_extreme_forcing_frequencies_give_finite_runs(eta):
     """eta = 0.01 (period 628, quasi-static: stays within the tiny forcing Ec eta^2 of the
     static equilibrium) and eta = 10 (fast spin) end OK and finite."""
-    p = vi.presets.get("fig8").replace(eta=eta)
+    p = preset("fig8").replace(eta=eta)
     run = vi.simulate(p, periods=5 if eta < 1 else 200, transient=3 if eta < 1 else 100)
     assert run.ok and np.all(np.isfinite(run.strobe))
     assert _switch_error(run) < 1e-10
@@ -169,7 +170,7 @@ def test_extreme_forcing_frequencies_give_finite_runs(eta):
 def test_zero_unbalance_settles_on_the_static_equilibrium_to_1e10():
     """Ec = 0 from rest: the rotor settles on Y (1 + k3 Y^2) = G (free flight) to 1e-10,
     and started there it stays there to 1e-10."""
-    p = vi.presets.get("fig8").replace(eta=1.0, Ec=0.0)
+    p = preset("fig8").replace(eta=1.0, Ec=0.0)
     s = np.array([0.0, _static_y(p.G, p.k3), 0.0, 0.0])
     run = vi.simulate(p, periods=20, transient=100)
     assert run.ok and len(run.impacts) == 0

@@ -8,9 +8,9 @@ import vibimpact as vi
 from vibimpact.io import read_netcdf, write_netcdf
 from vibimpact.sweeps import SweepSettings, analyse_point, parse_range
 from vibimpact.sweeps import checkpoint as ck
-from conftest import continued_state
+from conftest import continued_state, preset
 
-FIG8 = vi.presets.get("fig8")
+FIG8 = preset("fig8")
 GRID = np.round(np.arange(1.16, 1.24 + 1e-9, 0.01), 12)  # crosses into the chaotic interval
 #: start on the impacting branch (reached by continuation from eta = 1.0)
 X0 = continued_state("fig8", 1.16)
