@@ -92,7 +92,7 @@ def _pick_eta(ds, rule):
     if not isinstance(rule, str):
         return float(rule)
     sub = ds.sel(direction="up")
-    ok = C.match_points(sub, C.Claim("", "", "", "irregular", 0.0, 0.0))
+    ok = C.match_points(sub, C.IRREGULAR)
     eta = sub["eta"].values
     sel = np.flatnonzero(ok & (eta < 1.2))
     return float(eta[sel[0]]) if sel.size else 1.0
@@ -204,15 +204,15 @@ def _label_agreement(a, b):
 def _irregular(ds):
     ok = []
     for d in ds["direction"].values:
-        ok.append(C.match_points(ds.sel(direction=d), C.Claim("", "", "", "irregular", 0, 0)))
+        ok.append(C.match_points(ds.sel(direction=d), C.IRREGULAR))
     return np.array(ok)
 
 
 def _irregular_spans(ds, direction="up"):
     sub = ds.sel(direction=direction)
-    ok = C.match_points(sub, C.Claim("", "", "", "irregular", 0, 0))
+    ok = C.match_points(sub, C.IRREGULAR)
     eta = sub["eta"].values
-    return ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C._runs(ok)) or "none"
+    return ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C.runs(ok)) or "none"
 
 
 def comparative_rows(data):
@@ -303,7 +303,7 @@ def _multi_spans(ds, lo, hi):
         eta = sub["eta"].values
         per = sub["period"].values
         ok = (eta >= lo) & (eta <= hi) & (per != 1) & (sub["regime"].values != 4)
-        spans = ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C._runs(ok))
+        spans = ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C.runs(ok))
         out.append(f"{d}: {spans or 'none'}")
     return "; ".join(out)
 

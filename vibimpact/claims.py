@@ -131,6 +131,10 @@ CLAIMS = (
 )
 
 
+#: "irregular impacting motion anywhere": for marking the paper's chaos on any sweep
+IRREGULAR = Claim("irregular", "", "chaos", "irregular", 0.0, 0.0)
+
+
 def claims(preset=None):
     """The claims, all or those of one preset."""
     return tuple(c for c in CLAIMS if preset is None or c.preset == preset)
@@ -207,7 +211,8 @@ class Detection:
     labels: tuple
 
 
-def _runs(ok):
+def runs(ok):
+    """``[(first, last), ...]`` index ranges of the True runs of a boolean array."""
     runs, i = [], 0
     while i < ok.size:
         if ok[i]:
@@ -231,8 +236,8 @@ def detect_one(sub, claim, direction="up"):
     found = ok & window
     union = claimed | found
     score = float((claimed & found).sum() / union.sum()) if union.any() else 0.0
-    runs = [(a, b) for a, b in _runs(ok) if window[a:b + 1].any()]
-    if not runs:
+    near_runs = [(a, b) for a, b in runs(ok) if window[a:b + 1].any()]
+    if not near_runs:
         return Detection(direction, np.nan, np.nan, score, False, ())
     centre = 0.5 * (claim.lo + claim.hi)
 
@@ -242,7 +247,7 @@ def detect_one(sub, claim, direction="up"):
         return (-overlap, abs(0.5 * (a + b) - centre)) if overlap >= 0 else \
             (0.0, min(abs(a - claim.hi), abs(b - claim.lo)))
 
-    a, b = min(runs, key=distance)
+    a, b = min(near_runs, key=distance)
     start, end = float(eta[a]), float(eta[b])
     tol = step * (1 + 1e-6)
     if claim.near:
