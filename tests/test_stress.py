@@ -194,3 +194,20 @@ def test_long_conservative_run_keeps_energy_and_work_per_period_constant():
         spp.append(run.counters["steps"] / 1000)
         y = run.final_state
     assert abs(spp[1] - spp[0]) < 0.01 * spp[0]
+
+
+def test_exit_onto_the_surface_followed_by_a_short_free_flight_advances_time():
+    """Hypothesis: a contact exit that leaves the state a rounding error inside the retainer
+    (R - 1 = 2e-16), followed by a free flight so short that the accurate interpolant is
+    back in contact before the Hermite bracket, is located at its true re-entry time -- the
+    run does not flip the mode back and forth at one instant (it used to log events at a
+    frozen time until memory ran out; found by a kh x eta map at kh = 110.1, eta = 1.256,
+    with the calibrated B = 0.07, Ec = 0.11)."""
+    p = vi.presets.get("fig8").replace(B=0.07, Ec=0.11, kh=110.1, eta=1.256)
+    x = [0.7923091311485236, -0.6426224296374606, 0.786009812795587, 0.8914962638010451]
+    run = vi.simulate(p, periods=10, state0=x, rtol=1e-8, atol=1e-11)
+    assert run.status is vi.Status.OK
+    t = run.events["t"][run.events["which"] == 0]
+    # no two contact switches at one instant, and no more than a few per period
+    assert np.all(np.diff(t) > 0.0)
+    assert len(t) < 20 * 10

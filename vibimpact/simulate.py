@@ -167,7 +167,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
                      float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0])
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, y, pvec, mode)
-    ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX])])
+    ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])
     k_end = transient + periods
     strobe = np.empty((periods + 1, n))
     strobe[0] = y if transient == 0 else np.nan

@@ -71,8 +71,10 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         State at ``(k, s)``; overwritten with the final state.
     mode : int64 array
         Discrete mode, consistent with ``y``; overwritten.
-    ks : float64 array, shape (3,)
-        ``(k, s, h)``: period index, local time, next step size; overwritten.
+    ks : float64 array, shape (3,) or (4,)
+        ``(k, s, h[, steps])``: period index, local time, next step size and, when given,
+        the steps taken so far in period ``k`` (kept across LOG_FULL restarts);
+        overwritten.
     opts : float64 array
         ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period, fixed,
         n_bound)`` (:mod:`.integrator`).
@@ -137,7 +139,9 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     model_rhs(model, s, y, p, mode, f0)
     counters[C_RHS] += 1
     status = OK
-    steps_in_period = 0
+    # carried across calls in ks[3] when the caller provides it (a LOG_FULL restart
+    # must not reset the per-period step limit)
+    steps_in_period = int(ks[3]) if ks.size > 3 else 0
     zeno = 0
     t_since_event = 1e300
     h_cap = 1e300
@@ -299,6 +303,13 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 lands = False
         if th_end > 0.0:
             zeno = 0
+        else:
+            # an event located at the very start of the step: time does not advance, so
+            # it counts towards the Zeno guard like an immediate switch
+            zeno += 1
+            if zeno > 50:
+                status = ZENO
+                break
         h_cap = 1e300
         # distance in time to the nearest terminal surface (for the graded RK4 steps)
         t_since_event = 0.0 if which >= 0 else t_since_event + h
@@ -394,4 +405,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     ks[0] = k
     ks[1] = s
     ks[2] = h
+    if ks.size > 3:
+        ks[3] = steps_in_period
     return status, n_ev

@@ -82,7 +82,23 @@ def locate(model, p, mode, i, method, s0, h, y0, f0, y1, f1, F, ta, tb, ytmp, gb
     ga = _g_at(model, p, mode, i, method, ta, s0, h, y0, f0, y1, f1, F, ytmp, gbuf)
     gb = _g_at(model, p, mode, i, method, tb, s0, h, y0, f0, y1, f1, F, ytmp, gbuf)
     if ga < 0.0 and ta > 0.0:
+        # the accurate interpolant crosses before the Hermite bracket: bracket the first
+        # crossing from the last non-negative point found by halving towards the start.
+        # Falling straight back to 0 would locate a zero-length event whenever g(0) sits
+        # a rounding error below zero (a state an event just put on the surface), and the
+        # mode would flip back and forth without time advancing.
+        tb = ta
+        gb = ga
         ta = 0.0
+        t = tb
+        for _ in range(10):
+            t *= 0.5
+            gt = _g_at(model, p, mode, i, method, t, s0, h, y0, f0, y1, f1, F, ytmp, gbuf)
+            if gt >= 0.0:
+                ta = t
+                break
+            tb = t
+            gb = gt
         ga = _g_at(model, p, mode, i, method, ta, s0, h, y0, f0, y1, f1, F, ytmp, gbuf)
     if gb >= 0.0:
         if tb < 1.0:
