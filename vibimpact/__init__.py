@@ -33,11 +33,14 @@ _EXPORTS = {
     "sweep": ("sweeps.sweep", "sweep"),
     "intervals": ("sweeps.dataset", "intervals"),
     "SweepSettings": ("sweeps.point", "SweepSettings"),
+    "transition_types": ("sweeps.transitions", "transition_types"),
+    "map2d": ("maps.map2d", "map2d"),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings",
-           "__version__"]
+           "transition_types",
+           "map2d", "__version__"]
 
 
 def _load(name):

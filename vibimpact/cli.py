@@ -186,6 +186,7 @@ def build_parser():
     from .cli_sweep import add_parsers
 
     add_parsers(sub, fmt)
+    from .cli_map import add_parser as add_map; add_map(sub, fmt)  # noqa: E702
     add_rerun(sub, fmt)
     return parser
 

@@ -13,7 +13,7 @@ from ._cli_common import _check_output, _parse_sets, _positive_int, _UsageError
 #: the main job of SPEC section 5
 DEFAULT_ETA = "0.9:1.5:0.002"
 DEFAULT_PRESET = "fig8"
-PLOT_KINDS = ("response", "bifurcation", "intervals", "xy")
+PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map")
 
 _CLASSIFY_EPILOG = """\
 examples:
@@ -61,6 +61,8 @@ kinds:
   bifurcation  Poincare X and Y against eta (classify with poincare, or bifurcation)
   intervals    coloured bands per regime along eta, one row per direction (classify)
   xy           the orbit in the (X, Y) clearance plane (a 'vibimpact simulate' file)
+  map          regime, period, impacts, exponent over (eta, PARAM) ('vibimpact map';
+               .zarr or .nc)
 
 Without --kind: xy for a simulate file, response (or bifurcation when the file has no
 response data) for a sweep file.  Without -o: FILE_KIND.png next to FILE.
@@ -291,6 +293,9 @@ def _has(ds, name):
 
 def _cmd_plot(args):
     path = os.fspath(args.file)
+    if args.kind == "map" or os.path.isdir(path):  # a parameter map ('vibimpact map')
+        from .cli_map import plot_command
+        return plot_command(args)
     if not os.path.isfile(path):
         raise _UsageError(f"{path!r}: no such file")
     from . import io
@@ -300,6 +305,9 @@ def _cmd_plot(args):
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
         raise _UsageError(f"cannot read {path!r} as NetCDF: "
                           f"{type(exc).__name__}: {exc}") from None
+    if "map_vary" in ds.attrs:
+        from .cli_map import plot_command
+        return plot_command(args, ds)
     try:
         what = _kind_of(ds)
     except Exception as exc:

@@ -15,6 +15,11 @@
 :func:`test01`              Gottwald--Melbourne 0-1 test for chaos
 :func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED)
 :func:`classify_params`     simulate one parameter point and classify it
+:func:`monodromy`           Jacobian of the n-fold stroboscopic map (variational eqs.)
+:func:`shoot_periodic_orbit` period-n orbit by Newton shooting, with Floquet multipliers
+:func:`floquet_multipliers` eigenvalues of a monodromy matrix, by decreasing modulus
+:func:`locate_bifurcation`  where and how a stable orbit stops persisting in a parameter
+:func:`continue_orbit`      pseudo-arclength continuation of a periodic orbit
 ==========================  ==========================================================
 """
 from .chaos01 import test01
@@ -24,6 +29,9 @@ from .impacts import (ContactArcs, ImpactCount, ImpactStatistics, contact_arcs,
 from .lyapunov import (LyapunovResult, largest_lyapunov, lyapunov_from_jacobians,
                        lyapunov_from_series, lyapunov_spectrum, strobe_map_jacobian)
 from .period import detect_period, impact_map, poincare_section
+from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
+                       monodromy, shoot_periodic_orbit)
+from .continuation import Bifurcation, Branch, continue_orbit, locate_bifurcation
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -31,4 +39,7 @@ __all__ = [
     "detect_period", "impact_count", "impact_map", "impact_statistics",
     "largest_lyapunov", "lyapunov_from_jacobians", "lyapunov_from_series",
     "lyapunov_spectrum", "poincare_section", "strobe_map_jacobian", "test01",
+    "Bifurcation", "Branch", "Monodromy", "PeriodicOrbit", "continue_orbit",
+    "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
+    "shoot_periodic_orbit",
 ]

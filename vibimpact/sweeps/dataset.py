@@ -14,7 +14,8 @@ import numpy as np
 
 from .. import __version__
 from ..analysis.classify import Label
-from .point import CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS
+from .point import (CONTACT_FLAGS, CONTACT_PERMANENT, N_MULTIPLIERS, REGIME_CODES,
+                    REGIME_FLAGS, SCALARS)
 
 #: variable -> (dtype, units, long_name)
 VARIABLES = {
@@ -40,6 +41,11 @@ VARIABLES = {
     "penetration_max": ("f8", "1", "largest penetration (R - 1) / clearance"),
     "transient": ("i4", "1", "forcing periods of transient integrated"),
     "recorded": ("i4", "1", "forcing periods recorded after the transient"),
+    # --- issue 8: Floquet multipliers ("floquet" analysis) ---
+    "floquet_abs_max": ("f8", "1", "largest |Floquet multiplier| of the periodic orbit "
+                        "(NaN: not computed or not periodic)"),
+    "stable": ("i1", "1", "periodic orbit stable, all |multipliers| < 1 (1 yes, 0 no, "
+               "-1 not computed)"),
 }
 
 
@@ -128,6 +134,19 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
                          dict(units="1", long_name="state (X, Y, dX, dY) at the end of "
                               "the point, the next point's initial state"))
     ds = ds.assign_coords(state=("state", np.array(["X", "Y", "dX", "dY"], dtype=object)))
+    # --- issue 8: Floquet multipliers, complex split into real and imaginary parts ---
+    if "floquet" in settings.analyses:
+        mu = np.full((len(dirs), n, N_MULTIPLIERS), np.nan + 0j)
+        for a, d in enumerate(dirs):
+            order = np.arange(n) if d == "up" else np.arange(n)[::-1]
+            for i, r in enumerate(results[d]):
+                if r is not None and "multipliers" in r:
+                    mu[a, order[i]] = np.asarray(r["multipliers"], dtype=complex)
+        for part, arr in (("real", mu.real), ("imag", mu.imag)):
+            ds[f"floquet_{part}"] = (dims + ("multiplier",), arr, dict(
+                units="1", long_name=f"Floquet multipliers of the periodic orbit, {part} "
+                                     "part, by decreasing modulus (shooting, monodromy from "
+                                     "the variational equations)"))
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction

@@ -20,7 +20,7 @@ from ..run import Status
 from ..simulate import simulate
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
-ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01")
+ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
 
 #: regime label -> integer code stored in datasets (CF flag_values / flag_meanings)
 REGIME_CODES = {Label.PERIODIC: 1, Label.QUASIPERIODIC: 2, Label.CHAOTIC: 3,
@@ -98,7 +98,12 @@ SCALARS = {
     "X_m": np.nan, "Y_m": np.nan, "R_m": np.nan, "min_gap": np.nan, "n_arcs": 0,
     "v_impact_max": np.nan, "v_impact_mean": np.nan, "penetration_max": np.nan,
     "transient": 0, "recorded": 0,
+    # --- issue 8: Floquet multipliers of periodic points ("floquet") ---
+    "floquet_abs_max": np.nan, "stable": -1,
 }
+
+#: Floquet multipliers stored per point (one per state variable)
+N_MULTIPLIERS = 4
 
 
 def _converged_period(strobe, rule):
@@ -131,6 +136,23 @@ def _maxima(dense):
     return out
 
 
+def _floquet(p, x, n, st):
+    """Multipliers of the period-``n`` orbit through ``x`` (issue 8).
+
+    One or two Newton steps of :func:`vibimpact.analysis.shoot_periodic_orbit` from the
+    converged point (the monodromy matrix from the variational equations with saltation
+    matrices), at the sweep's integrator tolerances.
+    """
+    from ..analysis.shooting import shoot_periodic_orbit
+
+    orb = shoot_periodic_orbit(p, x, n, tol=100.0 * st.rtol, max_iter=4, damping=False,
+                               method=st.method, rtol=st.rtol, atol=st.atol)
+    if not orb.converged or orb.minimal_period != n:
+        return {}
+    return dict(multipliers=orb.multipliers, floquet_abs_max=orb.abs_max,
+                stable=int(orb.abs_max < 1.0))
+
+
 def analyse_point(p, state0, settings):
     """Analyse one parameter point.
 
@@ -145,7 +167,9 @@ def analyse_point(p, state0, settings):
     -------
     result : dict
         :data:`SCALARS` entries, ``arcs`` (str), ``samples`` (n_samples, 4) Poincaré
-        points (NaN where not computed), ``final_state`` (4,) for the next point.
+        points (NaN where not computed), ``final_state`` (4,) for the next point,
+        ``multipliers`` (4,) complex Floquet multipliers of a periodic point (NaN where
+        not computed; the "floquet" analysis, issue 8).
     """
     st = settings
     rule = st.rule
@@ -156,6 +180,7 @@ def analyse_point(p, state0, settings):
     res["samples"] = np.full((st.n_samples, 4), np.nan)
     x = np.zeros(4) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
     res["final_state"] = np.full(4, np.nan)
+    res["multipliers"] = np.full(N_MULTIPLIERS, np.nan + 0j)
     kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
 
     def diverged(run, where):
@@ -234,6 +259,10 @@ def analyse_point(p, state0, settings):
         else:
             k = min(st.n_samples, pts.shape[0])
             res["samples"][:k] = pts[-k:]
+
+    # --- issue 8: Floquet multipliers of a periodic point by shooting -----------------
+    if n and "floquet" in want:
+        res.update(_floquet(p, x, n, st))
 
     # --- chaos tests, only where no period was found ----------------------------------
     T = 2.0 * math.pi / p.eta

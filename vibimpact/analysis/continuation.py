@@ -1,0 +1,596 @@
+"""Following a periodic orbit in a parameter: where and how it ends, and its whole branch.
+
+Two tools on top of :func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`:
+
+* :func:`locate_bifurcation` -- natural-parameter stepping with bisection: the first
+  parameter value between ``start`` and ``stop`` where a stable period-``n`` orbit stops
+  *persisting* (it loses stability, vanishes, collapses onto a lower period, or changes
+  its sequence of switching events), bracketed to ``tol``, and the kind of that event
+  from the Floquet multipliers (Kuznetsov 2004, ch. 4; Leine & Nijmeijer 2004, ch. 7):
+  a multiplier through ``-1``: period doubling; through ``+1``: fold (the orbit
+  vanishes at a turning point); a complex pair: Neimark--Sacker; a new or lost switching
+  event (contact entry, lift-off, stick): grazing / a switching (discontinuity-induced)
+  bifurcation (di Bernardo et al. 2008, ch. 8).
+* :func:`continue_orbit` -- pseudo-arclength continuation (Keller 1977; Seydel 2010,
+  sec. 4.4; Allgower & Georg 2003) of ``G(x, lambda) = P^n(x; lambda) - x = 0`` in
+  ``(x, lambda)``.  It goes round folds, so it follows the *unstable* branches that a
+  brute-force sweep, which only ever sees attractors, misses.
+
+References
+----------
+.. [1] H. B. Keller, "Numerical solution of bifurcation and nonlinear eigenvalue
+   problems", in *Applications of Bifurcation Theory*, Academic Press (1977) 359-384.
+.. [2] R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer
+   (2010), ch. 4 and 7.
+.. [3] E. L. Allgower, K. Georg, *Introduction to Numerical Continuation Methods*, SIAM
+   (2003), ch. 2.
+.. [4] Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer
+   (2004), ch. 4.
+.. [5] R. I. Leine, H. Nijmeijer, *Dynamics and Bifurcations of Non-Smooth Mechanical
+   Systems*, Springer (2004), ch. 7.
+.. [6] M. di Bernardo, C. J. Budd, A. R. Champneys, P. Kowalczyk, *Piecewise-smooth
+   Dynamical Systems*, Springer (2008), ch. 8 (grazing of periodic orbits).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..run import Status
+from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
+from .shooting import (PeriodicOrbit, critical_multiplier, floquet_multipliers, monodromy,
+                       param_value, shoot_periodic_orbit, with_param)
+
+__all__ = ["Bifurcation", "Branch", "locate_bifurcation", "continue_orbit",
+           "orbit_signature", "grazing_gap", "KIND_BY_MULTIPLIER"]
+
+#: bifurcation named by the multiplier that leaves the unit circle
+KIND_BY_MULTIPLIER = {"-1": "period doubling", "+1": "fold", "complex": "Neimark-Sacker"}
+
+_SOLVER = dict(method="dop853", rtol=1e-10, atol=1e-12)
+
+
+def orbit_signature(p, state, n, *, model=None):
+    """The switching events of a period-``n`` orbit, as a hashable tuple.
+
+    ``(counts, modes)``: the number of mode-changing events of each terminal switch over
+    ``n`` periods, and the sorted distinct modes the orbit visits.  Both are independent
+    of where on the orbit ``state`` lies (an event crossing the strobe instant changes
+    nothing).  For the rotor, ``counts = (contact entries + exits, slip/stick switches)``
+    and ``modes`` tells free flight, contact and the friction state apart, so permanent
+    contact and impactless motion differ.  Two orbits of one branch have the same
+    signature until a grazing (a contact appears or disappears, or a permanent contact
+    lifts off) or a stick-slip change.
+    """
+    mdl, pvec = _model_and_vector(p, model)
+    x = _state0(state, len(mdl.state_names))
+    mode = np.zeros(mdl.n_mode, dtype=np.int64)
+    mdl.init_mode(0.0, x.copy(), pvec, mode)
+    run = simulate(p, periods=n, state0=x, model=model, **_SOLVER)
+    if run.status is not Status.OK:
+        return ("diverged",)
+    w = np.asarray(run.events["which"])
+    before = np.asarray(run.events["mode_before"]).reshape(w.size, -1)
+    after = np.asarray(run.events["mode_after"]).reshape(w.size, -1)
+    changed = np.any(before != after, axis=1)
+    counts = tuple(int(np.sum((w == i) & changed)) for i in range(mdl.terminal.size)
+                   if mdl.terminal[i] == 1)
+    modes = {tuple(int(m) for m in mode)}
+    modes.update(tuple(int(m) for m in row) for row in after[changed])
+    return counts, tuple(sorted(modes))
+
+
+def grazing_gap(p, state, n, *, model=None):
+    """Smallest ``|R - 1|`` over the extrema of ``R`` along a rotor orbit (0 at grazing).
+
+    The extrema are the located zeros of ``dR/dtau`` (the rotor's observer switch): the
+    closest approaches in free flight and the deepest points of contacts.  NaN for a model
+    other than the rotor (no retainer) or an orbit without extrema.
+    """
+    mdl, _ = _model_and_vector(p, model)
+    if mdl.name != "rotor":
+        return math.nan
+    run = simulate(p, periods=n, state0=state, model=model, **_SOLVER)
+    if run.status is not Status.OK:
+        return math.nan
+    ext = np.asarray(run.events["which"]) == 2
+    if not np.any(ext):
+        return math.nan
+    R = np.hypot(*np.asarray(run.events["state"])[ext, :2].T)
+    return float(np.min(np.abs(R - 1.0)))
+
+
+@dataclass(frozen=True)
+class Bifurcation:
+    """Where, and how, a stable periodic orbit stops persisting.
+
+    Attributes
+    ----------
+    param : str or int
+    value : float
+        Midpoint of ``bracket``; NaN when the orbit persists over the whole range
+        (``kind == "none"``).
+    bracket : (float, float)
+        Last value where the orbit persists, first where it does not.
+    kind : str
+        ``"period doubling"``, ``"fold"``, ``"Neimark-Sacker"``, ``"grazing"`` (the
+        contact events of the orbit change), ``"stick-slip"`` (its friction events
+        change) or ``"none"``.
+    detail : str
+        The evidence in words.
+    orbit : PeriodicOrbit
+        At the persisting end of the bracket.
+    beyond : PeriodicOrbit or None
+        The Newton result at the other end (``converged`` False past a fold).
+    signature, signature_beyond : tuple
+        :func:`orbit_signature` at both ends.
+    gap : float
+        :func:`grazing_gap` of ``orbit`` (rotor only).
+    at_grazing : bool
+        The event is a grazing, or a fold within ``10 tol`` of grazing in gap (a
+        grazing-induced fold: with the stiff Hertz contact the multipliers move fast just
+        past grazing and the orbit vanishes a few 1e-5 in eta later).
+    """
+
+    param: object
+    value: float
+    bracket: tuple
+    kind: str
+    detail: str
+    orbit: PeriodicOrbit
+    beyond: object = None
+    signature: tuple = ()
+    signature_beyond: tuple = ()
+    gap: float = math.nan
+    at_grazing: bool = False
+
+    @property
+    def multipliers(self):
+        """Floquet multipliers at the persisting end."""
+        return self.orbit.multipliers
+
+
+def _persistence(p, param, value, guess, n, ref_sig, model, shoot_kw, settle=100):
+    """Shoot at ``value``; returns (ok, why, orbit, signature).
+
+    When Newton fails from ``guess`` the motion is first integrated ``settle`` periods
+    and Newton tried again from there: next to a grazing with a discontinuous vector
+    field (tangential damping B_T) the map is non-smooth and Newton from the other side
+    of the grazing can fail although the orbit exists.  An orbit found that way counts
+    only when it lies within 2 % of the orbit's size of ``guess`` (past a true fold the
+    motion leaves for a distant attractor, or lingers near the ghost and Newton fails
+    again).
+    """
+    q = with_param(p, param, value)
+    scale = max(1.0, float(np.abs(guess).max()))
+    orb = shoot_periodic_orbit(q, guess, n, model=model, **shoot_kw)
+    if not orb.converged and settle:
+        run = simulate(q, periods=settle, state0=guess, model=model, **_SOLVER)
+        if run.status is Status.OK:
+            o2 = shoot_periodic_orbit(q, run.final_state, n, model=model, **shoot_kw)
+            if o2.converged and \
+                    float(np.abs(o2.cycle - guess).max(axis=1).min()) <= 0.02 * scale:
+                orb = o2
+    if not orb.converged:
+        return False, "fold", orb, ()
+    jump = float(np.abs(orb.cycle - guess).max(axis=1).min())
+    if jump > 0.25 * scale:
+        return False, "fold", orb, ()  # Newton left for another orbit: this one is gone
+    if orb.minimal_period < n:  # the orbit of lower period it collapsed onto
+        low = shoot_periodic_orbit(q, orb.state, orb.minimal_period, model=model,
+                                   **shoot_kw)
+        return False, "collapse", (low if low.converged else orb), ()
+    k = int(np.argmin(np.abs(orb.cycle - guess).max(axis=1)))
+    if k:  # the same cycle from another of its points (after settling): re-anchor it
+        orb = shoot_periodic_orbit(q, orb.cycle[k], n, model=model, **shoot_kw)
+    sig = orbit_signature(q, orb.state, n, model=model)
+    if orb.abs_max >= 1.0:
+        return False, "unstable", orb, sig
+    if ref_sig is not None and sig != ref_sig:
+        return False, "signature", orb, sig
+    return True, "", orb, sig
+
+
+def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
+    """Bifurcation kind, evidence, and whether it happens at grazing."""
+    mu = orb_lo.multipliers
+    top = mu[0] if mu.size else complex(math.nan)
+    at = f"|mu|max = {abs(top):.4f} (mu = {top.real:+.4f}{top.imag:+.4f}j)"
+    if why == "collapse":
+        ratio = orb_lo.n // max(1, orb_hi.minimal_period)
+        ml = orb_hi.multipliers[0]
+        text = (f"the period-{orb_lo.n} orbit collapses onto period "
+                f"{orb_hi.minimal_period}; {at}; the period-{orb_hi.minimal_period} "
+                f"orbit there: mu = {ml.real:+.4f}{ml.imag:+.4f}j (|mu| {abs(ml):.4f}, "
+                f"arg {math.degrees(math.atan2(ml.imag, ml.real)):.1f} deg)")
+        if ratio == 2:
+            return "period doubling", text, False
+        # a period-k orbit, k > 2, born from a period-1 orbit: a resonance of a complex
+        # pair of multipliers (Kuznetsov 2004, sec. 9.5), or a fold of the k-cycle
+        crit = critical_multiplier(orb_hi.multipliers)
+        kind = ("Neimark-Sacker" if crit == "complex" else
+                KIND_BY_MULTIPLIER.get(crit, "fold"))
+        return kind, text + f" (resonance 1:{ratio})", False
+    if why == "unstable":
+        crit = critical_multiplier(orb_hi.multipliers)
+        mh = orb_hi.multipliers[0]
+        return (KIND_BY_MULTIPLIER[crit],
+                f"multiplier leaves the unit circle through {crit}: {at} before, "
+                f"mu = {mh.real:+.4f}{mh.imag:+.4f}j after", False)
+    if why == "fold":
+        crit = critical_multiplier(mu)
+        text = (f"no orbit beyond (Newton fails); {at}, largest multiplier "
+                f"{'real positive' if crit == '+1' else crit}")
+        at_grazing = bool(np.isfinite(gap) and gap <= 10.0 * tol)
+        if at_grazing:
+            text += f"; at grazing (gap {gap:.1e} at the bracket)"
+        elif crit != "+1":
+            text += " (non-smooth: no multiplier approaches +1)"
+        return "fold", text, at_grazing
+    # the switching events changed
+    (cl, ml), (ch, mh) = sig_lo, (sig_hi if len(sig_hi) == 2 else ((), ()))
+    first = [m[0] for m in ml], [m[0] for m in mh]
+    if (cl[:1] != ch[:1]) or sorted(set(first[0])) != sorted(set(first[1])):
+        return ("grazing", f"contact events per orbit {cl[0] if cl else '?'} -> "
+                           f"{ch[0] if ch else '?'}, modes {ml} -> {mh}; {at}", True)
+    return ("stick-slip", f"friction events per orbit {cl[1:]} -> {ch[1:]}, modes {ml} "
+                          f"-> {mh}; {at}", False)
+
+
+def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=None,
+                       shoot_kw=None, model=None):
+    """The first value between ``start`` and ``stop`` where a stable period-``n`` orbit
+    stops persisting, bracketed to ``tol``, and the kind of bifurcation.
+
+    The orbit is shot at ``start`` from ``state0``, then followed towards ``stop`` in
+    steps of at most ``step`` (Newton from a secant prediction of the previous orbits);
+    a failing step is halved and retried from the last good orbit until it is below
+    ``tol``, so every verdict comes from a guess at most ``tol`` away (plain bisection,
+    which keeps an old failure, would take a Newton iteration that jumped to a
+    neighbouring orbit for the end of the branch).  It *persists* while Newton
+    converges near the previous orbit (after settling the motion for 100 periods when
+    Newton alone fails, see :func:`_persistence`), the orbit keeps its minimal period
+    ``n``, every Floquet multiplier stays inside the unit circle, and its switching
+    events (:func:`orbit_signature`) stay the same.  A fold within ``10 tol`` of a
+    grazing (in the smallest gap) is flagged ``at_grazing``.
+
+    Parameters
+    ----------
+    p : Params or DuffingParams (or a parameter vector with ``model``)
+    state0 : array_like, shape (d,)
+        A guess of the orbit at ``start``.
+    n : int
+        Period in forcing periods.
+    param : str or int
+        The parameter varied (``"eta"``, ``"gamma"``, ``"omega"``, ... or an index).
+    start, stop : float
+        The range; ``stop`` may be below ``start``.
+    tol : float
+        Width of the final bracket.
+    step : float, optional
+        Largest continuation step (``|stop - start|`` by default: bisection at once).
+    shoot_kw : dict, optional
+        Passed to :func:`shoot_periodic_orbit` (``tol``, ``rtol``, ...).
+    model : Model, optional
+
+    Returns
+    -------
+    Bifurcation
+        ``kind == "none"`` (value NaN) when the orbit persists up to ``stop``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument; ``state0`` when no stable period-``n`` orbit is found at
+        ``start``.
+
+    Examples
+    --------
+    The period doubling of the Duffing oscillator's period-1 orbit
+    (``delta = 0.3, alpha = -1, beta = 1, omega = 1.2``) near ``gamma = 0.2656``:
+
+    >>> import vibimpact as vi
+    >>> from vibimpact.analysis import locate_bifurcation
+    >>> b = locate_bifurcation(vi.DuffingParams(gamma=0.25), [1.0, 0.0], param="gamma",
+    ...                        start=0.25, stop=0.28, tol=1e-5)
+    >>> b.kind
+    'period doubling'
+    """
+    start = float(_finite("start", start))
+    stop = float(_finite("stop", stop))
+    if start == stop:
+        raise ValueError("stop must differ from start")
+    tol = _positive("tol", tol)
+    n = _count("n", n, 1)
+    param_value(p, param)  # validates param
+    step = abs(stop - start) if step is None else _positive("step", step)
+    shoot_kw = dict(shoot_kw or {})
+    q0 = with_param(p, param, start)
+    orb = shoot_periodic_orbit(q0, state0, n, model=model, **shoot_kw)
+    if not orb.converged or orb.minimal_period < n or orb.abs_max >= 1.0:
+        raise ValueError(f"state0: no stable period-{n} orbit found at {param} = {start} "
+                         f"(converged {orb.converged}, |mu|max {orb.abs_max:.4g}, "
+                         f"minimal period {orb.minimal_period})")
+    sig = orbit_signature(q0, orb.state, n, model=model)
+    lo, lo_orb = start, orb
+    prev = None  # (value, state) before lo: secant predictor
+    sgn = 1.0 if stop > start else -1.0
+    h = min(step, abs(stop - start))
+    while True:
+        h = min(h, abs(stop - lo))
+        nxt = stop if h == abs(stop - lo) else lo + sgn * h
+        guess = lo_orb.state
+        if prev is not None:
+            guess = guess + (lo_orb.state - prev[1]) * ((nxt - lo) / (lo - prev[0]))
+        ok, why, o, s = _persistence(p, param, nxt, guess, n, sig, model, shoot_kw)
+        if not ok and prev is not None:  # the secant may overshoot near a fold
+            ok, why, o, s = _persistence(p, param, nxt, lo_orb.state, n, sig, model,
+                                         shoot_kw)
+        if ok:
+            prev = (lo, lo_orb.state)
+            lo, lo_orb = nxt, o
+            if nxt == stop:
+                gap = grazing_gap(with_param(p, param, lo), lo_orb.state, n, model=model)
+                return Bifurcation(param, math.nan, (lo, lo), "none",
+                                   f"the orbit persists up to {param} = {stop}", lo_orb,
+                                   None, sig, sig, gap)
+            h = min(2.0 * h, step)
+        elif h <= tol:
+            hi, hi_why, hi_orb, hi_sig = nxt, why, o, s
+            break
+        else:
+            h = 0.5 * h if 0.5 * h > tol else tol
+    gap = grazing_gap(with_param(p, param, lo), lo_orb.state, n, model=model)
+    kind, detail, at_grazing = _kind(hi_why, lo_orb, hi_orb, sig, hi_sig, gap, tol)
+    return Bifurcation(param, 0.5 * (lo + hi), (lo, hi), kind, detail, lo_orb, hi_orb, sig,
+                       hi_sig, gap, at_grazing)
+
+
+def _finite(name, v):
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {v!r}") from None
+    if not math.isfinite(f):
+        raise ValueError(f"{name} must be finite, got {v!r}")
+    return f
+
+
+# --- pseudo-arclength continuation ------------------------------------------------------
+
+@dataclass(frozen=True)
+class Branch:
+    """A branch of period-``n`` orbits followed in one parameter.
+
+    Attributes
+    ----------
+    param : str or int
+    values : ndarray, shape (k,)
+        Parameter at each point, in continuation order (not monotonic past a fold).
+    states : ndarray, shape (k, d)
+        A stroboscopic point of each orbit.
+    multipliers : ndarray of complex, shape (k, d)
+    stable : ndarray of bool, shape (k,)
+    amplitude : dict of str -> ndarray, shape (k,)
+        Response measures of each orbit (rotor: ``X_m``, ``Y_m``, ``R_m``; any model:
+        ``<state>_m`` for the first two states), from densely sampled motion.
+    n : int
+    bifurcations : tuple of (int, str, float)
+        ``(index, kind, value)``: between point ``index - 1`` and ``index`` the stability
+        changed (kind from the multiplier crossing; value by linear interpolation of
+        ``|mu|max - 1``, so to about the square of the step; refine with
+        :func:`locate_bifurcation`), or at point ``index`` the parameter turned
+        ("fold (turning point)").
+    status : str
+        Why the continuation stopped.
+    """
+
+    param: object
+    values: np.ndarray
+    states: np.ndarray
+    multipliers: np.ndarray
+    stable: np.ndarray
+    amplitude: dict
+    n: int
+    bifurcations: tuple = ()
+    status: str = ""
+
+
+def _amplitude(p, x, n, model, names, dense=96):
+    run = simulate(p, periods=n, state0=x, dense=dense, model=model, **_SOLVER)
+    out = {}
+    if run.status is not Status.OK or run.dense is None:
+        return {k: math.nan for k in names}
+    D = run.dense
+    for j, name in enumerate(names[:2]):
+        out[name] = float(np.abs(D[:, j]).max())
+    if "R_m" in names:
+        R = np.hypot(D[:, 0], D[:, 1])
+        ext = np.asarray(run.events["which"]) == 2
+        Rm = float(R.max())
+        if np.any(ext):
+            Rm = max(Rm, float(np.hypot(*np.asarray(run.events["state"])[ext, :2].T).max()))
+        out["R_m"] = Rm
+    return out
+
+
+def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
+                   ds_max=0.02, max_points=400, direction=1, fd_step=1e-6, newton_tol=1e-9,
+                   max_newton=8, amplitude=True, model=None, **solver):
+    """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
+
+    Unknowns ``u = (x, lambda)``; equations ``G(u) = P^n(x; lambda) - x = 0`` and the
+    arclength condition ``t . (u - u_pred) = 0`` with the unit tangent ``t`` of the
+    previous point (Keller 1977).  ``G_x = M - I`` comes from the variational equations
+    (:func:`monodromy`), ``G_lambda`` from central differences of the map in the
+    parameter.  The tangent is the null vector of ``[G_x | G_lambda]``, oriented to keep
+    the direction of travel, so the continuation goes round folds onto the unstable branch.
+    The step adapts (x1.5 after a fast corrector, /2 after a failure).
+
+    Parameters
+    ----------
+    p : Params or DuffingParams (or a parameter vector with ``model``)
+        Its value of ``param`` is the starting value.
+    state0 : array_like, shape (d,)
+        A guess of the orbit at the start (shot first).
+    n : int
+    param : str or int
+        ``"eta"`` for the rotor's frequency; any parameter name or index.
+    stop : (float, float) or float
+        The parameter window ``(lo, hi)`` (a single float: from the start value to it);
+        the continuation ends when it leaves the window.
+    ds, ds_min, ds_max : float
+        Initial, smallest and largest arclength step.
+    max_points : int
+    direction : {1, -1}
+        Initial direction in the parameter.
+    fd_step : float
+        Relative step of the central difference in the parameter.
+    newton_tol, max_newton : float, int
+        Corrector tolerance on ``max |G|`` and iterations per step.
+    amplitude : bool
+        Compute the response amplitudes of every orbit (one dense run each).
+    model : Model, optional
+    **solver
+        ``method``, ``rtol``, ``atol`` of the integrations.
+
+    Returns
+    -------
+    Branch
+
+    Raises
+    ------
+    ValueError
+        Naming the argument; ``state0`` when the shooting at the start fails.
+    """
+    mdl, _ = _model_and_vector(p, model)
+    d = len(mdl.state_names)
+    n = _count("n", n, 1)
+    lam0 = param_value(p, param)
+    if np.ndim(stop) == 0:
+        s = _finite("stop", stop)
+        window = (min(lam0, s), max(lam0, s))
+    else:
+        if len(stop) != 2:
+            raise ValueError(f"stop must be a float or (lo, hi), got {stop!r}")
+        window = tuple(sorted((_finite("stop", stop[0]), _finite("stop", stop[1]))))
+    ds = _positive("ds", ds)
+    ds_min = _positive("ds_min", ds_min)
+    ds_max = _positive("ds_max", ds_max)
+    max_points = _count("max_points", max_points, 2)
+    if direction not in (1, -1):
+        raise ValueError(f"direction must be 1 or -1, got {direction!r}")
+    fd_step = _positive("fd_step", fd_step)
+    kw = {**_SOLVER, **solver}
+    orb = shoot_periodic_orbit(p, state0, n, tol=newton_tol, model=model, **kw)
+    if not orb.converged:
+        raise ValueError(f"state0: shooting failed at the start ({orb.reason})")
+    names = (("X_m", "Y_m", "R_m") if mdl.name == "rotor" else
+             tuple(f"{s}_m" for s in mdl.state_names[:2]))
+
+    def jac(x, lam):
+        if not window[0] - 10.0 * ds_max <= lam <= window[1] + 10.0 * ds_max:
+            return None, None  # a corrector iterate far outside the window
+        try:
+            m = monodromy(with_param(p, param, lam), x, n, model=model, **kw)
+        except ValueError:  # an invalid parameter value (e.g. eta <= 0)
+            return None, None
+        if m.status is not Status.OK:
+            return None, None
+        h = fd_step * max(1.0, abs(lam))
+        a = simulate(with_param(p, param, lam + h), periods=n, state0=x, model=model,
+                     **kw)
+        b = simulate(with_param(p, param, lam - h), periods=n, state0=x, model=model,
+                     **kw)
+        if a.status is not Status.OK or b.status is not Status.OK:
+            return None, None
+        Gl = (a.final_state - b.final_state) / (2.0 * h)
+        return m, np.hstack([m.matrix - np.eye(d), Gl[:, None]])
+
+    def tangent(Jg, t_prev):
+        A = np.vstack([Jg, t_prev[None, :]])
+        rhs = np.zeros(d + 1)
+        rhs[-1] = 1.0
+        t = np.linalg.solve(A, rhs)
+        t /= np.linalg.norm(t)
+        return t if t @ t_prev >= 0.0 else -t
+
+    x, lam = orb.state.copy(), lam0
+    m, Jg = jac(x, lam)
+    t = np.zeros(d + 1)
+    t[-1] = float(direction)
+    t = tangent(Jg, t)
+    vals, states, mults, stab, amps = [], [], [], [], []
+
+    def record(x, lam, M):
+        mu = floquet_multipliers(M)
+        vals.append(lam)
+        states.append(x.copy())
+        mults.append(mu)
+        stab.append(bool(np.abs(mu).max() < 1.0))
+        if amplitude:
+            amps.append(_amplitude(with_param(p, param, lam), x, n, model, names))
+
+    record(x, lam, m.matrix)
+    status = f"max_points ({max_points}) reached"
+    while len(vals) < max_points:
+        u_pred = np.append(x, lam) + ds * t
+        u = u_pred.copy()
+        ok = False
+        for it in range(max_newton):
+            if not window[0] - 1e-12 <= u[-1] <= window[1] + 1e-12 and it == 0:
+                break
+            mm, J = jac(u[:-1], u[-1])
+            if mm is None:
+                break
+            G = mm.end - mm.start
+            r = np.append(G, t @ (u - u_pred))
+            if np.abs(G).max() <= newton_tol * max(1.0, np.abs(u[:-1]).max()) and it > 0:
+                ok = True
+                break
+            try:
+                du = np.linalg.solve(np.vstack([J, t[None, :]]), -r)
+            except np.linalg.LinAlgError:
+                break
+            u = u + du
+            if not np.all(np.isfinite(u)):
+                break
+        if not ok:
+            if not window[0] <= u_pred[-1] <= window[1]:
+                status = "left the parameter window"
+                break
+            ds *= 0.5
+            if ds < ds_min:
+                status = f"step below ds_min ({ds_min}) at {param} = {lam:.6g}"
+                break
+            continue
+        x_new, lam_new = u[:-1], u[-1]
+        if not window[0] <= lam_new <= window[1]:
+            status = "left the parameter window"
+            break
+        t = tangent(J, t)
+        x, lam, m = x_new, lam_new, mm
+        record(x, lam, m.matrix)
+        ds = min(ds_max, ds * 1.5) if it <= 3 else ds
+    vals = np.array(vals)
+    stab = np.array(stab)
+    mults = np.array(mults)
+    turns = [i for i in range(1, vals.size - 1)
+             if (vals[i] - vals[i - 1]) * (vals[i + 1] - vals[i]) < 0]
+    bif = [(i, "fold (turning point)", float(vals[i])) for i in turns]
+    for i in range(1, vals.size):
+        if stab[i] != stab[i - 1]:
+            unstable = mults[i] if not stab[i] else mults[i - 1]
+            kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
+            if kind == "fold" and any(abs(i - j) <= 1 for j in turns):
+                continue  # the turning point itself is listed
+            # linear interpolation of |mu|max - 1 between the two points
+            g0 = float(np.abs(mults[i - 1]).max()) - 1.0
+            g1 = float(np.abs(mults[i]).max()) - 1.0
+            w = g0 / (g0 - g1) if g0 != g1 else 0.5
+            bif.append((i, kind, float(vals[i - 1] + w * (vals[i] - vals[i - 1]))))
+    bif.sort()
+    amp = {k: np.array([a[k] for a in amps]) for k in names} if amplitude else {}
+    return Branch(param, vals, np.array(states), mults, stab, amp, n, tuple(bif), status)

@@ -1,0 +1,331 @@
+"""The ``vibimpact map`` command: a regime map over eta and one other parameter.
+
+Like :mod:`vibimpact.cli`, this module imports only the standard library at module level;
+numpy, xarray, dask and matplotlib are imported inside the commands, so ``--help`` stays
+instant.
+"""
+import math
+import os
+import sys
+
+from ._cli_common import _check_output, _parse_sets, _positive_int, _UsageError
+
+DEFAULT_ETA = "0.9:1.5:0.005"
+
+_MAP_EPILOG = """\
+examples:
+  vibimpact map --eta 0.9:1.5:0.005 --vary kh=10:120:10 -o map.zarr
+  vibimpact map --eta 0.9:1.5:0.005 --vary f=0:0.1:0.01 --preset fig11 \\
+      --direction both -o f.nc --plot f.png
+  vibimpact map --eta 0.9:1.5:0.002 --vary kh=10:120:1 \\
+      --scheduler tcp://scheduler-host:8786 -o fine.zarr
+  vibimpact plot map.zarr --kind map -o map.png
+
+Every row (one value of the varied parameter) is an eta sweep with continuation, as in
+'vibimpact classify --blocks 1'; rows are independent tasks.  Without --scheduler they run
+on a local Dask cluster of --workers processes (1: in this process); with --scheduler on
+the workers of a running Dask cluster (an address, or a scheduler file as written by
+'dask scheduler --scheduler-file', dask-jobqueue or dask-mpi).  The result never depends
+on where or in which order rows run.
+
+Each finished row is saved at once in the checkpoint directory OUT.partial.  After
+Ctrl-C, a kill or a lost cluster, run the same command again with --resume: the saved
+rows are loaded, not recomputed, and the map is identical to an uninterrupted run.
+
+OUT.zarr is a Zarr store, OUT.nc a NetCDF file; dims (PARAM, eta) or, with --direction
+both, (direction, PARAM, eta); variables as in a classify file (regime, label, period,
+impacts_per_period, lyapunov, ...).  --vary takes START:STOP:STEP (STOP included when on
+the grid) or a comma-separated list of values.
+
+exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+"""
+
+
+def parse_vary(text, preset_params):
+    """``NAME=START:STOP:STEP`` or ``NAME=V1,V2,...`` -> ``(name, values)``.
+
+    Raises
+    ------
+    _UsageError
+        Naming the problem (the size check and the parameter's domain included).
+    """
+    import numpy as np
+
+    from ._limits import check_points
+    from .maps.map2d import check_vary, parameter_names
+
+    name, sep, spec = str(text).partition("=")
+    name = name.strip()
+    if not sep or not name or not spec.strip():
+        raise _UsageError(f"--vary expects NAME=START:STOP:STEP or NAME=V1,V2,..., "
+                          f"got {text!r}")
+    if name == "eta":
+        raise _UsageError("--vary: eta is the map's other axis; set its grid with --eta")
+    if name not in parameter_names():
+        raise _UsageError(f"--vary: unknown parameter {name!r}; choose one of "
+                          f"{', '.join(parameter_names())}")
+    try:
+        if ":" in spec:
+            parts = spec.split(":")
+            if len(parts) != 3:
+                raise ValueError(f"{name} must be START:STOP:STEP, got {spec!r}")
+            try:
+                a, b, h = (float(x) for x in parts)
+            except ValueError:
+                raise ValueError(f"{name} must be three numbers START:STOP:STEP, got "
+                                 f"{spec!r}") from None
+            if not all(math.isfinite(v) for v in (a, b, h)):
+                raise ValueError(f"{name} range must be finite, got {spec!r}")
+            if h <= 0.0:
+                raise ValueError(f"{name} STEP must be > 0, got {spec!r}")
+            if b < a:
+                raise ValueError(f"{name} STOP must be >= START, got {spec!r}")
+            approx = (b - a) / h + 1.0
+            if approx > 1e15:  # beyond exact integers (or inf): refuse without converting
+                check_points(approx, name=name)
+            count = int(math.floor((b - a) / h + 1e-9)) + 1
+            check_points(count, name=name)
+            values = np.round(a + h * np.arange(count), 12)
+        else:
+            try:
+                values = [float(x) for x in spec.split(",")]
+            except ValueError:
+                raise ValueError(f"{name} values must be numbers, got {spec!r}") from None
+        check_vary(preset_params, {name: values})
+    except ValueError as exc:
+        msg = str(exc)
+        raise _UsageError(f"--{msg}" if msg.startswith("vary ") else f"--vary: {msg}") \
+            from None
+    return name, np.asarray(values, dtype=float)
+
+
+def _check_map_output(out, overwrite):
+    from .maps.store import output_format
+
+    try:
+        fmt = output_format(out)
+    except ValueError as exc:
+        raise _UsageError(f"-o: {exc}") from None
+    if fmt == "netcdf":
+        _check_output(out, overwrite, "output file")
+        return
+    if os.path.lexists(out):
+        if not overwrite:
+            raise _UsageError(f"output {out!r} exists; pass --overwrite to replace it")
+        if not os.path.isfile(os.path.join(out, "zarr.json")):
+            raise _UsageError(f"output {out!r} exists and is not a Zarr store; not "
+                              "replacing it")
+    _check_output(out.rstrip("/" + os.sep) + ".probe", False, "output")
+
+
+def _inputs(args):
+    """Parameters, eta grid, (name, values) from the parsed arguments."""
+    from . import presets
+    from .maps.map2d import check_size
+    from .sweeps import parse_range
+
+    try:
+        etas = parse_range(args.eta)
+    except ValueError as exc:
+        raise _UsageError(f"--eta: {exc}") from None
+    sets = _parse_sets(args.set)
+    try:
+        params = presets.get(args.preset).replace(**sets)
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
+    if len(args.vary) != 1:
+        raise _UsageError("give exactly one --vary NAME=START:STOP:STEP (a map varies eta "
+                          "and one other parameter)")
+    name, values = parse_vary(args.vary[0], params)
+    if name in sets:
+        raise _UsageError(f"{name} is both --set and --vary; give it only with --vary")
+    rows = values.size * (2 if args.direction == "both" else 1)
+    try:
+        check_size(etas.size, rows, name)
+    except ValueError as exc:
+        raise _UsageError(str(exc)) from None
+    return params, etas, name, values
+
+
+def _cmd_map(args):
+    import shlex
+    import shutil
+    import time
+
+    from .cli_sweep import _interrupt_status, _parse_analyses, _StopWorkersOnSignal
+
+    out = os.fspath(args.output).rstrip("/" + os.sep) or os.fspath(args.output)
+    ckpt = out + ".partial"
+    params, etas, name, values = _inputs(args)
+    analyses = _parse_analyses(args.analyses)
+    if args.scheduler is not None and args.workers is not None:
+        raise _UsageError("--workers is for local runs; the workers of --scheduler are "
+                          "the cluster's")
+    resuming = args.resume and os.path.isdir(ckpt)
+    _check_map_output(out, args.overwrite or resuming)
+    if args.plot is not None:
+        from .cli_sweep import _image_ext_ok
+
+        _image_ext_ok(args.plot, "--plot")
+        _check_output(args.plot, args.overwrite, "plot file")
+    if os.path.lexists(ckpt) and not os.path.isdir(ckpt):
+        raise _UsageError(f"checkpoint {ckpt!r} exists and is not a directory; remove it")
+    if os.path.isdir(ckpt) and not args.resume:
+        raise _UsageError(f"checkpoint {ckpt!r} exists (an interrupted run): pass --resume "
+                          "to continue it, or remove it")
+
+    from .maps import execute, store
+    from .maps.map2d import map2d
+
+    scheduler = None
+    if args.scheduler is not None:
+        try:
+            scheduler, _ = execute.connect(args.scheduler)
+        except ValueError as exc:
+            raise _UsageError(f"--scheduler: {exc}") from None
+    workers = args.workers if args.workers is not None else min(2, os.cpu_count() or 1)
+    loaded = store.saved_rows(ckpt) if resuming else 0
+    t0 = time.perf_counter()
+    try:
+        with _StopWorkersOnSignal():
+            ds = map2d(params, etas, {name: values}, direction=args.direction,
+                       analyses=analyses, scheduler=scheduler, workers=workers,
+                       task_points=args.task_points, store=ckpt, resume=args.resume,
+                       progress=not args.no_progress,
+                       command=shlex.join(["vibimpact"] + list(args.argv)))
+    except KeyboardInterrupt as exc:
+        n = store.saved_rows(ckpt)
+        print(f"vibimpact: interrupted: {n} rows saved in {ckpt}; rerun with --resume"
+              if n else "vibimpact: interrupted before any row was saved", file=sys.stderr)
+        return _interrupt_status(exc)
+    except ValueError as exc:  # a checkpoint of a different map, a lost scheduler
+        raise _UsageError(str(exc)) from None
+    finally:
+        if scheduler is not None:
+            scheduler.close()
+    elapsed = time.perf_counter() - t0
+    bad = store.corrupt_files(ckpt) if resuming else []
+    if bad:
+        loaded = max(0, loaded - len(bad))
+        print(f"vibimpact: warning: {len(bad)} damaged row files in {ckpt} were "
+              f"recomputed ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})",
+              file=sys.stderr)
+    ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
+    try:
+        store.write_map(ds, out, overwrite=args.overwrite or resuming)
+    except (ValueError, OSError) as exc:
+        raise _UsageError(f"{exc} (the computed rows stay in {ckpt}; fix the problem and "
+                          "rerun with --resume)") from None
+    if not args.keep_checkpoint:
+        shutil.rmtree(ckpt, ignore_errors=True)
+    if resuming:
+        print(f"vibimpact: resumed from {ckpt}: {loaded} rows loaded, not recomputed",
+              file=sys.stderr)
+    _summary(ds, elapsed, computed=ds["regime"].size - loaded * etas.size)
+    if args.plot is not None:
+        from .plotting.map2d import plot_map
+        from .plotting import save_figure
+
+        try:
+            save_figure(plot_map(ds), args.plot)
+        except (ValueError, OSError) as exc:
+            raise _UsageError(f"--plot: {exc} ({out} is written)") from None
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def _summary(ds, elapsed, computed):
+    import numpy as np
+
+    reg = np.asarray(ds["regime"].values)
+    counts = ", ".join(f"{k} {int((reg == c).sum())}" for k, c in
+                       (("periodic", 1), ("quasi-periodic", 2), ("chaotic", 3),
+                        ("diverged", 4)))
+    shape = " x ".join(f"{ds.sizes[d]} {d}" for d in ds["regime"].dims)
+    print(f"map {shape} = {reg.size} points: {counts} ({computed} computed in "
+          f"{elapsed:.1f} s, {computed / max(elapsed, 1e-9):.1f} points/s)")
+
+
+def plot_command(args, ds=None):
+    """``vibimpact plot FILE --kind map``: FILE is a map (.zarr store or .nc)."""
+    from .maps.store import open_map
+
+    path = os.fspath(args.file)
+    if ds is None:
+        if not os.path.exists(path):
+            raise _UsageError(f"{path!r}: no such file or directory")
+        try:
+            ds = open_map(path)
+        except Exception as exc:
+            raise _UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
+                              f"{type(exc).__name__}: {exc}") from None
+    if "map_vary" not in ds.attrs:
+        raise _UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
+                          "one")
+    if args.kind not in (None, "map"):
+        raise _UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
+                          "a parameter map (use --kind map)")
+    out = args.output
+    if out is None:
+        out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"
+    out = os.fspath(out)
+    from .cli_sweep import _image_ext_ok
+
+    _image_ext_ok(out, "-o")
+    _check_output(out, args.overwrite, "image file")
+    from .plotting import save_figure
+    from .plotting.map2d import plot_map
+
+    try:
+        save_figure(plot_map(ds), out)
+    except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
+        raise _UsageError(f"cannot draw a map from {path!r}: {type(exc).__name__}: "
+                          f"{exc}") from None
+    print(f"wrote {out}")
+    return 0
+
+
+def add_parser(sub, fmt):
+    """Add ``map`` to the subparsers ``sub``."""
+    m = sub.add_parser("map", help="regime map over eta and one other parameter (Dask)",
+                       formatter_class=fmt, epilog=_MAP_EPILOG,
+                       description="Sweep eta with continuation for every value of one "
+                                   "other parameter and classify\nevery point; rows run "
+                                   "as tasks on local processes or a Dask cluster.")
+    m.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP",
+                   help=f"grid of the forcing frequency ratio (default: {DEFAULT_ETA})")
+    m.add_argument("--vary", action="append", default=[], required=True,
+                   metavar="NAME=START:STOP:STEP",
+                   help="the other axis: a parameter and its values, e.g. kh=10:120:10 or "
+                        "f=0,0.02,0.05")
+    m.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
+                   "'vibimpact presets'")
+    m.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
+                   help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
+    m.add_argument("--direction", choices=("up", "down", "both"), default="up",
+                   help="continuation direction along eta (default: up)")
+    m.add_argument("--analyses", default="period,impacts,lyapunov", metavar="A,B,...",
+                   help="what to compute (default: period,impacts,lyapunov: regime, "
+                        "period, impacts per period, and the largest exponent only where "
+                        "no period is found); see 'vibimpact classify --help'")
+    m.add_argument("--workers", type=_positive_int(1), default=None, metavar="N",
+                   help="local processes (default: min(2, CPUs)); 1 runs in this process")
+    m.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run the rows on a Dask cluster: scheduler address "
+                        "(tcp://host:8786) or scheduler file")
+    m.add_argument("--task-points", type=_positive_int(1), default=100, metavar="N",
+                   help="least points per task: short rows are grouped (default: 100)")
+    m.add_argument("-o", "--output", default="map.zarr", metavar="OUT.zarr|OUT.nc",
+                   help="Zarr store or NetCDF file to write (default: map.zarr)")
+    m.add_argument("--plot", metavar="FIG.png", default=None,
+                   help="also draw the map (as 'vibimpact plot OUT --kind map')")
+    m.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from its checkpoint OUT.partial")
+    m.add_argument("--keep-checkpoint", action="store_true",
+                   help="keep OUT.partial after OUT is written")
+    m.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    m.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    m.set_defaults(func=_cmd_map)
+
+
+__all__ = ["add_parser", "parse_vary", "plot_command"]

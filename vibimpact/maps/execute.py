@@ -1,0 +1,187 @@
+"""Running a map's tasks: in this process, on a local Dask cluster, or on a remote one.
+
+No scheduling of our own: the tasks are handed to Dask distributed (``Client.submit``)
+and their results taken in the order they finish (``distributed.as_completed``), so
+Dask's scheduler decides placement, load balance and recovery.  When a worker dies, the
+scheduler gives its tasks to another worker (up to ``distributed.scheduler.allowed-
+failures`` times); every task is a pure function of its arguments, so a recomputed task
+returns the same numbers.
+
+``distributed`` is imported only when a cluster is used.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import uuid
+
+#: seconds to wait for a remote scheduler (and for the workers of a local cluster)
+CONNECT_TIMEOUT = 20
+
+
+def _worker_version():
+    """Runs on a worker: the vibimpact version it imports."""
+    import vibimpact
+
+    return vibimpact.__version__
+
+
+def check_workers(client):
+    """ValueError unless every worker imports the same vibimpact version as this process.
+
+    Bit-identical maps need the same code everywhere; a worker without vibimpact would
+    fail every task with a less helpful error.  Only the workers present now are checked;
+    a cluster without workers yet (a batch queue still starting them) passes, its tasks
+    wait for them.
+    """
+    from .. import __version__
+
+    try:
+        got = client.run(_worker_version, on_error="return")
+    except Exception as exc:  # the scheduler went away meanwhile
+        raise ValueError(f"cannot reach the Dask workers: {type(exc).__name__}: {exc}") \
+            from None
+    for worker, v in sorted(got.items()):
+        if isinstance(v, BaseException):
+            raise ValueError(f"Dask worker {worker} cannot import vibimpact "
+                             f"({type(v).__name__}: {v}); install it in the workers' "
+                             "environment")
+        if v != __version__:
+            raise ValueError(f"Dask worker {worker} runs vibimpact {v}, this process "
+                             f"{__version__}: results would not be reproducible")
+
+
+def connect(scheduler, timeout=CONNECT_TIMEOUT):
+    """A ``distributed.Client`` for ``scheduler``, and whether the caller must close it.
+
+    Parameters
+    ----------
+    scheduler : str, distributed.Client or cluster object
+        An address (``tcp://host:8786``), the path of a scheduler file (as written by
+        ``dask scheduler --scheduler-file``, dask-jobqueue or dask-mpi), a connected
+        ``Client`` (used as is, never closed here), or a cluster object with a
+        ``scheduler_address`` (``LocalCluster``, ``SLURMCluster``, ``KubeCluster``, ...).
+
+    Raises
+    ------
+    ValueError
+        For a scheduler that cannot be reached in ``timeout`` seconds, or workers that do
+        not run the same vibimpact.
+    """
+    from distributed import Client
+
+    if isinstance(scheduler, Client):
+        check_workers(scheduler)
+        return scheduler, False
+    if isinstance(scheduler, (str, os.PathLike)):
+        text = os.fspath(scheduler)
+        kw = {"scheduler_file": text} if os.path.isfile(text) else {"address": text}
+        what = text
+    elif hasattr(scheduler, "scheduler_address"):
+        kw = {"address": scheduler}
+        what = str(scheduler.scheduler_address)
+    else:
+        raise ValueError("scheduler must be an address, a scheduler file, a "
+                         f"distributed.Client or a Dask cluster, got {scheduler!r}")
+    try:
+        client = Client(**kw, timeout=timeout, set_as_default=False)
+    except Exception as exc:  # OSError, TimeoutError, ValueError for a bad address, ...
+        msg = " ".join(str(exc).split()) or type(exc).__name__
+        raise ValueError(f"cannot connect to the Dask scheduler {what!r}: {msg}") from None
+    try:
+        check_workers(client)
+    except BaseException:
+        client.close()
+        raise
+    return client, True
+
+
+@contextlib.contextmanager
+def _local_cluster(workers):
+    """A ``LocalCluster`` of ``workers`` single-threaded processes and its client."""
+    from distributed import Client, LocalCluster
+
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0", silence_logs=logging.ERROR)
+    except Exception as exc:
+        raise RuntimeError(
+            f"cannot start {workers} local Dask worker processes ({exc}); worker processes "
+            "are spawned and import the main module, so a script must call map2d under "
+            "`if __name__ == '__main__':` (not needed in Jupyter or the command line)") \
+            from exc
+    try:
+        client = Client(cluster, set_as_default=False)
+        try:
+            client.wait_for_workers(workers, timeout=CONNECT_TIMEOUT)
+            yield client
+        finally:
+            client.close()
+    finally:
+        cluster.close()
+
+
+@contextlib.contextmanager
+def _client(scheduler, workers):
+    if scheduler is None:
+        with _local_cluster(workers) as client:
+            yield client
+        return
+    client, owned = connect(scheduler)
+    try:
+        yield client
+    finally:
+        if owned:
+            client.close()
+
+
+def slots(client):
+    """Threads of all the workers of ``client`` (at least 1)."""
+    try:
+        return max(1, sum(client.nthreads().values()))
+    except Exception:
+        return 1
+
+
+def run_tasks(fn, make_tasks, on_result, *, scheduler=None, workers=1):
+    """Run ``fn(task)`` for every task; ``on_result(result)`` as each one finishes.
+
+    Parameters
+    ----------
+    fn : callable
+        A module-level function (workers import it by name).
+    make_tasks : callable
+        ``make_tasks(slots) -> list of tasks``, given the number of worker threads
+        (None in this process), so that tasks can be sized to the cluster.
+    on_result : callable
+        Called in this process, in the order tasks finish.
+    scheduler : optional
+        None: ``workers == 1`` runs in this process, more start a ``LocalCluster`` of that
+        many processes for the run.  Otherwise see :func:`connect`.
+    workers : int
+
+    Notes
+    -----
+    On any exception (a failing task, Ctrl-C) the tasks not yet finished are cancelled
+    before it propagates; results already passed to ``on_result`` stay delivered.
+    """
+    if scheduler is None and workers == 1:
+        for t in make_tasks(None):
+            on_result(fn(t))
+        return
+    from distributed import as_completed
+
+    with _client(scheduler, workers) as client:
+        tasks = make_tasks(slots(client))
+        prefix = f"vibimpact-map-{uuid.uuid4().hex[:12]}"
+        futures = [client.submit(fn, t, key=f"{prefix}-{k:06d}", pure=False)
+                   for k, t in enumerate(tasks)]
+        try:
+            for fut, result in as_completed(futures, with_results=True, loop=client.loop):
+                on_result(result)
+                fut.release()
+        except BaseException:
+            with contextlib.suppress(Exception):
+                client.cancel(futures)
+            raise
