@@ -12,8 +12,10 @@ X-Y trajectories at the frequencies the paper shows (``xy_<preset>.png``), then 
 claim of SPEC section 2: the interval claims of :data:`vibimpact.claims.CLAIMS`
 automatically (detected interval, labels, agreement within one sweep step), and the
 comparative claims ("X and Y identical", "no considerable change from fig6", ...) by the
-measures stated in the table.  The sweeps are kept in ``.paper-cache/`` (``--fresh``
-recomputes them).
+measures stated in the table.  Every interval boundary of fig8, fig10 and fig11 gets its
+transition type (:func:`vibimpact.transition_types`: period doubling, fold, Neimark--Sacker,
+grazing, crisis, intermittency), refined by bisection.  The sweeps and the transition types
+are kept in ``.paper-cache/`` (``--fresh`` recomputes them).
 """
 from __future__ import annotations
 
@@ -36,6 +38,9 @@ REPORTS = ROOT / "reports"
 FIGURES = REPORTS / "figures"
 PRESETS = ("fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "rr10")
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov")
+#: presets whose interval boundaries get a transition type (the figures with interval
+#: claims)
+TYPED = ("fig8", "fig10", "fig11")
 
 #: X-Y panels: preset -> [(panel name, eta or a rule picking eta from the sweep)]
 XY_POINTS = {
@@ -51,14 +56,18 @@ XY_POINTS = {
 }
 
 
+def _cache_path(name, step, cache, overrides, suffix=""):
+    p = vi.presets.get(name).replace(**overrides)
+    key = hashlib.sha1(json.dumps([p.as_dict(), step, ANALYSES, vi.__version__],
+                                  sort_keys=True).encode()).hexdigest()[:12]
+    return p, Path(cache) / f"{name}_{key}{suffix}.nc"
+
+
 def _sweep_one(task):
     name, step, cache, fresh, overrides = task
     import xarray as xr
 
-    p = vi.presets.get(name).replace(**overrides)
-    key = hashlib.sha1(json.dumps([p.as_dict(), step, ANALYSES, vi.__version__],
-                                  sort_keys=True).encode()).hexdigest()[:12]
-    path = Path(cache) / f"{name}_{key}.nc"
+    p, path = _cache_path(name, step, cache, overrides)
     if path.exists() and not fresh:
         return name, xr.load_dataset(path), 0.0
     t = time.perf_counter()
@@ -82,6 +91,65 @@ def sweeps(step, cache, fresh, workers, overrides):
             out[name], cost[name] = ds, sec
             print(f"  {name}: {'cached' if not sec else f'{sec:.0f} s'}", file=sys.stderr)
     return out, cost
+
+
+def _types_one(task):
+    """The transition types of one preset's sweep (issue 8), cached beside the sweep."""
+    name, ds, step, cache, fresh, overrides = task
+    import xarray as xr
+
+    _, path = _cache_path(name, step, cache, overrides, "_transitions")
+    if path.exists() and not fresh:
+        return name, xr.load_dataset(path), 0.0
+    t = time.perf_counter()
+    tt = vi.transition_types(ds, tol=1e-4)
+    tmp = path.with_suffix(".tmp")
+    tt.to_netcdf(tmp)
+    os.replace(tmp, path)
+    return name, tt, time.perf_counter() - t
+
+
+def transitions(data, step, cache, fresh, workers, overrides):
+    """Preset -> transition-type dataset for the presets with interval claims."""
+    tasks = [(n, data[n], step, cache, fresh, overrides) for n in TYPED]
+    out = {}
+    with get_context("fork").Pool(workers) as pool:
+        for name, tt, sec in pool.imap_unordered(_types_one, tasks):
+            out[name] = tt
+            print(f"  {name} transitions: {'cached' if not sec else f'{sec:.0f} s'}",
+                  file=sys.stderr)
+    return out
+
+
+def transition_section(types):
+    """Markdown: per figure, every interval boundary with its refined eta and type."""
+    from collections import Counter
+
+    lines = ["## Transition types (issue 8)", "",
+             "Every boundary of the interval maps above, in sweep order, refined by "
+             "bisection to 1e-4 in η and typed by the Floquet multipliers of the orbit "
+             "followed by Newton shooting (through −1: period doubling; through +1 or no "
+             "orbit beyond: fold; complex pair: Neimark–Sacker; contacts appear or vanish: "
+             "grazing; no periodic orbit on either side: crisis; a fold into chaos: "
+             "intermittency; 'none': the sweep relabelled the same orbit).  The evidence "
+             "for each row (multipliers before and after, contact counts, coexistence) is "
+             "in [transitions.md](transitions.md) (`python analyses/transitions.py`).", ""]
+    for name in TYPED:
+        tt = types[name]
+        kinds = Counter(t for v in tt["type"].values for t in str(v).split(" + "))
+        lines += [f"### {name}", "",
+                  f"{tt.sizes.get('boundary', 0)} boundaries: " +
+                  ", ".join(f"{k} {c}" for k, c in kinds.most_common()) + ".", ""]
+        rows = []
+        for k in range(tt.sizes.get("boundary", 0)):
+            mu = complex(float(tt["mu_real"].values[k]), float(tt["mu_imag"].values[k]))
+            lo, hi = float(tt["eta_lo"].values[k]), float(tt["eta_hi"].values[k])
+            rows.append((str(tt["direction"].values[k]), f"{0.5 * (lo + hi):.4f}",
+                         str(tt["from_label"].values[k]), str(tt["to_label"].values[k]),
+                         f"**{tt['type'].values[k]}**",
+                         f"{abs(mu):.3f}" if np.isfinite(abs(mu)) else "—"))
+        lines += [_md_table(("sweep", "η", "from", "to", "type", "|μ|max"), rows), ""]
+    return "\n".join(lines)
 
 
 # --- X-Y trajectories ---------------------------------------------------------------------
@@ -219,7 +287,6 @@ def comparative_rows(data):
     """The claims that compare figures or describe a curve's shape, measured."""
     rows = []
     f4 = data["fig4"]
-    dxy = _curve_diff(f4.assign(Y_m=f4["X_m"]), f4.assign(X_m=f4["Y_m"]), "X_m")
     up = f4.sel(direction="up")
     hi = np.asarray(up["R_m"].values) >= 0.98
     eta_hi = up["eta"].values[hi]
@@ -356,7 +423,7 @@ def evidence_section():
         _md_table(("claim", "best score", "at", "pairs > 0"), rows)])
 
 
-def report(data, cost, panels, step, elapsed, overrides):
+def report(data, cost, panels, step, elapsed, overrides, types=None):
     from vibimpact.sweeps.dataset import format_intervals
 
     p8 = vi.presets.get("fig8").replace(**overrides)
@@ -402,12 +469,8 @@ def report(data, cost, panels, step, elapsed, overrides):
     notes = ROOT / "analyses" / "paper_notes.md"
     if notes.exists():
         lines += ["", notes.read_text().strip()]
-    trans = REPORTS / "transitions.md"
-    if trans.exists():
-        lines += ["", "## Transition types", "",
-                  "Every interval boundary's type (period doubling, fold, Neimark–Sacker, "
-                  "grazing, crisis) is in [transitions.md](transitions.md) "
-                  "(`python analyses/transitions.py`)."]
+    if types:
+        lines += ["", transition_section(types)]
     lines += ["", "## Figures", ""]
     for name in PRESETS:
         ds = data[name]
@@ -441,8 +504,10 @@ def main(argv=None):
     overrides = _parse_sets(args.set)
     t0 = time.perf_counter()
     data, cost = sweeps(args.step, args.cache, args.fresh, args.workers, overrides)
+    types = transitions(data, args.step, args.cache, args.fresh, args.workers, overrides)
     panels = figures(data)
-    out, k, n = report(data, cost, panels, args.step, time.perf_counter() - t0, overrides)
+    out, k, n = report(data, cost, panels, args.step, time.perf_counter() - t0, overrides,
+                       types)
     print(f"{k}/{n} interval claims agree -> {out}")
 
 

@@ -1,5 +1,4 @@
 """Shared fixtures: one impacting contact trajectory with tangential damping."""
-import numpy as np
 import pytest
 
 import vibimpact as vi

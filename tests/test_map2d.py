@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from vibimpact.sweeps.checkpoint import corrupt_files
 from vibimpact.cli import main
 from vibimpact.maps import execute, open_map, write_map
 from vibimpact.maps import store as mstore
@@ -180,7 +181,7 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
                   task_points=1)
     assert len(computed) == 6 - 1
     assert keep.stat().st_mtime_ns == mtime
-    assert mstore.corrupt_files(store) == [damaged.name + ".corrupt"]
+    assert corrupt_files(store) == [damaged.name + ".corrupt"]
     assert_same(ds, serial)
     with pytest.raises(ValueError, match="different map request"):
         vi.map2d(P, ETA, {"kh": [40.0, 81.0, 120.0]}, direction="both", settings=FAST,

@@ -8,7 +8,8 @@ import math
 import os
 import sys
 
-from ._cli_common import _check_output, _parse_sets, _positive_int, _UsageError
+from ._cli_common import (_check_output, _finish_checkpointed, _image_ext_ok, _interrupt_status, _parse_analyses,
+                          _parse_sets, _positive_int, _StopWorkersOnSignal, _UsageError)
 
 DEFAULT_ETA = "0.9:1.5:0.005"
 
@@ -149,10 +150,8 @@ def _inputs(args):
 
 def _cmd_map(args):
     import shlex
-    import shutil
     import time
 
-    from .cli_sweep import _interrupt_status, _parse_analyses, _StopWorkersOnSignal
 
     out = os.fspath(args.output).rstrip("/" + os.sep) or os.fspath(args.output)
     ckpt = out + ".partial"
@@ -164,7 +163,6 @@ def _cmd_map(args):
     resuming = args.resume and os.path.isdir(ckpt)
     _check_map_output(out, args.overwrite or resuming)
     if args.plot is not None:
-        from .cli_sweep import _image_ext_ok
 
         _image_ext_ok(args.plot, "--plot")
         _check_output(args.plot, args.overwrite, "plot file")
@@ -204,23 +202,10 @@ def _cmd_map(args):
         if scheduler is not None:
             scheduler.close()
     elapsed = time.perf_counter() - t0
-    bad = store.corrupt_files(ckpt) if resuming else []
-    if bad:
-        loaded = max(0, loaded - len(bad))
-        print(f"vibimpact: warning: {len(bad)} damaged row files in {ckpt} were "
-              f"recomputed ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})",
-              file=sys.stderr)
     ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
-    try:
-        store.write_map(ds, out, overwrite=args.overwrite or resuming)
-    except (ValueError, OSError) as exc:
-        raise _UsageError(f"{exc} (the computed rows stay in {ckpt}; fix the problem and "
-                          "rerun with --resume)") from None
-    if not args.keep_checkpoint:
-        shutil.rmtree(ckpt, ignore_errors=True)
-    if resuming:
-        print(f"vibimpact: resumed from {ckpt}: {loaded} rows loaded, not recomputed",
-              file=sys.stderr)
+    loaded = _finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
+                                  loaded=loaded, keep=args.keep_checkpoint,
+                                  overwrite=args.overwrite, unit="rows")
     _summary(ds, elapsed, computed=ds["regime"].size - loaded * etas.size)
     if args.plot is not None:
         from .plotting.map2d import plot_map
@@ -269,7 +254,6 @@ def plot_command(args, ds=None):
     if out is None:
         out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"
     out = os.fspath(out)
-    from .cli_sweep import _image_ext_ok
 
     _image_ext_ok(out, "-o")
     _check_output(out, args.overwrite, "image file")

@@ -8,7 +8,8 @@ instant.
 import os
 import sys
 
-from ._cli_common import _check_output, _parse_sets, _positive_int, _UsageError
+from ._cli_common import (_check_output, _finish_checkpointed, _image_ext_ok, _interrupt_status, _parse_analyses,
+                          _parse_sets, _positive_int, _StopWorkersOnSignal, _UsageError)
 
 #: the main job of SPEC section 5
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -89,22 +90,6 @@ def _sweep_inputs(args):
     return etas, params
 
 
-def _parse_analyses(text):
-    from .sweeps import ANALYSES
-
-    names = [a.strip() for a in str(text).split(",") if a.strip()]
-    if not names:
-        raise _UsageError("--analyses: give a comma-separated list of "
-                          f"{', '.join(ANALYSES)} (or all)")
-    if names == ["all"]:
-        return tuple(ANALYSES)
-    bad = [a for a in names if a not in ANALYSES]
-    if bad:
-        raise _UsageError(f"--analyses: unknown {', '.join(map(repr, bad))}; choose from "
-                          f"{', '.join(ANALYSES)} (or all)")
-    return tuple(a for a in ANALYSES if a in names or a == "period")
-
-
 def _command_line(args):
     import shlex
 
@@ -119,53 +104,7 @@ def _saved_points(ckpt):
         return 0
 
 
-class _Interrupted(KeyboardInterrupt):
-    """SIGINT or SIGTERM during a sweep; ``signum`` decides the exit status 128 + signum."""
-
-    def __init__(self, signum):
-        super().__init__(signum)
-        self.signum = signum
-
-
-class _StopWorkersOnSignal:
-    """While a sweep runs: SIGINT and SIGTERM raise :class:`_Interrupted` in the main
-    thread, so both end with the saved-points message and exit status 128 + signum;
-    :func:`vibimpact.sweep` kills its workers on the way out (finished points are already
-    saved atomically, the points in flight are lost).
-    """
-
-    def __enter__(self):
-        import signal
-
-        self._old = {}
-        try:
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                self._old[sig] = signal.signal(sig, self._handle)
-        except ValueError:  # not the main thread: leave the signals alone
-            self.__exit__(None, None, None)
-        return self
-
-    def _handle(self, signum, frame):
-        self.__exit__(None, None, None)  # a second Ctrl-C acts at once
-        raise _Interrupted(signum)  # vi.sweep stops its workers on the way out
-
-    def __exit__(self, *exc):
-        import signal
-
-        for sig, old in self._old.items():
-            signal.signal(sig, old)
-        self._old = {}
-        return False
-
-
-def _interrupt_status(exc):
-    import signal
-
-    return 128 + int(getattr(exc, "signum", signal.SIGINT))
-
-
 def _cmd_classify(args):
-    import shutil
 
     out = os.fspath(args.output)
     ckpt = out + ".partial"
@@ -201,37 +140,12 @@ def _cmd_classify(args):
         return _interrupt_status(exc)
     except ValueError as exc:  # e.g. a checkpoint of a different sweep
         raise _UsageError(str(exc)) from None
-    from .sweeps.checkpoint import corrupt_files
-
-    bad = corrupt_files(ckpt) if resuming else []
-    if bad:
-        loaded = max(0, loaded - len(bad))
-        print(f"vibimpact: warning: {len(bad)} damaged point files in {ckpt} were "
-              f"recomputed ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})",
-              file=sys.stderr)
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
-    try:
-        io.write_netcdf(ds, out, overwrite=args.overwrite or resuming)
-    except (ValueError, OSError) as exc:
-        raise _UsageError(f"{exc} (the computed points stay in {ckpt}; fix the problem "
-                          "and rerun with --resume)") from None
-    if not args.keep_checkpoint:
-        shutil.rmtree(ckpt, ignore_errors=True)
-    if resuming:
-        print(f"vibimpact: resumed from {ckpt}: {loaded} points loaded, not recomputed",
-              file=sys.stderr)
+    _finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming, loaded=loaded,
+                         keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points")
     print(format_intervals(vi.intervals(ds)))
     print(f"wrote {out}")
     return 0
-
-
-def _image_ext_ok(path, what):
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    ext = os.path.splitext(path)[1].lstrip(".").lower()
-    if ext == "nc" or ext not in FigureCanvasBase.get_supported_filetypes():
-        raise _UsageError(f"{what} {path!r}: unknown image extension (use .png, .pdf or "
-                          ".svg)")
 
 
 def _cmd_bifurcation(args):
@@ -382,13 +296,14 @@ def add_parsers(sub, fmt):
                        "intervals", formatter_class=fmt, epilog=_CLASSIFY_EPILOG,
                        description="Sweep the forcing frequency eta with continuation, "
                                    "classify the motion at every point\n(period, impacts, "
-                                   "Lyapunov exponent, 0-1 test), write a NetCDF file and "
+                                   "Lyapunov exponent, 0-1 test, Floquet multipliers), write a NetCDF file and "
                                    "print the\nlabelled frequency intervals.")
     _add_sweep_options(c, "up")
     c.add_argument("--analyses", default="all", metavar="A,B,...",
                    help="what to compute: comma-separated subset of period, impacts, "
-                        "response, poincare, lyapunov, test01 (default: all; period "
-                        "always runs)")
+                        "response, poincare, lyapunov, test01, floquet (Floquet "
+                        "multipliers of periodic points by shooting) (default: all; "
+                        "period always runs)")
     c.add_argument("-o", "--output", default="classify.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: classify.nc)")
     c.add_argument("--resume", action="store_true",

@@ -43,7 +43,8 @@ import numpy as np
 from .._kernel import integrator as _k
 from .._kernel.driver import integrate as _integrate
 from ..run import Status, status_of
-from ..simulate import _count, _model_and_vector, _positive, _state0, _tableau, simulate
+from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
+from .lyapunov import _setup
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
@@ -302,22 +303,14 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     >>> m.matrix.shape
     (2, 2)
     """
-    mdl, pvec = _model_and_vector(p, model)
+    mdl, pvec, omega, T, tab, opts = _setup(p, model, method, rtol, atol, max_step,
+                                            event_tol)
     d = len(mdl.state_names)
-    x0 = _state0(state0, d) if state0 is not None else None
-    if x0 is None:
+    if state0 is None:
         raise ValueError(f"state0 must be {d} finite numbers, got None")
+    x0 = _state0(state0, d)
     n = _count("n", n, 1)
-    if method not in ("dop853", "dp5"):
-        raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), got {method!r}")
-    rtol = _positive("rtol", rtol)
-    atol = _positive("atol", atol)
-    event_tol = _positive("event_tol", event_tol)
-    omega = float(pvec[mdl.omega_index])
-    T = 2.0 * math.pi / omega
-    max_step = T / 4.0 if max_step is None else _positive("max_step", max_step)
-    opts = np.array([rtol, atol, T / 400.0, max_step, mdl.bound, event_tol, 1e6, 0.0,
-                     float(d)])
+    max_step = opts[_k.O_HMAX]
     y = np.zeros(d * (1 + d))
     y[:d] = x0
     for c in range(d):
@@ -333,7 +326,7 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     ev_y = np.empty((cap, y.size))
     counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
     # nothing is recorded before k_record = n, so the event log never fills
-    status, _ = _integrate(mdl.variational_kernel_model, mdl.terminal, *_tableau(method),
+    status, _ = _integrate(mdl.variational_kernel_model, mdl.terminal, *tab,
                            pvec, omega, y, mode, ks, opts, n, n, strobe, ev_t, ev_which,
                            ev_mode, ev_y, 0, 0, np.empty((1, y.size)), counters)
     st, reason = status_of(status)

@@ -35,8 +35,7 @@ import numpy as np
 from .. import _limits
 from ..params import Params
 from ..simulate import _count
-from ..sweeps.point import ANALYSES, SweepSettings
-from ..sweeps.sweep import DIRECTIONS, _grid, sweep
+from ..sweeps.sweep import _grid, check_request, sweep
 from . import execute
 from . import store as st
 
@@ -259,27 +258,10 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
         raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
     name, values = check_vary(p, vary)
     etas = _grid(eta)
-    if direction not in DIRECTIONS:
-        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, "
-                         f"got {direction!r}")
+    settings, state0 = check_request(direction, analyses, settings, state0)
     check_size(etas.size, values.size * (2 if direction == "both" else 1), name)
-    analyses = tuple(analyses)
-    bad = [a for a in analyses if a not in ANALYSES]
-    if bad:
-        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
-                         f"{', '.join(ANALYSES)}")
-    analyses = tuple(a for a in ANALYSES if a in analyses or a == "period")
-    settings = SweepSettings() if settings is None else settings
-    if not isinstance(settings, SweepSettings):
-        raise ValueError("settings must be a SweepSettings")
-    settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
     workers = _count("workers", workers, 1)
     task_points = _count("task_points", task_points, 1)
-    if state0 is not None:
-        s = np.array(state0, dtype=np.float64).reshape(-1)
-        if s.size != 4 or not np.all(np.isfinite(s)):
-            raise ValueError(f"state0 must be 4 finite numbers, got {state0!r}")
-        state0 = s
     p = p.replace(eta=1.0, **{name: float(values[0])})
     dirs = ("up", "down") if direction == "both" else (direction,)
 

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..sweeps.checkpoint import _atomic_write_bytes, fingerprint
+from ..sweeps.checkpoint import _atomic_write_bytes, fingerprint, set_aside
 
 #: output formats by file extension
 FORMATS = {".zarr": "zarr", ".nc": "netcdf"}
@@ -150,10 +150,7 @@ def load_row(path, direction, index, value, template):
                 out[name] = v
         return out
     except Exception:  # BadZipFile, EOFError, OSError, KeyError, ValueError, ...
-        try:
-            os.replace(f, f.with_name(f.name + ".corrupt"))
-        except OSError:
-            pass
+        set_aside(f)
         return None
 
 
@@ -164,14 +161,6 @@ def saved_rows(path):
                    if n.startswith("row_") and n.endswith(".npz"))
     except OSError:
         return 0
-
-
-def corrupt_files(path):
-    """Names of the damaged row files set aside by :func:`load_row`."""
-    try:
-        return sorted(n for n in os.listdir(path) if n.endswith(".npz.corrupt"))
-    except OSError:
-        return []
 
 
 # --- map file --------------------------------------------------------------------------

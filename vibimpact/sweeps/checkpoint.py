@@ -130,15 +130,20 @@ def load_point(path, direction, index):
     try:
         return _read_point(f)
     except Exception:  # zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError, ...
-        try:
-            os.replace(f, f.with_name(f.name + ".corrupt"))
-        except OSError:
-            pass
+        set_aside(f)
         return None
 
 
+def set_aside(f):
+    """Rename a damaged checkpoint file ``f`` to ``f.corrupt`` (see :func:`corrupt_files`)."""
+    try:
+        os.replace(f, f.with_name(f.name + ".corrupt"))
+    except OSError:
+        pass
+
+
 def corrupt_files(path):
-    """Names of the damaged point files set aside by :func:`load_point`."""
+    """Names of the damaged point (or map row) files set aside by :func:`set_aside`."""
     try:
         return sorted(n for n in os.listdir(path) if n.endswith(".npz.corrupt"))
     except OSError:

@@ -137,6 +137,38 @@ def _run_block(task):
     return direction, out
 
 
+def check_request(direction, analyses, settings, state0):
+    """Validated ``(settings, state0)`` of a sweep or map request.
+
+    ``settings`` (default :class:`SweepSettings`) gets ``analyses`` (in canonical order,
+    "period" always included); ``state0`` becomes a float64 array of 4 or stays None.
+
+    Raises
+    ------
+    ValueError
+        Naming ``direction``, ``analyses``, ``settings`` or ``state0``.
+    """
+    if direction not in DIRECTIONS:
+        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, "
+                         f"got {direction!r}")
+    analyses = tuple(analyses)
+    bad = [a for a in analyses if a not in ANALYSES]
+    if bad:
+        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
+                         f"{', '.join(ANALYSES)}")
+    analyses = tuple(a for a in ANALYSES if a in analyses or a == "period")
+    settings = SweepSettings() if settings is None else settings
+    if not isinstance(settings, SweepSettings):
+        raise ValueError("settings must be a SweepSettings")
+    settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
+    if state0 is not None:
+        s = np.array(state0, dtype=np.float64).reshape(-1)
+        if s.size != 4 or not np.all(np.isfinite(s)):
+            raise ValueError(f"state0 must be 4 finite numbers, got {state0!r}")
+        state0 = s
+    return settings, state0
+
+
 def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuation=True,
           settings=None, blocks=16, workers=1, seed_periods=10, checkpoint=None,
           resume=False, progress=False, command=None):
@@ -191,27 +223,10 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
     if not isinstance(p, Params):
         raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
     etas = _grid(eta)
-    if direction not in DIRECTIONS:
-        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, "
-                         f"got {direction!r}")
-    analyses = tuple(analyses)
-    bad = [a for a in analyses if a not in ANALYSES]
-    if bad:
-        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
-                         f"{', '.join(ANALYSES)}")
-    analyses = tuple(a for a in ANALYSES if a in analyses or a == "period")
-    settings = SweepSettings() if settings is None else settings
-    if not isinstance(settings, SweepSettings):
-        raise ValueError("settings must be a SweepSettings")
-    settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
+    settings, state0 = check_request(direction, analyses, settings, state0)
     blocks = _count("blocks", blocks, 1)
     workers = _count("workers", workers, 1)
     seed_periods = _count("seed_periods", seed_periods, 1)
-    if state0 is not None:
-        s = np.array(state0, dtype=np.float64).reshape(-1)
-        if s.size != 4 or not np.all(np.isfinite(s)):
-            raise ValueError(f"state0 must be 4 finite numbers, got {state0!r}")
-        state0 = s
     dirs = ("up", "down") if direction == "both" else (direction,)
     request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(), directions=dirs,
                    settings=settings.as_attrs(), state0=None if state0 is None else
