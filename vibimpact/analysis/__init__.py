@@ -15,6 +15,8 @@
 :func:`test01`              Gottwald--Melbourne 0-1 test for chaos
 :func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED)
 :func:`classify_params`     simulate one parameter point and classify it
+:func:`extrapolate_limit`   limit of a converging map iteration (minimal polynomial
+                            extrapolation)
 :func:`monodromy`           Jacobian of the n-fold stroboscopic map (variational eqs.)
 :func:`shoot_periodic_orbit` period-n orbit by Newton shooting, with Floquet multipliers
 :func:`floquet_multipliers` eigenvalues of a monodromy matrix, by decreasing modulus
@@ -23,6 +25,7 @@
 ==========================  ==========================================================
 """
 from .chaos01 import test01
+from .extrapolation import extrapolate_limit
 from .classify import DEFAULT_RULE, DecisionRule, Label, Regime, classify, classify_params
 from .impacts import (ContactArcs, ImpactCount, ImpactStatistics, contact_arcs,
                       impact_count, impact_statistics)
@@ -36,7 +39,7 @@ from .continuation import Bifurcation, Branch, continue_orbit, locate_bifurcatio
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
     "Label", "LyapunovResult", "Regime", "classify", "classify_params", "contact_arcs",
-    "detect_period", "impact_count", "impact_map", "impact_statistics",
+    "detect_period", "extrapolate_limit", "impact_count", "impact_map", "impact_statistics",
     "largest_lyapunov", "lyapunov_from_jacobians", "lyapunov_from_series",
     "lyapunov_spectrum", "poincare_section", "strobe_map_jacobian", "test01",
     "Bifurcation", "Branch", "Monodromy", "PeriodicOrbit", "continue_orbit",

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..analysis.chaos01 import test01
 from ..analysis.classify import DecisionRule, Label, decide
+from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import lyapunov_spectrum
 from ..analysis.period import detect_period
@@ -41,6 +42,14 @@ class SweepSettings:
         points repeat with a period ``n`` (checked every ``chunk`` periods).
     chunk : int
         Periods between convergence checks.
+    extrapolate : int
+        Jumps of the transient at most: when the stroboscopic points of a chunk close in
+        geometrically on an ``n``-cycle (every ``n``-th point, ``n <= 4``, moving less than
+        1 % of the orbit's magnitude and its steps shrinking), the transient restarts from
+        their limit by minimal polynomial extrapolation
+        (:func:`vibimpact.analysis.extrapolate_limit`) instead of waiting for the slowest
+        Floquet mode to decay.  The period is still only accepted from integrated points
+        repeating to the rule's tolerance; 0 turns this off.
     record : int
         Periods recorded after a transient that did not converge to a periodic orbit
         (0-1 test, impacts per period, Poincaré samples).
@@ -64,6 +73,7 @@ class SweepSettings:
     analyses: tuple = ANALYSES
     transient_max: int = 200
     chunk: int = 10
+    extrapolate: int = 3
     record: int = 128
     record_periodic: int = 8
     n_samples: int = 64
@@ -117,6 +127,35 @@ def _converged_period(strobe, rule):
         if n:
             return n
     return 0
+
+
+#: extrapolate only when every n-th point moves by at most this fraction of the orbit's
+#: magnitude, and the last of 5 steps is below this fraction of the first
+EXTRAPOLATE_NEAR = 1e-2
+EXTRAPOLATE_SHRINK = 0.9
+
+
+def _extrapolated(strobe):
+    """Limit of a transient closing in geometrically on an ``n``-cycle (``n <= 4``), or None.
+
+    Every ``n``-th of the last ``5 n + 1`` stroboscopic points (6 iterates of ``P^n``):
+    accepted for the smallest ``n`` whose steps are below :data:`EXTRAPOLATE_NEAR` of the
+    points' magnitude and shrink (the last below :data:`EXTRAPOLATE_SHRINK` of the first),
+    and whose extrapolated limit lies within the geometric tail of those steps.
+    """
+    scale = max(float(np.abs(strobe).max()), 1e-300)
+    for n in range(1, 5):
+        if 5 * n + 1 > strobe.shape[0]:
+            break
+        z = strobe[-1::-n][:6][::-1]
+        dz = np.abs(np.diff(z, axis=0)).max(axis=1)
+        if not (dz[-1] <= EXTRAPOLATE_NEAR * scale and dz[-1] < EXTRAPOLATE_SHRINK * dz[0]):
+            continue
+        xs = extrapolate_limit(z)
+        r = (dz[-1] / dz[0]) ** 0.25
+        if np.all(np.isfinite(xs)) and np.abs(xs - z[-1]).max() <= 3.0 * dz[-1] / (1.0 - r):
+            return xs
+    return None
 
 
 def _maxima(dense):
@@ -193,6 +232,7 @@ def analyse_point(p, state0, settings):
     tail = [x[None, :]]
     done = 0
     n = 0
+    jumps = 0
     while done < st.transient_max:
         todo = min(st.chunk, st.transient_max - done)
         run = simulate(p, periods=todo, state0=x, **kw)
@@ -206,6 +246,12 @@ def analyse_point(p, state0, settings):
         n = _converged_period(strobe, rule)
         if n:
             break
+        if jumps < st.extrapolate:
+            xs = _extrapolated(strobe)
+            if xs is not None:  # restart from the limit; only new points count
+                jumps += 1
+                x = xs
+                tail = [x[None, :]]
     res["transient"] = done
 
     # --- record -----------------------------------------------------------------------
