@@ -1,0 +1,48 @@
+"""Regenerate the whole of ``reports/performance.md`` with one command.
+
+Run as ``python analyses/performance.py [--no-full-map]`` (about 30 minutes on 2 cores,
+plus up to 12 for the 30,000-point map).  Each benchmark is its own script, run here in a
+fresh process one after the other (never two at once: they time the machine), and each
+replaces its own section of the report:
+
+=========================  ==========================================================
+``benchmark_kernel.py``    throughput, accuracy orders, start-up (first and cached runs)
+``benchmark_sweep.py``     the main job warm, serial and on 2 workers
+``profile_sweep.py``       where the main job's time goes; the transient extrapolation
+``work_precision.py``      error against run time vs SciPy; overhead against the RHS floor
+``stress.py``              the numerical stress table
+``benchmark_map.py``       parameter-map throughput on 1 and 2 workers; the 30k-point map
+=========================  ==========================================================
+"""
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SCRIPTS = ("benchmark_kernel.py", "benchmark_sweep.py", "profile_sweep.py",
+           "work_precision.py", "stress.py", "benchmark_map.py")
+
+
+def main(argv):
+    failed = []
+    for name in SCRIPTS:
+        args = [sys.executable, str(HERE / name)]
+        if name == "benchmark_map.py" and "--no-full-map" in argv:
+            args.append("--no-full")
+        t0 = time.perf_counter()
+        print(f"== {name}", flush=True)
+        rc = subprocess.run(args, cwd=HERE.parent, stdout=subprocess.DEVNULL).returncode
+        print(f"   exit {rc}, {time.perf_counter() - t0:.0f} s", flush=True)
+        if rc:
+            failed.append(name)
+    if failed:
+        print(f"failed: {', '.join(failed)} (their sections were left as they were)",
+              file=sys.stderr)
+        return 1
+    print("reports/performance.md regenerated")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
