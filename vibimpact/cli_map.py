@@ -4,7 +4,6 @@ Like :mod:`vibimpact.cli`, this module imports only the standard library at modu
 numpy, xarray, dask and matplotlib are imported inside the commands, so ``--help`` stays
 instant.
 """
-import math
 import os
 import sys
 
@@ -52,8 +51,8 @@ def parse_vary(text, preset_params):
     """
     import numpy as np
 
-    from ._limits import check_points
     from .maps.map2d import check_vary, parameter_names
+    from .sweeps import parse_range
 
     name, sep, spec = str(text).partition("=")
     name = name.strip()
@@ -67,26 +66,7 @@ def parse_vary(text, preset_params):
                           f"{', '.join(parameter_names())}")
     try:
         if ":" in spec:
-            parts = spec.split(":")
-            if len(parts) != 3:
-                raise ValueError(f"{name} must be START:STOP:STEP, got {spec!r}")
-            try:
-                a, b, h = (float(x) for x in parts)
-            except ValueError:
-                raise ValueError(f"{name} must be three numbers START:STOP:STEP, got "
-                                 f"{spec!r}") from None
-            if not all(math.isfinite(v) for v in (a, b, h)):
-                raise ValueError(f"{name} range must be finite, got {spec!r}")
-            if h <= 0.0:
-                raise ValueError(f"{name} STEP must be > 0, got {spec!r}")
-            if b < a:
-                raise ValueError(f"{name} STOP must be >= START, got {spec!r}")
-            approx = (b - a) / h + 1.0
-            if approx > 1e15:  # beyond exact integers (or inf): refuse without converting
-                check_points(approx, name=name)
-            count = int(math.floor((b - a) / h + 1e-9)) + 1
-            check_points(count, name=name)
-            values = np.round(a + h * np.arange(count), 12)
+            values = parse_range(spec, name=name, positive=False)
         else:
             try:
                 values = [float(x) for x in spec.split(",")]

@@ -338,33 +338,42 @@ def _drain(q, bar):
             bar.update(1)
 
 
-def parse_range(text):
+def parse_range(text, name="eta", positive=True):
     """``"START:STOP:STEP"`` -> grid including STOP when it lies on the grid.
+
+    Parameters
+    ----------
+    text : str
+    name : str
+        The quantity, named in error messages.
+    positive : bool
+        Refuse ``START <= 0`` (a forcing frequency).
 
     Raises
     ------
     ValueError
-        Naming ``eta``, for anything else, and for a grid of more than
+        Naming ``name``, for anything else, and for a grid of more than
         :data:`vibimpact._limits.MAX_POINTS` points (with the estimated time).
     """
     parts = str(text).split(":")
     if len(parts) != 3:
-        raise ValueError(f"eta must be START:STOP:STEP, got {text!r}")
+        raise ValueError(f"{name} must be START:STOP:STEP, got {text!r}")
     try:
         a, b, h = (float(x) for x in parts)
     except ValueError:
-        raise ValueError(f"eta must be three numbers START:STOP:STEP, got {text!r}") from None
+        raise ValueError(f"{name} must be three numbers START:STOP:STEP, got "
+                         f"{text!r}") from None
     if not all(math.isfinite(v) for v in (a, b, h)):
-        raise ValueError(f"eta must be finite, got {text!r}")
+        raise ValueError(f"{name} must be finite, got {text!r}")
     if h <= 0.0:
-        raise ValueError(f"eta STEP must be > 0, got {text!r}")
+        raise ValueError(f"{name} STEP must be > 0, got {text!r}")
     if b < a:
-        raise ValueError(f"eta STOP must be >= START, got {text!r}")
-    if a <= 0.0:
-        raise ValueError(f"eta START must be > 0, got {text!r}")
+        raise ValueError(f"{name} STOP must be >= START, got {text!r}")
+    if positive and a <= 0.0:
+        raise ValueError(f"{name} START must be > 0, got {text!r}")
     approx = (b - a) / h + 1.0
     if approx > 1e15:  # beyond exact integers (or inf): refuse without converting
-        _limits.check_points(approx)
+        _limits.check_points(approx, name=name)
     count = int(math.floor((b - a) / h + 1e-9)) + 1
-    _limits.check_points(count)
+    _limits.check_points(count, name=name)
     return np.round(a + h * np.arange(count), 12)
