@@ -18,17 +18,19 @@ THETAS = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
 
 
 @njit(cache=True, error_model="numpy")
-def detect(model, p, mode, terminal, s0, h, y0, f0, y1, f1, G, ytmp, flag, lo, hi):
+def detect(model, p, mode, terminal, s0, h, y0, f0, y1, f1, G, ytmp, flag, lo, hi, g0_known):
     """Sample every switching function over the step and bracket its first crossing.
 
     ``G`` (shape (5, n_switch)) receives the samples at :data:`THETAS` (cubic Hermite
-    interpolant inside, exact at the ends).  For each switch ``i``: ``flag[i]`` is
+    interpolant inside, exact at the ends); when ``g0_known`` the caller has already put
+    the values at the step's start into ``G[0]``.  For each switch ``i``: ``flag[i]`` is
     NO_EVENT, BRACKETED (crossing in ``[lo[i], hi[i]]``) or IMMEDIATE (a terminal switch
     already negative at the start and still negative at the first sample: the mode is
     inconsistent, switch at once).
     """
     nsw = flag.size
-    model_switches(model, s0, y0, p, mode, G[0])
+    if not g0_known:
+        model_switches(model, s0, y0, p, mode, G[0])
     for j in range(1, 4):
         hermite(THETAS[j], h, y0, f0, y1, f1, ytmp)
         model_switches(model, s0 + THETAS[j] * h, ytmp, p, mode, G[j])
