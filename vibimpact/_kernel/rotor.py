@@ -129,25 +129,27 @@ def rhs(s, y, p, mode, out):
 
 
 @njit(cache=True, error_model="numpy")
-def jac(s, y, p, mode, J):
-    """Analytic Jacobian ``d rhs / d y`` in the given mode; writes ``J`` (shape (4, 4))."""
+def jac_rows(s, y, p, mode):
+    """Rows 2 and 3 of the analytic Jacobian ``d rhs / d y`` in the given mode.
+
+    Rows 0 and 1 are ``(0, 0, 1, 0)`` and ``(0, 0, 0, 1)``.  Returned as a tuple of eight
+    floats ``(J20, J21, J22, J23, J30, J31, J32, J33)``, so the variational right-hand side
+    (called at every stage) needs no array of its own.
+    """
     X, Y, U, V = y[0], y[1], y[2], y[3]
     B, k3 = p[I_B], p[I_K3]
-    for i in range(4):
-        for j in range(4):
-            J[i, j] = 0.0
-    J[0, 2] = 1.0
-    J[1, 3] = 1.0
     R2 = X * X + Y * Y
     lin = 1.0 + k3 * R2
-    J[2, 0] = -lin - 2.0 * k3 * X * X
-    J[2, 1] = -2.0 * k3 * X * Y
-    J[3, 0] = -2.0 * k3 * X * Y
-    J[3, 1] = -lin - 2.0 * k3 * Y * Y
-    J[2, 2] = -B
-    J[3, 3] = -B
+    j20 = -lin - 2.0 * k3 * X * X
+    j21 = -2.0 * k3 * X * Y
+    j30 = -2.0 * k3 * X * Y
+    j31 = -lin - 2.0 * k3 * Y * Y
+    j22 = -B
+    j33 = -B
+    j23 = 0.0
+    j32 = 0.0
     if mode[0] != 1:
-        return
+        return j20, j21, j22, j23, j30, j31, j32, j33
     R, nx, ny, Rd, vt = _geometry(y, p)
     Fr, dF_dR, dF_dRd = _normal_force(R, Rd, p)
     # partials of the geometric quantities w.r.t. (X, Y, U, V)
@@ -200,11 +202,29 @@ def jac(s, y, p, mode, J):
         dT1 = c * dvt[1] + cf * dF[1]
         dT2 = c * dvt[2] + cf * dF[2]
         dT3 = c * dvt[3] + cf * dF[3]
-    dTs = (dT0, dT1, dT2, dT3)
     # contact acceleration: a_x += -Fr nx - T ny ; a_y += -Fr ny + T nx
-    for j in range(4):
-        J[2, j] += -dF[j] * nx - Fr * dnx[j] - dTs[j] * ny - T * dny[j]
-        J[3, j] += -dF[j] * ny - Fr * dny[j] + dTs[j] * nx + T * dnx[j]
+    j20 += -dF[0] * nx - Fr * dnx[0] - dT0 * ny - T * dny[0]
+    j21 += -dF[1] * nx - Fr * dnx[1] - dT1 * ny - T * dny[1]
+    j22 += -dF[2] * nx - Fr * dnx[2] - dT2 * ny - T * dny[2]
+    j23 += -dF[3] * nx - Fr * dnx[3] - dT3 * ny - T * dny[3]
+    j30 += -dF[0] * ny - Fr * dny[0] + dT0 * nx + T * dnx[0]
+    j31 += -dF[1] * ny - Fr * dny[1] + dT1 * nx + T * dnx[1]
+    j32 += -dF[2] * ny - Fr * dny[2] + dT2 * nx + T * dnx[2]
+    j33 += -dF[3] * ny - Fr * dny[3] + dT3 * nx + T * dnx[3]
+    return j20, j21, j22, j23, j30, j31, j32, j33
+
+
+@njit(cache=True, error_model="numpy")
+def jac(s, y, p, mode, J):
+    """Analytic Jacobian ``d rhs / d y`` in the given mode; writes ``J`` (shape (4, 4))."""
+    r = jac_rows(s, y, p, mode)
+    for i in range(4):
+        for j in range(4):
+            J[i, j] = 0.0
+    J[0, 2] = 1.0
+    J[1, 3] = 1.0
+    J[2, 0], J[2, 1], J[2, 2], J[2, 3] = r[0], r[1], r[2], r[3]
+    J[3, 0], J[3, 1], J[3, 2], J[3, 3] = r[4], r[5], r[6], r[7]
 
 
 @njit(cache=True, error_model="numpy")

@@ -77,9 +77,20 @@ def fd_step(v):
 def rotor_rhs(s, y, p, mode, out):
     """Rotor state and tangent vectors (``y.size = 4 (1 + m)``)."""
     rotor.rhs(s, y, p, mode, out)
-    J = np.empty((4, 4))
-    rotor.jac(s, y, p, mode, J)
-    tangent_product(J, y, 4, out)
+    # the Jacobian as scalars (no array allocated per evaluation: this runs at every
+    # stage of the Lyapunov and Floquet integrations)
+    j20, j21, j22, j23, j30, j31, j32, j33 = rotor.jac_rows(s, y, p, mode)
+    m = (y.size - 4) // 4
+    for c in range(m):
+        b = 4 + 4 * c
+        v0 = y[b]
+        v1 = y[b + 1]
+        v2 = y[b + 2]
+        v3 = y[b + 3]
+        out[b] = v2
+        out[b + 1] = v3
+        out[b + 2] = j20 * v0 + j21 * v1 + j22 * v2 + j23 * v3
+        out[b + 3] = j30 * v0 + j31 * v1 + j32 * v2 + j33 * v3
 
 
 @njit(cache=True, error_model="numpy")
