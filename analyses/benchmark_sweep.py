@@ -18,6 +18,7 @@ import numpy as np
 from _report import write_section
 
 import vibimpact as vi
+from vibimpact.params import DEFAULT_B, DEFAULT_EC
 from vibimpact.sweeps import format_intervals, parse_range
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -61,11 +62,14 @@ def compare_with_paper(chaos):
         L += [f"Chaotic span found: {span[0]:.3f} to {span[1]:.3f} against the paper's "
               f"{PAPER[0]} to {PAPER[1]}: start {d0:+.0f} steps, end {d1:+.0f} steps of "
               f"{STEP} -> {'within' if ok else '**not** within'} one sweep step.", ""]
+    B0, E0 = DEFAULT_B, DEFAULT_EC
     L += ["Why the span can differ: the paper does not give the damping B or the unbalance "
-          "Ec; the presets use our defaults B = Ec = 0.1.  The same sweep (up, step 0.004, "
-          "continued from eta = 1.0) for neighbouring values:", "",
+          f"Ec; the presets use our defaults B = {B0}, Ec = {E0} (issue 5's calibration, "
+          "`reports/calibration.md`).  The same sweep (up, step 0.004, continued from "
+          "eta = 1.0) for neighbouring values:", "",
           "| B | Ec | chaotic span | periodic windows inside |", "| ---: | ---: | --- | ---: |"]
-    for B, Ec in ((0.1, 0.08), (0.1, 0.1), (0.1, 0.12), (0.08, 0.1), (0.12, 0.1)):
+    grid = ((B0, E0 - 0.02), (B0, E0), (B0, E0 + 0.02), (B0 - 0.02, E0), (B0 + 0.02, E0))
+    for B, Ec in ((round(b, 3), round(e, 3)) for b, e in grid):
         p = vi.presets.get("fig8").replace(B=B, Ec=Ec)
         ds = vi.sweep(p, parse_range("1.0:1.4:0.004"), workers=2)
         iv = vi.intervals(ds)
