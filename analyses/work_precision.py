@@ -11,7 +11,9 @@ Every number in the section is measured by this script in the same run (issue 6,
     max abs stroboscopic error against our dop853 at rtol = atol = 1e-13 (cross-checked
     with SciPy DOP853 at 1e-13) versus wall time, for our rk4 / dp5 / dop853 and for SciPy
     ``solve_ivp`` RK45 / DOP853 / LSODA restarted at every switch with the compiled
-    right-hand side (:func:`vibimpact.reference.solve_reference`).  Ratio table: SciPy
+    right-hand side (:func:`vibimpact.reference.solve_reference`), and numbalsoda LSODA
+    called from numba when it is installed (given the switch times: ``_lsoda_baseline``).
+    Ratio table: SciPy
     DOP853 time / our dop853 time at equal error (log time interpolated linearly in log
     error along each method's Pareto front).
 (2) Overhead: wall time per RHS evaluation inside our integrators (``counters
@@ -41,6 +43,7 @@ from numba import njit
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import _lsoda_baseline as lsoda_baseline  # noqa: E402
 import vibimpact as vi  # noqa: E402
 from vibimpact._kernel import rotor  # noqa: E402
 from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
@@ -68,11 +71,14 @@ OVERHEAD_PERIODS = 300
 OVERHEAD_SETTINGS = {"rk4": dict(steps_per_period=400),
                      "dp5": dict(rtol=1e-9, atol=1e-9),
                      "dop853": dict(rtol=1e-9, atol=1e-9)}
+LSODA_NB = "numbalsoda LSODA"
 METHODS = ["ours rk4", "ours dp5", "ours dop853", "SciPy RK45", "SciPy DOP853",
-           "SciPy LSODA"]
+           "SciPy LSODA", LSODA_NB]
+LSODA_NB_TOLS = [10.0 ** -k for k in range(5, 13)]     # 1e-5 ... 1e-12
 STYLE = {"ours rk4": ("o", "-", "C0"), "ours dp5": ("s", "-", "C1"),
          "ours dop853": ("D", "-", "C2"), "SciPy RK45": ("v", "--", "C3"),
-         "SciPy DOP853": ("^", "--", "C4"), "SciPy LSODA": ("x", "--", "C5")}
+         "SciPy DOP853": ("^", "--", "C4"), "SciPy LSODA": ("x", "--", "C5"),
+         LSODA_NB: ("P", ":", "C6")}
 TARGET_RATIO, TARGET_OVERHEAD, TARGET_FIRST_RUN = 300.0, 1.3, 15.0
 
 
@@ -117,6 +123,17 @@ def work_precision(p, s0, periods):
                 continue
             series[f"SciPy {m}"].append((f"{tol:.0e}", float(np.max(np.abs(sol.y - truth))),
                                          t, sol.nfev))
+    if lsoda_baseline.available():
+        for tol in LSODA_NB_TOLS:
+            fn = lsoda_baseline.make_runner(p, s0, ref, tt, tol)
+            fn()  # warm-up (compiles the callback and driver once)
+            try:
+                t, (states, nfev) = best_time(fn, OUR_REPEATS)
+            except RuntimeError as exc:
+                print(f"  {LSODA_NB} tol {tol:.0e} failed: {exc}")
+                continue
+            series[LSODA_NB].append((f"{tol:.0e}", float(np.max(np.abs(states - truth))), t,
+                                     nfev))
     return cross, len(ref.impacts), series
 
 
@@ -268,8 +285,9 @@ def plot(results, path):
         ax.set_ylabel("wall time [s]")
         ax.grid(True, which="both", alpha=0.3)
     axes.flat[0].legend(fontsize=7, loc="best")
-    fig.suptitle("Work-precision: vibimpact kernel (solid) vs SciPy solve_ivp restarted at "
-                 "switches, compiled RHS (dashed)", fontsize=10)
+    fig.suptitle("Work-precision: vibimpact kernel (solid) vs SciPy solve_ivp (dashed) and "
+                 "numbalsoda LSODA (dotted), restarted at switches, compiled RHS",
+                 fontsize=10)
     fig.tight_layout()
     tmp = path.with_name(path.stem + ".tmp.png")
     fig.savefig(tmp, dpi=110)
@@ -278,11 +296,14 @@ def plot(results, path):
 
 
 def numbalsoda_note():
-    try:
-        import numbalsoda  # noqa: F401
-    except ImportError:
-        return "not available here (pip build of numbalsoda failed on this machine)"
-    return "importable, but not benchmarked by this script"
+    v = lsoda_baseline.available()
+    if v is None:
+        return ("not importable here, so not benchmarked (`pip install numbalsoda` builds "
+                "C++ and Fortran sources and needs gfortran)")
+    return (f"{v}: LSODA called from an `@njit` driver with a `@cfunc` right-hand side "
+            "(`analyses/_lsoda_baseline.py`); it has no event location, so it is given the "
+            "reference's switch times and modes and restarted at each (its times include "
+            "no event location, ours do)")
 
 
 def report(results, ov, st, load, elapsed):
@@ -334,6 +355,18 @@ def report(results, ov, st, load, elapsed):
     for label, lo, gm, hi in summary:
         L.append(f"| {label} | {lo:.0f} | {gm:.0f} | {hi:.0f} | "
                  f"{'yes' if lo >= TARGET_RATIO else '**no**'} |")
+    L += ["", f"The same against {LSODA_NB} ({LSODA_NB} time / our dop853 time at equal "
+          "error; numbalsoda gets the switch times for free, see above):", "",
+          "| trajectory | error levels | min ratio | geometric mean | max ratio |",
+          "| --- | ---: | ---: | ---: | ---: |"]
+    for label, r in results.items():
+        qs = ([x[3] for x in ratios(r["series"], b=LSODA_NB)]
+              if r["series"][LSODA_NB] else [])
+        if qs:
+            L.append(f"| {label} | {len(qs)} | {min(qs):.2f} | "
+                     f"{float(np.exp(np.mean(np.log(qs)))):.2f} | {max(qs):.2f} |")
+        else:
+            L.append(f"| {label} | 0 | - | - | - |")
     # per-eval cost of SciPy, for context
     sp_ns = [1e9 * q[2] / q[3] for r in results.values() for q in r["series"]["SciPy DOP853"]]
     our_ns = [1e9 * q[2] / q[3] for r in results.values() for q in r["series"]["ours dop853"]]

@@ -120,3 +120,15 @@ def test_duffing_amplitude_matches_harmonic_balance():
                          + 2 * (p.delta * w) ** 2 * amp)
     assert da / amp < 5e-3
     assert 0.1 < amp < 1.0
+
+
+
+def test_a_stable_impacting_orbit_is_found_periodic_within_the_transient():
+    """On a stable impacting P1 orbit (fig8, eta = 1.13, |mu|max about 0.82) the sweep's
+    10-period integrations repeat their step sequences, so the strobe points repeat to
+    the period test's tolerance long before the 200-period cap.  A step-size rule that
+    carried step sizes from contact event to contact event (tried, reverted) broke this:
+    the point ran the whole transient and was labelled 'periodic (long period)'."""
+    ds = vi.sweep(vi.presets.get("fig8"), [1.12, 1.125, 1.13], workers=1)
+    assert ds.label.values[-1] == "P1, 2 impacts, 2 small arcs"
+    assert int(ds.transient.values[-1]) <= 60

@@ -123,15 +123,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     obs_th = np.empty(nsw)
     obs_i = np.empty(nsw, dtype=np.int64)
     mode_old = mode.copy()
-    # step-size memory after a terminal event of each switch (adaptive runs): a step that
-    # starts on a contact surface sees the non-smooth Hertz force, (R-1)^{3/2} ~ t^{3/2},
-    # and needs a far shorter step than the one before the event.  Starting from half the
-    # size the error control would have allowed after the previous event of the same switch
-    # saves the cascade of rejected steps it otherwise takes to find it (about 4 per
-    # contact on fig8); the half keeps a margin, since the embedded error estimate is
-    # least reliable on a step that starts at the singularity.
-    h_mem = np.zeros(nsw)
-    after_event = -1
     # switching functions at the step's start (reused from the end of the step before when
     # nothing changed in between: one evaluation fewer per step)
     gs = np.empty(nsw)
@@ -196,9 +187,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 continue
             fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** expo))
             h_next = h * fac
-            if after_event >= 0:
-                h_mem[after_event] = 0.5 * h * min(2.0, fac)
-                after_event = -1
             if lands and h_prop > h_next:
                 h_next = h_prop
         if fsal:
@@ -274,10 +262,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                                 ev_mode, ev_y)
                 model_rhs(model, s, y, p, mode, f0)
                 counters[C_RHS] += 1
-                if not fixed:
-                    after_event = imm
-                    if h_mem[imm] > 0.0:
-                        h = min(h, h_mem[imm])
                 continue
             counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s,
                                              y, h, K, y1, ytmp, F)
@@ -433,10 +417,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                             ev_y)
             model_rhs(model, s, y, p, mode, f0)
             counters[C_RHS] += 1
-            if not fixed:
-                after_event = which
-                if h_mem[which] > 0.0:
-                    h_next = min(h_next, h_mem[which])
         else:
             for m in range(n):
                 f0[m] = f1r[m]

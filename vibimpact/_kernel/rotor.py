@@ -107,11 +107,18 @@ def _stick_force(s, y, p, R, nx, ny, Rd, vt):
 @njit(cache=True, error_model="numpy")
 def rhs(s, y, p, mode, out):
     """Right-hand side of eq. (5) in the given mode; writes ``out`` (shape (4,))."""
+    rhs_mode(s, y, p, mode[0], mode[1], out)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_mode(s, y, p, contact, friction, out):
+    """:func:`rhs` with the two mode entries as scalars (for callers without a mode
+    array, such as a C callback of an external integrator)."""
     ax, ay = _external(s, y, p)
-    if mode[0] == 1:
+    if contact == 1:
         R, nx, ny, Rd, vt = _geometry(y, p)
         Fr, _, _ = _normal_force(R, Rd, p)
-        if mode[1] == 0 and p[I_F] > 0.0 and p[I_EPS] == 0.0:
+        if friction == 0 and p[I_F] > 0.0 and p[I_EPS] == 0.0:
             T = _stick_force(s, y, p, R, nx, ny, Rd, vt)
         else:
             T = -p[I_BT] * vt
@@ -119,7 +126,7 @@ def rhs(s, y, p, mode, out):
                 if p[I_EPS] > 0.0:
                     T -= p[I_F] * Fr * math.tanh(vt / p[I_EPS])
                 else:
-                    T -= p[I_F] * Fr * mode[1]
+                    T -= p[I_F] * Fr * friction
         ax += -Fr * nx - T * ny
         ay += -Fr * ny + T * nx
     out[0] = y[2]
