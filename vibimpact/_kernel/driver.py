@@ -123,10 +123,9 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     obs_th = np.empty(nsw)
     obs_i = np.empty(nsw, dtype=np.int64)
     mode_old = mode.copy()
-    # switching functions at the step's start (reused from the end of the step before when
-    # nothing changed in between: one evaluation fewer per step)
-    gs = np.empty(nsw)
-    gs_ok = False
+    # G[0] already holds the switching functions at the step's start (copied from the end
+    # of the step before when nothing changed in between: one evaluation fewer per step)
+    g0_ok = False
     rtol = opts[O_RTOL]
     atol = opts[O_ATOL]
     bound = opts[O_BOUND]
@@ -216,14 +215,9 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         th_end = 1.0
         which = -1
         n_obs = 0
-        if gs_ok:
-            for i in range(nsw):
-                G[0, i] = gs[i]
         event_seen = detect(model, p, mode, terminal, s, h, y, f0, y1, f1r, G, ytmp, flag,
-                            lo, hi, gs_ok)
-        for i in range(nsw):
-            gs[i] = G[0, i]
-        gs_ok = True
+                            lo, hi, g0_ok)
+        g0_ok = True
         if event_seen:
             imm = -1
             for i in range(nsw):
@@ -245,7 +239,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 for m in range(nm):
                     mode_old[m] = mode[m]
                 model_transition(model, s, y, p, mode, imm)
-                gs_ok = False
+                g0_ok = False
                 same = True
                 for m in range(nm):
                     if mode[m] != mode_old[m]:
@@ -402,10 +396,10 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             y[m] = y_end[m]
         # the step's end is the next step's start: its switching functions are known
         # unless the mode changes there or the local time wraps round to 0
-        gs_ok = which < 0 and k == k_start
-        if gs_ok:
+        g0_ok = which < 0 and k == k_start
+        if g0_ok:
             for i in range(nsw):
-                gs[i] = G[4, i]
+                G[0, i] = G[4, i]
         if which >= 0:
             for m in range(nm):
                 mode_old[m] = mode[m]
