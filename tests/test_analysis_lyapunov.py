@@ -14,10 +14,11 @@ from conftest import continued_state, preset
 
 def test_damped_linear_oscillator_spectrum_is_analytic():
     """x'' + 3x' + x = 0 has exponents (-3 +- sqrt(5))/2: the variational route returns them
-    (distinct real eigenvalues, so the QR estimate converges fast)."""
+    (distinct real eigenvalues, so the QR estimate converges fast); with the tangent
+    vectors' errors tested at the tolerances they sum to the trace to 1e-5."""
     p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
     res = lyapunov_spectrum(p, state0=[1.0, 0.0], transient=0, min_periods=100,
-                            max_periods=200)
+                            max_periods=200, tangent_tol=1.0)
     exact = np.array([(-3 + math.sqrt(5)) / 2, (-3 - math.sqrt(5)) / 2])
     np.testing.assert_allclose(res.exponents, exact, atol=2e-3)
     # trace of the Jacobian; the second tangent vector shrinks by e^-16 per period, to
@@ -101,6 +102,35 @@ def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(name, e
     assert abs(res.exponents[0] - floquet) <= 0.02 * abs(floquet)
 
 
+def test_looser_tangent_tolerance_gives_the_same_exponent_as_the_full_test():
+    """With the tangent vectors' local errors tested at 1e3 times the tolerances (the
+    default) or not at all, the largest exponent of an impacting periodic orbit with a
+    multiplier close to the unit circle (fig8, eta = 1.13) equals the one with every entry
+    tested at the tolerances to 1e-4 per unit tau, from the same state and periods."""
+    p = preset("fig8").replace(eta=1.13)
+    x = continued_state("fig8", 1.13, transient=300)
+    assert len(vi.simulate(p, periods=2, state0=x).impacts) >= 1
+    kw = dict(state0=x, n_exponents=1, transient=0, min_periods=150, max_periods=150,
+              align=20, rtol=1e-8, atol=1e-11)
+    lam_all = lyapunov_spectrum(p, tangent_tol=1.0, **kw).exponents[0]
+    for tol in (1e3, math.inf):
+        lam = lyapunov_spectrum(p, tangent_tol=tol, **kw).exponents[0]
+        assert lam < 0.0 and abs(lam - lam_all) < 1e-4
+
+
+def test_a_state_at_rest_still_controls_its_tangent_vectors():
+    """x'' + 3x' + x = 0 from (1, 0): the state decays to rest, where its own error test
+    allows quarter-period steps; the second tangent vector (exponent -2.618) is only
+    right because its local errors are still tested (default tangent_tol), and is wrong
+    by more than 5 % when they are not (tangent_tol = inf)."""
+    p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
+    kw = dict(state0=[1.0, 0.0], transient=0, min_periods=100, max_periods=200)
+    exact = (-3 - math.sqrt(5)) / 2
+    assert abs(lyapunov_spectrum(p, **kw).exponents[1] - exact) < 1e-3
+    assert abs(lyapunov_spectrum(p, tangent_tol=math.inf, **kw).exponents[1] - exact) > \
+        0.05 * abs(exact)
+
+
 @pytest.fixture(scope="module")
 def fig8_exponents(fig8_chaotic):
     p, x = fig8_chaotic
@@ -168,7 +198,7 @@ def test_blow_up_is_labelled_not_returned_as_exponents():
     (dict(n_exponents=5), "n_exponents"), (dict(min_periods=10, max_periods=5),
                                           "max_periods"),
     (dict(method="rk4"), "method"), (dict(target_stderr=-1.0), "target_stderr"),
-    (dict(state0=[1.0, 2.0]), "state0")])
+    (dict(state0=[1.0, 2.0]), "state0"), (dict(tangent_tol=0.5), "tangent_tol")])
 def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
     """Invalid arguments raise ValueError naming the argument."""
     with pytest.raises(ValueError, match=name):

@@ -164,7 +164,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     h_fixed = T / steps_per_period
     opts = np.array([rtol, atol, h_fixed, T / 4.0 if max_step is None else max_step,
                      mdl.bound if bound is None else bound, event_tol,
-                     float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0])
+                     float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0, 0.0, 1.0])
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, y, pvec, mode)
     ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])

@@ -12,9 +12,9 @@ from .dispatch import model_rhs, model_switches, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
-                         O_BOUND, O_EVTOL, O_FIXED, O_HFIX, O_HMAX, O_MAXSTEPS, O_NBOUND, O_RTOL, OK,
-                         STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
-                         rk_step)
+                         O_BOUND, O_EVTOL, O_FIXED, O_HFIX, O_HMAX, O_MAXSTEPS, O_NBOUND,
+                         O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO, error_norm, interpolate,
+                         prepare_dense, rk_step)
 from .tableaux import RK4
 
 
@@ -135,6 +135,8 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     expo = -1.0 / order
     cap = ev_t.size
     n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
+    n_err = n if opts[O_NERR] <= 0.0 else min(n, int(opts[O_NERR]))
+    tfac = opts[O_TFAC]
 
     k = int(ks[0])
     s = ks[1]
@@ -175,7 +177,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                                    y1)
         h_next = h
         if fsal and not fixed:
-            err = error_norm(method, E, E3, K, n_stages, h, y, y1, rtol, atol)
+            err = error_norm(method, E, E3, K, n_stages, h, y, y1, rtol, atol, n_err, tfac)
             if not np.isfinite(err) or err > 1.0:
                 counters[C_REJECTED] += 1
                 fac = 0.2 if not np.isfinite(err) else max(0.2, 0.9 * err ** expo)

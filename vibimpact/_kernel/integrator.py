@@ -53,8 +53,12 @@ LOG_FULL = 6
 # option vector layout
 #: O_NBOUND: how many leading state entries the bound applies to (0: all; the model
 #: state of a variational run, not its tangent vectors)
-O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED, O_NBOUND = range(9)
-N_OPTS = 9
+#: O_NERR, O_TFAC: the local error test measures the first O_NERR entries (0: all) at the
+#: tolerances, the others (the tangent vectors of a variational run) at O_TFAC times the
+#: tolerances (0: not at all)
+(O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED, O_NBOUND,
+ O_NERR, O_TFAC) = range(11)
+N_OPTS = 11
 
 # counters layout
 C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)
@@ -91,9 +95,13 @@ def rk_step(model, p, mode, A, B, C, n_stages, fsal, s0, y0, h, K, ytmp, y1):
 
 
 @njit(cache=True, error_model="numpy")
-def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol):
-    """Scaled error norm of an embedded pair (<= 1 means the step is accepted)."""
-    n = y0.size
+def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol, n_err, tfac):
+    """Scaled error norm of an embedded pair (<= 1 means the step is accepted).
+
+    The first ``n_err`` entries are measured against ``atol + rtol |y|``, the others
+    against ``tfac`` times that, or not at all when ``tfac <= 0``.
+    """
+    n = y0.size if tfac > 0.0 else n_err
     if method == DP5:
         acc = 0.0
         for m in range(n):
@@ -101,6 +109,8 @@ def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol):
             for j in range(n_stages + 1):
                 e += E[j] * K[j, m]
             sc = atol + rtol * max(abs(y0[m]), abs(y1[m]))
+            if m >= n_err:
+                sc *= tfac
             acc += (h * e / sc) ** 2
         return math.sqrt(acc / n)
     # DOP853: Hairer's combination of the 5th- and 3rd-order estimators
@@ -113,6 +123,8 @@ def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol):
             a5 += E[j] * K[j, m]
             a3 += E3[j] * K[j, m]
         sc = atol + rtol * max(abs(y0[m]), abs(y1[m]))
+        if m >= n_err:
+            sc *= tfac
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
     den = e5 + 0.01 * e3

@@ -44,7 +44,7 @@ from .._kernel import integrator as _k
 from .._kernel.driver import integrate as _integrate
 from ..run import Status, status_of
 from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
-from .lyapunov import _setup
+from .lyapunov import _setup, _tangent_tolerance
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
@@ -263,7 +263,7 @@ def param_value(p, param):
 
 
 def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-              event_tol=1e-12, model=None):
+              event_tol=1e-12, tangent_tol=1.0, model=None):
     """Jacobian of the ``n``-fold stroboscopic map by the variational equations.
 
     The state and ``d`` tangent vectors (the columns of the identity) are integrated
@@ -283,6 +283,11 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     rtol, atol, max_step, event_tol
         Integrator settings as in :func:`vibimpact.simulate` (tighter defaults: the
         tangent vectors share the step-size control).
+    tangent_tol : float
+        The tangent vectors' local errors are tested against ``tangent_tol`` times the
+        tolerances (default 1: Newton's steps and multipliers near the unit circle need
+        the matrix itself to the tolerance); see
+        :func:`vibimpact.analysis.lyapunov_spectrum`.
     model : Model, optional
 
     Returns
@@ -306,6 +311,7 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     mdl, pvec, omega, T, tab, opts = _setup(p, model, method, rtol, atol, max_step,
                                             event_tol)
     d = len(mdl.state_names)
+    _tangent_tolerance(opts, d, tangent_tol)
     if state0 is None:
         raise ValueError(f"state0 must be {d} finite numbers, got None")
     x0 = _state0(state0, d)
