@@ -75,3 +75,42 @@ def test_slowly_converging_orbit_is_found_periodic_with_extrapolation_only():
     # and a long plain run from the old end state confirms period 1
     run = vi.simulate(p.replace(eta=1.03), periods=1500, state0=a.final_state.values[-1])
     assert detect_period(run.strobe[-100:], tol=1e-6) == 1
+
+
+@pytest.fixture(scope="module")
+def saddle_case():
+    """fig8 with kh = 10 at eta = 1.085, reached by an upward sweep from 0.9: its period-1
+    orbit is a saddle (a multiplier 1.04) and its period-2 orbit attracts."""
+    p = vi.presets.get("fig8").replace(kh=10.0, B=0.07, Ec=0.11)  # pinned: calibrated pair
+    eta = np.round(np.arange(0.9, 1.085 + 1e-9, 0.005), 6)
+    ds = vi.sweep(p, eta, analyses=("period",))
+    return p.replace(eta=1.085), ds
+
+
+def test_a_jump_onto_a_saddle_is_not_accepted_as_periodic(saddle_case):
+    """Hypothesis: extrapolation finds a saddle as readily as an attractor, and the points
+    after a jump onto a weakly unstable period-1 orbit repeat to 1e-6 long before they
+    leave it; the sweep checks the multipliers of an orbit found after a jump and reports
+    the attracting period-2 orbit, not the saddle."""
+    p, ds = saddle_case
+    x = ds.final_state.values[-1]
+    p1 = shoot_periodic_orbit(p, x, 1)
+    p2 = shoot_periodic_orbit(p, x, 2)
+    assert p1.converged and p1.abs_max > 1.02
+    assert p2.converged and p2.minimal_period == 2 and p2.abs_max < 1.0
+    assert int(ds.period.values[-1]) == 2
+    assert np.abs(p2.state - x).max() < 1e-5 or \
+        np.abs(vi.simulate(p, periods=1, state0=p2.state).final_state - x).max() < 1e-5
+
+
+def test_stability_check_tells_the_saddle_from_the_attractor(saddle_case):
+    """Hypothesis: the sweep's stability check (monodromy matrix with the Lyapunov runs'
+    tangent tolerance) calls the period-1 saddle not attracting and the period-2 orbit
+    attracting, as the shooting's own multipliers do."""
+    from vibimpact.sweeps.point import _attracting
+
+    p, ds = saddle_case
+    x = ds.final_state.values[-1]
+    st = SweepSettings()
+    assert not _attracting(p, shoot_periodic_orbit(p, x, 1).state, 1, st)
+    assert _attracting(p, shoot_periodic_orbit(p, x, 2).state, 2, st)

@@ -82,6 +82,65 @@ def _positive(name, value, allow_none=False):
     return v
 
 
+def _run_kernel(mdl, pvec, omega, tab, opts, y, mode, ks, k_end, k_record, strobe, dense,
+                dense_arr):
+    """The kernel call of :func:`simulate`, repeated while the event log is full.
+
+    Returns ``(status, chunks, counters)``: ``chunks`` the filled parts of the event logs
+    as ``(t, which, mode, state)`` arrays.
+    """
+    n = y.size
+    counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
+    cap = int(min(max(64 * (k_end - k_record), 1024), 262_144))
+    chunks = []
+    status = _k.LOG_FULL
+    while status == _k.LOG_FULL:
+        ev_t = np.empty(cap)
+        ev_which = np.empty(cap, dtype=np.int64)
+        ev_mode = np.empty((cap, 2 * mdl.n_mode), dtype=np.int64)
+        ev_y = np.empty((cap, n))
+        status, n_ev = _integrate(mdl.kernel_model, mdl.terminal, *tab, pvec, omega, y, mode,
+                                  ks, opts, k_end, k_record, strobe, ev_t, ev_which, ev_mode,
+                                  ev_y, 0, dense, dense_arr, counters)
+        chunks.append((ev_t[:n_ev], ev_which[:n_ev], ev_mode[:n_ev], ev_y[:n_ev]))
+    return status, chunks, counters
+
+
+def strobe_only(p, periods, state0, method, rtol, atol):
+    """Stroboscopic points of a rotor run, for the loops of sweeps (not validated).
+
+    The same kernel call, with the same numbers, as ``simulate(p, periods,
+    state0=state0, method=method, rtol=rtol, atol=atol)``, without the argument checks
+    and the event records: a transient chunk needs neither.
+
+    Returns
+    -------
+    status : Status
+    reason : str
+    strobe : ndarray, shape (rows, 4)
+        Rows 0..periods (fewer when the run stopped early).
+    """
+    pvec = p.as_array()
+    omega = float(pvec[ROTOR.omega_index])
+    T = 2.0 * math.pi / omega
+    y = np.array(state0, dtype=np.float64)
+    opts = np.array([rtol, atol, T / 400, T / 4.0, ROTOR.bound, 1e-12, 1e6, 0.0, 0.0, 0.0,
+                     1.0])
+    mode = np.zeros(ROTOR.n_mode, dtype=np.int64)
+    ROTOR.init_mode(0.0, y, pvec, mode)
+    ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])
+    strobe = np.empty((periods + 1, y.size))
+    strobe[0] = y
+    status, _, _ = _run_kernel(ROTOR, pvec, omega, _tableau(method), opts, y, mode, ks,
+                               periods, 0, strobe, 0, _EMPTY2)
+    st, reason = status_of(status)
+    if st is not Status.OK:
+        k_done = int(ks[0])
+        reason = f"{reason} at tau = {k_done * T + ks[1]:.6g} (forcing period {k_done})"
+        return st, reason, strobe[:min(periods, k_done) + 1]
+    return st, reason, strobe
+
+
 def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-9,
              atol=1e-12, *, steps_per_period=400, adaptive=True, dense=0, max_step=None, bound=None,
              event_tol=1e-12, max_steps_per_period=1_000_000, model=None):
@@ -174,19 +233,8 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     dense_arr = np.empty((periods * dense + 1, n) if dense else (1, n))
     if dense and transient == 0:
         dense_arr[0] = y
-    counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
-    cap = int(min(max(64 * periods, 1024), 262_144))
-    chunks = []
-    status = _k.LOG_FULL
-    while status == _k.LOG_FULL:
-        ev_t = np.empty(cap)
-        ev_which = np.empty(cap, dtype=np.int64)
-        ev_mode = np.empty((cap, 2 * mdl.n_mode), dtype=np.int64)
-        ev_y = np.empty((cap, n))
-        status, n_ev = _integrate(mdl.kernel_model, mdl.terminal, *tab, pvec, omega, y, mode,
-                                  ks, opts, k_end, transient, strobe, ev_t, ev_which, ev_mode,
-                                  ev_y, 0, dense, dense_arr, counters)
-        chunks.append((ev_t[:n_ev], ev_which[:n_ev], ev_mode[:n_ev], ev_y[:n_ev]))
+    status, chunks, counters = _run_kernel(mdl, pvec, omega, tab, opts, y, mode, ks, k_end,
+                                           transient, strobe, dense, dense_arr)
     st, reason = status_of(status)
     k_done = int(ks[0])
     rows = max(0, min(periods, k_done - transient)) + (1 if k_done >= transient else 0)

@@ -18,7 +18,7 @@ from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import lyapunov_spectrum
 from ..analysis.period import detect_period
 from ..run import Status
-from ..simulate import simulate
+from ..simulate import simulate, strobe_only
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
@@ -41,7 +41,9 @@ class SweepSettings:
         Longest transient in forcing periods; it ends earlier as soon as the stroboscopic
         points repeat with a period ``n`` (checked every ``chunk`` periods).
     chunk : int
-        Periods between convergence checks.
+        Periods between convergence checks; after an extrapolation jump the next check
+        comes as soon as the period test's shortest window is full
+        (:data:`CHUNK_AFTER_JUMP` periods).
     extrapolate : int
         Jumps of the transient at most: when the stroboscopic points of a chunk close in
         geometrically on an ``n``-cycle (every ``n``-th point, ``n <= 4``, moving less than
@@ -49,7 +51,10 @@ class SweepSettings:
         their limit by minimal polynomial extrapolation
         (:func:`vibimpact.analysis.extrapolate_limit`) instead of waiting for the slowest
         Floquet mode to decay.  The period is still only accepted from integrated points
-        repeating to the rule's tolerance; 0 turns this off.
+        repeating to the rule's tolerance, and, since extrapolation finds saddles as
+        readily as attractors, only if the orbit's Floquet multipliers lie inside the
+        unit circle (otherwise the transient resumes from before the jump, without
+        further jumps); 0 turns this off.
     record : int
         Periods recorded after a transient that did not converge to a periodic orbit
         (0-1 test, impacts per period, Poincaré samples).
@@ -73,7 +78,7 @@ class SweepSettings:
     analyses: tuple = ANALYSES
     transient_max: int = 200
     chunk: int = 10
-    extrapolate: int = 3
+    extrapolate: int = 5
     record: int = 128
     record_periodic: int = 8
     n_samples: int = 64
@@ -116,6 +121,12 @@ SCALARS = {
 N_MULTIPLIERS = 4
 
 
+#: periods integrated after an extrapolation jump before the next check: the jump's point
+#: and 6 more fill the period test's shortest window (7 points, a period-1 orbit repeated
+#: 6 times) and are the 6 iterates a further period-1 extrapolation needs
+CHUNK_AFTER_JUMP = 6
+
+
 def _converged_period(strobe, rule):
     """Period of the tail of the transient's strobe sequence, or 0."""
     m = strobe.shape[0]
@@ -156,6 +167,18 @@ def _extrapolated(strobe):
         if np.all(np.isfinite(xs)) and np.abs(xs - z[-1]).max() <= 3.0 * dz[-1] / (1.0 - r):
             return xs
     return None
+
+
+def _attracting(p, x, n, st):
+    """Whether the period-``n`` orbit through ``x`` attracts: every multiplier of its
+    monodromy matrix (variational equations, tangent vectors' errors tested at the
+    Lyapunov default) inside the unit circle."""
+    from ..analysis.lyapunov import TANGENT_TOL
+    from ..analysis.shooting import floquet_multipliers, monodromy
+
+    m = monodromy(p, x, n, method=st.method, rtol=st.rtol, atol=st.atol,
+                  tangent_tol=TANGENT_TOL)
+    return m.status is Status.OK and bool(np.abs(floquet_multipliers(m.matrix)).max() < 1.0)
 
 
 def _maxima(dense):
@@ -222,10 +245,10 @@ def analyse_point(p, state0, settings):
     res["multipliers"] = np.full(N_MULTIPLIERS, np.nan + 0j)
     kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
 
-    def diverged(run, where):
+    def diverged(status, reason, where):
         res["regime"] = REGIME_CODES[Label.DIVERGED]
         res["confidence"] = 1.0
-        res["reason"] = f"{where}: {run.status.value}, {run.reason}"
+        res["reason"] = f"{where}: {status.value}, {reason}"
         return res
 
     # --- transient, ended early on a converged periodic orbit -----------------------
@@ -233,25 +256,41 @@ def analyse_point(p, state0, settings):
     done = 0
     n = 0
     jumps = 0
+    chunk = st.chunk
+    x_jump = None  # the integrated state a jump left (None: no jump since the last reset)
     while done < st.transient_max:
-        todo = min(st.chunk, st.transient_max - done)
-        run = simulate(p, periods=todo, state0=x, **kw)
-        if run.status is not Status.OK:
-            return diverged(run, "transient")
+        todo = min(chunk, st.transient_max - done)
+        status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
+        if status is not Status.OK:
+            return diverged(status, why, "transient")
         done += todo
-        x = run.final_state
-        tail.append(run.strobe[1:])
+        x = pts[-1].copy()
+        tail.append(pts[1:])
         strobe = np.concatenate(tail)[-(3 * rule.max_period + 1):]
         tail = [strobe]
         n = _converged_period(strobe, rule)
+        if n and x_jump is not None and not _attracting(p, x, n, st):
+            # a jump onto a saddle: its points repeat for a long while before they leave.
+            # Resume from where the jump left the trajectory, without further jumps.
+            n = 0
+            x = x_jump
+            x_jump = None
+            jumps = st.extrapolate
+            tail = [x[None, :]]
+            chunk = st.chunk
+            continue
         if n:
             break
         if jumps < st.extrapolate:
             xs = _extrapolated(strobe)
             if xs is not None:  # restart from the limit; only new points count
                 jumps += 1
+                x_jump = x.copy()
                 x = xs
                 tail = [x[None, :]]
+                chunk = min(st.chunk, CHUNK_AFTER_JUMP)
+                continue
+        chunk = st.chunk
     res["transient"] = done
 
     # --- record -----------------------------------------------------------------------
@@ -263,7 +302,7 @@ def analyse_point(p, state0, settings):
     r_start = math.hypot(x[0], x[1])
     run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0, **kw)
     if run.status is not Status.OK:
-        return diverged(run, "record")
+        return diverged(run.status, run.reason, "record")
     res["recorded"] = rec
     x = run.final_state
     res["final_state"] = x.copy()
