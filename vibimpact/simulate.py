@@ -18,6 +18,18 @@ METHODS = tuple(_tab.METHOD_IDS)
 
 _EMPTY2 = np.zeros((1, 1))
 
+#: defaults of :func:`simulate` that :func:`strobe_only` shares
+STEPS_PER_PERIOD = 400
+EVENT_TOL = 1e-12
+MAX_STEPS_PER_PERIOD = 1_000_000
+
+
+def _options(rtol, atol, h_fixed, max_step, bound, event_tol, max_steps_per_period,
+             adaptive):
+    """The kernel's option vector (layout in :mod:`vibimpact._kernel.integrator`)."""
+    return np.array([rtol, atol, h_fixed, max_step, bound, event_tol,
+                     float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0, 0.0, 1.0])
+
 
 def _tableau(method):
     """Kernel arguments ``(id, A, B, C, E, E3, D, P, order, n_stages)`` of a method."""
@@ -124,8 +136,8 @@ def strobe_only(p, periods, state0, method, rtol, atol):
     omega = float(pvec[ROTOR.omega_index])
     T = 2.0 * math.pi / omega
     y = np.array(state0, dtype=np.float64)
-    opts = np.array([rtol, atol, T / 400, T / 4.0, ROTOR.bound, 1e-12, 1e6, 0.0, 0.0, 0.0,
-                     1.0])
+    opts = _options(rtol, atol, T / STEPS_PER_PERIOD, T / 4.0, ROTOR.bound, EVENT_TOL,
+                    MAX_STEPS_PER_PERIOD, True)
     mode = np.zeros(ROTOR.n_mode, dtype=np.int64)
     ROTOR.init_mode(0.0, y, pvec, mode)
     ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])
@@ -142,8 +154,9 @@ def strobe_only(p, periods, state0, method, rtol, atol):
 
 
 def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-9,
-             atol=1e-12, *, steps_per_period=400, adaptive=True, dense=0, max_step=None, bound=None,
-             event_tol=1e-12, max_steps_per_period=1_000_000, model=None):
+             atol=1e-12, *, steps_per_period=STEPS_PER_PERIOD, adaptive=True, dense=0,
+             max_step=None, bound=None, event_tol=EVENT_TOL,
+             max_steps_per_period=MAX_STEPS_PER_PERIOD, model=None):
     """Integrate the model and sample it stroboscopically.
 
     Parameters
@@ -221,9 +234,9 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     T = 2.0 * math.pi / omega
     tab = _tableau(method)
     h_fixed = T / steps_per_period
-    opts = np.array([rtol, atol, h_fixed, T / 4.0 if max_step is None else max_step,
-                     mdl.bound if bound is None else bound, event_tol,
-                     float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0, 0.0, 1.0])
+    opts = _options(rtol, atol, h_fixed, T / 4.0 if max_step is None else max_step,
+                    mdl.bound if bound is None else bound, event_tol, max_steps_per_period,
+                    adaptive)
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, y, pvec, mode)
     ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])

@@ -15,7 +15,7 @@ from ..analysis.chaos01 import test01
 from ..analysis.classify import DecisionRule, Label, decide
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
-from ..analysis.lyapunov import lyapunov_spectrum
+from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
 from ..analysis.period import detect_period
 from ..run import Status
 from ..simulate import simulate, strobe_only
@@ -173,7 +173,6 @@ def _attracting(p, x, n, st):
     """Whether the period-``n`` orbit through ``x`` attracts: every multiplier of its
     monodromy matrix (variational equations, tangent vectors' errors tested at the
     Lyapunov default) inside the unit circle."""
-    from ..analysis.lyapunov import TANGENT_TOL
     from ..analysis.shooting import floquet_multipliers, monodromy
 
     m = monodromy(p, x, n, method=st.method, rtol=st.rtol, atol=st.atol,
