@@ -181,3 +181,45 @@ def test_spiral_transient_turning_a_third_per_sample_is_not_period_3():
     assert detect_period(pts, tol=1e-6) == 0                    # ... but is refused
     z = 1.0 + 3e-12 * q ** k
     assert detect_period(np.c_[z.real, z.imag], tol=1e-6) == 1
+
+
+def _windows_by_calls(x, windows, tol, max_period):
+    for w in windows:
+        if w > len(x):
+            break
+        n = detect_period(x[-w:], tol=tol, max_period=min(max_period, (w - 1) // 3))
+        if n:
+            return n
+    return 0
+
+
+def test_period_of_trailing_windows_in_one_pass_equals_one_call_per_window():
+    """Hypothesis: detect_period_windows takes the same decision as detect_period called
+    on each trailing window in turn -- on periodic tails behind transients, spirals into
+    a fixed point (refused by the divisor rule), noise-level fixed points, chaotic data,
+    tails that converge only in the shortest window, and sequences shorter than the
+    windows."""
+    from vibimpact.analysis.period import detect_period_windows
+
+    windows = (7, 13, 25, 49, 97, 193)
+    rng = np.random.default_rng(3)
+    cases = []
+    for n in (1, 2, 3, 5, 8, 16, 31, 64):
+        orbit = periodic_orbit(n, repeats=max(4, 200 // n), noise=1e-9)
+        for lead in (0, 5, 60):  # a transient in front of the periodic tail
+            cases.append(np.vstack([rng.uniform(-1, 1, (lead, 4)), orbit]))
+    k = np.arange(200)[:, None]
+    cases.append(0.3 + 2e-3 * 0.9 ** k * np.cos(2.1 * k + np.arange(4)))  # spiral in
+    cases.append(0.3 + 2e-3 * (-0.999) ** k * np.ones((1, 4)))  # slow flip: period-2-like
+    cases.append(1.0 + 1e-9 * rng.standard_normal((150, 4)))
+    cases.append(np.vstack([logistic(180)[:, None] * np.ones((1, 4)),
+                            np.full((7, 4), 0.4)]))  # converged only in the last 7
+    cases.append(logistic(193)[:, None] * np.ones((1, 4)))
+    cases.append(rng.uniform(-1, 1, (5, 4)))
+    found = 0
+    for x in cases:
+        for tol, mp in ((1e-6, 64), (1e-3, 16), (1e-6, 2)):
+            a = detect_period_windows(x, windows, tol=tol, max_period=mp)
+            assert a == _windows_by_calls(x, windows, tol, mp)
+            found += a > 0
+    assert found >= 20

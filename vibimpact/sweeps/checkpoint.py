@@ -96,7 +96,7 @@ def save_point(path, direction, index, result):
 
 
 #: fields every saved point has besides :data:`SCALARS`
-_REQUIRED = ("final_state", "samples", "arcs", "reason")
+_REQUIRED = ("final_state", "orbit_point", "samples", "arcs", "reason")
 
 
 def _read_point(f):

@@ -16,7 +16,7 @@ from ..analysis.classify import DecisionRule, Label, decide
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
-from ..analysis.period import detect_period
+from ..analysis.period import detect_period, detect_period_windows
 from ..run import Status
 from ..simulate import simulate, strobe_only
 
@@ -55,6 +55,12 @@ class SweepSettings:
         readily as attractors, only if the orbit's Floquet multipliers lie inside the
         unit circle (otherwise the transient resumes from before the jump, without
         further jumps); 0 turns this off.
+    predict : int
+        Continuation's predictor (:mod:`vibimpact.sweeps.predict`): after this many
+        consecutive period-1 points, a point is first tried from the polynomial
+        extrapolation of their states (``guess`` of :func:`analyse_point`); 0 turns this
+        off.  The default, 4 (a cubic), lands close enough for the first record to be
+        periodic at about 2 of 3 points of a period-1 branch.
     record : int
         Periods recorded after a transient that did not converge to a periodic orbit
         (0-1 test, impacts per period, Poincaré samples).
@@ -79,6 +85,7 @@ class SweepSettings:
     transient_max: int = 200
     chunk: int = 10
     extrapolate: int = 5
+    predict: int = 4
     record: int = 128
     record_periodic: int = 8
     n_samples: int = 64
@@ -127,17 +134,17 @@ N_MULTIPLIERS = 4
 CHUNK_AFTER_JUMP = 6
 
 
+def _windows(rule):
+    """Windows of the transient's period check: 7, 13, 25, ... points (periods up to 2, 4,
+    8, ... repeated 3 times), up to three repeats of the longest period."""
+    return (7, 13, 25, 49, 97, 3 * rule.max_period + 1)
+
+
 def _converged_period(strobe, rule):
-    """Period of the tail of the transient's strobe sequence, or 0."""
-    m = strobe.shape[0]
-    for w in (7, 13, 25, 49, 97, 3 * rule.max_period + 1):
-        if w > m:
-            break
-        n = detect_period(strobe[-w:], tol=rule.period_tol,
-                          max_period=min(rule.max_period, (w - 1) // 3))
-        if n:
-            return n
-    return 0
+    """Period of the tail of the transient's strobe sequence, or 0: the first of the
+    trailing windows :func:`_windows` in which :func:`detect_period` finds one."""
+    return detect_period_windows(strobe, _windows(rule), tol=rule.period_tol,
+                                 max_period=rule.max_period)
 
 
 #: extrapolate only when every n-th point moves by at most this fraction of the orbit's
@@ -180,6 +187,22 @@ def _attracting(p, x, n, st):
     return m.status is Status.OK and bool(np.abs(floquet_multipliers(m.matrix)).max() < 1.0)
 
 
+def _orbit_point(strobe):
+    """The fixed point of a converged period-1 record: minimal polynomial extrapolation
+    of its last 6 stroboscopic points, or the last point where the extrapolation leaves
+    their neighbourhood.  The record's points approach the orbit geometrically (after a
+    transient ended at the period test's tolerance, about 1e-7 of the orbit's size
+    remains); the limit removes that residue, which the continuation's predictor would
+    amplify (:mod:`vibimpact.sweeps.predict`)."""
+    z = strobe[-6:]
+    last = z[-1]
+    xs = extrapolate_limit(z) if z.shape[0] >= 3 else last
+    spread = float(np.abs(np.diff(z, axis=0)).max()) if z.shape[0] > 1 else 0.0
+    if not np.all(np.isfinite(xs)) or float(np.abs(xs - last).max()) > 10.0 * spread:
+        return last.copy()
+    return xs
+
+
 def _maxima(dense):
     """Largest |X|, |Y| and R of densely sampled motion, refined by a parabola through the
     sample at the maximum and its neighbours (error O(h^3) instead of O(h^2))."""
@@ -214,7 +237,7 @@ def _floquet(p, x, n, st):
                 stable=int(orb.abs_max < 1.0))
 
 
-def analyse_point(p, state0, settings):
+def analyse_point(p, state0, settings, guess=None):
     """Analyse one parameter point.
 
     Parameters
@@ -223,6 +246,15 @@ def analyse_point(p, state0, settings):
     state0 : ndarray, shape (4,) or None
         Initial state at tau = 0 (rest when None).
     settings : SweepSettings
+    guess : ndarray, shape (4,), optional
+        A predicted point of a period-1 orbit (a continuation's predictor,
+        :func:`vibimpact.sweeps.predict.extrapolate_branch`).  The record is integrated
+        from it first; when its stroboscopic points already repeat (period 1 or 2, to the
+        rule's tolerance, over the whole record) and the orbit attracts (Floquet
+        multipliers inside the unit circle), that run is the record and the transient is
+        0.  Otherwise the transient goes on from the run's end like after an extrapolation
+        jump: a period found later is accepted only on an attracting orbit, or the
+        transient restarts from ``state0`` with neither guess nor jumps.
 
     Returns
     -------
@@ -241,6 +273,7 @@ def analyse_point(p, state0, settings):
     res["samples"] = np.full((st.n_samples, 4), np.nan)
     x = np.zeros(4) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
     res["final_state"] = np.full(4, np.nan)
+    res["orbit_point"] = np.full(4, np.nan)
     res["multipliers"] = np.full(N_MULTIPLIERS, np.nan + 0j)
     kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
 
@@ -257,24 +290,54 @@ def analyse_point(p, state0, settings):
     jumps = 0
     chunk = st.chunk
     x_jump = None  # the integrated state a jump left (None: no jump since the last reset)
-    while done < st.transient_max:
-        todo = min(chunk, st.transient_max - done)
-        status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
-        if status is not Status.OK:
-            return diverged(status, why, "transient")
-        done += todo
-        x = pts[-1].copy()
-        tail.append(pts[1:])
+    run = None  # the record, when the guess's run is one
+    need_dense = "response" in want
+    guessed = guess is not None
+    ready = False  # the trial's points wait for the transient's first check
+    wasted = 0  # periods of a trial not continued (reported in "transient", not counted)
+    if guessed:
+        g = np.asarray(guess, dtype=np.float64)
+        rec = max(st.record_periodic, 4)
+        trial = simulate(p, periods=rec, state0=g, dense=st.dense if need_dense else 0,
+                         **kw)
+        nt = 0 if trial.status is not Status.OK else detect_period(
+            trial.strobe, tol=rule.period_tol, max_period=min(rule.max_period, rec // 3))
+        if nt and 4 * nt <= rec and _attracting(p, trial.final_state, nt, st):
+            run, n, x_start = trial, nt, g
+        elif nt or trial.status is not Status.OK:  # a saddle, or no run: plain transient
+            guessed = False
+            wasted = rec
+        else:  # the run is the first chunk of a transient that started with a jump
+            x_jump = x
+            x = trial.final_state.copy()
+            tail = [trial.strobe]
+            done = rec
+            ready = True
+    while run is None and (done < st.transient_max or ready):
+        if not ready:  # integrate a chunk (a failed trial's points are checked first)
+            todo = min(chunk, st.transient_max - done)
+            status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
+            if status is not Status.OK:
+                return diverged(status, why, "transient")
+            done += todo
+            x = pts[-1].copy()
+            tail.append(pts[1:])
+        ready = False
         strobe = np.concatenate(tail)[-(3 * rule.max_period + 1):]
         tail = [strobe]
         n = _converged_period(strobe, rule)
         if n and x_jump is not None and not _attracting(p, x, n, st):
-            # a jump onto a saddle: its points repeat for a long while before they leave.
-            # Resume from where the jump left the trajectory, without further jumps.
+            # a jump (or a guess) onto a saddle: its points repeat for a long while
+            # before they leave.  Resume from where the jump left the trajectory, without
+            # further jumps; after a guess, start the plain transient from state0.
             n = 0
             x = x_jump
             x_jump = None
-            jumps = st.extrapolate
+            if guessed:  # the plain transient gets its whole length
+                jumps, wasted, done = 0, wasted + done, 0
+            else:
+                jumps = st.extrapolate
+            guessed = False
             tail = [x[None, :]]
             chunk = st.chunk
             continue
@@ -284,24 +347,24 @@ def analyse_point(p, state0, settings):
             xs = _extrapolated(strobe)
             if xs is not None:  # restart from the limit; only new points count
                 jumps += 1
-                x_jump = x.copy()
+                if not guessed:  # after a guess, a saddle sends the transient to state0
+                    x_jump = x.copy()
                 x = xs
                 tail = [x[None, :]]
                 chunk = min(st.chunk, CHUNK_AFTER_JUMP)
                 continue
         chunk = st.chunk
-    res["transient"] = done
+    res["transient"] = done + wasted
 
     # --- record -----------------------------------------------------------------------
-    if n:
-        rec = max(st.record_periodic, 4 * n)
-    else:
-        rec = st.record
-    need_dense = "response" in want
-    r_start = math.hypot(x[0], x[1])
-    run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0, **kw)
-    if run.status is not Status.OK:
-        return diverged(run.status, run.reason, "record")
+    if run is None:
+        rec = max(st.record_periodic, 4 * n) if n else st.record
+        x_start = x
+        run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0,
+                       **kw)
+        if run.status is not Status.OK:
+            return diverged(run.status, run.reason, "record")
+    r_start = math.hypot(x_start[0], x_start[1])
     res["recorded"] = rec
     x = run.final_state
     res["final_state"] = x.copy()
@@ -310,6 +373,8 @@ def analyse_point(p, state0, settings):
         n = detect_period(run.strobe, tol=rule.period_tol,
                           max_period=min(rule.max_period, rec // 3)) or n
     res["period"] = n
+    if n == 1:
+        res["orbit_point"] = _orbit_point(run.strobe)
 
     imp = run.impacts
     if "impacts" in want or "response" in want:

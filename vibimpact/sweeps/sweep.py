@@ -23,11 +23,15 @@ import sys
 import numpy as np
 
 from .. import _limits
+from ..analysis.classify import Label
 from ..params import Params
 from ..run import Status
 from ..simulate import _count, simulate
 from . import checkpoint as ck
-from .point import ANALYSES, SweepSettings, analyse_point
+from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
+from .predict import extrapolate_branch
+
+PERIODIC = REGIME_CODES[Label.PERIODIC]
 
 DIRECTIONS = ("up", "down", "both")
 
@@ -122,11 +126,13 @@ def _run_block(task):
     p, etas, direction, idx, seed, settings, fixed, ckdir, done = task
     out = []
     x = seed
+    branch = []  # (eta, orbit_point) of the latest consecutive period-1 points
     for i in idx:
         res = done.get(i)
         if res is None:
             s0 = seed if fixed else x
-            res = analyse_point(p.replace(eta=float(etas[i])), s0, settings)
+            guess = None if fixed else _predicted(branch, float(etas[i]), settings.predict)
+            res = analyse_point(p.replace(eta=float(etas[i])), s0, settings, guess=guess)
             if ckdir is not None:
                 ck.save_point(ckdir, direction, i, res)
             if _PROGRESS is not None:
@@ -134,7 +140,32 @@ def _run_block(task):
         out.append((i, res))
         fs = res["final_state"]
         x = None if not np.all(np.isfinite(fs)) else np.asarray(fs)
+        orbit = res.get("orbit_point")
+        if res["regime"] == PERIODIC and res["period"] == 1 and orbit is not None \
+                and np.all(np.isfinite(orbit)) and settings.predict > 1:
+            branch = branch[-(settings.predict - 1):] + [(float(etas[i]), orbit)]
+        else:
+            branch = []
     return direction, out
+
+
+#: the predictor is used only when its step is at most this many times the branch's last
+#: step (beyond a fold the extrapolated branch has no orbit to land on)
+PREDICT_MAX_STEP = 2.0
+
+
+def _predicted(branch, eta, m):
+    """The continuation predictor's guess at ``eta`` from the last ``m`` period-1 points
+    of ``branch``, or None (fewer points, or a step out of line with the branch's)."""
+    if m < 2 or len(branch) < m:
+        return None
+    e, xs = zip(*branch[-m:])
+    guess = extrapolate_branch(e, xs, eta)
+    last = float(np.abs(xs[-1] - xs[-2]).max())
+    if not np.all(np.isfinite(guess)) or \
+            float(np.abs(guess - xs[-1]).max()) > PREDICT_MAX_STEP * last:
+        return None
+    return guess
 
 
 def check_request(direction, analyses, settings, state0):
