@@ -211,3 +211,34 @@ def test_rolling_on_the_retainer_is_permanent_contact_not_impactless():
     rest = vi.sweep(FIG8, [eta], analyses=("period", "impacts", "response"))
     assert int(rest["contact"].values[0]) == 0 and rest["R_m"].values[0] < 1.0
     assert rest["label"].values[0] == "P1 impactless"
+
+
+def test_runs_joined_from_chunks_equal_one_run():
+    """Hypothesis: a trajectory integrated in chunks of whole periods, each from the last
+    one's final state, and joined (run.join_runs) has the strobe, the contact records
+    (a contact spanning two chunks is one record, its period counted from the start), the
+    dense samples and the events of the same trajectory integrated in one run, to the
+    integrator's tolerance (the chunks restart the step size, so not bit for bit)."""
+    from vibimpact.run import join_runs
+    from vibimpact.sweeps import continued_state
+
+    p = FIG8.replace(eta=1.185)  # two bottom impacts per period (paper, fig. 8)
+    kw = dict(rtol=1e-10, atol=1e-13)
+    x0 = continued_state(p, 1.185)
+    whole = vi.simulate(p, periods=30, state0=x0, dense=16, **kw)
+    chunks, x = [], x0
+    for m in (7, 10, 13):
+        chunks.append(vi.simulate(p, periods=m, state0=x, dense=16, **kw))
+        x = chunks[-1].final_state
+    joined = join_runs(chunks, 2 * np.pi / p.eta)
+    assert joined.strobe.shape == whole.strobe.shape
+    assert np.allclose(joined.strobe, whole.strobe, rtol=0, atol=1e-6)
+    assert np.allclose(joined.dense, whole.dense, rtol=0, atol=1e-6)
+    assert np.allclose(joined.t_dense, whole.t_dense, rtol=0, atol=1e-12)
+    assert whole.impacts.size >= 30
+    assert joined.impacts.size == whole.impacts.size
+    assert np.array_equal(joined.impacts["period"], whole.impacts["period"])
+    for f in ("t_entry", "t_exit", "theta", "v_impact", "penetration"):
+        assert np.allclose(joined.impacts[f], whole.impacts[f], rtol=0, atol=1e-5), f
+    assert np.array_equal(joined.events["which"], whole.events["which"])
+    assert np.allclose(joined.final_state, whole.final_state, rtol=0, atol=1e-6)

@@ -155,3 +155,48 @@ def impacts_from_events(t, which, mode_before, state, t0, period):
         np.maximum.at(pen, owner[inside], rr[inside])
     out["penetration"] = pen
     return out
+
+
+def join_runs(runs, period):
+    """One run from consecutive runs of whole forcing periods, each started at ``tau = 0``
+    where the previous one ended (a transient integrated in chunks).
+
+    Parameters
+    ----------
+    runs : sequence of Run
+        Finished (status OK) runs of the same model and parameters, without transient;
+        ``runs[i + 1]`` starts at ``runs[i].final_state``.
+    period : float
+        Forcing period ``T``: run ``i`` is shifted by the periods of the runs before it.
+
+    Returns
+    -------
+    Run
+        Strobe and dense samples joined (the shared end points once), the event log
+        shifted and joined, the contact records rebuilt from the joined log (a contact
+        that spans two runs is one record), counters summed.
+    """
+    runs = list(runs)
+    if not runs or any(r.status is not Status.OK for r in runs):
+        raise ValueError("runs must be one or more finished runs")
+    offs = np.cumsum([0] + [r.strobe.shape[0] - 1 for r in runs[:-1]]) * period
+    first = runs[0]
+    strobe = np.concatenate([first.strobe] + [r.strobe[1:] for r in runs[1:]])
+    events = {k: np.concatenate([r.events[k] for r in runs]) for k in EVENT_DTYPE_FIELDS}
+    events["t"] = np.concatenate([r.events["t"] + o for r, o in zip(runs, offs)])
+    if first.model == "rotor":
+        impacts = impacts_from_events(events["t"], events["which"], events["mode_before"],
+                                      events["state"], 0.0, period)
+    else:
+        impacts = np.zeros(0, dtype=IMPACT_DTYPE)
+    dense = t_dense = None
+    if first.dense is not None:
+        dense = np.concatenate([first.dense] + [r.dense[1:] for r in runs[1:]])
+        t_dense = np.concatenate([first.t_dense] + [r.t_dense[1:] + o
+                                                    for r, o in zip(runs[1:], offs[1:])])
+    counters = {k: sum(r.counters[k] for r in runs) for k in first.counters}
+    return Run(params=first.params, model=first.model, strobe=strobe,
+               t_strobe=np.arange(strobe.shape[0]) * period, impacts=impacts,
+               events=events, dense=dense, t_dense=t_dense, status=Status.OK, reason="",
+               counters=counters, final_state=runs[-1].final_state.copy(),
+               solver=dict(first.solver))

@@ -166,10 +166,10 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     min_repeats), min_repeats)`` finds for the first window ``w`` of ``windows`` (in the
     order given, stopping at the first ``w`` longer than the sequence) that has one, or
     0; the same decisions, bit for bit.  The residuals ``max_j |x[k + n, j] - x[k, j]|``
-    of every lag are computed once for the longest window (numpy, ``O(w n d)``) and
+    of every lag are computed once for the longest window (compiled, ``O(w n d)``) and
     reduced to each shorter window by a suffix maximum, instead of once per window and
     lag: the checks of a sweep's transient (:func:`vibimpact.sweeps.analyse_point`) cost
-    about 5x less.
+    about 4x less.
 
     Parameters
     ----------
@@ -200,18 +200,16 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
         ws.append(w)
     if not ws:
         return 0
+    from .._kernel.recurrence import suffix_lag_residuals
+
     W = max(ws)
-    xs = x[-W:]
+    xs = np.ascontiguousarray(x[-W:])
     N = max(1, min(max_period, (W - 1) // min_repeats))
-    # r[k, n] = max_j |xs[k + n, j] - xs[k, j]| (-inf where k + n is past the end)
-    pad = np.concatenate([xs, np.full((N, xs.shape[1]), np.nan)])
-    win = np.lib.stride_tricks.sliding_window_view(pad, N + 1, axis=0)[:W]  # (W, d, N+1)
-    r = np.abs(win[:, :, 1:] - win[:, :, :1]).max(axis=1)  # (W, N); NaN past the end
-    r[np.isnan(r)] = -np.inf
-    suffix = np.maximum.accumulate(r[::-1], axis=0)[::-1]  # max over k' >= k
-    hi = np.maximum.accumulate(xs[::-1], axis=0)[::-1]
-    lo = np.minimum.accumulate(xs[::-1], axis=0)[::-1]
-    mag = np.maximum.accumulate(np.abs(xs).max(axis=1)[::-1])[::-1]
+    suffix = np.empty((W, N))
+    hi = np.empty_like(xs)
+    lo = np.empty_like(xs)
+    mag = np.empty(W)
+    suffix_lag_residuals(xs, N, suffix, hi, lo, mag)
     for w in ws:
         k0 = W - w
         scale = max(float(np.max(hi[k0] - lo[k0])), float(mag[k0]), SCALE_FLOOR)

@@ -17,7 +17,7 @@ from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
 from ..analysis.period import detect_period, detect_period_windows
-from ..run import Status
+from ..run import Status, join_runs
 from ..simulate import simulate, strobe_only
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
@@ -62,8 +62,12 @@ class SweepSettings:
         off.  The default, 4 (a cubic), lands close enough for the first record to be
         periodic at about 2 of 3 points of a period-1 branch.
     record : int
-        Periods recorded after a transient that did not converge to a periodic orbit
-        (0-1 test, impacts per period, Poincaré samples).
+        Periods recorded where the transient did not converge to a periodic orbit (0-1
+        test, impacts per period, Poincaré samples): the transient's last chunks, logged
+        with their events as they are integrated and still checked for a period, at least
+        ``record`` periods of one trajectory (130 of the 200 with the defaults; the
+        exponent then starts where they end).  Only when an extrapolation jump cut them
+        short are they recorded after the transient instead.
     record_periodic : int
         At least this many periods (and at least 4 motion periods) recorded on a
         converged periodic orbit.
@@ -295,6 +299,8 @@ def analyse_point(p, state0, settings, guess=None):
     guessed = guess is not None
     ready = False  # the trial's points wait for the transient's first check
     wasted = 0  # periods of a trial not continued (reported in "transient", not counted)
+    logged = []  # the transient's last chunks with their events: an unconverged transient's
+    # record when they cover `record` periods of one trajectory
     if guessed:
         g = np.asarray(guess, dtype=np.float64)
         rec = max(st.record_periodic, 4)
@@ -316,7 +322,13 @@ def analyse_point(p, state0, settings, guess=None):
     while run is None and (done < st.transient_max or ready):
         if not ready:  # integrate a chunk (a failed trial's points are checked first)
             todo = min(chunk, st.transient_max - done)
-            status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
+            if done + todo > st.transient_max - st.record:  # may end up in the record
+                c = simulate(p, periods=todo, state0=x, dense=st.dense if need_dense else 0,
+                             **kw)
+                status, why, pts = c.status, c.reason, c.strobe
+                logged.append(c)
+            else:
+                status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
             if status is not Status.OK:
                 return diverged(status, why, "transient")
             done += todo
@@ -333,6 +345,7 @@ def analyse_point(p, state0, settings, guess=None):
             n = 0
             x = x_jump
             x_jump = None
+            logged = []
             if guessed:  # the plain transient gets its whole length
                 jumps, wasted, done = 0, wasted + done, 0
             else:
@@ -350,10 +363,17 @@ def analyse_point(p, state0, settings, guess=None):
                 if not guessed:  # after a guess, a saddle sends the transient to state0
                     x_jump = x.copy()
                 x = xs
+                logged = []
                 tail = [x[None, :]]
                 chunk = min(st.chunk, CHUNK_AFTER_JUMP)
                 continue
         chunk = st.chunk
+    if run is None and not n and logged and \
+            sum(c.strobe.shape[0] - 1 for c in logged) >= st.record:
+        run = join_runs(logged, 2.0 * math.pi / p.eta)
+        rec = run.strobe.shape[0] - 1
+        x_start = run.strobe[0]
+        done -= rec
     res["transient"] = done + wasted
 
     # --- record -----------------------------------------------------------------------
