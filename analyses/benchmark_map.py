@@ -90,17 +90,28 @@ def per_point_profile(p, etas, name, values):
 
 
 def _rows_by_point(p, etas, name, values):
-    st = SweepSettings(analyses=ANALYSES)
-    cost = {}
-    for v in values:
-        q = p.replace(**{name: float(v)})
-        x = None
-        for e in etas:
-            t = time.perf_counter()
-            r = analyse_point(q.replace(eta=float(e)), x, st)
-            cost.setdefault(int(r["regime"]), []).append(time.perf_counter() - t)
-            fs = r["final_state"]
-            x = fs if np.all(np.isfinite(fs)) else None
+    """Seconds per point by regime, and the points that needed no transient, from rows
+    swept as a map sweeps them (continuation with the predictor), each point timed."""
+    import contextlib
+    import sys as _sys
+
+    sweep_module = _sys.modules["vibimpact.sweeps.sweep"]
+    inner = sweep_module.analyse_point
+    cost, no_transient = {}, [0]
+
+    def timed_point(*args, **kw):
+        t = time.perf_counter()
+        r = inner(*args, **kw)
+        cost.setdefault(int(r["regime"]), []).append(time.perf_counter() - t)
+        no_transient[0] += int(r["regime"]) == 1 and r["transient"] == 0
+        return r
+
+    with contextlib.ExitStack() as stack:
+        sweep_module.analyse_point = timed_point
+        stack.callback(setattr, sweep_module, "analyse_point", inner)
+        for v in values:
+            vi.sweep(p.replace(**{name: float(v)}), etas, analyses=ANALYSES, blocks=1)
+    cost["no_transient"] = no_transient[0]
     return cost
 
 
@@ -178,11 +189,15 @@ def main(argv):
     c1n = time.process_time() - c0
     t2, ds2 = timed(lambda: vi.map2d(p, etas, {name: values}, workers=2))
 
+    import dask
     from distributed import Client, LocalCluster
 
+    from vibimpact.maps.execute import WORKER_CONFIG
+
     t_up = time.perf_counter()
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cl, \
+    with dask.config.set(WORKER_CONFIG), \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                         dashboard_address=":0", silence_logs=logging.ERROR) as cl, \
             Client(cl, set_as_default=False) as client:
         client.wait_for_workers(2)
         client.run(_warm)
@@ -196,6 +211,7 @@ def main(argv):
     counts = {lab.value: int((reg == c).sum()) for lab, c in REGIME_CODES.items()}
     prof_rows = values[[0, values.size // 2, -1]]
     cost, kernel_share = per_point_profile(p, etas, name, prof_rows)
+    hits = cost.pop("no_transient")
     tr = ds1["transient"].values[reg == 1]
     per = {k: (len(v), float(np.sum(v)), 1e3 * float(np.mean(v))) for k, v in cost.items()}
     tot = sum(s for _, s, _ in per.values())
@@ -242,14 +258,18 @@ def main(argv):
         c, s, ms = per[k]
         L.append(f"| {names.get(k, k)} | {c} | {100 * c / npts:.0f} % | "
                  f"{100 * s / tot:.0f} % | {ms:.1f} |")
-    L += ["", "Periodic points end their transient as soon as the stroboscopic points "
-          f"repeat (here median {np.median(tr):.0f}, max {tr.max()} forcing periods at the "
-          "default period tolerance: the damping B sets how fast the orbit settles), "
-          "then record at least 8 periods; a point that never repeats integrates the "
-          "full 200-period transient, 128 recorded periods and the variational "
-          "equations for the exponent (100-600 periods).  Time inside the numba kernel "
-          f"(cProfile, the profiled rows): {100 * kernel_share:.0f} %; the rest is "
-          "Python per integration call (event records, period checks).", "",
+    L += ["", "A periodic point after four period-1 points is first integrated for its "
+          "record from the continuation's predictor (the cubic through their orbit "
+          "points); when that record already repeats and the orbit attracts it needs no "
+          f"transient ({hits} of the profiled rows' {per.get(1, (0,))[0]} periodic "
+          "points).  Otherwise the transient ends as soon as the stroboscopic points "
+          f"repeat (median {np.median(tr):.0f}, max {tr.max()} forcing periods over the "
+          "map), then at least 8 periods are recorded.  A point that never repeats "
+          "integrates the 200-period transient, whose last 130 periods are its record, "
+          "and the variational equations for the exponent (100-600 periods; most stop at "
+          "the 100-period minimum).  Time inside the numba kernel (cProfile, the "
+          f"profiled rows): {100 * kernel_share:.0f} %; the rest is Python per "
+          "integration call (event records, period checks).", "",
           f"## {TARGET_POINTS:,}-point map (target: {TARGET_S:.0f} s on 2 cores)", "",
           f"Projected from the warm 2-worker wall-clock rate plus the measured start-up: "
           f"**{proj:.0f} s** for {TARGET_POINTS:,} points; from the CPU time (two "
