@@ -49,14 +49,6 @@ def _log(n_ev, t, which, mode_before, mode_after, y, ev_t, ev_which, ev_mode, ev
     return n_ev + 1
 
 
-#: an adaptive step that would run past the predicted crossing of a terminal switch (the
-#: secant of the last step's switch values) ends at this multiple of the predicted time:
-#: a step over the contact's end sees the (R-1)^(3/2) singularity, and its error is that
-#: of its overshoot.  With the cut at events below: rejected steps per contact 17.5 ->
-#: 7.0, RHS evaluations -20 % on the fig8 eta = 1.185 orbit, strobe error unchanged.
-APPROACH = 1.02
-
-
 @njit(cache=True, error_model="numpy")
 def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
               n_stages, p, omega, y, mode, ks, opts, k_end, k_record, strobe, ev_t,
@@ -157,7 +149,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     steps_in_period = int(ks[3]) if ks.size > 3 else 0
     zeno = 0
     t_since_event = 1e300
-    from_event = False  # the step starts at a switching event
     h_cap = 1e300
     t_to_switch = 1e300
     while k < k_end:
@@ -189,18 +180,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             err = error_norm(method, E, E3, K, n_stages, h, y, y1, rtol, atol, n_err, tfac)
             if not np.isfinite(err) or err > 1.0:
                 counters[C_REJECTED] += 1
-                if not np.isfinite(err):
-                    fac = 0.2
-                elif from_event:
-                    # the step starts at a switching event, where the solution is only
-                    # C^(3/2) (the Hertz force's (R-1)^(3/2) onset): its local error grows
-                    # like h^(5/2), not h^(order+1), so the 0.2x cascade of the usual law
-                    # takes ~5 tries to find the step.  Cut by the h^(5/2) law, aiming at
-                    # an error well below the tolerance (its estimate is least reliable
-                    # here).
-                    fac = max(0.01, 0.3 * err ** -0.4)
-                else:
-                    fac = max(0.2, 0.9 * err ** expo)
+                fac = 0.2 if not np.isfinite(err) else max(0.2, 0.9 * err ** expo)
                 h = h * fac
                 if h < 1e-13 * T:
                     status = STEP_UNDERFLOW
@@ -231,7 +211,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             break
         counters[C_STEPS] += 1
         steps_in_period += 1
-        from_event = False
 
         # --- events ------------------------------------------------------------------
         dense_ready = False
@@ -348,8 +327,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             for i in range(nsw):
                 if terminal[i] == 1 and G[0, i] > G[4, i] > 0.0:
                     t_to_switch = min(t_to_switch, G[4, i] * h / (G[0, i] - G[4, i]))
-            if not fixed and t_to_switch < h_next:
-                h_next = max(APPROACH * t_to_switch, 1e-3 * h_next)
 
         # --- observer crossings, in time order ------------------------------------------
         for a in range(n_obs):
@@ -436,7 +413,6 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                             ev_y)
             model_rhs(model, s, y, p, mode, f0)
             counters[C_RHS] += 1
-            from_event = True
         else:
             for m in range(n):
                 f0[m] = f1r[m]
