@@ -174,6 +174,17 @@ def _defaults_line(res, best, Bs, Ecs):
     return out
 
 
+def _code_hash():
+    """First 12 hex digits of the SHA-256 of the vibimpact package's Python sources."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for f in sorted((ROOT / "vibimpact").rglob("*.py")):
+        h.update(f.relative_to(ROOT).as_posix().encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:12]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--step", type=float, default=0.005)
@@ -182,6 +193,9 @@ def main(argv=None):
                     help="directory for the sweeps (reused by later runs)")
     ap.add_argument("--quick", action="store_true", help="2 x 2 pairs, coarse only")
     args = ap.parse_args(argv)
+    # sweeps are reused only by the code that computed them: one subdirectory per hash of
+    # the package's sources (a cache from older code would silently report old results)
+    args.cache = str(Path(args.cache) / _code_hash())
     Path(args.cache).mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     Bs, Ecs = ((0.05, 0.1), (0.1, 0.13)) if args.quick else (COARSE_B, COARSE_EC)
