@@ -137,29 +137,11 @@ def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None)
     m = x.shape[0]
     if m == 0:
         return 0
-    if scale is None:
-        size = float(np.max(np.ptp(x, axis=0)))
-        magnitude = float(np.max(np.abs(x)))
-        scale = max(size, magnitude, SCALE_FLOOR)
-    else:
-        scale = _positive_float("scale", scale)
-    threshold = tol * scale
-    n_max = min(max_period, (m - 1) // min_repeats)
-    residual = {}
-    for n in range(1, n_max + 1):
-        residual[n] = float(np.max(np.abs(x[n:] - x[:-n])))
-        if residual[n] <= threshold:
-            # a cycle whose points nearly coincide with a shorter one is a transient
-            # spiralling into that shorter cycle (its rotation per sample close to 1/n of a
-            # turn), not a period-n orbit
-            if any(residual[d] <= DIVISOR_MARGIN * threshold
-                   for d in range(1, n) if n % d == 0):
-                return 0
-            return n
-    return 0
+    return detect_period_windows(x, (m,), tol, max_period, min_repeats, scale=scale)
 
 
-def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=3):
+def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=3, *,
+                          scale=None):
     """:func:`detect_period` on the trailing windows of a sequence, in one pass.
 
     Returns the period that ``detect_period(points[-w:], tol, min(max_period, (w - 1) //
@@ -176,8 +158,9 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     points : array_like, shape (m, d) or (m,)
     windows : sequence of int
         Window lengths, each >= 1.
-    tol, max_period, min_repeats
-        As for :func:`detect_period`.
+    tol, max_period, min_repeats, scale
+        As for :func:`detect_period` (``scale``, when given, for every window; by
+        default each window's own size and magnitude).
 
     Returns
     -------
@@ -187,11 +170,19 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     ------
     ValueError
         As :func:`detect_period`, or naming ``windows``.
+
+    Notes
+    -----
+    :func:`detect_period` is this function with the one window ``m``: the decision rule
+    (smallest accepted lag, refused when a proper divisor repeats within
+    :data:`DIVISOR_MARGIN` times the tolerance) is written once, here.
     """
     x = _as_points(points)
     tol = _positive_float("tol", tol)
     max_period = _positive_int("max_period", max_period)
     min_repeats = _positive_int("min_repeats", min_repeats)
+    if scale is not None:
+        scale = _positive_float("scale", scale)
     ws = []
     for w in windows:
         w = _positive_int("windows", w)
@@ -212,8 +203,9 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     suffix_lag_residuals(xs, N, suffix, hi, lo, mag)
     for w in ws:
         k0 = W - w
-        scale = max(float(np.max(hi[k0] - lo[k0])), float(mag[k0]), SCALE_FLOOR)
-        threshold = tol * scale
+        ref = scale if scale is not None else max(float(np.max(hi[k0] - lo[k0])),
+                                                  float(mag[k0]), SCALE_FLOOR)
+        threshold = tol * ref
         n_max = min(max_period, (w - 1) // min_repeats)
         if n_max < 1:
             continue
@@ -222,6 +214,9 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
         if hit.size == 0:
             continue
         n = int(hit[0]) + 1
+        # a cycle whose points nearly coincide with a shorter one is a transient spiralling
+        # into that shorter cycle (its rotation per sample close to 1/n of a turn), not a
+        # period-n orbit
         if any(res[d - 1] <= DIVISOR_MARGIN * threshold for d in range(1, n) if n % d == 0):
             continue
         return n
