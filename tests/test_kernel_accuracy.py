@@ -1,5 +1,6 @@
 """Accuracy of the simulation kernel against known solutions and invariants."""
 import numpy as np
+import pytest
 
 import vibimpact as vi
 from vibimpact._kernel.rotor import energy
@@ -72,10 +73,12 @@ def test_rk4_converges_at_fourth_order_across_contacts(contact_case):
 
 def test_adaptive_methods_keep_their_order_across_contacts(contact_case):
     """Error against work (RHS evaluations) of the adaptive pairs on the same trajectory:
-    DP5 within 0.5 of order 5; DOP853 at least order 7.5."""
+    DP5 at least order 4.5; DOP853 at least order 7.5.  (The slope may exceed the order:
+    the steps at the contacts' ends, sized by the h^(5/2) law of the Hertz force, take a
+    smaller share of the work at tighter tolerances.)"""
     p, s0, ref = contact_case
     tols = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11]
-    for method, lo, hi in (("dp5", 4.5, 5.5), ("dop853", 7.5, np.inf)):
+    for method, lo, hi in (("dp5", 4.5, np.inf), ("dop853", 7.5, np.inf)):
         work, err = [], []
         for tol in tols:
             run = vi.simulate(p, periods=4, state0=s0, method=method, rtol=tol, atol=tol)
@@ -83,6 +86,22 @@ def test_adaptive_methods_keep_their_order_across_contacts(contact_case):
             err.append(np.abs(run.strobe - ref.strobe).max())
         order = -_slope(work, err)
         assert lo <= order <= hi, (method, order)
+
+
+@pytest.mark.parametrize("method, bound", [("dp5", 45.0), ("dop853", 15.0)])
+def test_global_error_stays_proportional_to_tolerance_across_contacts(contact_case, method,
+                                                                      bound):
+    """Hypothesis: with the steps at the contacts' ends sized from the method's error
+    constants there (the Hertz force's h^(5/2) law; the embedded estimate under-reports
+    those steps' error, by up to 180x at an exit inside a step), the strobe error over 7
+    contacts stays within a fixed multiple of the tolerance at every tolerance from 1e-6
+    to 1e-11: 15 for DOP853, 45 for DP5 (more steps, more accumulated local error).  With
+    the steps found by the error estimate alone the worst ratios were 51 and 87."""
+    p, s0, ref = contact_case
+    ratios = [np.abs(vi.simulate(p, periods=4, state0=s0, method=method, rtol=tol,
+                                 atol=tol).strobe - ref.strobe).max() / tol
+              for tol in (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)]
+    assert max(ratios) < bound, (method, ratios)
 
 
 def test_error_is_proportional_to_tolerance(contact_case):

@@ -25,10 +25,13 @@ MAX_STEPS_PER_PERIOD = 1_000_000
 
 
 def _options(rtol, atol, h_fixed, max_step, bound, event_tol, max_steps_per_period,
-             adaptive):
-    """The kernel's option vector (layout in :mod:`vibimpact._kernel.integrator`)."""
+             adaptive, method, n_bound=0):
+    """The kernel's option vector (layout in :mod:`vibimpact._kernel.integrator`), with
+    the method's error constants at Hertz contact ends (adaptive methods)."""
+    g_in, g_out = _tab.HERTZ_ERROR.get(_tab.METHOD_IDS[method], (0.0, 0.0))
     return np.array([rtol, atol, h_fixed, max_step, bound, event_tol,
-                     float(max_steps_per_period), 0.0 if adaptive else 1.0, 0.0, 0.0, 1.0])
+                     float(max_steps_per_period), 0.0 if adaptive else 1.0, float(n_bound),
+                     0.0, 1.0, g_in, g_out])
 
 
 def _tableau(method):
@@ -137,7 +140,7 @@ def strobe_only(p, periods, state0, method, rtol, atol):
     T = 2.0 * math.pi / omega
     y = np.array(state0, dtype=np.float64)
     opts = _options(rtol, atol, T / STEPS_PER_PERIOD, T / 4.0, ROTOR.bound, EVENT_TOL,
-                    MAX_STEPS_PER_PERIOD, True)
+                    MAX_STEPS_PER_PERIOD, True, method)
     mode = np.zeros(ROTOR.n_mode, dtype=np.int64)
     ROTOR.init_mode(0.0, y, pvec, mode)
     ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])
@@ -236,7 +239,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     h_fixed = T / steps_per_period
     opts = _options(rtol, atol, h_fixed, T / 4.0 if max_step is None else max_step,
                     mdl.bound if bound is None else bound, event_tol, max_steps_per_period,
-                    adaptive)
+                    adaptive, method)
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, y, pvec, mode)
     ks = np.array([0.0, 0.0, min(T / 50.0, opts[_k.O_HMAX]), 0.0])

@@ -38,6 +38,11 @@ def model_transition(model, s, y, p, mode, which):
     """Apply the model's mode change at an event of switch ``which``."""
 
 
+def model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+    """Largest step the model's non-smooth force allows from ``y`` (``1e300``: none);
+    the rotor's Hertz contact (:func:`.rotor.step_cap`), none for other models."""
+
+
 @overload(model_rhs, jit_options={"error_model": "numpy"})
 def _ol_rhs(model, s, y, p, mode, out):
     if isinstance(model, types.Integer):
@@ -97,4 +102,19 @@ def _ol_transition(model, s, y, p, mode, which):
 
     def impl_user(model, s, y, p, mode, which):
         model[2](s, y, p, mode, which)
+    return impl_user
+
+
+@overload(model_step_cap, jit_options={"error_model": "numpy"})
+def _ol_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+    if isinstance(model, types.Integer):
+        def impl(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+            if model == ROTOR or model == ROTOR_VAR:
+                return rotor.step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in,
+                                      g_out)
+            return 1e300
+        return impl
+
+    def impl_user(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+        return 1e300
     return impl_user

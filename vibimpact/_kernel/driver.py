@@ -8,12 +8,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .dispatch import model_rhs, model_switches, model_transition
+from .dispatch import model_rhs, model_step_cap, model_switches, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
-                         O_BOUND, O_EVTOL, O_FIXED, O_HFIX, O_HMAX, O_MAXSTEPS, O_NBOUND,
-                         O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO, error_norm, interpolate,
+                         O_BOUND, O_EVTOL, O_FIXED, O_GIN, O_GOUT, O_HFIX, O_HMAX, O_MAXSTEPS,
+                         O_NBOUND, O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO, error_norm, interpolate,
                          prepare_dense, rk_step)
 from .tableaux import RK4
 
@@ -137,6 +137,11 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
     n_err = n if opts[O_NERR] <= 0.0 else min(n, int(opts[O_NERR]))
     tfac = opts[O_TFAC]
+    # steps touching a contact's end are sized from the method's constants there
+    g_in = opts[O_GIN]
+    g_out = opts[O_GOUT] if not fixed else 0.0
+    n_norm = n if tfac > 0.0 else n_err
+    at_event = False  # the step starts at a terminal event just located
 
     k = int(ks[0])
     s = ks[1]
@@ -163,6 +168,9 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
             h = min(h, graded_step(hf, min(t_since_event, t_to_switch), order))
         h = min(h, opts[O_HMAX], h_cap)
+        if g_out > 0.0:
+            h = min(h, model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm,
+                                      g_in, g_out))
         h_prop = h
         lands = False
         if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
@@ -211,6 +219,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             break
         counters[C_STEPS] += 1
         steps_in_period += 1
+        at_event = False
 
         # --- events ------------------------------------------------------------------
         dense_ready = False
@@ -258,6 +267,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                                 ev_mode, ev_y)
                 model_rhs(model, s, y, p, mode, f0)
                 counters[C_RHS] += 1
+                at_event = True
                 continue
             counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s,
                                              y, h, K, y1, ytmp, F)
@@ -413,6 +423,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                             ev_y)
             model_rhs(model, s, y, p, mode, f0)
             counters[C_RHS] += 1
+            at_event = True
         else:
             for m in range(n):
                 f0[m] = f1r[m]

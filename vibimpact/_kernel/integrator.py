@@ -56,9 +56,11 @@ LOG_FULL = 6
 #: O_NERR, O_TFAC: the local error test measures the first O_NERR entries (0: all) at the
 #: tolerances, the others (the tangent vectors of a variational run) at O_TFAC times the
 #: tolerances (0: not at all)
+#: O_GIN, O_GOUT: the method's local error constants of steps at a Hertz contact's entry
+#: and exit (:func:`.tableaux.hertz_error_constants`; 0: steps not capped there)
 (O_RTOL, O_ATOL, O_HFIX, O_HMAX, O_BOUND, O_EVTOL, O_MAXSTEPS, O_FIXED, O_NBOUND,
- O_NERR, O_TFAC) = range(11)
-N_OPTS = 11
+ O_NERR, O_TFAC, O_GIN, O_GOUT) = range(13)
+N_OPTS = 13
 
 # counters layout
 C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)

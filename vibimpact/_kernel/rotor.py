@@ -234,6 +234,99 @@ def jac(s, y, p, mode, J):
     J[3, 0], J[3, 1], J[3, 2], J[3, 3] = r[4], r[5], r[6], r[7]
 
 
+#: target of a step capped at a contact's end: its velocity error, from the method's
+#: constant, at this fraction of the error test's tolerance
+HERTZ_SAFETY = 0.25
+#: a step that ends short of a predicted contact exit stops at this fraction of the time
+#: to it (a quadratic prediction: the step then crosses only if it is 25 % early)
+EXIT_APPROACH = 0.75
+
+
+@njit(cache=True, error_model="numpy")
+def _hertz_step(gamma, c, w):
+    """Step whose singular velocity error ``gamma c h^{5/2}`` has the scaled norm
+    :data:`HERTZ_SAFETY` (``w``: norm of a unit velocity error along the contact's
+    normal and friction directions)."""
+    e = gamma * c * w
+    if e <= 0.0:
+        return 1e300
+    return (HERTZ_SAFETY / e) ** 0.4
+
+
+@njit(cache=True, error_model="numpy")
+def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+    """Largest step from state ``y`` in contact that the Hertz singularity allows.
+
+    Next to a contact's entry and exit the acceleration has a part ``c |t - t_e|^{3/2}``
+    with ``c = kh |R'|^{3/2} |1 + Bh R'|`` (and ``f`` times it along the tangent), so a
+    step touching the surface has a velocity error ``gamma c h^{5/2}`` for any order of
+    the method, while its embedded error estimate may report a small fraction of it
+    (:func:`vibimpact._kernel.tableaux.hertz_error_constants`).  Such steps are sized
+    from the constant, so their accuracy does not rest on the estimate, and without the
+    cascade of rejections an order-8 controller needs to find them:
+
+    * the first step of a contact (``at_event`` on the surface): ``gamma_in``, ``c`` at
+      the entry;
+    * a step that may reach the exit, predicted from the quadratic ``R - 1 + R' t +
+      R'' t^2 / 2`` (``R''`` from the acceleration ``f0[2:4]``): ``gamma_out``, the worst
+      position of the exit inside the step, ``c`` at the predicted exit speed; a step
+      that the prediction lets stop short of the exit by more than that stops at
+      :data:`EXIT_APPROACH` of the time to it.
+
+    Returns ``1e300`` (no cap) in free flight.  The error test still decides whether a
+    step is accepted.
+
+    Parameters
+    ----------
+    y : float64 array, shape (>= 4,)
+        State at the step's start (a variational run's tangent entries are ignored).
+    f0 : float64 array, shape (>= 4,)
+        Right-hand side at the step's start.
+    at_event : bool
+        The step starts at a terminal event just located (a contact entry when ``y``
+        lies on the surface moving out).
+    rtol, atol : float
+        Tolerances of the error test.
+    n_norm : int
+        Entries in the error norm (its root mean square divides by this).
+    g_in, g_out : float
+        The method's constants; 0 turns the cap off.
+    """
+    if mode[0] != 1 or p[I_KH] <= 0.0 or g_out <= 0.0:
+        return 1e300
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    f = p[I_F]
+    # scaled norm of a unit velocity error along the normal plus f times the tangent
+    sx = atol + rtol * abs(y[2])
+    sy = atol + rtol * abs(y[3])
+    ex = abs(nx) + f * abs(ny)
+    ey = abs(ny) + f * abs(nx)
+    w = math.sqrt(((ex / sx) ** 2 + (ey / sy) ** 2) / n_norm)
+    cap = 1e300
+    if at_event and Rd > 0.0 and R - 1.0 < 1e-9:
+        cap = _hertz_step(g_in, p[I_KH] * Rd * math.sqrt(Rd) * abs(1.0 + p[I_BH] * Rd), w)
+    # time to the exit, R - 1 + Rd t + a t^2 / 2 = 0, smallest positive root
+    g = max(R - 1.0, 0.0)
+    a = (y[0] * f0[2] + y[1] * f0[3] + y[2] * y[2] + y[3] * y[3] - Rd * Rd) / R
+    disc = Rd * Rd - 2.0 * a * g
+    if disc < 0.0:
+        return cap
+    sq = math.sqrt(disc)
+    t_exit = 1e300
+    if a != 0.0:
+        for r in ((-Rd - sq) / a, (-Rd + sq) / a):
+            if 0.0 < r < t_exit:
+                t_exit = r
+    elif Rd < 0.0:
+        t_exit = -g / Rd
+    if t_exit >= 1e300:
+        return cap
+    v_exit = abs(Rd + a * t_exit)
+    h_exit = _hertz_step(g_out, p[I_KH] * v_exit * math.sqrt(v_exit)
+                         * abs(1.0 - p[I_BH] * v_exit), w)
+    return min(cap, max(h_exit, EXIT_APPROACH * t_exit))
+
+
 @njit(cache=True, error_model="numpy")
 def switches(s, y, p, mode, g):
     """Switching functions (see module docstring); writes ``g`` (shape (3,))."""

@@ -33,7 +33,8 @@ from .._kernel.lyapunov import benettin as _benettin
 from .._kernel.lyapunov import qr_growth as _qr_growth
 from .._kernel.lyapunov import two_trajectory as _two_trajectory
 from ..run import Status, status_of
-from ..simulate import _count, _model_and_vector, _positive, _state0, _tableau, simulate
+from ..simulate import (_count, _model_and_vector, _options, _positive, _state0,
+                        _tableau, simulate)
 
 
 @dataclass(frozen=True)
@@ -133,8 +134,8 @@ def _setup(p, model, method, rtol, atol, max_step, event_tol):
     omega = float(pvec[mdl.omega_index])
     T = 2.0 * math.pi / omega
     max_step = T / 4.0 if max_step is None else _positive("max_step", max_step)
-    opts = np.array([rtol, atol, T / 400.0, max_step, mdl.bound, event_tol, 1e6, 0.0,
-                     float(len(mdl.state_names)), 0.0, 1.0])
+    opts = _options(rtol, atol, T / 400.0, max_step, mdl.bound, event_tol, 1e6, True,
+                    method, n_bound=len(mdl.state_names))
     return mdl, pvec, omega, T, _tableau(method), opts
 
 
