@@ -13,8 +13,8 @@ from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
                          O_BOUND, O_EVTOL, O_FIXED, O_GIN, O_GOUT, O_HFIX, O_HMAX, O_MAXSTEPS,
-                         O_NBOUND, O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO, error_norm, interpolate,
-                         prepare_dense, rk_step)
+                         O_NBOUND, O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO,
+                         error_norm, interpolate, prepare_dense, rk_step)
 from .tableaux import RK4
 
 
@@ -142,6 +142,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     g_out = opts[O_GOUT] if not fixed else 0.0
     n_norm = n if tfac > 0.0 else n_err
     at_event = False  # the step starts at a terminal event just located
+    retry = False  # the step is retried shorter from the same state and mode (its cap holds)
 
     k = int(ks[0])
     s = ks[1]
@@ -168,9 +169,10 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
             h = min(h, graded_step(hf, min(t_since_event, t_to_switch), order))
         h = min(h, opts[O_HMAX], h_cap)
-        if g_out > 0.0:
+        if g_out > 0.0 and not retry:
             h = min(h, model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm,
                                       g_in, g_out))
+        retry = False
         h_prop = h
         lands = False
         if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
@@ -193,6 +195,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                 if h < 1e-13 * T:
                     status = STEP_UNDERFLOW
                     break
+                retry = True
                 continue
             fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** expo))
             h_next = h * fac
@@ -246,6 +249,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                     # than a quarter step (a shallow contact), not an inconsistent mode.
                     # Retry with a shorter step so the samples resolve it.
                     h_cap = 0.125 * h
+                    retry = True
                     continue
                 for m in range(nm):
                     mode_old[m] = mode[m]
@@ -260,6 +264,7 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
                     # of zero and the crossing back happens before the first sample.
                     # Retry with a shorter step so the samples resolve it.
                     h_cap = 0.125 * h
+                    retry = True
                     continue
                 counters[C_EVENTS] += 1
                 if k >= k_record:

@@ -290,9 +290,9 @@ def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     n_norm : int
         Entries in the error norm (its root mean square divides by this).
     g_in, g_out : float
-        The method's constants; 0 turns the cap off.
+        The method's constants (the driver makes no call where they are 0: fixed steps).
     """
-    if mode[0] != 1 or p[I_KH] <= 0.0 or g_out <= 0.0:
+    if mode[0] != 1 or p[I_KH] <= 0.0:
         return 1e300
     R, nx, ny, Rd, vt = _geometry(y, p)
     f = p[I_F]
