@@ -12,10 +12,22 @@ every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR` and
 for a user model.  Their switching functions are the base model's (they read the first
 ``n_state`` entries only).
 """
-from numba import types
+from numba import njit, types
 from numba.extending import overload
 
 from . import duffing, rotor, variational
+from .jitopts import ALLOC, LEAF
+
+#: overloads take numba's options less ``cache`` (they are cached with their callers)
+_LEAF = {k: v for k, v in LEAF.items() if k != "cache"}
+_ALLOC = {k: v for k, v in ALLOC.items() if k != "cache"}
+
+@njit(error_model="numpy", _nrt=True)
+def _user_call(f, s, y, p, mode, arg):
+    """Call a user model's function with the runtime on, so that it may allocate (it
+    would otherwise be compiled with the calling kernel's options)."""
+    f(s, y, p, mode, arg)
+
 
 ROTOR = 0
 DUFFING = 1
@@ -43,7 +55,7 @@ def model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_
     the rotor's Hertz contact (:func:`.rotor.step_cap`), none for other models."""
 
 
-@overload(model_rhs, jit_options={"error_model": "numpy"})
+@overload(model_rhs, jit_options=_LEAF)
 def _ol_rhs(model, s, y, p, mode, out):
     if isinstance(model, types.Integer):
         def impl(model, s, y, p, mode, out):
@@ -63,11 +75,11 @@ def _ol_rhs(model, s, y, p, mode, out):
         return impl_var
 
     def impl_user(model, s, y, p, mode, out):
-        model[0](s, y, p, mode, out)
+        _user_call(model[0], s, y, p, mode, out)
     return impl_user
 
 
-@overload(model_switches, jit_options={"error_model": "numpy"})
+@overload(model_switches, jit_options=_LEAF)
 def _ol_switches(model, s, y, p, mode, g):
     if isinstance(model, types.Integer):
         def impl(model, s, y, p, mode, g):
@@ -78,11 +90,11 @@ def _ol_switches(model, s, y, p, mode, g):
         return impl
 
     def impl_user(model, s, y, p, mode, g):
-        model[1](s, y, p, mode, g)
+        _user_call(model[1], s, y, p, mode, g)
     return impl_user
 
 
-@overload(model_transition, jit_options={"error_model": "numpy"})
+@overload(model_transition, jit_options=_ALLOC)
 def _ol_transition(model, s, y, p, mode, which):
     if isinstance(model, types.Integer):
         def impl(model, s, y, p, mode, which):
@@ -101,11 +113,11 @@ def _ol_transition(model, s, y, p, mode, which):
         return impl_var
 
     def impl_user(model, s, y, p, mode, which):
-        model[2](s, y, p, mode, which)
+        _user_call(model[2], s, y, p, mode, which)
     return impl_user
 
 
-@overload(model_step_cap, jit_options={"error_model": "numpy"})
+@overload(model_step_cap, jit_options=_LEAF)
 def _ol_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     if isinstance(model, types.Integer):
         def impl(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):

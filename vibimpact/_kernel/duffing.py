@@ -13,6 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .jitopts import LEAF
+
 PARAM_NAMES = ("delta", "alpha", "beta", "gamma", "omega")
 N_STATE = 2
 N_MODE = 1
@@ -20,7 +22,7 @@ N_SWITCH = 1
 TERMINAL = np.array([0], dtype=np.int64)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def rhs(s, y, p, mode, out):
     """Right-hand side; writes ``out`` (shape (2,))."""
     x, v = y[0], y[1]
@@ -28,28 +30,33 @@ def rhs(s, y, p, mode, out):
     out[1] = p[3] * math.cos(p[4] * s) - p[0] * v - p[1] * x - p[2] * x * x * x
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def jac(s, y, p, mode, J):
     """Analytic Jacobian; writes ``J`` (shape (2, 2))."""
     J[0, 0] = 0.0
     J[0, 1] = 1.0
-    J[1, 0] = -p[1] - 3.0 * p[2] * y[0] * y[0]
-    J[1, 1] = -p[0]
+    J[1, 0], J[1, 1] = jac_row(s, y, p)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
+def jac_row(s, y, p):
+    """Row 1 of the Jacobian, ``(d x''/d x, d x''/d x')`` (row 0 is ``(0, 1)``)."""
+    return -p[1] - 3.0 * p[2] * y[0] * y[0], -p[0]
+
+
+@njit(**LEAF)
 def switches(s, y, p, mode, g):
     """Observer: velocity (maxima of ``x`` where it turns negative)."""
     g[0] = y[1]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def init_mode(s, y, p, mode):
     """The Duffing oscillator is smooth: a single mode."""
     mode[0] = 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def transition(s, y, p, mode, which):
     """No terminal switches: nothing to do."""
     return

@@ -39,6 +39,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .jitopts import LEAF
+
 PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps")
 I_B, I_K3, I_KH, I_BH, I_BT, I_F, I_RR, I_EC, I_G, I_ETA, I_EPS = range(11)
 
@@ -53,7 +55,7 @@ SW_FRICTION = 1
 SW_EXTREMUM = 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _geometry(y, p):
     """Radius, unit normal, unit tangent, radial speed, tangential contact speed."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
@@ -69,7 +71,7 @@ def _geometry(y, p):
     return R, nx, ny, Rd, vt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _normal_force(R, Rd, p):
     """Hertz force ``F_r = kh (R-1)^{3/2} (1 + Bh R')`` and its partials dF/dR, dF/dR'."""
     d = R - 1.0
@@ -81,7 +83,7 @@ def _normal_force(R, Rd, p):
     return Fr, 1.5 * p[I_KH] * sq * damp, p[I_KH] * d * sq * p[I_BH]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _external(s, y, p):
     """Forcing, weight and magnetic-support force (everything outside the contact)."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
@@ -94,7 +96,7 @@ def _external(s, y, p):
     return ax, ay
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _stick_force(s, y, p, R, nx, ny, Rd, vt):
     """Total tangential force that holds ``dv_t/dtau = 0`` (Filippov sliding)."""
     eta = p[I_ETA]
@@ -104,13 +106,13 @@ def _stick_force(s, y, p, R, nx, ny, Rd, vt):
     return (vt - p[I_RR] * eta) * Rd / R - (-ny * fx + nx * fy)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def rhs(s, y, p, mode, out):
     """Right-hand side of eq. (5) in the given mode; writes ``out`` (shape (4,))."""
     rhs_mode(s, y, p, mode[0], mode[1], out)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def rhs_mode(s, y, p, contact, friction, out):
     """:func:`rhs` with the two mode entries as scalars (for callers without a mode
     array, such as a C callback of an external integrator)."""
@@ -135,7 +137,7 @@ def rhs_mode(s, y, p, contact, friction, out):
     out[3] = ay
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def jac_rows(s, y, p, mode):
     """Rows 2 and 3 of the analytic Jacobian ``d rhs / d y`` in the given mode.
 
@@ -221,7 +223,7 @@ def jac_rows(s, y, p, mode):
     return j20, j21, j22, j23, j30, j31, j32, j33
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def jac(s, y, p, mode, J):
     """Analytic Jacobian ``d rhs / d y`` in the given mode; writes ``J`` (shape (4, 4))."""
     r = jac_rows(s, y, p, mode)
@@ -242,7 +244,7 @@ HERTZ_SAFETY = 0.25
 EXIT_APPROACH = 0.75
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _hertz_step(gamma, c, w):
     """Step whose singular velocity error ``gamma c h^{5/2}`` has the scaled norm
     :data:`HERTZ_SAFETY` (``w``: norm of a unit velocity error along the contact's
@@ -253,7 +255,7 @@ def _hertz_step(gamma, c, w):
     return (HERTZ_SAFETY / e) ** 0.4
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     """Largest step from state ``y`` in contact that the Hertz singularity allows.
 
@@ -327,7 +329,7 @@ def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     return min(cap, max(h_exit, EXIT_APPROACH * t_exit))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def switches(s, y, p, mode, g):
     """Switching functions (see module docstring); writes ``g`` (shape (3,))."""
     R, nx, ny, Rd, vt = _geometry(y, p)
@@ -348,7 +350,7 @@ def switches(s, y, p, mode, g):
     g[2] = Rd
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def _friction_state(s, y, p):
     """Filippov choice of the friction state at a point in contact.
 
@@ -366,7 +368,7 @@ def _friction_state(s, y, p):
     return -1 if lam > 0.0 else 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def init_mode(s, y, p, mode):
     """Mode consistent with a state (contact iff ``R > 1``)."""
     R = math.sqrt(y[0] * y[0] + y[1] * y[1])
@@ -376,7 +378,7 @@ def init_mode(s, y, p, mode):
         mode[1] = _friction_state(s, y, p)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def transition(s, y, p, mode, which):
     """Mode change at a located event of terminal switch ``which``."""
     if which == SW_CONTACT:
@@ -400,7 +402,7 @@ def transition(s, y, p, mode, which):
             mode[1] = -1 if lam > 0.0 else 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def energy(y, p):
     """Mechanical energy ``1/2|v|^2 + 1/2 R^2 + 1/4 k3 R^4 + 2/5 kh (R-1)^{5/2} H(R-1)``."""
     R2 = y[0] * y[0] + y[1] * y[1]

@@ -25,9 +25,10 @@ import numpy as np
 from numba import njit
 
 from . import duffing, rotor
+from .jitopts import ALLOC, LEAF
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def tangent_product(J, y, n, out):
     """``out[n + c n + i] = sum_j J[i, j] y[n + c n + j]`` for every tangent column ``c``."""
     m = (y.size - n) // n
@@ -40,7 +41,7 @@ def tangent_product(J, y, n, out):
             out[base + i] = acc
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def apply_saltation(y, n, fm, fp, grad, g_s):
     """Map every tangent column by ``S = I + (fp - fm) grad^T / (grad . fm + g_s)``.
 
@@ -65,7 +66,7 @@ def apply_saltation(y, n, fm, fp, grad, g_s):
             y[base + i] += (fp[i] - fm[i]) * coef
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def fd_step(v):
     """Central-difference step for a variable of size ``v``."""
     return 1e-6 * max(1.0, abs(v))
@@ -73,7 +74,7 @@ def fd_step(v):
 
 # --- the rotor -------------------------------------------------------------------------
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def rotor_rhs(s, y, p, mode, out):
     """Rotor state and tangent vectors (``y.size = 4 (1 + m)``)."""
     rotor.rhs(s, y, p, mode, out)
@@ -93,7 +94,7 @@ def rotor_rhs(s, y, p, mode, out):
         out[b + 3] = j30 * v0 + j31 * v1 + j32 * v2 + j33 * v3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**ALLOC)
 def rotor_transition(s, y, p, mode, which):
     """Mode change of the rotor plus the saltation map of the tangent vectors."""
     n = 4
@@ -129,18 +130,23 @@ def rotor_transition(s, y, p, mode, which):
 
 # --- the Duffing oscillator (smooth: no terminal switches) ------------------------------
 
-@njit(cache=True, error_model="numpy")
+@njit(**LEAF)
 def duffing_rhs(s, y, p, mode, out):
     """Duffing state and tangent vectors (``y.size = 2 (1 + m)``)."""
     duffing.rhs(s, y, p, mode, out)
-    J = np.empty((2, 2))
-    duffing.jac(s, y, p, mode, J)
-    tangent_product(J, y, 2, out)
+    j10, j11 = duffing.jac_row(s, y, p)
+    m = (y.size - 2) // 2
+    for c in range(m):
+        b = 2 + 2 * c
+        v0 = y[b]
+        v1 = y[b + 1]
+        out[b] = v1
+        out[b + 1] = j10 * v0 + j11 * v1
 
 
 # --- user models (functions passed in; compiled per process) ----------------------------
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=True)
 def user_rhs(rhs, jac, n, s, y, p, mode, out):
     """A user model's state and tangent vectors."""
     rhs(s, y, p, mode, out)
@@ -149,7 +155,7 @@ def user_rhs(rhs, jac, n, s, y, p, mode, out):
     tangent_product(J, y, n, out)
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=True)
 def user_transition(rhs, switches, transition, n, n_switch, s, y, p, mode, which):
     """A user model's mode change plus the saltation map of the tangent vectors."""
     x = y[:n].copy()

@@ -1,0 +1,54 @@
+"""The kernel's inner loops run without numba's reference counting (``_kernel.jitopts``)."""
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact._kernel import dispatch, events, integrator, rotor
+from vibimpact.simulate import _model_and_vector, _tableau
+
+
+def _calls(f, *args):
+    """Call ``f`` (compiling it, or loading it from the cache, for these types) and
+    return its LLVM IR for them."""
+    f(*args)
+    sig = f.signatures[-1]
+    return f.inspect_llvm(sig)
+
+
+def _stage_args(model, n):
+    p = vi.presets.get("fig8").replace(eta=1.22)
+    _, pvec = _model_and_vector(p, None)
+    method, A, B, C, E, E3, D, P, order, n_stages = _tableau("dop853")
+    y = np.zeros(n)
+    y[:4] = (1.01, 0.1, 0.2, 0.3)
+    y[4:] = 1.0
+    K = np.zeros((16, n))
+    mode = np.array([1, 1])
+    return (model, pvec, mode, A, B, C, n_stages, True, 0.0, y, 0.01, K, np.empty(n),
+            np.empty(n)), (method, E, E3)
+
+
+@pytest.mark.parametrize("model, n", [(dispatch.ROTOR, 4), (dispatch.ROTOR_VAR, 8)],
+                         ids=["rotor", "rotor_variational"])
+def test_stage_step_and_event_functions_do_no_reference_counting(model, n):
+    """A Runge--Kutta step (with the model dispatch and the rotor's right-hand side, plain
+    or variational, inside), its error norm, the event detection over a step and the
+    Hertz step cap make no call to NRT_incref or NRT_decref: with the runtime on, numba
+    wraps every call it does not inline in an atomic increment and decrement per array
+    argument, which cost more than the rotor's right-hand side itself.  A function that
+    starts to allocate, or loses its LEAF options, fails here."""
+    args, (method, E, E3) = _stage_args(model, n)
+    _, pvec, mode, A, B, C, n_stages, fsal, s0, y, h, K, ytmp, y1 = args
+    K[0] = 0.1
+    irs = {"rk_step": _calls(integrator.rk_step, *args)}
+    irs["error_norm"] = _calls(integrator.error_norm, method, E, E3, K, n_stages, h, y, y1,
+                               1e-8, 1e-11, 4, 1e3)
+    G = np.zeros((5, 3))
+    flag = np.zeros(3, dtype=np.int64)
+    irs["detect"] = _calls(events.detect, model, pvec, mode, rotor.TERMINAL, s0, h, y, K[0],
+                           y1, K[0], G, ytmp, flag, np.zeros(3), np.zeros(3), False)
+    irs["step_cap"] = _calls(rotor.step_cap, y, pvec, mode, K[0], True, 1e-8, 1e-11, 4,
+                             1e-4, 1e-2)
+    for name, ir in irs.items():
+        assert "call void @NRT_incref" not in ir, name
+        assert "call void @NRT_decref" not in ir, name
