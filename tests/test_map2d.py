@@ -369,3 +369,19 @@ def test_plot_map_draws_every_panel(serial, tmp_path):
         assert len(lines) == 1 and len(lines[0].get_segments()) == want
     assert (tmp_path / "map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len([ax for ax in plot_map(serial).axes if ax.get_title()]) == 8
+
+
+def test_cli_task_points_default_is_the_api_default():
+    """`vibimpact map` groups rows like `map2d`: its --task-points default (a literal, so
+    that --help imports nothing heavy) equals :data:`DEFAULT_TASK_POINTS`, and the task
+    grouping gives a 151-point row a task of its own only when rows are long enough."""
+    from vibimpact.cli import build_parser
+    from vibimpact.maps import DEFAULT_TASK_POINTS
+    from vibimpact.maps.map2d import _make_tasks
+
+    args = build_parser().parse_args(["map", "--eta", "1:1.1:0.01", "--vary", "kh=10,20"])
+    assert args.task_points == DEFAULT_TASK_POINTS
+    rows = list(range(10))
+    assert [len(t[-1]) for t in _make_tasks((), rows, 151, DEFAULT_TASK_POINTS, 0)] == \
+        [-(-DEFAULT_TASK_POINTS // 151)] * (10 // -(-DEFAULT_TASK_POINTS // 151))
+    assert [len(t[-1]) for t in _make_tasks((), rows, 400, DEFAULT_TASK_POINTS, 0)] == [1] * 10

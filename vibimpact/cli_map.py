@@ -277,8 +277,8 @@ def add_parser(sub, fmt):
     m.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run the rows on a Dask cluster: scheduler address "
                         "(tcp://host:8786) or scheduler file")
-    m.add_argument("--task-points", type=_positive_int(1), default=100, metavar="N",
-                   help="least points per task: short rows are grouped (default: 100)")
+    m.add_argument("--task-points", type=_positive_int(1), default=300, metavar="N",
+                   help="least points per task: short rows are grouped (default: 300)")
     m.add_argument("-o", "--output", default="map.zarr", metavar="OUT.zarr|OUT.nc",
                    help="Zarr store or NetCDF file to write (default: map.zarr)")
     m.add_argument("--plot", metavar="FIG.png", default=None,

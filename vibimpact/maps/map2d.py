@@ -42,10 +42,11 @@ from . import store as st
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
 MAP_ANALYSES = ("period", "impacts", "lyapunov")
-#: most points of one map (about 17 hours on one core at ~0.03 s per point)
+#: most points of one map (about 2 hours on one core at ~3 ms per point)
 MAX_MAP_POINTS = 2_000_000
-#: least points per task (~1 s or more of work at 50-130 points per second and core)
-DEFAULT_TASK_POINTS = 100
+#: least points per task (~1 s or more of work at 200-400 points per second and core,
+#: reports/performance.md)
+DEFAULT_TASK_POINTS = 300
 
 #: one row at a time per process: the numba integrator holds the GIL (threads would not
 #: run rows in parallel anyway), and threads of a multi-threaded worker must not share the
