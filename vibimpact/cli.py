@@ -182,12 +182,13 @@ def build_parser():
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
 
+    from .cli_map import add_parser as add_map
     from .cli_rerun import add_parser as add_rerun
     from .cli_sweep import add_parsers
 
     add_parsers(sub, fmt)
-    from .cli_map import add_parser as add_map; add_map(sub, fmt)  # noqa: E702
-    add_rerun(sub, fmt)
+    add_map(sub, fmt)
+    add_rerun(sub, fmt, build_parser)
     return parser
 
 

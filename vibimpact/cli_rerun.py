@@ -43,8 +43,10 @@ def _read(path, what):
                           f"{exc}") from None
 
 
-def _recorded_args(path, command):
-    """Parse the recorded command line with today's parser; the argparse Namespace."""
+def _recorded_args(path, command, build_parser):
+    """Parse the recorded command line with today's parser (``build_parser()``, handed
+    down by :mod:`vibimpact.cli` so that this module does not import it back); the
+    argparse Namespace."""
     if not isinstance(command, str) or not command.strip():
         raise _UsageError(f"{path!r} has no 'command' attribute: not written by vibimpact "
                           f"{', '.join(RERUNNABLE)}")
@@ -57,8 +59,6 @@ def _recorded_args(path, command):
             argv[1] not in RERUNNABLE:
         raise _UsageError(f"{path!r}: the recorded command {command!r} is not a vibimpact "
                           f"{', '.join(RERUNNABLE)} command")
-    from .cli import build_parser
-
     err = _stdio.StringIO()
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(_stdio.StringIO()):
@@ -141,7 +141,7 @@ def _cmd_rerun(args):
             raise _UsageError("-o must differ from the file being rerun")
         _check_output(new, args.overwrite, "output file")
     old = _read(path, "file")
-    parsed = _recorded_args(path, old.attrs.get("command"))
+    parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
     if not keep:
         directory = os.path.dirname(os.path.abspath(path))
         try:
@@ -186,8 +186,9 @@ def _cmd_rerun(args):
     return 1
 
 
-def add_parser(sub, fmt):
-    """Add ``rerun`` to the subparsers ``sub``."""
+def add_parser(sub, fmt, build_parser):
+    """Add ``rerun`` to the subparsers ``sub``; ``build_parser`` makes the whole command
+    line parser again, to read the recorded command with."""
     r = sub.add_parser("rerun", help="redo the command recorded in an output file and "
                        "compare bit for bit", formatter_class=fmt, epilog=_RERUN_EPILOG,
                        description="Run the command recorded in a simulate, classify or "
@@ -198,7 +199,7 @@ def add_parser(sub, fmt):
                    help="keep the recomputed file here (default: a temporary file next "
                         "to OUT.nc, removed afterwards)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing NEW.nc")
-    r.set_defaults(func=_cmd_rerun)
+    r.set_defaults(func=_cmd_rerun, build_parser=build_parser)
 
 
 __all__ = ["add_parser", "RERUNNABLE"]
