@@ -28,6 +28,7 @@ import vibimpact as vi
 import vibimpact.maps
 from vibimpact.cli_map import parse_vary
 from vibimpact.maps import DEFAULT_TASK_POINTS, MAP_ANALYSES
+from vibimpact.maps.checkpoint import DONE
 from vibimpact.maps.map2d import _make_tasks
 from vibimpact.sweeps import parse_range
 from vibimpact.sweeps.point import REGIME_CODES, SweepSettings, analyse_point
@@ -154,13 +155,12 @@ def full_run(p, budget=FULL_BUDGET_S):
             return [f"Measured: {run} took **{tf:.0f} s** ({nf / tf:.0f} points/s): "
                     f"target {'met' if met else '**not met**'}.  Regimes: {regimes}."]
         part = out + ".partial"
-        names = os.listdir(part) if os.path.isdir(part) else []
-        rows = [n for n in names if n.startswith("row_up_") and n.endswith(".npz")]
-        done = {int(n[len("row_up_"):-len(".npz")]) for n in rows}
+        flags = vi.maps.open_map(part)[DONE].values if os.path.isdir(part) else []
+        done = [i for i, flag in enumerate(flags) if flag == 1]
         missing = [f"{fv[i]:g}" for i in range(fv.size) if i not in done]
-        # when the last saved row was written, from the start of the command
-        last = (max(os.stat(os.path.join(part, n)).st_mtime for n in rows) - t_wall
-                if rows else float("nan"))
+        # when the last saved row was written (its flag's chunk), from the command's start
+        rows = [os.path.join(part, DONE, "c", str(i)) for i in done]
+        last = (max(os.stat(f).st_mtime for f in rows) - t_wall if rows else float("nan"))
         pts = len(done) * fe.size
         return [f"Measured: {run} **did not finish** within {budget:.0f} s (stopped with "
                 f"SIGINT, exit status {proc.returncode}): {len(done)} of {fv.size} rows "

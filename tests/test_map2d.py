@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.sweeps.checkpoint import corrupt_files
 from vibimpact.cli import main
+from vibimpact.maps import checkpoint as mck
 from vibimpact.maps import execute, open_map, write_map
 from vibimpact.maps import store as mstore
 from vibimpact.sweeps import SweepSettings, parse_range
@@ -145,12 +145,22 @@ def test_local_processes_equal_serial(serial):
     assert_same(ds, serial)
 
 
+def _chunk_files(store, at):
+    """Every chunk file of the row ``at`` (indices in the leading dims) in a checkpoint
+    (``row_damaged``, one chunk for all rows, left out)."""
+    key = "/".join(map(str, at))
+    files = list(store.glob(f"*/c/{key}/**/*")) + list(store.glob(f"*/c/{key}"))
+    return sorted(f for f in files if f.is_file() and f.parts[-3 - len(at) + 1] !=
+                  "row_damaged" and "row_damaged" not in f.parts)
+
+
 def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path,
                                                                  monkeypatch):
-    """Hypothesis: a map interrupted after two rows keeps exactly those rows in its
-    store; resuming computes only the other rows (plus one whose file was damaged, which
-    is set aside as .corrupt), leaves the saved files untouched and equals the
-    uninterrupted map."""
+    """Hypothesis: a map interrupted after two rows has exactly those rows in its Zarr
+    checkpoint, readable as a map (finished rows equal to the serial map's, the others
+    not computed); resuming computes only the other rows (plus one whose chunk was
+    damaged, counted in row_damaged; a row written but not flagged done is recomputed),
+    leaves the saved rows' chunks untouched and equals the uninterrupted map."""
     store = tmp_path / "rows"
     real = M.compute_rows
     calls = []
@@ -164,11 +174,25 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
     monkeypatch.setattr(M, "compute_rows", dying)
     with pytest.raises(KeyboardInterrupt):
         vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, task_points=1)
-    files = sorted(store.glob("row_*.npz"))
-    assert len(files) == 2
-    keep, damaged = files
-    mtime = keep.stat().st_mtime_ns
-    damaged.write_bytes(damaged.read_bytes()[:100])
+    assert mck.saved_rows(store) == 2
+    part = open_map(store)
+    done = part["row_done"].values == 1
+    assert done.sum() == 2 and part["regime"].dims == ("direction", "kh", "eta")
+    for name in serial.data_vars:
+        x, y = part[name].values[done], serial[name].values[done]
+        assert (x.tolist() == y.tolist()) if x.dtype == object else \
+            np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name
+    assert (part["regime"].values[~done] == 0).all()  # not computed
+    (keep, damaged) = [tuple(int(k) for k in at) for at in np.argwhere(done)]
+    kept = {f: f.stat().st_mtime_ns for f in _chunk_files(store, keep)}
+    assert {"regime", "label", "final_state", "row_done"} <= {f.parts[len(store.parts)]
+                                                              for f in kept}
+    victim = _chunk_files(store, damaged)[0]
+    victim.write_bytes(victim.read_bytes()[:-3])
+    import zarr  # a row cut short by a kill: values written, flag not
+
+    cut = tuple(int(k) for k in np.argwhere(~done)[0])
+    zarr.open_group(store, mode="r+")["regime"][cut] = np.full(ETA.size, 7, np.int8)
 
     computed = []
 
@@ -180,12 +204,26 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
     ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, resume=True,
                   task_points=1)
     assert len(computed) == 6 - 1
-    assert keep.stat().st_mtime_ns == mtime
-    assert corrupt_files(store) == [damaged.name + ".corrupt"]
+    assert all(f.stat().st_mtime_ns == t for f, t in kept.items())
+    assert mck.damaged_rows(store) == 1 and mck.saved_rows(store) == 6
     assert_same(ds, serial)
     with pytest.raises(ValueError, match="different map request"):
         vi.map2d(P, ETA, {"kh": [40.0, 81.0, 120.0]}, direction="both", settings=FAST,
                  store=store, resume=True)
+
+
+def test_foreign_directory_is_not_taken_for_a_checkpoint(tmp_path):
+    """Hypothesis: resuming from a directory that is not a map checkpoint (an old or
+    foreign directory) is refused with a ValueError naming it, and the directory is
+    left as it was."""
+    store = tmp_path / "rows"
+    store.mkdir()
+    (store / "row_up_000000.npz").write_bytes(b"old")
+    with pytest.raises(ValueError, match="is not a vibimpact map checkpoint"):
+        vi.map2d(P, ETA, VARY, settings=FAST, store=store, resume=True)
+    assert [f.name for f in store.iterdir()] == ["row_up_000000.npz"]
+    with pytest.raises(ValueError, match="already exists"):
+        vi.map2d(P, ETA, VARY, settings=FAST, store=store)
 
 
 @pytest.mark.parametrize("fmt", ["zarr", "nc"])
@@ -298,9 +336,10 @@ def _cli(*args, cwd):
 
 
 def test_cli_killed_map_resumes_to_the_uninterrupted_map(tmp_path, capsys):
-    """Hypothesis: 'vibimpact map' SIGKILLed after some rows keeps them in OUT.partial;
-    '--resume' loads them without recomputing (their files untouched), writes a Zarr
-    map equal to the API's uninterrupted one, and 'vibimpact plot --kind map' draws it."""
+    """Hypothesis: 'vibimpact map' SIGKILLed after some rows keeps them in its Zarr
+    checkpoint OUT.partial, which 'vibimpact plot --kind map' can draw; '--resume' loads
+    them without recomputing (their chunks untouched), writes a Zarr map equal to the
+    API's uninterrupted one, and 'vibimpact plot --kind map' draws it."""
     eta, kh = "1.0:1.1:0.02", "20:160:20"
     args = ["map", "--eta", eta, "--vary", f"kh={kh}", "--workers", "1", "--no-progress",
             "-o", "m.zarr", "--keep-checkpoint"]
@@ -308,20 +347,25 @@ def test_cli_killed_map_resumes_to_the_uninterrupted_map(tmp_path, capsys):
     part = tmp_path / "m.zarr.partial"
     deadline = time.monotonic() + 120
     while proc.poll() is None and time.monotonic() < deadline:
-        if len(list(part.glob("row_*.npz"))) >= 2:
+        if mck.saved_rows(part) >= 2:
             proc.send_signal(signal.SIGKILL)
             break
         time.sleep(0.005)
     proc.wait(60)
     assert proc.returncode == -signal.SIGKILL, proc.stderr.read()
-    saved = {p.name: p.stat().st_mtime_ns for p in part.glob("row_*.npz")}
-    assert 2 <= len(saved) < 8 and not (tmp_path / "m.zarr").exists()
+    n = mck.saved_rows(part)
+    assert 2 <= n < 8 and not (tmp_path / "m.zarr").exists()
+    done = [i for i, flag in enumerate(open_map(part)["row_done"].values) if flag == 1]
+    saved = {f: f.stat().st_mtime_ns for i in done for f in _chunk_files(part, (i,))}
+    rc, out, err = _main(capsys, "plot", str(part), "--kind", "map", "-o",
+                         str(tmp_path / "partial.png"))
+    assert rc == 0, err
 
     proc = _cli(*args, "--resume", cwd=tmp_path)
     out, err = proc.communicate(timeout=300)
     assert proc.returncode == 0, err
-    assert f"{len(saved)} rows loaded, not recomputed" in err
-    assert all((part / n).stat().st_mtime_ns == t for n, t in saved.items())
+    assert f"{n} rows loaded, not recomputed" in err
+    assert all(f.stat().st_mtime_ns == t for f, t in saved.items())
     ds = open_map(tmp_path / "m.zarr")
     ref = vi.map2d(P, parse_range(eta), {"kh": parse_range(kh)})
     assert_same(ds, ref)

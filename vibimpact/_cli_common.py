@@ -149,25 +149,33 @@ def _interrupt_status(exc):
     return 128 + int(getattr(exc, "signum", signal.SIGINT))
 
 
-def _finish_checkpointed(ds, out, ckpt, write, *, resuming, loaded, keep, overwrite, unit):
+def _finish_checkpointed(ds, out, ckpt, write, *, resuming, loaded, keep, overwrite, unit,
+                         damaged=None):
     """Write the result of a checkpointed run and tidy its checkpoint.
 
     Warns about damaged checkpoint files that were recomputed, writes ``ds`` to ``out``
     with ``write(ds, out, overwrite=...)`` (a failure is a usage error that keeps the
     checkpoint), removes the checkpoint unless ``keep``, and says what a resumed run
     loaded.  ``unit`` names what a checkpoint file holds ("points", "rows").  Returns the
-    number of ``unit`` loaded from the checkpoint and not recomputed.
+    number of ``unit`` loaded from the checkpoint and not recomputed.  ``damaged``: how
+    many ``unit`` the checkpoint found damaged and recomputed, for a checkpoint that
+    counts them itself (a map's); by default its ``*.corrupt`` files are listed.
     """
     import shutil
 
     from .sweeps.checkpoint import corrupt_files
 
-    bad = corrupt_files(ckpt) if resuming else []
-    if bad:
-        loaded = max(0, loaded - len(bad))
-        print(f"vibimpact: warning: {len(bad)} damaged {unit[:-1]} files in {ckpt} were "
-              f"recomputed ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})",
-              file=sys.stderr)
+    if damaged is None:
+        bad = corrupt_files(ckpt) if resuming else []
+        what = f"{unit[:-1]} files"
+        names = f" ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})"
+        damaged = len(bad)
+    else:
+        what, names, damaged = unit, "", damaged if resuming else 0
+    if damaged:
+        loaded = max(0, loaded - damaged)
+        print(f"vibimpact: warning: {damaged} damaged {what} in {ckpt} were "
+              f"recomputed{names}", file=sys.stderr)
     try:
         write(ds, out, overwrite=overwrite or resuming)
     except (ValueError, OSError) as exc:

@@ -28,9 +28,11 @@ the workers of a running Dask cluster (an address, or a scheduler file as writte
 'dask scheduler --scheduler-file', dask-jobqueue or dask-mpi).  The result never depends
 on where or in which order rows run.
 
-Each finished row is saved at once in the checkpoint directory OUT.partial.  After
-Ctrl-C, a kill or a lost cluster, run the same command again with --resume: the saved
-rows are loaded, not recomputed, and the map is identical to an uninterrupted run.
+Each finished row is written at once into OUT.partial, a Zarr store laid out like the
+map (row_done marks the finished rows; 'vibimpact plot OUT.partial --kind map' draws the
+map so far).  After Ctrl-C, a kill or a lost cluster, run the same command again with
+--resume: the saved rows are loaded, not recomputed, and the map is identical to an
+uninterrupted run.
 
 OUT.zarr is a Zarr store, OUT.nc a NetCDF file; dims (PARAM, eta) or, with --direction
 both, (direction, PARAM, eta); variables as in a classify file (regime, label, period,
@@ -152,7 +154,7 @@ def _cmd_map(args):
         raise _UsageError(f"checkpoint {ckpt!r} exists (an interrupted run): pass --resume "
                           "to continue it, or remove it")
 
-    from .maps import execute, store
+    from .maps import checkpoint, execute, store
     from .maps.map2d import map2d
 
     scheduler = None
@@ -162,7 +164,7 @@ def _cmd_map(args):
         except ValueError as exc:
             raise _UsageError(f"--scheduler: {exc}") from None
     workers = args.workers if args.workers is not None else min(2, os.cpu_count() or 1)
-    loaded = store.saved_rows(ckpt) if resuming else 0
+    loaded = checkpoint.saved_rows(ckpt) if resuming else 0
     t0 = time.perf_counter()
     try:
         with _StopWorkersOnSignal():
@@ -172,7 +174,7 @@ def _cmd_map(args):
                        progress=not args.no_progress,
                        command=shlex.join(["vibimpact"] + list(args.argv)))
     except KeyboardInterrupt as exc:
-        n = store.saved_rows(ckpt)
+        n = checkpoint.saved_rows(ckpt)
         print(f"vibimpact: interrupted: {n} rows saved in {ckpt}; rerun with --resume"
               if n else "vibimpact: interrupted before any row was saved", file=sys.stderr)
         return _interrupt_status(exc)
@@ -185,7 +187,8 @@ def _cmd_map(args):
     ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
     loaded = _finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
                                   loaded=loaded, keep=args.keep_checkpoint,
-                                  overwrite=args.overwrite, unit="rows")
+                                  overwrite=args.overwrite, unit="rows",
+                                  damaged=checkpoint.damaged_rows(ckpt) if resuming else 0)
     _summary(ds, elapsed, computed=ds["regime"].size - loaded * etas.size)
     if args.plot is not None:
         from .plotting.map2d import plot_map

@@ -19,9 +19,9 @@ local-process and cluster maps are bit-identical.
 
 Checkpoints
 -----------
-With ``store=`` every finished row is saved at once (:mod:`vibimpact.maps.store`), by
-this process as the results arrive, and ``resume=True`` loads the saved rows instead of
-recomputing them.
+With ``store=`` every finished row is written at once into a Zarr store laid out like
+the map (:mod:`vibimpact.maps.checkpoint`), by this process as the results arrive, and
+``resume=True`` loads the saved rows instead of recomputing them.
 """
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ from ..params import Params
 from ..simulate import _count
 from ..sweeps.sweep import _grid, check_request, sweep
 from . import execute
-from . import store as st
+from .checkpoint import RowStore
 
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
@@ -171,7 +171,8 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
         name: (name, values, dict(units="1", long_name=f"varied parameter {name}")),
         "direction": ("direction", np.array(dirs, dtype=object),
                       dict(long_name="sweep direction"))})
-    attrs = {k: v for k, v in base.attrs.items() if k != f"param_{name}"}
+    # the row template's own direction ("up") is not the map's: set below for a one-way map
+    attrs = {k: v for k, v in base.attrs.items() if k not in (f"param_{name}", "direction")}
     params = p.as_dict()
     for k in ("eta", name):
         params.pop(k, None)
@@ -225,7 +226,8 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     task_points : int
         Least points per Dask task (rows are grouped up to this); never changes results.
     store : path, optional
-        Row checkpoint directory: every finished row is saved there at once.
+        Row checkpoint, a Zarr store laid out like the map: every finished row is written
+        into it at once (:mod:`vibimpact.maps.checkpoint`).
     resume : bool
         Continue the map saved in ``store``: its rows are loaded, not recomputed.
     progress : bool
@@ -270,17 +272,22 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     request = dict(kind="map", params=p.as_dict(), vary=name, values=values.tolist(),
                    eta=etas.tolist(), directions=dirs, settings=settings.as_attrs(),
                    state0=None if state0 is None else state0.tolist())
-    ckdir = st.open_rows(store, request, resume) if store is not None else None
+    rows = RowStore.open(store, ds, request, resume) if store is not None else None
+
+    def at(d, i):
+        return (i,) if direction != "both" else (dirs.index(d), i)
 
     results = {}
     todo = []
     for i, v in enumerate(values):
         for d in dirs:
-            row = None if ckdir is None else st.load_row(ckdir, d, i, v, shapes)
+            row = None if rows is None else rows.load(at(d, i), shapes)
             if row is None:
                 todo.append((d, i, float(v)))
             else:
                 results[(d, i)] = row
+    if rows is not None and resume:
+        rows.record_damaged()
     bar = None
     if progress and todo:
         from tqdm import tqdm
@@ -289,8 +296,8 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     def on_result(out):
         for d, i, arrays in out:
             arrays = {k: arrays[k] for k in shapes}
-            if ckdir is not None:
-                st.save_row(ckdir, d, i, values[i], arrays)
+            if rows is not None:
+                rows.save(at(d, i), arrays)
             results[(d, i)] = arrays
             if bar is not None:
                 bar.update(etas.size)
@@ -307,9 +314,8 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
             bar.close()
 
     for (d, i), arrays in results.items():
-        at = (i,) if direction != "both" else (dirs.index(d), i)
         for k, arr in arrays.items():
-            ds[k].values[at] = arr  # the dataset's own NumPy arrays, filled in place
+            ds[k].values[at(d, i)] = arr  # the dataset's own NumPy arrays, filled in place
     return ds
 
 

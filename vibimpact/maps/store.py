@@ -1,41 +1,19 @@
-"""Where a map's results live: the row checkpoint while it runs, the map file at the end.
+"""A map file: :func:`write_map` and :func:`open_map`.
 
-Row checkpoint
---------------
-While a map is computed, every finished row is saved at once, by the process that
-submitted the rows (the Dask *client*, so the workers need no shared file system), in a
-directory holding
-
-* ``request.json``: a fingerprint of the request, so a resume never mixes two maps;
-* ``row_<direction>_<index>.npz``: one file per finished row (all the variables of that
-  row's sweep), written to a temporary name and renamed.
-
-A row is therefore either completely on disk or absent: a map killed at any moment
-(Ctrl-C, SIGKILL, a lost cluster) loses only the rows in flight, and a resume loads the
-saved rows instead of recomputing them.  A row file that cannot be read back completely
-(a damaged disk, a hand edit) is renamed ``<name>.corrupt`` and its row recomputed; every
-row is a deterministic function of the request, so the resumed map is still identical to
-an uninterrupted one.
-
-Map file
---------
 :func:`write_map` writes the assembled ``xarray.Dataset`` as a Zarr store (a directory,
 ``*.zarr``) or a NetCDF-4 file (``*.nc``), atomically in both cases: into a temporary
 name in the target directory, then renamed.  :func:`open_map` reads either back, fully
-loaded, with strings as Python ``str`` objects (as :func:`vibimpact.map2d` returns them).
+loaded, with strings as Python ``str`` objects (as :func:`vibimpact.map2d` returns them);
+it also opens a map's row checkpoint (:mod:`vibimpact.maps.checkpoint`) while the map
+runs.
 """
 from __future__ import annotations
 
-import io
-import json
 import os
 import shutil
 import tempfile
-from pathlib import Path
 
 import numpy as np
-
-from ..sweeps.checkpoint import _atomic_write_bytes, fingerprint, set_aside
 
 #: output formats by file extension
 FORMATS = {".zarr": "zarr", ".nc": "netcdf"}
@@ -49,121 +27,6 @@ def output_format(path):
                          "(a Zarr store) or .nc (NetCDF)")
     return FORMATS[ext]
 
-
-# --- row checkpoint ------------------------------------------------------------------
-
-def open_rows(path, request, resume):
-    """Create (or, with ``resume``, reopen) a row checkpoint directory.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-    request : dict
-        JSON-able description of everything the rows depend on.
-    resume : bool
-
-    Returns
-    -------
-    pathlib.Path
-
-    Raises
-    ------
-    ValueError
-        ``path`` exists without ``resume``, is not a map checkpoint, or belongs to a
-        different request.
-    """
-    path = Path(path)
-    meta = path / "request.json"
-    fp = fingerprint(request)
-    if path.exists():
-        if not resume:
-            raise ValueError(f"map checkpoint {path} already exists: pass resume=True "
-                             "(--resume) to continue it, or remove it")
-        if not path.is_dir():
-            raise ValueError(f"map checkpoint {path} is not a directory")
-        try:
-            old = json.loads(meta.read_text())
-        except (OSError, ValueError):
-            raise ValueError(f"map checkpoint {path} has no readable request.json") \
-                from None
-        if not (isinstance(old, dict) and old.get("kind") == "map"
-                and "fingerprint" in old):
-            raise ValueError(f"map checkpoint {path}: {meta.name} is not a vibimpact map "
-                             "checkpoint record")
-        if old["fingerprint"] != fp:
-            raise ValueError(f"map checkpoint {path} belongs to a different map request")
-        return path
-    path.mkdir(parents=True)
-    _atomic_write_bytes(meta, json.dumps({"kind": "map", "fingerprint": fp,
-                                          "request": request}, sort_keys=True,
-                                         default=str, indent=1).encode())
-    return path
-
-
-def row_file(path, direction, index):
-    """The file of row ``index`` swept ``direction``."""
-    return Path(path) / f"row_{direction}_{index:06d}.npz"
-
-
-def save_row(path, direction, index, value, arrays):
-    """Write one finished row atomically.
-
-    ``arrays`` maps variable names to the row's values along eta; ``value`` (the varied
-    parameter's value) is stored with them and checked on loading.
-    """
-    buf = io.BytesIO()
-    payload = {k: np.asarray(v).astype(str) if np.asarray(v).dtype == object else
-               np.asarray(v) for k, v in arrays.items()}
-    np.savez(buf, _value=np.float64(value), _direction=np.str_(direction), **payload)
-    _atomic_write_bytes(row_file(path, direction, index), buf.getvalue())
-
-
-def load_row(path, direction, index, value, template):
-    """A saved row's ``{variable: values}``, or None when it is not done.
-
-    Parameters
-    ----------
-    template : dict
-        ``{variable: (shape, dtype)}`` every row must match.
-
-    A row file that cannot be read back completely, or that does not match ``template``
-    or ``value``, is renamed to ``<name>.corrupt`` and reported as not done.
-    """
-    f = row_file(path, direction, index)
-    if not f.exists():
-        return None
-    try:
-        with np.load(f, allow_pickle=False) as z:
-            if float(z["_value"]) != float(value) or str(z["_direction"]) != direction:
-                raise ValueError("another row")
-            out = {}
-            for name, (shape, dtype) in template.items():
-                v = z[name]
-                if v.shape != shape:
-                    raise ValueError(f"{name}: shape {v.shape}")
-                if dtype == object:
-                    if v.dtype.kind != "U":
-                        raise ValueError(f"{name}: dtype {v.dtype}")
-                    v = v.astype(object)
-                elif v.dtype != dtype:
-                    raise ValueError(f"{name}: dtype {v.dtype}")
-                out[name] = v
-        return out
-    except Exception:  # BadZipFile, EOFError, OSError, KeyError, ValueError, ...
-        set_aside(f)
-        return None
-
-
-def saved_rows(path):
-    """Number of row files in a checkpoint directory (0 when there is none)."""
-    try:
-        return sum(1 for n in os.listdir(path)
-                   if n.startswith("row_") and n.endswith(".npz"))
-    except OSError:
-        return 0
-
-
-# --- map file --------------------------------------------------------------------------
 
 def _chunks(ds):
     """Zarr chunks: whole rows, about a million values per chunk."""
