@@ -1,20 +1,32 @@
 """Size limits that refuse absurd requests before any work, with the estimated time.
 
-The costs are rough averages measured on the fig8 sweep (``reports/performance.md``: 301
-points in about 7 s on one core, i.e. ~0.025 s per point; one forcing period of
-``simulate`` with DOP853 at the default tolerances takes ~0.2 ms).  They only make the
-refusal message concrete ("about 11 months"); nothing else depends on them.
+The costs are rough single-core averages, used only to make the refusal message concrete
+("about 11 months"); nothing else depends on them.  Where they come from:
+
+* ``SECONDS_PER_POINT``: the main job's sweep (fig8, eta = 0.9:1.5:0.002, 301 points, all
+  analyses, one worker), whose serial wall time ``python analyses/benchmark_sweep.py``
+  measures (``reports/performance.md``, section "sweep", row "1 worker"): 1.58 s there,
+  1.5 s in a re-timing on 2026-11-25 (same VM, warm cache), i.e. ~0.005 s per point.  A
+  parameter-map point costs about the same (``analyses/benchmark_map.py``: 1452 points
+  in 6.4 s serial, ~0.0044 s per point).
+* ``SECONDS_PER_PERIOD``: ``simulate`` of fig8 at eta = 1.0 (two impacts per period),
+  DOP853 at the default tolerances, 2000 periods in 0.094 s (re-timed 2026-11-25), i.e.
+  ~5e-5 s per period; ``reports/performance.md`` section "kernel" (a) measures the
+  throughput at tighter tolerances (1000 periods in 0.06 s).
+
+Re-time them when those reports change by much (these constants are typed here, so
+they are not regenerated with the reports).
 """
 import math
 
 #: most grid points of a sweep (per direction)
 MAX_POINTS = 100_000
 #: rough cost of one sweep point (all analyses), seconds
-SECONDS_PER_POINT = 0.03
+SECONDS_PER_POINT = 0.005
 #: most forcing periods (transient + recorded) of one ``simulate`` call
 MAX_PERIODS = 10_000_000
 #: rough cost of one forcing period of ``simulate``, seconds
-SECONDS_PER_PERIOD = 2e-4
+SECONDS_PER_PERIOD = 5e-5
 
 
 def human_duration(seconds):
