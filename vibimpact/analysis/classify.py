@@ -24,6 +24,7 @@ class Label(str, enum.Enum):
     QUASIPERIODIC = "quasi-periodic"
     CHAOTIC = "chaotic"
     DIVERGED = "diverged"
+    UNSETTLED = "unsettled"
 
 
 @dataclass(frozen=True)
@@ -52,18 +53,25 @@ class DecisionRule:
 
     Notes
     -----
-    The rule, applied by :func:`decide` in this order:
+    The rule, applied by :func:`decide` in this order; every label needs positive
+    evidence, and a motion the evidence does not decide is UNSETTLED, never guessed:
 
     1. a non-finite or diverged run is DIVERGED;
-    2. a period ``n`` found by the period test is PERIODIC with that ``n``; confidence 1,
-       lowered to 0.5 if a significantly positive exponent contradicts it;
+    2. a period ``n`` found by the period test (or by Newton shooting confirmed by
+       integration, :mod:`vibimpact.sweeps.settle`) is PERIODIC with that ``n``;
+       confidence 1, lowered to 0.5 if a significantly positive exponent contradicts it;
     3. with an exponent ``lambda`` (per forcing period ``lambda T``, error ``sigma T``):
-       significantly positive -> CHAOTIC; significantly negative -> PERIODIC with
-       ``n = 0`` (attracting orbit whose period is longer than ``max_period`` or not yet
-       converged); in the zero band -> QUASIPERIODIC if ``K < k_chaos``, else CHAOTIC
-       with low confidence;
-    4. without an exponent the 0-1 test decides: CHAOTIC if ``K > k_chaos``, else
-       QUASIPERIODIC.
+       significantly positive -> CHAOTIC; significantly negative -> UNSETTLED (an
+       attracting motion whose period was not found: a recurrence found by a longer
+       search would have been step 2); in the zero band -> QUASIPERIODIC only with the
+       0-1 test's ``K < k_chaos`` and Poincaré points that neither contract nor stop
+       recurring (``torus``); UNSETTLED otherwise (a slowly contracting transient, or a
+       chaotic-looking 0-1 test without a positive exponent);
+    4. without an exponent the 0-1 test decides with confidence ``|2K - 1|``: CHAOTIC if
+       ``K > k_chaos``, QUASIPERIODIC if ``K < k_chaos`` and the torus evidence (when
+       given) holds;
+    5. with no test available (or contracting points without a shooting result),
+       UNSETTLED.
 
     Confidence is 1 when every available test agrees with the label, 0.5 when one
     disagrees or the exponent sits in the zero band, and ``|2K - 1|`` when ``K`` alone
@@ -119,6 +127,7 @@ class Regime:
     QUASIPERIODIC = Label.QUASIPERIODIC
     CHAOTIC = Label.CHAOTIC
     DIVERGED = Label.DIVERGED
+    UNSETTLED = Label.UNSETTLED
 
     def __str__(self):
         if self.label is Label.PERIODIC:
@@ -147,7 +156,7 @@ def _finite_number(name, value, allow_nan=True):
     return v
 
 
-def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE):
+def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE, torus=None):
     """Apply the decision rule (see :class:`DecisionRule`).
 
     Parameters
@@ -158,6 +167,10 @@ def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE):
         Largest exponent and its error per forcing period (NaN: not computed).
     k01 : float
         0-1 test ``K`` (NaN: not computed).
+    torus : bool, optional
+        Whether the Poincaré points neither contract nor stop recurring
+        (:attr:`vibimpact.analysis.settling.TorusEvidence.torus`); None: not examined
+        (array-level callers), which does not block a quasi-periodic label.
 
     Returns
     -------
@@ -177,16 +190,24 @@ def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE):
             conf = 1.0 if (not have_k or k01 > rule.k_chaos) else 0.5
             return Label.CHAOTIC, 0, conf, "largest exponent significantly positive"
         if neg:
-            return (Label.PERIODIC, 0, 0.5,
-                    f"largest exponent negative, no period <= {rule.max_period} found")
+            return (Label.UNSETTLED, 0, 0.0,
+                    "largest exponent negative, but no period found")
+        if torus is False:
+            return (Label.UNSETTLED, 0, 0.0, "exponent near zero, but the Poincaré "
+                    "points contract or do not recur (no torus)")
         if not have_k or k01 < rule.k_chaos:
             return Label.QUASIPERIODIC, 0, 1.0 if have_k else 0.5, \
-                "largest exponent zero within its error"
-        return Label.CHAOTIC, 0, 0.5, "exponent near zero, 0-1 test chaotic"
+                "largest exponent zero within its error, points on a torus"
+        return (Label.UNSETTLED, 0, 0.0,
+                "exponent near zero, but the 0-1 test reads chaotic")
     if have_k:
-        label = Label.CHAOTIC if k01 > rule.k_chaos else Label.QUASIPERIODIC
-        return label, 0, abs(2.0 * k01 - 1.0), "0-1 test only"
-    return Label.QUASIPERIODIC, 0, 0.0, "no period found and no other test available"
+        if k01 > rule.k_chaos:
+            return Label.CHAOTIC, 0, abs(2.0 * k01 - 1.0), "0-1 test only"
+        if torus is False:
+            return (Label.UNSETTLED, 0, 0.0, "0-1 test regular, but the Poincaré points "
+                    "contract or do not recur (no torus)")
+        return Label.QUASIPERIODIC, 0, abs(2.0 * k01 - 1.0), "0-1 test only"
+    return Label.UNSETTLED, 0, 0.0, "no period found and no other test available"
 
 
 def classify(points, *, lyapunov=None, lyapunov_err=None, period=1.0, k01=None,

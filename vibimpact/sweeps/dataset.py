@@ -46,6 +46,16 @@ VARIABLES = {
                         "(NaN: not computed or not periodic)"),
     "stable": ("i1", "1", "periodic orbit stable, all |multipliers| < 1 (1 yes, 0 no, "
                "-1 not computed)"),
+    "floquet_exponent": ("f8", "1", "largest Floquet exponent ln|mu|max / (n T) of the "
+                         "periodic orbit per unit tau (exact; NaN: not computed)"),
+    "contraction": ("f8", "1", "contraction rate ln|mu| / n of the stroboscopic points "
+                    "per forcing period, measured on the record (NaN: not measured)"),
+    "settle_periods": ("f8", "1", "forcing periods an unsettled motion would still need "
+                       "to settle to the period test's tolerance (NaN: not estimated)"),
+    "shoot_residual": ("f8", "1", "residual max|P^n(x) - x| of the orbit found by Newton "
+                       "shooting from a slowly settling transient (NaN: not shot)"),
+    "orbit_distance": ("f8", "1", "distance of the transient's last point from the orbit "
+                       "found by shooting, relative to the motion's size"),
 }
 
 

@@ -17,16 +17,18 @@ from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
 from ..analysis.period import detect_period, detect_period_windows
+from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
 from ..run import Status, join_runs
 from ..simulate import simulate, strobe_only
+from .settle import MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
 
 #: regime label -> integer code stored in datasets (CF flag_values / flag_meanings)
 REGIME_CODES = {Label.PERIODIC: 1, Label.QUASIPERIODIC: 2, Label.CHAOTIC: 3,
-                Label.DIVERGED: 4}
-REGIME_FLAGS = "periodic quasi_periodic chaotic diverged"
+                Label.DIVERGED: 4, Label.UNSETTLED: 5}
+REGIME_FLAGS = "periodic quasi_periodic chaotic diverged unsettled"
 
 
 @dataclass(frozen=True)
@@ -126,7 +128,16 @@ SCALARS = {
     "transient": 0, "recorded": 0,
     # --- issue 8: Floquet multipliers of periodic points ("floquet") ---
     "floquet_abs_max": np.nan, "stable": -1,
+    # --- settling at low damping: contraction rate, shooting evidence ---
+    "floquet_exponent": np.nan, "contraction": np.nan, "settle_periods": np.nan,
+    "shoot_residual": np.nan, "orbit_distance": np.nan,
 }
+
+#: longest period the recurrence search looks for when the exponent is negative but no
+#: period up to the rule's ``max_period`` was found (as a multiple of ``max_period``)
+LONG_SEARCH = 4
+#: a record whose points neither contract nor recur is looked at this many times as long
+TORUS_EXTEND = 4
 
 #: Floquet multipliers stored per point (one per state variable)
 N_MULTIPLIERS = 4
@@ -241,6 +252,44 @@ def _floquet(p, x, n, st):
                 stable=int(orb.abs_max < 1.0))
 
 
+def _describe(res, run, n, rec, r_start, want, st):
+    """Fill the record's results: impacts and arcs, response maxima, Poincaré samples."""
+    pts = run.strobe[1:]
+    imp = run.impacts
+    if "impacts" in want or "response" in want:
+        cnt = impact_count(imp["period"], rec, period=max(n, 1))
+        res["impacts_per_period"] = cnt.per_period
+        res["impacts_constant"] = int(cnt.constant)
+        switched = np.any(run.events["which"] == 0)
+        res["contact"] = (CONTACT_IMPACTING if imp.size else
+                          CONTACT_PERMANENT if (r_start > 1.0 and not switched) else
+                          CONTACT_NONE)
+        arcs = contact_arcs(imp["theta"])
+        res["arcs"] = arcs.summary
+        res["n_arcs"] = arcs.n_arcs
+        if imp.size:
+            res["v_impact_max"] = float(imp["v_impact"].max())
+            res["v_impact_mean"] = float(imp["v_impact"].mean())
+            res["penetration_max"] = float(imp["penetration"].max())
+        else:
+            res["v_impact_max"] = res["v_impact_mean"] = res["penetration_max"] = 0.0
+    if "response" in want and run.dense is not None and run.dense.size:
+        Xm, Ym, Rm = _maxima(run.dense)
+        ext = run.events["which"] == 2  # exact extrema of R from the event log
+        if np.any(ext):
+            Rm = max(Rm, float(np.hypot(*run.events["state"][ext, :2].T).max()))
+        res["X_m"], res["Y_m"], res["R_m"] = Xm, Ym, Rm
+        res["min_gap"] = 1.0 - Rm
+    if "poincare" in want:
+        res["samples"] = np.full((st.n_samples, 4), np.nan)
+        if n:  # the cycle, repeated
+            cyc = pts[-n:]
+            res["samples"] = np.tile(cyc, (-(-st.n_samples // n), 1))[:st.n_samples]
+        else:
+            k = min(st.n_samples, pts.shape[0])
+            res["samples"][:k] = pts[-k:]
+
+
 def analyse_point(p, state0, settings, guess=None):
     """Analyse one parameter point.
 
@@ -266,7 +315,17 @@ def analyse_point(p, state0, settings, guess=None):
         :data:`SCALARS` entries, ``arcs`` (str), ``samples`` (n_samples, 4) Poincaré
         points (NaN where not computed), ``final_state`` (4,) for the next point,
         ``multipliers`` (4,) complex Floquet multipliers of a periodic point (NaN where
-        not computed; the "floquet" analysis, issue 8).
+        not computed; the "floquet" analysis).
+
+    Notes
+    -----
+    The transient's budget follows the motion's own contraction: at every check where
+    the points neither repeat nor allow an extrapolation jump, their contraction rate
+    (:func:`vibimpact.analysis.settling.contraction_rate`) says how many periods they
+    still need; when that exceeds what is left of ``transient_max``, the attractor is
+    sought by Newton shooting instead (:mod:`vibimpact.sweeps.settle`) and accepted only
+    on evidence, confirmed by integrating from it.  A motion that no evidence decides is
+    labelled UNSETTLED with its contraction rate and the periods it would need.
     """
     st = settings
     rule = st.rule
@@ -278,7 +337,7 @@ def analyse_point(p, state0, settings, guess=None):
     x = np.zeros(4) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
     res["final_state"] = np.full(4, np.nan)
     res["orbit_point"] = np.full(4, np.nan)
-    res["multipliers"] = np.full(N_MULTIPLIERS, np.nan + 0j)
+    res["multipliers"] = np.full(N_MULTIPLIERS, np.nan) + np.nan * 1j
     kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
 
     def diverged(status, reason, where):
@@ -292,9 +351,11 @@ def analyse_point(p, state0, settings, guess=None):
     done = 0
     n = 0
     jumps = 0
+    shots = 0
     chunk = st.chunk
     x_jump = None  # the integrated state a jump left (None: no jump since the last reset)
     run = None  # the record, when the guess's run is one
+    evidence = None  # a shooting result confirmed by integration
     need_dense = "response" in want
     guessed = guess is not None
     ready = False  # the trial's points wait for the transient's first check
@@ -368,13 +429,20 @@ def analyse_point(p, state0, settings, guess=None):
                 chunk = min(st.chunk, CHUNK_AFTER_JUMP)
                 continue
         chunk = st.chunk
+        if shots < MAX_SHOTS and strobe.shape[0] > MIN_SHOOT_PERIODS:
+            con = find_contraction(strobe)
+            if needs_shooting(con, rule.period_tol, st.transient_max - done):
+                shots += 1
+                evidence = shoot(p, strobe, con, st, need_dense)
+                if evidence is not None:
+                    run, n, x_start = evidence.run, evidence.n, evidence.state
+                    rec = run.strobe.shape[0] - 1
     if run is None and not n and logged and \
             sum(c.strobe.shape[0] - 1 for c in logged) >= st.record:
         run = join_runs(logged, 2.0 * math.pi / p.eta)
         rec = run.strobe.shape[0] - 1
         x_start = run.strobe[0]
         done -= rec
-    res["transient"] = done + wasted
 
     # --- record -----------------------------------------------------------------------
     if run is None:
@@ -384,6 +452,17 @@ def analyse_point(p, state0, settings, guess=None):
                        **kw)
         if run.status is not Status.OK:
             return diverged(run.status, run.reason, "record")
+    con = None
+    if not n:  # a record that still moves: does it contract onto an orbit?
+        con = find_contraction(run.strobe)
+        if con is not None and shots < MAX_SHOTS:
+            shots += 1
+            evidence = shoot(p, run.strobe, con, st, need_dense)
+            if evidence is not None:
+                done += rec
+                run, n, x_start = evidence.run, evidence.n, evidence.state
+                rec = run.strobe.shape[0] - 1
+    res["transient"] = done + wasted
     r_start = math.hypot(x_start[0], x_start[1])
     res["recorded"] = rec
     x = run.final_state
@@ -395,46 +474,22 @@ def analyse_point(p, state0, settings, guess=None):
     res["period"] = n
     if n == 1:
         res["orbit_point"] = _orbit_point(run.strobe)
-
-    imp = run.impacts
-    if "impacts" in want or "response" in want:
-        cnt = impact_count(imp["period"], rec, period=max(n, 1))
-        res["impacts_per_period"] = cnt.per_period
-        res["impacts_constant"] = int(cnt.constant)
-        switched = np.any(run.events["which"] == 0)
-        res["contact"] = (CONTACT_IMPACTING if imp.size else
-                          CONTACT_PERMANENT if (r_start > 1.0 and not switched) else
-                          CONTACT_NONE)
-        arcs = contact_arcs(imp["theta"])
-        res["arcs"] = arcs.summary
-        res["n_arcs"] = arcs.n_arcs
-        if imp.size:
-            res["v_impact_max"] = float(imp["v_impact"].max())
-            res["v_impact_mean"] = float(imp["v_impact"].mean())
-            res["penetration_max"] = float(imp["penetration"].max())
-        else:
-            res["v_impact_max"] = res["v_impact_mean"] = res["penetration_max"] = 0.0
-    if need_dense:
-        Xm, Ym, Rm = _maxima(run.dense)
-        ext = run.events["which"] == 2  # exact extrema of R from the event log
-        if np.any(ext):
-            Rm = max(Rm, float(np.hypot(*run.events["state"][ext, :2].T).max()))
-        res["X_m"], res["Y_m"], res["R_m"] = Xm, Ym, Rm
-        res["min_gap"] = 1.0 - Rm
-    if "poincare" in want:
-        if n:  # the cycle, repeated
-            cyc = pts[-n:]
-            res["samples"] = np.tile(cyc, (-(-st.n_samples // n), 1))[:st.n_samples]
-        else:
-            k = min(st.n_samples, pts.shape[0])
-            res["samples"][:k] = pts[-k:]
-
-    # --- issue 8: Floquet multipliers of a periodic point by shooting -----------------
-    if n and "floquet" in want:
-        res.update(_floquet(p, x, n, st))
-
-    # --- chaos tests, only where no period was found ----------------------------------
+    _describe(res, run, n, rec, r_start, want, st)
     T = 2.0 * math.pi / p.eta
+
+    # --- evidence of settling, Floquet multipliers of a periodic point ----------------
+    if evidence is not None:
+        res.update(multipliers=evidence.multipliers, floquet_abs_max=evidence.abs_max,
+                   stable=1, shoot_residual=evidence.residual,
+                   orbit_distance=evidence.distance, contraction=evidence.rate)
+    elif n and "floquet" in want:
+        res.update(_floquet(p, x, n, st))
+    if n and np.isfinite(res["floquet_abs_max"]):
+        res["floquet_exponent"] = math.log(res["floquet_abs_max"]) / (n * T)
+    if con is not None and evidence is None:
+        res["contraction"] = con.rate
+        res["settle_periods"] = settling_periods(con, rule.period_tol)
+    # --- chaos tests, only where no period was found ----------------------------------
     lam = err = k = math.nan
     if not n and "test01" in want:
         k = test01(pts[:, int(np.argmax(np.ptp(pts, axis=0)))])
@@ -448,7 +503,54 @@ def analyse_point(p, state0, settings, guess=None):
             res["reason"] = f"lyapunov: {ly.status.value}, {ly.reason}"
             return res
         lam, err = float(ly.exponents[0]), float(ly.stderr[0])
-    label, n_out, conf, reason = decide(n, lam * T, err * T, k, rule)
+    torus = None
+    zero_band = not (math.isfinite(lam) and abs(lam * T) - rule.z * err * T > rule.zero)
+    if not n and zero_band and pts.shape[0] >= 16:  # a torus? (only where it decides)
+        tor = torus_evidence(pts)
+        if con is None and tor.non_contracting and not tor.recurrent:
+            # a torus whose rotation number lies near a rational covers its curve slowly:
+            # look at a record TORUS_EXTEND times as long before deciding
+            status, why, more = strobe_only(p, (TORUS_EXTEND - 1) * rec, x, st.method,
+                                            st.rtol, st.atol)
+            if status is not Status.OK:
+                return diverged(status, why, "torus record")
+            res["final_state"] = more[-1].copy()
+            tor = torus_evidence(np.concatenate([pts, more[1:]]))
+        torus = tor.torus and con is None
+    if not n and con is None and pts.shape[0] > 8:
+        c1 = contraction_rate(pts, 1)
+        res["contraction"] = np.nan if c1 is None else c1.rate
+    label, n_out, conf, reason = decide(n, lam * T, err * T, k, rule, torus=torus)
+    if label is Label.UNSETTLED and math.isfinite(lam) and \
+            lam * T + rule.z * err * T < -rule.zero:
+        # an attracting motion without a period <= max_period: search a longer record
+        long_n, long_run = _long_recurrence(p, x, rule, st, need_dense)
+        if long_run.status is not Status.OK:
+            return diverged(long_run.status, long_run.reason, "recurrence search")
+        if long_n:
+            res["recorded"] = rec = long_run.strobe.shape[0] - 1
+            res["final_state"] = long_run.final_state.copy()
+            _describe(res, long_run, long_n, rec, r_start, want, st)
+            label, n_out, conf = Label.PERIODIC, long_n, 1.0
+            reason = f"recurrence found by a search up to {LONG_SEARCH * rule.max_period}"
+    if evidence is not None:
+        reason = (f"shooting: orbit of period {n} converged (residual "
+                  f"{evidence.residual:.1e}), |mu|max {evidence.abs_max:.4f}, approached "
+                  f"at {evidence.rate:.2e}/period; confirmed by integration")
+    elif label is Label.UNSETTLED and np.isfinite(res["settle_periods"]):
+        reason += (f"; contracting at {res['contraction']:.2e}/period, would need "
+                   f"{res['settle_periods']:.0f} more periods")
     res.update(regime=REGIME_CODES[label], period=n_out, confidence=conf, lyapunov=lam,
                lyapunov_err=err, k01=k, reason=reason)
     return res
+
+
+def _long_recurrence(p, x, rule, st, need_dense):
+    """Period of the motion from ``x`` up to ``LONG_SEARCH * max_period`` (0 if none),
+    and the run searched."""
+    m = LONG_SEARCH * rule.max_period
+    run = simulate(p, periods=3 * m + 1, state0=x, dense=st.dense if need_dense else 0,
+                   method=st.method, rtol=st.rtol, atol=st.atol)
+    if run.status is not Status.OK:
+        return 0, run
+    return detect_period(run.strobe, tol=rule.period_tol, max_period=m), run
