@@ -67,6 +67,54 @@ def same(a, b):
     return True
 
 
+#: other processes' mean CPU use (cores) above which the report calls the machine shared
+SHARED_CORES = 0.1
+
+
+def _machine_cpu():
+    """CPU seconds all processes of the machine have used (``/proc/stat``), or None."""
+    try:
+        with open("/proc/stat") as fh:
+            f = [int(v) for v in fh.readline().split()[1:]]
+    except (OSError, ValueError):
+        return None
+    busy = f[0] + f[1] + f[2] + sum(f[5:8])     # user nice system irq softirq steal
+    return busy / os.sysconf("SC_CLK_TCK")
+
+
+def _own_cpu():
+    """CPU seconds of this process and of its reaped children (the Dask workers and the
+    full map's subprocess are children, reaped when they stop)."""
+    import resource
+
+    a, b = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
+        resource.RUSAGE_CHILDREN)
+    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
+
+
+def load_sentence(load0, load1, busy0, own0, wall):
+    """The report's sentence on other work on the machine, decided from the measurement:
+    the machine's CPU time over the run minus this benchmark's own (``/proc/stat`` and
+    ``getrusage``), and the load averages before and after."""
+    cores = os.cpu_count()
+    busy1 = _machine_cpu()
+    loads = (f"load average {load0:.2f} before, {load1:.2f} after (the latter includes "
+             "this benchmark's own workers)")
+    if busy0 is None or busy1 is None:
+        shared = load0 >= SHARED_CORES
+        return (f"Other work on the machine: {loads}; other processes' CPU time not "
+                f"measurable here (no /proc/stat); judged by the load before the run, the "
+                f"machine was {'**shared**' if shared else 'not measurably shared'}.")
+    other = max(0.0, (busy1 - busy0) - (_own_cpu() - own0)) / wall
+    shared = other >= SHARED_CORES or load0 >= SHARED_CORES * cores
+    verdict = ("**the machine was shared**: wall-clock figures are conservative, the "
+               "CPU-time figures are not affected" if shared else
+               "the machine was not measurably shared")
+    return (f"Other work on the machine during the run: other processes used on average "
+            f"{other:.2f} of {cores} cores (machine CPU time minus this benchmark's own, "
+            f"over {wall:.0f} s); {loads}; so {verdict} (threshold {SHARED_CORES} cores).")
+
+
 def timed(fn):
     t = time.perf_counter()
     out = fn()
@@ -183,7 +231,7 @@ def main(argv):
     etas = parse_range(ETA)
     name, values = parse_vary(VARY, p)
     n = etas.size * values.size
-    load0 = os.getloadavg()
+    load0, busy0, own0, wall0 = os.getloadavg(), _machine_cpu(), _own_cpu(), time.perf_counter()
     _warm()
 
     c0 = time.process_time()
@@ -226,12 +274,13 @@ def main(argv):
     r1, r2, r2w = n / t1, n / t2, n / t2w
     proj = TARGET_POINTS / r2w + (t2 - n / r2w)
     proj_cpu = TARGET_POINTS / (2 * n / c2w) + t_up
+    full_lines = full_run(p) if full else []
+    load_line = load_sentence(load0[0], os.getloadavg()[0], busy0, own0,
+                              time.perf_counter() - wall0)
+    st = SweepSettings()
     L = ["# Parameter map throughput (issue 9)", "",
          "Written by `python analyses/benchmark_map.py`; every number is measured by it.",
-         "**The machine has 2 cores and was shared**: another engineer may have been using "
-         "the CPU during the run (load average "
-         f"{load0[0]:.1f} before, {os.getloadavg()[0]:.1f} after), so these are "
-         "conservative figures.", "",
+         load_line, "",
          f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
          f"- machine: `{platform.platform()}`, `os.cpu_count()` = {os.cpu_count()}",
          f"- map: `vibimpact map --eta {ETA} --vary {VARY}` on {PRESET}: {values.size} rows "
@@ -266,16 +315,19 @@ def main(argv):
         c, s, ms = per[k]
         L.append(f"| {names.get(k, k)} | {c} | {100 * c / npts:.0f} % | "
                  f"{100 * s / tot:.0f} % | {ms:.1f} |")
-    L += ["", "A periodic point after four period-1 points is first integrated for its "
-          "record from the continuation's predictor (the cubic through their orbit "
+    L += ["", f"A periodic point after {st.predict} period-1 points is first integrated for its "
+          "record from the continuation's predictor (the polynomial through their orbit "
           "points); when that record already repeats and the orbit attracts it needs no "
           f"transient ({hits} of the profiled rows' {per.get(1, (0,))[0]} periodic "
           "points).  Otherwise the transient ends as soon as the stroboscopic points "
           f"repeat (median {np.median(tr):.0f}, max {tr.max()} forcing periods over the "
-          "map), then at least 8 periods are recorded.  A point that never repeats "
-          "integrates the 200-period transient, whose last 130 periods are its record, "
-          "and the variational equations for the exponent (100-600 periods; most stop at "
-          "the 100-period minimum).  Time inside the numba kernel (cProfile, the "
+          f"map), then at least {st.record_periodic} periods are recorded.  A point that "
+          f"never repeats integrates the {st.transient_max}-period transient, whose last "
+          f"{-(-st.record // st.chunk) * st.chunk} periods (whole {st.chunk}-period "
+          f"chunks, at least {st.record}) are its record, and the variational equations "
+          "for the exponent "
+          f"({st.lyap_min}-{st.lyap_max} periods, to a standard error of "
+          f"{st.lyap_target:g}).  Time inside the numba kernel (cProfile, the "
           f"profiled rows): {100 * kernel_share:.0f} %; the rest is Python per "
           "integration call (event records, period checks).", "",
           f"## {TARGET_POINTS:,}-point map (target: {TARGET_S:.0f} s on 2 cores)", "",
@@ -283,12 +335,12 @@ def main(argv):
           f"**{proj:.0f} s** for {TARGET_POINTS:,} points; from the CPU time (two "
           f"dedicated cores): **{proj_cpu:.0f} s**."]
     if full:
-        L += ["", *full_run(p)]
+        L += ["", *full_lines]
     met = min(proj, proj_cpu) <= TARGET_S
     if not met:
         L += ["", "Why the target is missed: at the default classifier settings a point "
-              "costs what the table above says; reaching 30,000 points in 120 s on 2 "
-              f"cores needs {TARGET_POINTS / TARGET_S / 2:.0f} points/s per core.  The "
+              "costs what the table above says; reaching "
+              f"{TARGET_POINTS:,} points in {TARGET_S:.0f} s on 2 cores needs {TARGET_POINTS / TARGET_S / 2:.0f} points/s per core.  The "
               "map already computes only what it needs (no response maxima, Poincaré "
               "samples or 0-1 test; the exponent only where no period is found); what "
               "remains is the physics of the transient on periodic points and the "
