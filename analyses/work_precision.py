@@ -5,9 +5,14 @@ Run as ``python analyses/work_precision.py``; writes the section ``work_precisio
 Every number in the section is measured by this script in the same run (issue 6, parts
 1, 2 and 5).
 
-(1) Work-precision on four trajectories (fig8 periodic eta = 1.185 and chaotic eta = 1.22,
-    fig10 and fig11 at eta = 1.02, all on the branch continued up from eta = 1.0 in steps
-    of 0.02 with 200 transient periods each, as ``tests/conftest.py::continued_state``):
+(1) Work-precision on four trajectories (a fig8 periodic and a fig8 chaotic one, fig10 and
+    fig11 at eta = 1.02, all on the branch continued up from eta = 1.0 in steps of 0.02
+    with 200 transient periods each, as ``tests/conftest.py::continued_state``).  Every
+    trajectory's regime is decided in the run by the classifier
+    (:func:`vibimpact.analysis.classify_params`, see ``benchmark_kernel.label_orbit``) and
+    written into the report; the fig8 speeds are the first of ``CASES``' candidate lists
+    that the classifier labels periodic with impacts, and chaotic, at the current B and Ec
+    (which change with calibrations):
     max abs stroboscopic error against our dop853 at rtol = atol = 1e-13 (cross-checked
     with SciPy DOP853 at 1e-13) versus wall time, for our rk4 / dp5 / dop853 and for SciPy
     ``solve_ivp`` RK45 / DOP853 / LSODA restarted at every switch with the compiled
@@ -48,17 +53,25 @@ import vibimpact as vi  # noqa: E402
 from vibimpact._kernel import rotor  # noqa: E402
 from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
 from vibimpact.sweeps import continued_state as _continued  # noqa: E402
+from benchmark_kernel import (LABEL_PERIODS, LABEL_TRANSIENT, describe,  # noqa: E402
+                              is_impacting_chaotic, is_impacting_periodic, label_orbit,
+                              pick_orbit)
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"
 FIGURE = ROOT / "reports" / "work_precision.png"
 SECTION = "work_precision"
 
-# (label, preset, eta, periods): short enough that chaos does not swamp the error
-CASES = [("fig8 periodic", "fig8", 1.185, 20),
-         ("fig8 chaotic", "fig8", 1.22, 10),
-         ("fig10", "fig10", 1.02, 20),
-         ("fig11", "fig11", 1.02, 20)]
+# (label, preset, candidate etas, wanted regime or None, periods): the first candidate
+# whose regime the classifier finds wanted is used (None: the one eta, whatever it is);
+# periods short enough that chaos does not swamp the error
+CASES = [("fig8 periodic", "fig8", (1.185, 1.13, 1.15, 1.10, 1.16, 1.05),
+          is_impacting_periodic, 20),
+         ("fig8 chaotic", "fig8", (1.22, 1.19, 1.21, 1.24, 1.185, 1.18), is_impacting_chaotic,
+          10),
+         ("fig10", "fig10", (1.02,), None, 20),
+         ("fig11", "fig11", (1.02,), None, 20)]
+SAMPLE_PERIODS, SAMPLES_PER_PERIOD = 50, 64   # states of the bare-RHS floor (2)
 REF_TOL = 1e-13
 RK4_STEPS = [50, 100, 200, 400, 800, 1600, 3200]
 OUR_TOLS = [10.0 ** -k for k in range(4, 13)]          # 1e-4 ... 1e-12
@@ -82,6 +95,21 @@ STYLE = {"ours rk4": ("o", "-", "C0"), "ours dp5": ("s", "-", "C1"),
 TARGET_RATIO, TARGET_OVERHEAD, TARGET_FIRST_RUN = 300.0, 1.3, 15.0
 #: (trajectory, method, tol) of the baseline runs that failed (reported, not plotted)
 FAILED = []
+
+
+#: the defaults of the continuation that places the trajectories (eta_start, step, transient)
+_CONT = _continued.__kwdefaults__
+
+
+def _span(tols):
+    """``1e-04 ... 1e-12`` of a list of tolerances."""
+    return f"{max(tols):.0e} ... {min(tols):.0e}"
+
+
+def results_b(results):
+    """``B, Ec`` of the trajectories' presets, in words."""
+    pairs = sorted({(r["B"], r["Ec"]) for r in results.values()})
+    return "; ".join(f"{b:g}, Ec = {e:g}" for b, e in pairs)
 
 
 def continued_state(preset, eta):
@@ -196,7 +224,7 @@ def overhead(p, s0):
     """Rows (method, settings, rhs evals, time, ns/eval inside, ns/eval bare, ratio,
     accepted steps, rejected steps, located events incl. observer events)."""
     pa = np.ascontiguousarray(p.as_array())
-    samp = vi.simulate(p, periods=50, state0=s0, dense=64)
+    samp = vi.simulate(p, periods=SAMPLE_PERIODS, state0=s0, dense=SAMPLES_PER_PERIOD)
     ys = np.ascontiguousarray(samp.dense)
     ts = np.ascontiguousarray(samp.t_dense) - samp.t_dense[0]   # forcing phase from tau=0
     modes = np.zeros((ys.shape[0], rotor.N_MODE), dtype=np.int64)
@@ -283,8 +311,8 @@ def plot(results, path):
             mk, ls, c = STYLE[name]
             ax.loglog([max(q[1], 1e-17) for q in pts], [q[2] for q in pts], marker=mk,
                       ls=ls, color=c, ms=4, lw=1, label=name)
-        ax.set_title(f"{label}: eta = {res['eta']}, {res['periods']} periods, "
-                     f"{res['impacts']} impacts", fontsize=9)
+        ax.set_title(f"{label}: eta = {res['eta']} ({res['regime']}), {res['periods']} "
+                     f"periods, {res['impacts']} impacts", fontsize=9)
         ax.set_xlabel("max abs strobe error vs dop853 at 1e-13")
         ax.set_ylabel("wall time [s]")
         ax.grid(True, which="both", alpha=0.3)
@@ -323,22 +351,31 @@ def report(results, ov, st, load, elapsed):
          f"scipy {scipy.__version__}, numba {numba.__version__}, vibimpact {vi.__version__}",
          f"- numbalsoda: {numbalsoda_note()}", "",
          "## (1) Work-precision", "",
-         "Trajectories: continued up from eta = 1.0 (rest) in steps of 0.02 with 200 "
+         f"Trajectories: continued up from eta = {_CONT['eta_start']:g} (rest) in steps of "
+         f"{_CONT['step']:g} with {_CONT['transient']} "
          "transient periods at each step (the impacting branch), then integrated for the "
          "periods stated. Error: max abs difference of the stroboscopic states from our "
          f"dop853 at rtol = atol = {REF_TOL:g}. Our methods: rk4 at {RK4_STEPS} steps per "
-         f"period, dp5 and dop853 at rtol = atol = 1e-4 ... 1e-12 (best of {OUR_REPEATS} "
-         "after a warm-up). SciPy `solve_ivp` (scipy "
+         f"period, dp5 and dop853 at rtol = atol = {_span(OUR_TOLS)} (best of "
+         f"{OUR_REPEATS} after a warm-up). SciPy `solve_ivp` (scipy "
          f"{scipy.__version__}) RK45, DOP853, LSODA with the compiled model RHS, restarted "
          "at every switch and stopped at every strobe time (`vibimpact.reference."
-         f"solve_reference`), rtol = atol = 1e-5 ... 1e-12 (RK45 to 1e-11), best of "
-         f"{SCIPY_REPEATS}.", "",
-         "| trajectory | eta | periods | impacts | state0 | ref. cross-check: SciPy DOP853 "
-         f"{REF_TOL:g} vs ours {REF_TOL:g} |",
-         "| --- | ---: | ---: | ---: | --- | ---: |"]
+         "solve_reference`), rtol = atol = "
+         + ", ".join(f"{m} {_span(t)}" for m, t in SCIPY_TOLS.items())
+         + f", best of {SCIPY_REPEATS}.", "",
+         f"Regime: decided in this run by `classify_params` on the trajectory's attractor "
+         f"({LABEL_TRANSIENT} periods from state0 discarded, {LABEL_PERIODS} recorded); "
+         f"parameters B = {results_b(results)}.  The fig8 rows use the first candidate "
+         "speed with the regime their name asks for: "
+         + "; ".join(f"{label}: " + ", ".join(f"{e:g} {describe(g)}" for e, g in r["tried"])
+                     for label, r in results.items() if len(r["tried"]) > 1) + ".", "",
+         "| trajectory | eta | regime (classifier) | periods | impacts | state0 | ref. "
+         f"cross-check: SciPy DOP853 {REF_TOL:g} vs ours {REF_TOL:g} |",
+         "| --- | ---: | --- | ---: | ---: | --- | ---: |"]
     for label, r in results.items():
-        L.append(f"| {label} | {r['eta']} | {r['periods']} | {r['impacts']} | "
-                 f"[{', '.join(f'{v:.6g}' for v in r['s0'])}] | {r['cross']:.2e} |")
+        L.append(f"| {label} | {r['eta']} | {describe(r['regime'])} | {r['periods']} | "
+                 f"{r['impacts']} | [{', '.join(f'{v:.6g}' for v in r['s0'])}] | "
+                 f"{r['cross']:.2e} |")
     L += ["", f"![work-precision]({FIGURE.name})", "",
           "### Speed ratio at equal error: SciPy DOP853 time / our dop853 time", "",
           "Least time reaching each error, log time interpolated linearly in log error along "
@@ -411,7 +448,8 @@ def report(results, ov, st, load, elapsed):
           "besides the RHS (stage combinations, error norm, step control, switching "
           "functions and event location, strobe and event logging, the Python wrapper). "
           "Floor: a bare `@njit` loop calling `vibimpact._kernel.rotor.rhs` the same number "
-          "of times, cycling over 64 states per period sampled along 50 periods of the same "
+          f"of times, cycling over {SAMPLES_PER_PERIOD} states per period sampled along "
+          f"{SAMPLE_PERIODS} periods of the same "
           "trajectory (with the mode each state is in), best of 3; the integrator spends "
           "more of its evaluations in contact than this time-uniform sample does, so the "
           "last two columns repeat the floor on the contact states only (the dearer RHS), "
@@ -457,13 +495,22 @@ def main():
     load0 = os.getloadavg()[0]
     REPORT.parent.mkdir(parents=True, exist_ok=True)
     results, ov = {}, {}
-    for label, preset, eta, periods in CASES:
+    for label, preset, etas, want, periods in CASES:
         t0 = time.perf_counter()
+        if want is None:
+            eta = etas[0]
+            s0 = continued_state(preset, eta)
+            regime = label_orbit(vi.presets.get(preset).replace(eta=eta), s0)
+            tried = [(eta, regime)]
+        else:
+            eta, s0, regime, tried = pick_orbit(
+                preset, etas, want, lambda q, preset=preset: continued_state(preset, q.eta))
         p = vi.presets.get(preset).replace(eta=eta)
-        s0 = continued_state(preset, eta)
+        print(f"{label}: eta = {eta}: {describe(regime)}")
         cross, n_imp, series = work_precision(p, s0, periods, label)
         results[label] = dict(eta=eta, periods=periods, s0=s0, cross=cross, impacts=n_imp,
-                              series=series, ratios=ratios(series))
+                              series=series, ratios=ratios(series), regime=regime,
+                              tried=tried, B=p.B, Ec=p.Ec)
         ov[label] = overhead(p, s0)
         print(f"{label}: cross-check {cross:.2e}, {n_imp} impacts, "
               f"{time.perf_counter() - t0:.1f} s")
