@@ -4,7 +4,10 @@ Run as ``python analyses/profile_sweep.py``; replaces the "profile" section of
 ``reports/performance.md``.  The main job's sweep (``vibimpact classify --eta
 0.9:1.5:0.002`` on fig8, all analyses) runs serially under cProfile twice: without and with
 the extrapolation of transients (``SweepSettings(extrapolate=0)`` and the default), after
-a warm-up.  Every number written is measured here.
+a warm-up.  Every number written is measured here or read from the settings it describes
+(``SweepSettings``, the decision rule); the rejected steps per contact are counted on a
+fig8 trajectory whose regime the classifier decides in the same run, and the fig11 label
+changes by the same two sweeps on fig11 (without the profiler).
 """
 import cProfile
 import datetime
@@ -18,7 +21,12 @@ import numpy as np
 from _report import write_section
 
 import vibimpact as vi
+from vibimpact.analysis import Label
 from vibimpact.sweeps import SweepSettings
+from vibimpact.sweeps.point import CHUNK_AFTER_JUMP, REGIME_CODES
+
+from benchmark_kernel import (CANDIDATE_ETAS, describe, is_impacting_periodic,  # noqa: E402
+                              pick_orbit)
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"
@@ -60,6 +68,35 @@ def _profile(settings):
     return wall, out, ds
 
 
+#: forcing periods of the step-count runs
+COUNT_PERIODS = 300
+
+
+def rejected_per_contact():
+    """DOP853 at the sweep's tolerances on a fig8 trajectory the classifier labels periodic
+    with impacts (the first of ``benchmark_kernel.CANDIDATE_ETAS``, from rest after a
+    continuation-free 200-period transient): (eta, regime, accepted, rejected, contacts)."""
+    st = SweepSettings()
+    eta, s0, regime, _ = pick_orbit(
+        "fig8", CANDIDATE_ETAS, is_impacting_periodic,
+        lambda q: vi.simulate(q, periods=1, transient=200, state0=[1.1, 0.0, 0.0, 1.3])
+        .final_state)
+    p = vi.presets.get("fig8").replace(eta=eta)
+    run = vi.simulate(p, periods=COUNT_PERIODS, state0=s0, method=st.method, rtol=st.rtol,
+                      atol=st.atol)
+    c = run.counters
+    return eta, regime, c["steps"], c["rejected"], len(run.impacts)
+
+
+def fig11_label_changes():
+    """Points of the fig11 sweep (same grid) whose label differs with and without the
+    extrapolation of transients."""
+    p = vi.presets.get("fig11")
+    a = vi.sweep(p, ETA, workers=1, settings=SweepSettings(extrapolate=0))
+    b = vi.sweep(p, ETA, workers=1, settings=SweepSettings())
+    return int((a.label.values != b.label.values).sum()), ETA.size
+
+
 def main():
     vi.sweep(vi.presets.get("fig8"), ETA[:6], workers=1)  # warm-up (numba cache, imports)
     runs = {}
@@ -91,52 +128,68 @@ def main():
     rows = [f"| {e:.3f} | {x} | {y} |" for e, x, y, s in
             zip(ETA, a.label.values, b.label.values, same) if not s]
     L += ["| eta | without | with |", "| ---: | --- | --- |"] + (rows or ["| - | - | - |"])
+    st = SweepSettings()
+    tol = st.rule.period_tol
+    mu = 0.9
+    wait = np.log(tol) / np.log(mu)
+    mu_cap = tol ** (1.0 / st.transient_max)
+    rec = -(-st.record // st.chunk) * st.chunk
+    nonper = int((b.regime.values != REGIME_CODES[Label.PERIODIC]).sum())
+    eta_c, regime_c, acc, rej, contacts = rejected_per_contact()
+    n11, m11 = fig11_label_changes()
     L += ["",
           "What dominated and what was done:",
           "",
-          "- **Wasted transient periods**: a point on a stable orbit waited for its "
-          "slowest Floquet mode to decay to the period test's 1e-6, about 130 periods at "
-          "|mu| = 0.9 and never within the 200-period cap at |mu| > 0.93.  The transient "
-          "now jumps to the limit of its stroboscopic points by minimal polynomial "
+          "- **Wasted transient periods**: a point on a stable orbit waits for its "
+          f"slowest Floquet mode to decay to the period test's {tol:g}: {wait:.0f} periods "
+          f"at |mu| = {mu:g}, and never within the {st.transient_max}-period cap at "
+          f"|mu| > {mu_cap:.3f} (|mu|^n = {tol:g}).  The transient now jumps to the limit "
+          "of its stroboscopic points by minimal polynomial "
           "extrapolation (Cabay & Jackson 1976; Skelboe 1980) when they close in "
-          "geometrically on a cycle (`vibimpact.analysis.extrapolate_limit`, at most 5 "
-          "jumps, the next check 6 periods after a jump); the period is accepted only "
+          "geometrically on a cycle (`vibimpact.analysis.extrapolate_limit`, at most "
+          f"{st.extrapolate} jumps, the next check {CHUNK_AFTER_JUMP} periods after a "
+          "jump); the period is accepted only "
           "from integrated points that repeat, and after a jump only if the orbit's "
           "Floquet multipliers lie inside the unit circle (a jump can land on a saddle).  It "
           "cuts the transient periods (table above) and the Python work per point, but "
           "the integrator kernel's time much less than the periods: the remaining kernel "
-          "time sits in the non-periodic points (200 transient + 128 recorded periods "
-          "each, with many more contacts per period) and in the recorded periods; this "
-          "profile does not split it further.  On fig11 the labels changed at 62 of 301 "
-          "points: shooting and 1,500-period runs (tests/test_extrapolation.py) show the "
-          "new periodic labels are slowly converging stable orbits that the old cap "
-          "misread as quasi-periodic or chaotic.",
-          "- **Rejected steps after every contact** (found, not removed): a DOP853 step "
-          "that starts on the retainer sees the Hertz force's (R-1)^{3/2} singularity and "
-          "needs a step far shorter than the one before the event; the error control finds "
-          "it by a cascade of 0.2x cuts, about 7 rejected steps per contact on fig8 (the "
-          "'rejected' column of section (2), 24-43 % of DOP853's steps).  A step-size "
-          "memory carried from event to event cut the RHS evaluations by 14-20 % but was "
-          "reverted: the sweep integrates in 10-period calls, the memory made their step "
-          "sequences differ, and the strobe points of stable orbits stopped repeating "
-          "(fig8 eta = 1.13, |mu| = 0.82, became 'periodic (long period)'; "
-          "tests/test_kernel_accuracy.py now checks this).  Kept from that work: the "
+          f"time sits in the {nonper} non-periodic points of this sweep (the "
+          f"{st.transient_max}-period transient each, its last {rec} periods the record, "
+          "with many more contacts per period) and in the recorded periods; this "
+          f"profile does not split it further.  On fig11 (same grid) the labels differ at "
+          f"{n11} of {m11} points without and with the extrapolation; shooting and long "
+          "runs (tests/test_extrapolation.py) check that such new periodic labels are "
+          "slowly converging stable orbits that the cap misread as quasi-periodic or "
+          "chaotic.",
+          "- **Rejected steps after contacts**: a DOP853 step "
+          "that starts on the retainer sees the Hertz force's (R-1)^{3/2} onset and "
+          "needs a step far shorter than the one before the event, which the error control "
+          f"finds by rejecting steps.  Counted here: fig8 eta = {eta_c:g} "
+          f"({describe(regime_c)}), {COUNT_PERIODS} periods at the sweep's tolerances "
+          f"(rtol {st.rtol:g}, atol {st.atol:g}): {rej} rejected of {acc + rej} steps "
+          f"({100 * rej / max(acc + rej, 1):.0f} %), {rej / max(contacts, 1):.1f} rejected "
+          f"steps per contact ({contacts} contacts); section (2) of the work-precision "
+          "section counts them at other tolerances.  A step-size memory carried from event "
+          "to event cut the RHS evaluations but was reverted: the sweep integrates in "
+          f"{st.chunk}-period calls, the memory made their step sequences differ, and the "
+          "strobe points of stable orbits stopped repeating "
+          "(tests/test_kernel_accuracy.py now checks this).  Kept from that work: the "
           "switching functions at a step's start are reused from the step before (one "
-          "evaluation of five fewer per step, results bit-identical).",
+          "switching-function evaluation fewer per step, results bit-identical).",
           "- **Allocation in the hot loop**: the variational right-hand side (every stage "
           "of the Lyapunov and Floquet integrations) allocated a 4x4 Jacobian per call; "
           "it now takes the Jacobian's two non-trivial rows as scalars "
-          "(`rotor.jac_rows`): a 200-period fig8 exponent run at eta = 1.0, best of 5 on "
-          "the shared machine, 184 -> 155 ms for one exponent, 260 -> 200 ms for four, "
-          "the same exponents to the last digit.  The integrator allocates its work "
-          "arrays once per call, never per step.",
-          "- **The Lyapunov kernel** on the ~25 non-periodic points: the variational "
-          "equations over 100-600 periods to a 3e-3 standard error; apart from the "
-          "allocation above, unchanged (it is the measurement asked for).",
+          "(`rotor.jac_rows`), with the same exponents to the last digit (the speed-up "
+          "was timed when the change was made, not by this script).  The integrator "
+          "allocates its work arrays once per call, never per step.",
+          f"- **The Lyapunov kernel** on the {nonper} non-periodic points: the variational "
+          f"equations over {st.lyap_min}-{st.lyap_max} periods to a {st.lyap_target:g} "
+          "standard error; apart from the allocation above, unchanged (it is the "
+          "measurement asked for).",
           "- **Trigonometry via a rotating phasor**: not done.  The forcing terms cost "
           "two `sin`/`cos` per RHS evaluation, inside the bare RHS floor of section (2) "
-          "(about 60 ns per evaluation with them); the integrator's overhead over that "
-          "floor is per-step work (stage combinations, error norm, five "
+          "of the work-precision section (column 'ns/eval bare'); the integrator's "
+          "overhead over that floor is per-step work (stage combinations, error norm, "
           "switching-function samples, event location), so a phasor would shrink the "
           "floor, not the overhead ratio.",
           ]
