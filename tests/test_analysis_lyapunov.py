@@ -90,13 +90,15 @@ def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(name, e
     """On a periodic impacting orbit the largest exponent from the variational equations
     (with saltation matrices where the field jumps: BT at contact entry/exit in fig10,
     friction in fig11) equals ln|mu_max|/T from the monodromy matrix by finite differences
-    of the Poincaré map, within 2 %."""
+    of the Poincaré map, within 2 %: the QR average (floquet=False; with the default the
+    orbit's Floquet exponents are returned instead, see tests/test_lyapunov_floquet.py)."""
     p = preset(name).replace(eta=eta)
     x = continued_state(name, eta, transient=300)
     run = vi.simulate(p, periods=3, state0=x)
     assert len(run.impacts) >= 2 and np.ptp(run.strobe, axis=0).max() < 1e-6
     res = lyapunov_spectrum(p, state0=x, transient=0, min_periods=300, max_periods=1500,
-                            target_stderr=5e-4)
+                            target_stderr=5e-4, floquet=False)
+    assert res.floquet_n == 0
     mu = np.linalg.eigvals(strobe_map_jacobian(p, x))
     floquet = np.log(np.abs(mu)).max() / res.period
     assert abs(res.exponents[0] - floquet) <= 0.02 * abs(floquet)
@@ -106,12 +108,13 @@ def test_looser_tangent_tolerance_gives_the_same_exponent_as_the_full_test():
     """With the tangent vectors' local errors tested at 1e3 times the tolerances (the
     default) or not at all, the largest exponent of an impacting periodic orbit with a
     multiplier close to the unit circle (fig8, eta = 1.13) equals the one with every entry
-    tested at the tolerances to 1e-4 per unit tau, from the same state and periods."""
+    tested at the tolerances to 1e-4 per unit tau, from the same state and periods (QR
+    averages: floquet=False, else the shooting's tolerances decide)."""
     p = preset("fig8").replace(eta=1.13)
     x = continued_state("fig8", 1.13, transient=300)
     assert len(vi.simulate(p, periods=2, state0=x).impacts) >= 1
     kw = dict(state0=x, n_exponents=1, transient=0, min_periods=150, max_periods=150,
-              align=20, rtol=1e-8, atol=1e-11)
+              align=20, rtol=1e-8, atol=1e-11, floquet=False)
     lam_all = lyapunov_spectrum(p, tangent_tol=1.0, **kw).exponents[0]
     for tol in (1e3, math.inf):
         lam = lyapunov_spectrum(p, tangent_tol=tol, **kw).exponents[0]
@@ -122,9 +125,11 @@ def test_a_state_at_rest_still_controls_its_tangent_vectors():
     """x'' + 3x' + x = 0 from (1, 0): the state decays to rest, where its own error test
     allows quarter-period steps; the second tangent vector (exponent -2.618) is only
     right because its local errors are still tested (default tangent_tol), and is wrong
-    by more than 5 % when they are not (tangent_tol = inf)."""
+    by more than 5 % when they are not (tangent_tol = inf).  QR averages (floquet=False):
+    the rest point is a periodic orbit whose Floquet exponents would be returned exactly."""
     p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    kw = dict(state0=[1.0, 0.0], transient=0, min_periods=100, max_periods=200)
+    kw = dict(state0=[1.0, 0.0], transient=0, min_periods=100, max_periods=200,
+              floquet=False)
     exact = (-3 - math.sqrt(5)) / 2
     assert abs(lyapunov_spectrum(p, **kw).exponents[1] - exact) < 1e-3
     assert abs(lyapunov_spectrum(p, tangent_tol=math.inf, **kw).exponents[1] - exact) > \

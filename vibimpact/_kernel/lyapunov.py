@@ -19,7 +19,7 @@ from .integrator import DIVERGED_BOUND, OK
 
 @njit(cache=True, error_model="numpy")
 def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, omega, y,
-             mode, ks, opts, n_state, bound, n_periods, logs, counters):
+             mode, ks, opts, n_state, bound, n_periods, logs, states, counters):
     """Integrate ``n_periods`` forcing periods with QR re-orthonormalisation after each.
 
     Parameters
@@ -34,6 +34,10 @@ def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, 
         Divergence bound on the model state (the tangent part is unbounded).
     logs : float64 array, shape (n_periods, m)
         Row ``j`` receives ``log |R_ii|`` of period ``j``.
+    states : float64 array, shape (n_periods, n_state)
+        Row ``j`` receives the state at the end of period ``j`` (the stroboscopic point),
+        from which the caller tells a periodic orbit (its points repeat); the tangent
+        vectors and ``logs`` do not depend on it.
 
     Returns
     -------
@@ -60,6 +64,7 @@ def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, 
         for i in range(n):
             if abs(y[i]) > bound:
                 return DIVERGED_BOUND, j
+            states[j, i] = y[i]
         for c in range(m):
             for i in range(n):
                 Q[i, c] = y[n + c * n + i]

@@ -20,11 +20,29 @@ append it).  The stroboscopic (Poincaré) map's exponents are the same numbers t
 forcing period ``T = 2 pi / eta``: :attr:`LyapunovResult.map_exponents`.  A periodic orbit
 therefore has all returned exponents negative; a quasi-periodic one has a largest exponent
 0; a chaotic one a positive largest exponent.
+
+Periodic orbits.  On a stable period-``n`` orbit the exponents are the Floquet exponents
+``ln|mu_i| / (n T)`` of the monodromy matrix's eigenvalues ``mu_i``.  The QR (Benettin)
+average converges to them only like ``1/N`` in the number ``N`` of periods when multipliers
+share a modulus: a complex pair ``|mu_1| = |mu_2|`` (every underdamped mode of the rotor)
+rotates the tangent plane, so ``R_11`` and ``R_22`` split the pair's common growth
+unevenly in every period, by an amount that oscillates without decaying (only their sum,
+the plane's area growth, is free of the rotation).  Over a finite run ``lambda_1`` then
+comes out above ``ln|mu|/T`` and ``lambda_2`` below, by up to ~20 % at B = 0.01 after 400
+periods, and the batch-means error, from an oscillation rather than independent noise,
+can be several times too small (measured in tests/test_lyapunov_floquet.py; the QR
+method: Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 617, sec. III.B; Floquet exponents as
+the Lyapunov exponents of a periodic orbit: Parker & Chua 1989, *Practical Numerical
+Algorithms for Chaotic Systems*, ch. 4).  :func:`lyapunov_spectrum` therefore
+watches the stroboscopic points: once they repeat with a period ``n`` it shoots the orbit
+(:func:`vibimpact.analysis.shooting.shoot_periodic_orbit`) and, if the orbit is stable and
+the trajectory is on it, returns its Floquet exponents (exact to the integration
+tolerance); :func:`floquet_lyapunov` does the same for a given point of a periodic orbit.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -62,7 +80,16 @@ class LyapunovResult:
     status : Status
     reason : str
     history : ndarray, shape (n_blocks, m)
-        Running estimate after each block (convergence plot).
+        Running estimate after each block (convergence plot); of the QR average also when
+        the exponents are Floquet exponents.
+    floquet_n : int
+        ``n > 0``: the trajectory is on a stable period-``n`` orbit (``n`` forcing
+        periods, the minimal period) and ``exponents`` are its Floquet exponents
+        ``ln|mu| / (n T)``, ``stderr`` their estimated numerical error (not a statistical
+        one); 0: ``exponents`` are averages of QR growth rates.
+    qr_exponents : ndarray, shape (m,)
+        The QR (Benettin) average over the ``periods`` periods, descending (NaN when none
+        was averaged); equal to ``exponents`` when ``floquet_n`` is 0.
     """
 
     exponents: np.ndarray
@@ -75,6 +102,8 @@ class LyapunovResult:
     status: Status = Status.OK
     reason: str = ""
     history: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    floquet_n: int = 0
+    qr_exponents: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def map_exponents(self):
@@ -174,10 +203,12 @@ def _estimate(logs, T, block):
     return lam, err, history
 
 
-def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decisive=None):
+def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decisive=None,
+                watch=None):
     """Call ``step(n, logs)`` block by block until the largest exponent's error is small
     (or, with ``decisive = (band, z)``, until its sign is settled: ``|lambda| - z sigma``
-    beyond ``band``)."""
+    beyond ``band``; or until ``watch(done)``, called after every block with the number
+    of periods integrated, returns True)."""
     logs = np.empty((max_periods + skip, m))
     done = 0
     status = _k.OK
@@ -186,6 +217,8 @@ def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decis
         status, got = step(todo, logs[done:done + todo])
         done += got
         if status != _k.OK:
+            break
+        if watch is not None and watch(done):
             break
         used = done - skip
         if used >= min_periods:
@@ -209,12 +242,101 @@ def _result(logs, status, T, block, target, method, kind, order=True):
         idx = np.argsort(-lam, kind="stable")
         lam, err, history = lam[idx], err[idx], history[:, idx]
     return LyapunovResult(lam, err, T, int(logs.shape[0]), bool(err[0] <= target), method,
-                          kind, Status.OK, "", history)
+                          kind, Status.OK, "", history, 0, lam)
+
+
+class _PeriodWatch:
+    """Tells, after each block of :func:`lyapunov_spectrum`, whether the trajectory has
+    settled on a stable periodic orbit, and shoots that orbit.
+
+    The trailing ``window`` stroboscopic points are tested with
+    :func:`~vibimpact.analysis.period.detect_period` (tolerance ``tol`` relative to the
+    points' size, three repetitions, which rejects transients spiralling into a cycle);
+    on a repeat the orbit is shot by Newton from the last point and accepted when Newton
+    converged, the orbit is stable (every ``|mu| < 1``, so the trajectory really
+    converges to it and is not passing near a saddle cycle) and lies within
+    ``1e-3`` of the last point (relative to the points' size).  At most ``attempts``
+    shootings per run: a quasi-periodic or chaotic trajectory that repeats by accident
+    costs no more.
+    """
+
+    def __init__(self, states, shoot, tol, max_period, window, attempts=3):
+        self.states, self.shoot, self.tol = states, shoot, tol
+        self.max_period, self.window, self.attempts = max_period, window, attempts
+        self.orbit = None
+
+    def __call__(self, done):
+        from .period import detect_period
+        if self.attempts <= 0 or done < 4:
+            return False
+        pts = self.states[max(0, done - self.window):done]
+        if not np.all(np.isfinite(pts)):
+            return False
+        n = detect_period(pts, tol=self.tol,
+                          max_period=max(1, min(self.max_period, (len(pts) - 1) // 3)))
+        if n == 0:
+            return False
+        self.attempts -= 1
+        orb = self.shoot(pts[-1], n)
+        scale = max(1.0, float(np.abs(pts).max()))
+        if (orb.status is Status.OK and orb.converged and orb.abs_max < 1.0
+                and float(np.abs(orb.state - pts[-1]).max()) <= 1e-3 * scale):
+            self.orbit = orb
+            return True
+        return False
+
+
+def _shooter(p, model, method, rtol, atol, max_step, event_tol, tol=None):
+    """``shoot(x, n)``: the period-``n`` orbit through ``x`` by Newton shooting, with the
+    integrator settings given (Newton's tolerance ``max(1e-9, 10 rtol)`` unless given)."""
+    from .shooting import shoot_periodic_orbit  # lazy: shooting imports this module
+    tol = max(1e-9, 10.0 * rtol) if tol is None else tol
+
+    def shoot(x, n):
+        return shoot_periodic_orbit(p, x, n, tol=tol, method=method, rtol=rtol, atol=atol,
+                                    max_step=max_step, event_tol=event_tol, model=model)
+    return shoot
+
+
+def _floquet_result(p, orb, m, include_phase, kind, target, settings, logs, T, block):
+    """LyapunovResult of a shot periodic orbit: its ``m`` largest Floquet exponents.
+
+    The error estimate is the change of the exponents when the monodromy matrix at the
+    orbit is recomputed with 100 times looser ``rtol`` and ``atol``: an upper estimate of
+    the numerical error at the tolerances used (the integration error dominates; the
+    Newton residual, ``<= max(1e-9, 10 rtol)``, moves the multipliers by less).
+    """
+    from .shooting import floquet_exponents, floquet_multipliers, monodromy
+    lam = orb.exponents[:m]
+    loose = dict(settings, rtol=100.0 * settings["rtol"], atol=100.0 * settings["atol"])
+    mono = monodromy(p, orb.state, orb.n, **loose)
+    if mono.status is Status.OK and np.all(np.isfinite(mono.matrix)):
+        err = np.abs(floquet_exponents(floquet_multipliers(mono.matrix), orb.period)[:m]
+                     - lam)
+    else:
+        err = np.full(m, np.inf)
+    n_qr = logs.shape[0]
+    if n_qr >= block:
+        qr, _, history = _estimate(logs, T, block)
+    else:
+        qr = logs.mean(axis=0) / T if n_qr else np.full(m, np.nan)
+        history = np.zeros((0, m))
+    if include_phase:
+        lam, err = np.concatenate([lam, [0.0]]), np.concatenate([err, [0.0]])
+        qr = np.concatenate([qr, [0.0]])
+        history = np.concatenate([history, np.zeros((history.shape[0], 1))], axis=1)
+        idx = np.argsort(-lam, kind="stable")
+        lam, err = lam[idx], err[idx]
+    idx = np.argsort(-qr, kind="stable")
+    qr, history = qr[idx], history[:, idx]
+    return LyapunovResult(lam, err, T, int(n_qr), bool(err[0] <= target), "variational",
+                          kind, Status.OK, "", history, int(orb.minimal_period), qr)
 
 
 def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_periods=400,
                       max_periods=20000, block=50, target_stderr=2e-3, align=50,
                       include_phase=False, decisive=None, tangent_tol=TANGENT_TOL,
+                      floquet=True, floquet_tol=1e-7, floquet_max_period=16,
                       method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
                       event_tol=1e-12, model=None):
     """Lyapunov spectrum by variational equations with saltation matrices (Benettin/QR).
@@ -265,6 +387,26 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         tolerances for sensitivities are also an option of CVODES
         (``CVodeSensSStolerances``, ``CVodeSetSensErrCon``; Hindmarsh et al. 2005, ACM
         TOMS 31, 363).
+    floquet : bool
+        Watch for a periodic orbit (default): after every block, when the last
+        ``max(block, 3 floquet_max_period + 1)`` stroboscopic points repeat with a period
+        ``n <= floquet_max_period`` to ``floquet_tol`` (relative to their size), shoot the
+        orbit from the last point (Newton, :func:`~vibimpact.analysis.shooting.
+        shoot_periodic_orbit`, at ``rtol``, ``atol``); when Newton converges to a
+        *stable* orbit within 1e-3 of that point, stop and return its Floquet exponents
+        ``ln|mu| / (n T)`` (``floquet_n = n``; ``stderr`` their numerical error, see
+        :func:`floquet_lyapunov`).  These are the limit the QR average tends to, reached
+        exactly: a complex pair of multipliers (the rotor's underdamped modes) makes the
+        QR estimates of the pair oscillate about it and converge only like ``1/N`` (the
+        module docstring).  A trajectory whose points never repeat (chaotic,
+        quasi-periodic, still in its transient) is untouched: its exponents are the QR
+        averages, bit for bit as with ``floquet=False``.  False: always the QR average.
+    floquet_tol : float
+        Relative tolerance of the repeat test; it must exceed the integration's accuracy
+        (``rtol``) and be small enough that Newton starts close (1e-7: at most about
+        1e-7 / (1 - |mu|) from the orbit).
+    floquet_max_period : int
+        Longest period (forcing periods) looked for.
     method, rtol, atol, max_step, event_tol
         Integrator settings, as in :func:`vibimpact.simulate` (adaptive methods only).
     model : Model, optional
@@ -274,7 +416,8 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     LyapunovResult
         ``exponents`` shape (m,) per unit ``tau``, descending (see the module docstring
         for the flow/map distinction); ``status`` DIVERGED with NaN exponents after a
-        blow-up.
+        blow-up; ``floquet_n > 0`` when they are a periodic orbit's Floquet exponents
+        (``qr_exponents`` then holds the QR average of the periods integrated).
 
     Examples
     --------
@@ -309,15 +452,31 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     ks = np.array([0.0, 0.0, T / 50.0])
     counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
     vmodel = mdl.variational_kernel_model
+    states = np.full((max_periods + align, n), np.nan)
+    pos = [0]
 
     def step(count, out):
-        return _benettin(vmodel, mdl.terminal, *tab, pvec, omega, y, mode, ks, opts, n,
-                         mdl.bound, count, out, counters)
+        st_, got = _benettin(vmodel, mdl.terminal, *tab, pvec, omega, y, mode, ks, opts, n,
+                             mdl.bound, count, out, states[pos[0]:pos[0] + count],
+                             counters)
+        pos[0] += got
+        return st_, got
 
     if decisive is not None:
         decisive = (float(decisive[0]), float(decisive[1]))
+    watch = None
+    if floquet:
+        ftol = _positive("floquet_tol", floquet_tol)
+        fmax = _count("floquet_max_period", floquet_max_period, 1)
+        watch = _PeriodWatch(states, _shooter(p, model, method, rtol, atol, max_step,
+                                              event_tol), ftol, fmax, max(block, 3 * fmax + 1))
     logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align,
-                               decisive)
+                               decisive, watch)
+    if watch is not None and watch.orbit is not None and status == _k.OK:
+        settings = dict(method=method, rtol=rtol, atol=atol, max_step=max_step,
+                        event_tol=event_tol, model=model)
+        return _floquet_result(p, watch.orbit, m, include_phase, kind, target, settings,
+                               logs, T, block)
     res = _result(logs, status, T, block, target, "variational", kind)
     if include_phase and res.status is Status.OK:
         lam = np.concatenate([res.exponents, [0.0]])
@@ -325,8 +484,86 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         idx = np.argsort(-lam, kind="stable")
         hist = np.concatenate([res.history, np.zeros((res.history.shape[0], 1))], axis=1)
         res = LyapunovResult(lam[idx], err[idx], T, res.periods, res.converged,
-                             res.method, kind, res.status, res.reason, hist[:, idx])
+                             res.method, kind, res.status, res.reason, hist[:, idx], 0,
+                             lam[idx])
     return res
+
+
+def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, tol=1e-9,
+                     max_iter=20, method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
+                     event_tol=1e-12, model=None):
+    """Lyapunov exponents of a periodic orbit: its Floquet exponents ``ln|mu| / (n T)``.
+
+    The period-``n`` orbit through (near) ``state0`` is found by Newton shooting
+    (:func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`; variational equations
+    with saltation matrices, so impacting orbits too); the eigenvalues ``mu`` of its
+    monodromy matrix ``M`` give the exponents exactly: the tangent map over ``k n``
+    periods is ``M^k``, whose singular values grow like ``|mu_i|^k``, so
+    ``ln|mu_i| / (n T)`` are the limits that :func:`lyapunov_spectrum`'s QR average
+    approaches (Parker & Chua 1989, ch. 4; Leine & Nijmeijer 2004, ch. 7).  Unlike the
+    QR estimate over a finite run, a complex pair comes out as two equal exponents.
+
+    Parameters
+    ----------
+    p : Params or DuffingParams (or a parameter vector with ``model``)
+    state0 : array_like, shape (d,)
+        A point of the orbit at the start of a forcing period, or a guess close to one
+        (e.g. a sweep's last stroboscopic point once its period is detected).
+    n : int
+        Period in forcing periods (a multiple of the minimal period is fine: the
+        exponents are the same).
+    n_exponents : int, optional
+        How many (the largest), ``1 <= n_exponents <= d``; all ``d`` by default.
+    include_phase : bool
+        Append the forcing phase's exponent 0.
+    tol, max_iter
+        Newton's relative residual tolerance and iteration limit.
+    method, rtol, atol, max_step, event_tol, model
+        Integrator settings, as in :func:`lyapunov_spectrum`.
+
+    Returns
+    -------
+    LyapunovResult
+        ``exponents`` shape (m,) per unit ``tau``, descending; ``stderr`` shape (m,) the
+        estimated numerical error (how much the exponents move when the monodromy is
+        recomputed at 100 times looser ``rtol`` and ``atol``; an upper estimate), not a
+        statistical one; ``floquet_n`` the orbit's minimal period; ``periods`` 0 and
+        ``qr_exponents`` NaN (no QR average); ``converged`` Newton's convergence.  The
+        orbit need not be stable: an unstable one has a positive largest exponent.  When
+        Newton does not converge or the integration fails: NaN exponents, ``status``
+        FAILED (or DIVERGED) and the reason.
+
+    Examples
+    --------
+    >>> import vibimpact as vi
+    >>> from vibimpact.analysis.lyapunov import floquet_lyapunov
+    >>> p = vi.DuffingParams(delta=0.2, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
+    >>> res = floquet_lyapunov(p, [0.0, 0.0])   # x'' + 0.2 x' + x = 0: -delta/2 twice
+    >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)
+    True
+    """
+    mdl, _, _, T, _, _ = _setup(p, model, method, rtol, atol, max_step, event_tol)
+    d = len(mdl.state_names)
+    m = d if n_exponents is None else _count("n_exponents", n_exponents, 1)
+    if m > d:
+        raise ValueError(f"n_exponents must be <= {d}, got {n_exponents}")
+    n = _count("n", n, 1)
+    from .shooting import shoot_periodic_orbit
+    orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, method=method,
+                               rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
+                               model=model)
+    kind = _KIND_FLOW_PHASE if include_phase else _KIND_FLOW
+    if orb.status is not Status.OK or not orb.converged:
+        k = m + bool(include_phase)
+        st = orb.status if orb.status is not Status.OK else Status.FAILED
+        return LyapunovResult(np.full(k, np.nan), np.full(k, np.nan), T, 0, False,
+                              "floquet", kind, st, orb.reason or "shooting failed",
+                              floquet_n=0, qr_exponents=np.full(k, np.nan))
+    settings = dict(method=method, rtol=rtol, atol=atol, max_step=max_step,
+                    event_tol=event_tol, model=model)
+    res = _floquet_result(p, orb, m, include_phase, kind, np.inf, settings,
+                          np.zeros((0, m)), T, 2)
+    return replace(res, method="floquet")
 
 
 def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
