@@ -220,7 +220,8 @@ def test_exit_onto_the_surface_followed_by_a_short_free_flight_advances_time():
     back in contact before the Hermite bracket, is located at its true re-entry time -- the
     run does not flip the mode back and forth at one instant (it used to log events at a
     frozen time until memory ran out; found by a kh x eta map at kh = 110.1, eta = 1.256,
-    with the calibrated B = 0.07, Ec = 0.11)."""
+    B = 0.07, Ec = 0.11).  Pinned to those values on purpose, whatever the shipped defaults:
+    the recorded state reproduces that event sequence only there."""
     p = vi.presets.get("fig8").replace(B=0.07, Ec=0.11, kh=110.1, eta=1.256)
     x = [0.7923091311485236, -0.6426224296374606, 0.786009812795587, 0.8914962638010451]
     run = vi.simulate(p, periods=10, state0=x, rtol=1e-8, atol=1e-11)
