@@ -40,6 +40,7 @@ import calibrate_search as S  # noqa: E402
 from calibrate_engine import Engine, code_hash, eta_grid, local_client  # noqa: E402
 
 import vibimpact as vi  # noqa: E402
+from vibimpact import claims as C  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORTS = ROOT / "reports"
@@ -202,7 +203,8 @@ def write_outputs(out, readings, lands, state, engine, defaults, step, elapsed, 
                       [(S.title(by_key[k]), lands[k]) for k in panel_keys])
     b_step = coarse_b[2] / coarse_b[1]
     ec_step = coarse_ec[1] - coarse_ec[0]
-    fig_table, fig_text = R.per_figure_section(figs, readings, win, engine.rows, engine.claims, b_step, ec_step)
+    fig_table, fig_text = R.per_figure_section(figs, readings, win, engine.rows,
+                                               engine.claims, b_step, ec_step)
     ok = win["converged"] and win["interior"]
     verdict = (f"**Winner: reading ({win['reading']}) — {win['text']} — at B = "
                f"{win['B']:g}, Ec = {win['Ec']:g}: {win['agree_count']} of "
@@ -238,12 +240,14 @@ def write_outputs(out, readings, lands, state, engine, defaults, step, elapsed, 
         "every claimed interval is reproduced point for point; a claimed P-n window, "
         "n ≥ 2, found with another period earns half its Jaccard score); *agree* counts "
         "the claims whose detected interval has both ends within one sweep step of the "
-        "paper's (a claim \"near η\": start within 0.02).  Readings are ranked by agree, "
+        f"paper's (a claim \"near η\": start within {C.NEAR:g}).  Readings are ranked by "
+        "agree, "
         "then by the objective.", "",
         f"Search: the coarse grid ({coarse_text(coarse_b, coarse_ec)}) for every reading; "
-        f"then, up to {args.max_iter if not args.quick else 1} times, every reading of "
-        f"kinds (a), (b), (d) and the best {N_CONTENDERS if not args.quick else 1} of (c) "
-        "are refined around their best pair (geometric midpoints in B, arithmetic in Ec, "
+        "then, round by round, every reading of kinds (a), (b), (d) and the best "
+        f"{N_CONTENDERS if not args.quick else 1} of (c) by rank at that round (each "
+        f"reading at most {args.max_iter if not args.quick else 1} refinements) are refined "
+        "around their best pair (geometric midpoints in B, arithmetic in Ec, "
         "B = 0 its own candidate) and the grid extended outward where the best lies on "
         "its edge.  A reading has converged when its best pair is interior (B = 0 counts "
         f"as interior: it is the bound of B) and a refinement changed its best objective "

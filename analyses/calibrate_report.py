@@ -207,8 +207,11 @@ def per_figure_section(fig_summaries, readings, win, rows, claims, b_step, ec_st
         lines.append(f"| {s['reading'].split(':', 1)[1]} | {s['B']:g} | {s['Ec']:g} | "
                      f"{s['objective']:.3f} | {s['agree_count']}/{s['claims']} | "
                      f"{at_txt[0]} | {at_txt[1]} |")
-    bs = [s["B"] for s in fig_summaries]
-    es = [s["Ec"] for s in fig_summaries]
+    # a figure that scores nothing anywhere has no best pair to compare
+    blank = [s["reading"].split(":", 1)[1] for s in fig_summaries if s["objective"] >= 1.0]
+    scored = [s for s in fig_summaries if s["objective"] < 1.0]
+    bs = [s["B"] for s in scored]
+    es = [s["Ec"] for s in scored]
 
     def close(a, b):
         if a == 0.0 or b == 0.0:
@@ -216,12 +219,17 @@ def per_figure_section(fig_summaries, readings, win, rows, claims, b_step, ec_st
         return max(a, b) / min(a, b) <= b_step * (1 + 1e-9)
 
     same = all(close(a, b) for a in bs for b in bs) and \
-        max(es) - min(es) <= ec_step * (1 + 1e-9)
+        (not es or max(es) - min(es) <= ec_step * (1 + 1e-9))
     own = sum(s["agree_count"] for s in fig_summaries)
     total = sum(s["claims"] for s in fig_summaries)
     text = (f"Each figure at its own best pair reproduces {own} of its {total} claims "
             f"together; the winner's common pair reproduces {win['agree_count']}.  ")
-    if same:
+    if blank:
+        text += (f"{', '.join(blank)} reproduce{'s' if len(blank) == 1 else ''} no claim "
+                 "at any searched pair (objective 1): no best pair to compare.  ")
+    if len(scored) < 2:
+        text += "Fewer than two figures score anywhere: the comparison says nothing."
+    elif same:
         text += ("The figures want the same (B, Ec) within one coarse grid step "
                  f"(B within a factor {b_step:.3g}, Ec within {ec_step:g}): a common pair "
                  "costs little, so what the fit misses is a limit of the model (or of the "
