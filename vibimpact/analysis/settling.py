@@ -1,12 +1,13 @@
 """How fast a stroboscopic sequence settles: contraction rates and torus evidence.
 
 A trajectory approaching a stable period-``n`` orbit has stroboscopic points whose every
-``n``-th differences ``u_j = z_{j+1} - z_j`` (``z_j = x_{jn}``) shrink like ``|mu|^j``, with
-``mu`` the orbit's leading Floquet multiplier.  Fitting ``ln |u_j|`` against ``j`` by least
-squares gives the contraction rate ``ln|mu| / n`` per forcing period without knowing the
-orbit -- for a complex pair of multipliers the differences also rotate, which scatters
-``ln |u_j|`` about the line but leaves its slope.  On a torus or a chaotic set the points
-keep moving: the slope is zero within its error.
+``n``-th steps ``u_j = z_{j+1} - z_j`` (``z_j = x_{jn}``) obey the linearised map: ``u_{j+1}
+= M u_j`` with ``M`` the orbit's monodromy matrix.  A linear map fitted to the steps by
+least squares (a dynamic mode decomposition) has the orbit's Floquet multipliers as
+eigenvalues, so its spectral radius gives the contraction rate ``ln|mu|max / n`` per
+forcing period without knowing the orbit -- complex pairs of multipliers included, whose
+rotation makes the step lengths ripple.  On a torus the fitted map is a rotation
+(``rho = 1``); on a chaotic set no linear map fits the steps (a large residual).
 
 At low damping ``B`` the slowest mode of an impactless motion is the free oscillation,
 which decays like ``exp(-B tau / 2)``: ``ln|mu| = -B T / 2`` per forcing period ``T`` (about
@@ -24,6 +25,8 @@ References
    Springer (1989), ch. 6 (Poincaré maps, periodic and quasi-periodic steady states).
 .. [2] A. Sidi, *Vector Extrapolation Methods with Applications*, SIAM (2017), ch. 1
    (geometric convergence of fixed-point iterations).
+.. [3] P. J. Schmid, "Dynamic mode decomposition of numerical and experimental data",
+   *J. Fluid Mech.* 656 (2010) 5-28.
 """
 from __future__ import annotations
 
@@ -32,16 +35,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Contraction", "contraction_rate", "settling_periods", "TorusEvidence",
-           "torus_evidence"]
-
-#: fewest differences a rate is fitted to
-MIN_DIFFS = 8
-#: a rate is significant when it lies beyond ``Z`` standard errors and beyond ``FLOOR``
-#: (per forcing period) from zero: the free oscillation at ``B = 0.001`` and ``eta = 1.5``
-#: decays at about -2e-3 per period, ten times the floor
+#: the set's size shrinks significantly when its log-slope per period lies ``Z`` standard
+#: errors below ``-SPREAD_FLOOR``
 Z = 3.0
-FLOOR = 2e-4
+SPREAD_FLOOR = 2e-4
+
+__all__ = ["Contraction", "contraction_rate", "contraction_rates", "settling_periods",
+           "TorusEvidence", "torus_evidence"]
+
+#: fewest steps a linear map is fitted to, and the most (the latest) it uses
+MIN_STEPS = 12
+MAX_STEPS = 96
+#: a rate is significant below ``-FLOOR`` per forcing period: the free oscillation at
+#: ``B = 0.001`` and ``eta = 1.5`` decays at about -2e-3 per period; the estimate's scatter
+#: on a torus (``B = 0``) is a few 1e-4
+FLOOR = 1e-3
+#: and when a linear map reproduces the steps to this relative residual (the approach
+#: to an orbit is linear near it; a chaotic or quasi-periodic sequence's is not)
+RES_MAX = 0.05
 
 
 @dataclass(frozen=True)
@@ -51,33 +62,29 @@ class Contraction:
     Attributes
     ----------
     n : int
-        Sub-sampling: the rate of ``z_j = x_{jn}``.
+        The lag: the map fitted is ``P^n``.
     rate : float
-        Slope of ``ln |z_{j+1} - z_j|`` per *forcing period* (``ln|mu| / n`` on the
-        approach to a period-``n`` orbit); negative when the points contract.
-    stderr : float
-        Standard error of ``rate``.
+        ``ln rho / n`` per *forcing period*, ``rho`` the spectral radius of the linear map
+        fitted to the steps (``|mu|max`` of the orbit approached); negative when the
+        points contract.
+    residual : float
+        Relative residual of the fit, ``|U1 - U0 A| / |U1|``.
     step : float
-        ``|z_{j+1} - z_j|`` at the end of the sequence, from the fitted line.
+        ``|z_{j+1} - z_j|`` of the last step.
     scale : float
         Largest ``|x|`` of the points (what tolerances are relative to).
     """
 
     n: int
     rate: float
-    stderr: float
+    residual: float
     step: float
     scale: float
 
     @property
     def contracting(self):
-        """The rate is significantly negative (``rate + Z stderr < -FLOOR``)."""
-        return bool(self.rate + Z * self.stderr < -FLOOR)
-
-    @property
-    def expanding(self):
-        """The rate is significantly positive."""
-        return bool(self.rate - Z * self.stderr > FLOOR)
+        """A linear map fits (``residual < RES_MAX``) and contracts (``rate < -FLOOR``)."""
+        return bool(self.rate < -FLOOR and self.residual < RES_MAX)
 
     @property
     def multiplier(self):
@@ -110,21 +117,75 @@ def _int(name, value, minimum):
     return int(value)
 
 
+def _fit(sub, scale, n):
+    """Linear map of the steps of ``sub`` (the last ``MAX_STEPS``) -> Contraction."""
+    u = np.diff(sub, axis=0)[-MAX_STEPS:]
+    u0, u1 = u[:-1], u[1:]
+    g = u0.T @ u0
+    try:
+        a = np.linalg.solve(g, u0.T @ u1)
+    except np.linalg.LinAlgError:
+        return None
+    r = u1 - u0 @ a
+    den = float(np.einsum("ij,ij->", u1, u1))
+    if not den > 0.0 or not np.all(np.isfinite(a)):
+        return None
+    res = math.sqrt(float(np.einsum("ij,ij->", r, r)) / den)
+    rho = float(np.abs(np.linalg.eigvals(a)).max())
+    if not rho > 0.0:
+        return None
+    return Contraction(n, math.log(rho) / n, res, float(np.sqrt(u[-1] @ u[-1])), scale)
+
+
+def contraction_rates(points, max_n):
+    """Contraction of every ``n``-th point for ``n = 1 .. max_n``.
+
+    The unchecked form of :func:`contraction_rate`, for screening the candidate periods of
+    a transient at every check.
+
+    Parameters
+    ----------
+    points : ndarray, shape (m, d)
+        Finite stroboscopic points (not validated: the sweep's own arrays).
+    max_n : int
+
+    Returns
+    -------
+    list of Contraction or None
+        Entry ``n - 1`` for ``n`` (None where there are fewer than :data:`MIN_STEPS`
+        steps, or the steps do not determine a map: repeating or degenerate points).
+    """
+    z = np.asarray(points, dtype=np.float64)
+    scale = max(float(np.abs(z).max()), 1e-300)
+    out = []
+    for n in range(1, max_n + 1):
+        sub = z[::-1][::n][::-1]
+        out.append(_fit(sub, scale, n) if sub.shape[0] > MIN_STEPS + 1 else None)
+    return out
+
+
 def contraction_rate(points, n=1):
     """Contraction rate of every ``n``-th stroboscopic point, per forcing period.
+
+    The steps ``u_j = z_{j+1} - z_j`` of ``z_j = x_{jn}`` are fitted by a linear map,
+    ``u_{j+1} = A^T u_j`` (least squares over the last :data:`MAX_STEPS` steps, a dynamic
+    mode decomposition of the steps): near an orbit of period ``n`` the steps obey the
+    linearised map ``P^n``, whose eigenvalues are the orbit's Floquet multipliers, so the
+    spectral radius of ``A`` is ``|mu|max`` -- complex pairs included, whose rotation
+    makes the step lengths themselves ripple.  ``rate = ln rho / n`` per forcing period.
 
     Parameters
     ----------
     points : array_like, shape (m, d)
         Successive stroboscopic points, one per forcing period.
     n : int
-        Sub-sampling (the candidate period).
+        The candidate period.
 
     Returns
     -------
     Contraction or None
-        None when fewer than :data:`MIN_DIFFS` differences of the sub-sampled sequence
-        exist, or when the points already repeat (a difference of exactly 0).
+        None when fewer than :data:`MIN_STEPS` + 1 steps exist or they do not determine a
+        map (points that already repeat).
 
     Raises
     ------
@@ -134,27 +195,17 @@ def contraction_rate(points, n=1):
     Examples
     --------
     >>> import numpy as np
-    >>> z = 1.0 + 0.9 ** np.arange(40)[:, None] * np.array([[1.0, -2.0]])
-    >>> c = contraction_rate(z)
+    >>> A = 0.9 * np.array([[np.cos(0.5), -np.sin(0.5)], [np.sin(0.5), np.cos(0.5)]])
+    >>> z = [np.array([1.0, 0.0])]
+    >>> for _ in range(40):
+    ...     z.append(A @ z[-1] + np.array([0.3, 0.1]))
+    >>> c = contraction_rate(np.array(z))
     >>> round(c.multiplier, 6), c.contracting
     (0.9, True)
     """
     z = _points(points)
     n = _int("n", n, 1)
-    sub = z[::-1][::n][::-1]
-    u = np.sqrt((np.diff(sub, axis=0) ** 2).sum(axis=1))
-    if u.size < MIN_DIFFS or not np.all(u > 0.0):
-        return None
-    y = np.log(u)
-    j = np.arange(u.size, dtype=np.float64)
-    jc = j - j.mean()
-    sxx = float(jc @ jc)
-    slope = float(jc @ (y - y.mean())) / sxx
-    resid = y - y.mean() - slope * jc
-    se = math.sqrt(float(resid @ resid) / (u.size - 2) / sxx)
-    step = math.exp(y.mean() + slope * jc[-1])
-    scale = max(float(np.abs(z).max()), 1e-300)
-    return Contraction(n, slope / n, se / n, step, scale)
+    return contraction_rates(z, n)[n - 1]
 
 
 def settling_periods(contraction, tol):
@@ -209,7 +260,7 @@ class TorusEvidence:
     def non_contracting(self):
         """Neither the steps nor the set's size shrink significantly."""
         c_ok = self.contraction is None or not self.contraction.contracting
-        s_ok = not (self.spread_rate + Z * self.spread_stderr < -FLOOR)
+        s_ok = not (self.spread_rate + Z * self.spread_stderr < -SPREAD_FLOOR)
         return bool(c_ok and s_ok)
 
     @property

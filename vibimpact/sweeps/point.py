@@ -429,7 +429,8 @@ def analyse_point(p, state0, settings, guess=None):
                 chunk = min(st.chunk, CHUNK_AFTER_JUMP)
                 continue
         chunk = st.chunk
-        if shots < MAX_SHOTS and strobe.shape[0] > MIN_SHOOT_PERIODS:
+        if shots < MAX_SHOTS and strobe.shape[0] > MIN_SHOOT_PERIODS and \
+                done % (3 * st.chunk) == 0:
             con = find_contraction(strobe)
             if needs_shooting(con, rule.period_tol, st.transient_max - done):
                 shots += 1

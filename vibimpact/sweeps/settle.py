@@ -13,7 +13,7 @@ labelling the motion by default), a sweep point
    solves ``P^n(x) = x`` by Newton shooting from the extrapolated limit of the points
    (:func:`vibimpact.analysis.shoot_periodic_orbit`);
 3. accepts the orbit as the attractor only on evidence: Newton converged, every
-   ``|mu| < 1``, the minimal period is ``n``, the trajectory approaches it at least half
+   ``|mu| < 1`` (of its minimal period, a divisor of ``n``), the trajectory approaches it at least half
    as fast as its leading multiplier predicts and lies within the geometric tail of its
    own steps from it;
 4. confirms it by integrating from the orbit: the record starts there, and the period
@@ -31,7 +31,7 @@ import numpy as np
 
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.period import detect_period
-from ..analysis.settling import Contraction, contraction_rate, settling_periods
+from ..analysis.settling import Contraction, contraction_rates, settling_periods
 from ..run import Status
 from ..simulate import simulate
 
@@ -81,18 +81,15 @@ class Evidence:
 
 
 def find_contraction(strobe, max_n=SHOOT_MAX_N):
-    """The smallest ``n <= max_n`` whose every-``n``-th points contract, or None.
+    """The smallest ``n <= max_n`` whose lag-``n`` steps contract, or None.
 
     Parameters
     ----------
     strobe : ndarray, shape (m, 4)
         Stroboscopic points of one trajectory, oldest first.
     """
-    for n in range(1, max_n + 1):
-        c = contraction_rate(strobe, n)
-        if c is None:
-            return None
-        if c.contracting:
+    for c in contraction_rates(strobe, max_n):
+        if c is not None and c.contracting:
             return c
     return None
 
@@ -137,13 +134,20 @@ def shoot(p, strobe, con: Contraction, settings, need_dense=False):
     kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
     orb = shoot_periodic_orbit(p, _guess(strobe, n), n, tol=10.0 * st.rtol, max_iter=8,
                                damping=True, **kw)
-    if orb.status is not Status.OK or not orb.converged or orb.minimal_period != n:
+    if orb.status is not Status.OK or not orb.converged:
         return None
+    if orb.minimal_period != n:  # the points contract onto an orbit of a divisor period:
+        # the lag-n fit was the first to be linear enough, the orbit decides
+        n = orb.minimal_period
+        orb = shoot_periodic_orbit(p, orb.state, n, tol=10.0 * st.rtol, max_iter=4,
+                                   damping=True, **kw)
+        if orb.status is not Status.OK or not orb.converged or orb.minimal_period != n:
+            return None
     amax = orb.abs_max
     if not amax < 1.0:
         return None
     predicted = math.log(amax) / n
-    if not con.rate <= RATE_FRACTION * predicted:
+    if not con.rate <= RATE_FRACTION * predicted:  # (both per forcing period)
         return None
     scale = con.scale
     dist = float(np.abs(strobe[-1] - orb.state).max())
