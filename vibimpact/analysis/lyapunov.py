@@ -21,23 +21,17 @@ forcing period ``T = 2 pi / eta``: :attr:`LyapunovResult.map_exponents`.  A peri
 therefore has all returned exponents negative; a quasi-periodic one has a largest exponent
 0; a chaotic one a positive largest exponent.
 
-Periodic orbits.  On a stable period-``n`` orbit the exponents are the Floquet exponents
-``ln|mu_i| / (n T)`` of the monodromy matrix's eigenvalues ``mu_i``.  The QR (Benettin)
-average converges to them only like ``1/N`` in the number ``N`` of periods when multipliers
-share a modulus: a complex pair ``|mu_1| = |mu_2|`` (every underdamped mode of the rotor)
-rotates the tangent plane, so ``R_11`` and ``R_22`` split the pair's common growth
-unevenly in every period, by an amount that oscillates without decaying (only their sum,
-the plane's area growth, is free of the rotation).  Over a finite run ``lambda_1`` then
-comes out above ``ln|mu|/T`` and ``lambda_2`` below, by up to ~20 % at B = 0.01 after 400
-periods, and the batch-means error, from an oscillation rather than independent noise,
-can be several times too small (measured in tests/test_lyapunov_floquet.py; the QR
-method: Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 617, sec. III.B; Floquet exponents as
-the Lyapunov exponents of a periodic orbit: Parker & Chua 1989, *Practical Numerical
-Algorithms for Chaotic Systems*, ch. 4).  :func:`lyapunov_spectrum` therefore
-watches the stroboscopic points: once they repeat with a period ``n`` it shoots the orbit
-(:func:`vibimpact.analysis.shooting.shoot_periodic_orbit`) and, if the orbit is stable and
-the trajectory is on it, returns its Floquet exponents (exact to the integration
-tolerance); :func:`floquet_lyapunov` does the same for a given point of a periodic orbit.
+Periodic orbits.  There the exponents are the Floquet exponents ``ln|mu_i| / (n T)`` of
+the monodromy matrix (Parker & Chua 1989, *Practical Numerical Algorithms for Chaotic
+Systems*, ch. 4).  The QR average (Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 617, sec.
+III.B) tends to them only like ``1/N`` when multipliers share a modulus: a complex pair
+(every underdamped mode of the rotor) rotates its tangent plane, so ``R_11`` and ``R_22``
+split the pair's growth unevenly, by an amount that oscillates without decaying (only the
+plane's area growth is free of it).  After 400 periods at B = 0.01, ``lambda_1`` comes out
+up to ~20 % above ``ln|mu|/T``, ``lambda_2`` below, and their batch-means errors can be
+several times too small (tests/test_lyapunov_floquet.py).  :func:`lyapunov_spectrum` thus
+returns the Floquet exponents, exact, once the stroboscopic points repeat and shooting
+confirms a stable orbit; :func:`floquet_lyapunov` gives them for a point of an orbit.
 """
 from __future__ import annotations
 
@@ -83,13 +77,11 @@ class LyapunovResult:
         Running estimate after each block (convergence plot); of the QR average also when
         the exponents are Floquet exponents.
     floquet_n : int
-        ``n > 0``: the trajectory is on a stable period-``n`` orbit (``n`` forcing
-        periods, the minimal period) and ``exponents`` are its Floquet exponents
-        ``ln|mu| / (n T)``, ``stderr`` their estimated numerical error (not a statistical
-        one); 0: ``exponents`` are averages of QR growth rates.
+        ``n > 0``: ``exponents`` are the Floquet exponents of a period-``n`` orbit (minimal
+        period) and ``stderr`` their numerical error; 0: QR averages.
     qr_exponents : ndarray, shape (m,)
-        The QR (Benettin) average over the ``periods`` periods, descending (NaN when none
-        was averaged); equal to ``exponents`` when ``floquet_n`` is 0.
+        The QR average over ``periods`` periods (NaN if none); ``exponents`` if
+        ``floquet_n`` is 0.
     """
 
     exponents: np.ndarray
@@ -245,98 +237,39 @@ def _result(logs, status, T, block, target, method, kind, order=True):
                           kind, Status.OK, "", history, 0, lam)
 
 
-class _PeriodWatch:
-    """Tells, after each block of :func:`lyapunov_spectrum`, whether the trajectory has
-    settled on a stable periodic orbit, and shoots that orbit.
+def _period_watch(states, shoot, tol, max_period, window, attempts=3):
+    """``watch(done)`` for :func:`_run_blocks`: True once the trailing ``window`` rows of
+    ``states`` repeat with a period ``n`` (:func:`~vibimpact.analysis.period.detect_period`,
+    relative ``tol``) and ``shoot(x, n)`` from the last converges to a *stable* orbit (so
+    the trajectory is attracted to it, not passing a saddle cycle) within 1e-2 of it; the
+    orbit is left in ``watch.orbit``.  At most ``attempts`` shootings per run."""
+    from .period import detect_period
+    left = [attempts]
 
-    The trailing ``window`` stroboscopic points are tested with
-    :func:`~vibimpact.analysis.period.detect_period` (tolerance ``tol`` relative to the
-    points' size, three repetitions, which rejects transients spiralling into a cycle);
-    on a repeat the orbit is shot by Newton from the last point and accepted when Newton
-    converged, the orbit is stable (every ``|mu| < 1``, so the trajectory really
-    converges to it and is not passing near a saddle cycle) and lies within
-    ``1e-3`` of the last point (relative to the points' size).  At most ``attempts``
-    shootings per run: a quasi-periodic or chaotic trajectory that repeats by accident
-    costs no more.
-    """
-
-    def __init__(self, states, shoot, tol, max_period, window, attempts=3):
-        self.states, self.shoot, self.tol = states, shoot, tol
-        self.max_period, self.window, self.attempts = max_period, window, attempts
-        self.orbit = None
-
-    def __call__(self, done):
-        from .period import detect_period
-        if self.attempts <= 0 or done < 4:
+    def watch(done):
+        pts = states[max(0, done - window):done]
+        if left[0] <= 0 or done < 4 or not np.all(np.isfinite(pts)):
             return False
-        pts = self.states[max(0, done - self.window):done]
-        if not np.all(np.isfinite(pts)):
-            return False
-        n = detect_period(pts, tol=self.tol,
-                          max_period=max(1, min(self.max_period, (len(pts) - 1) // 3)))
+        n = detect_period(pts, tol=tol, max_period=max(1, min(max_period,
+                                                              (len(pts) - 1) // 3)))
         if n == 0:
             return False
-        self.attempts -= 1
-        orb = self.shoot(pts[-1], n)
-        scale = max(1.0, float(np.abs(pts).max()))
-        if (orb.status is Status.OK and orb.converged and orb.abs_max < 1.0
-                and float(np.abs(orb.state - pts[-1]).max()) <= 1e-3 * scale):
-            self.orbit = orb
-            return True
-        return False
+        left[0] -= 1
+        orb = shoot(pts[-1], n)
+        watch.orbit = orb if (
+            orb.status is Status.OK and orb.converged and orb.abs_max < 1.0
+            and np.abs(orb.state - pts[-1]).max() <= 1e-2 * max(1.0, np.abs(pts).max())) \
+            else None
+        return watch.orbit is not None
 
-
-def _shooter(p, model, method, rtol, atol, max_step, event_tol, tol=None):
-    """``shoot(x, n)``: the period-``n`` orbit through ``x`` by Newton shooting, with the
-    integrator settings given (Newton's tolerance ``max(1e-9, 10 rtol)`` unless given)."""
-    from .shooting import shoot_periodic_orbit  # lazy: shooting imports this module
-    tol = max(1e-9, 10.0 * rtol) if tol is None else tol
-
-    def shoot(x, n):
-        return shoot_periodic_orbit(p, x, n, tol=tol, method=method, rtol=rtol, atol=atol,
-                                    max_step=max_step, event_tol=event_tol, model=model)
-    return shoot
-
-
-def _floquet_result(p, orb, m, include_phase, kind, target, settings, logs, T, block):
-    """LyapunovResult of a shot periodic orbit: its ``m`` largest Floquet exponents.
-
-    The error estimate is the change of the exponents when the monodromy matrix at the
-    orbit is recomputed with 100 times looser ``rtol`` and ``atol``: an upper estimate of
-    the numerical error at the tolerances used (the integration error dominates; the
-    Newton residual, ``<= max(1e-9, 10 rtol)``, moves the multipliers by less).
-    """
-    from .shooting import floquet_exponents, floquet_multipliers, monodromy
-    lam = orb.exponents[:m]
-    loose = dict(settings, rtol=100.0 * settings["rtol"], atol=100.0 * settings["atol"])
-    mono = monodromy(p, orb.state, orb.n, **loose)
-    if mono.status is Status.OK and np.all(np.isfinite(mono.matrix)):
-        err = np.abs(floquet_exponents(floquet_multipliers(mono.matrix), orb.period)[:m]
-                     - lam)
-    else:
-        err = np.full(m, np.inf)
-    n_qr = logs.shape[0]
-    if n_qr >= block:
-        qr, _, history = _estimate(logs, T, block)
-    else:
-        qr = logs.mean(axis=0) / T if n_qr else np.full(m, np.nan)
-        history = np.zeros((0, m))
-    if include_phase:
-        lam, err = np.concatenate([lam, [0.0]]), np.concatenate([err, [0.0]])
-        qr = np.concatenate([qr, [0.0]])
-        history = np.concatenate([history, np.zeros((history.shape[0], 1))], axis=1)
-        idx = np.argsort(-lam, kind="stable")
-        lam, err = lam[idx], err[idx]
-    idx = np.argsort(-qr, kind="stable")
-    qr, history = qr[idx], history[:, idx]
-    return LyapunovResult(lam, err, T, int(n_qr), bool(err[0] <= target), "variational",
-                          kind, Status.OK, "", history, int(orb.minimal_period), qr)
+    watch.orbit = None
+    return watch
 
 
 def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_periods=400,
                       max_periods=20000, block=50, target_stderr=2e-3, align=50,
                       include_phase=False, decisive=None, tangent_tol=TANGENT_TOL,
-                      floquet=True, floquet_tol=1e-7, floquet_max_period=16,
+                      floquet=True, floquet_tol=1e-5, floquet_max_period=16,
                       method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
                       event_tol=1e-12, model=None):
     """Lyapunov spectrum by variational equations with saltation matrices (Benettin/QR).
@@ -388,23 +321,18 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         (``CVodeSensSStolerances``, ``CVodeSetSensErrCon``; Hindmarsh et al. 2005, ACM
         TOMS 31, 363).
     floquet : bool
-        Watch for a periodic orbit (default): after every block, when the last
-        ``max(block, 3 floquet_max_period + 1)`` stroboscopic points repeat with a period
-        ``n <= floquet_max_period`` to ``floquet_tol`` (relative to their size), shoot the
-        orbit from the last point (Newton, :func:`~vibimpact.analysis.shooting.
-        shoot_periodic_orbit`, at ``rtol``, ``atol``); when Newton converges to a
-        *stable* orbit within 1e-3 of that point, stop and return its Floquet exponents
-        ``ln|mu| / (n T)`` (``floquet_n = n``; ``stderr`` their numerical error, see
-        :func:`floquet_lyapunov`).  These are the limit the QR average tends to, reached
-        exactly: a complex pair of multipliers (the rotor's underdamped modes) makes the
-        QR estimates of the pair oscillate about it and converge only like ``1/N`` (the
-        module docstring).  A trajectory whose points never repeat (chaotic,
-        quasi-periodic, still in its transient) is untouched: its exponents are the QR
-        averages, bit for bit as with ``floquet=False``.  False: always the QR average.
+        After every block, if the last ``max(block, 3 floquet_max_period + 1)``
+        stroboscopic points repeat with a period ``n <= floquet_max_period`` to
+        ``floquet_tol`` (relative), shoot the orbit from the last point, and if Newton
+        converges to a *stable* orbit within 1e-2 of it, stop and return the Floquet
+        exponents of :func:`floquet_lyapunov` (``floquet_n = n``): the QR average's limit,
+        which a complex pair of multipliers lets it reach only like ``1/N`` (module
+        docstring).  Trajectories whose points do not repeat (chaotic, quasi-periodic,
+        in a transient) get the QR average bit for bit as with ``floquet=False``.
     floquet_tol : float
-        Relative tolerance of the repeat test; it must exceed the integration's accuracy
-        (``rtol``) and be small enough that Newton starts close (1e-7: at most about
-        1e-7 / (1 - |mu|) from the orbit).
+        Relative tolerance of the repeat test, above the integration's accuracy.  Newton
+        and the stability test decide; the repeat only says when to try, so it may be
+        loose: 1e-5 is met some 300 periods before 1e-7 where ``|mu| = 0.98``.
     floquet_max_period : int
         Longest period (forcing periods) looked for.
     method, rtol, atol, max_step, event_tol
@@ -416,8 +344,7 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     LyapunovResult
         ``exponents`` shape (m,) per unit ``tau``, descending (see the module docstring
         for the flow/map distinction); ``status`` DIVERGED with NaN exponents after a
-        blow-up; ``floquet_n > 0`` when they are a periodic orbit's Floquet exponents
-        (``qr_exponents`` then holds the QR average of the periods integrated).
+        blow-up; ``floquet_n > 0`` for Floquet exponents.
 
     Examples
     --------
@@ -466,17 +393,15 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         decisive = (float(decisive[0]), float(decisive[1]))
     watch = None
     if floquet:
-        ftol = _positive("floquet_tol", floquet_tol)
+        from .shooting import shoot_periodic_orbit  # lazy: shooting imports this module
         fmax = _count("floquet_max_period", floquet_max_period, 1)
-        watch = _PeriodWatch(states, _shooter(p, model, method, rtol, atol, max_step,
-                                              event_tol), ftol, fmax, max(block, 3 * fmax + 1))
+        newton = dict(tol=max(1e-9, 10.0 * rtol), method=method, rtol=rtol, atol=atol,
+                      max_step=max_step, event_tol=event_tol, model=model)
+        watch = _period_watch(states, lambda x, k: shoot_periodic_orbit(p, x, k, **newton),
+                              _positive("floquet_tol", floquet_tol), fmax,
+                              max(block, 3 * fmax + 1))
     logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align,
                                decisive, watch)
-    if watch is not None and watch.orbit is not None and status == _k.OK:
-        settings = dict(method=method, rtol=rtol, atol=atol, max_step=max_step,
-                        event_tol=event_tol, model=model)
-        return _floquet_result(p, watch.orbit, m, include_phase, kind, target, settings,
-                               logs, T, block)
     res = _result(logs, status, T, block, target, "variational", kind)
     if include_phase and res.status is Status.OK:
         lam = np.concatenate([res.exponents, [0.0]])
@@ -486,6 +411,16 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         res = LyapunovResult(lam[idx], err[idx], T, res.periods, res.converged,
                              res.method, kind, res.status, res.reason, hist[:, idx], 0,
                              lam[idx])
+    if watch is not None and watch.orbit is not None and status == _k.OK:
+        orb = watch.orbit
+        fl = floquet_lyapunov(p, orb.state, orb.n, n_exponents=m, include_phase=include_phase,
+                              **newton)
+        if fl.status is Status.OK:
+            qr_ok = res.status is Status.OK
+            return replace(fl, periods=res.periods, converged=bool(fl.stderr[0] <= target),
+                           method="variational",
+                           history=res.history if qr_ok else np.zeros((0, len(fl))),
+                           qr_exponents=res.exponents if qr_ok else np.full(len(fl), np.nan))
     return res
 
 
@@ -495,25 +430,21 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
     """Lyapunov exponents of a periodic orbit: its Floquet exponents ``ln|mu| / (n T)``.
 
     The period-``n`` orbit through (near) ``state0`` is found by Newton shooting
-    (:func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`; variational equations
-    with saltation matrices, so impacting orbits too); the eigenvalues ``mu`` of its
-    monodromy matrix ``M`` give the exponents exactly: the tangent map over ``k n``
-    periods is ``M^k``, whose singular values grow like ``|mu_i|^k``, so
-    ``ln|mu_i| / (n T)`` are the limits that :func:`lyapunov_spectrum`'s QR average
-    approaches (Parker & Chua 1989, ch. 4; Leine & Nijmeijer 2004, ch. 7).  Unlike the
-    QR estimate over a finite run, a complex pair comes out as two equal exponents.
+    (:func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`: variational equations with
+    saltation matrices, so impacting orbits too).  The tangent map over ``k`` orbit
+    periods is ``M^k``, whose singular values grow like ``|mu_i|^k``: ``ln|mu_i| / (n T)``
+    are exactly the limits of :func:`lyapunov_spectrum`'s QR average (Parker & Chua 1989,
+    ch. 4; Leine & Nijmeijer 2004, ch. 7), a complex pair two equal exponents.
 
     Parameters
     ----------
     p : Params or DuffingParams (or a parameter vector with ``model``)
     state0 : array_like, shape (d,)
-        A point of the orbit at the start of a forcing period, or a guess close to one
-        (e.g. a sweep's last stroboscopic point once its period is detected).
+        A point of the orbit at the start of a forcing period, or a guess close to one.
     n : int
-        Period in forcing periods (a multiple of the minimal period is fine: the
-        exponents are the same).
+        Period in forcing periods (a multiple of the minimal one gives the same).
     n_exponents : int, optional
-        How many (the largest), ``1 <= n_exponents <= d``; all ``d`` by default.
+        How many, the largest first; all ``d`` by default.
     include_phase : bool
         Append the forcing phase's exponent 0.
     tol, max_iter
@@ -524,14 +455,11 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
     Returns
     -------
     LyapunovResult
-        ``exponents`` shape (m,) per unit ``tau``, descending; ``stderr`` shape (m,) the
-        estimated numerical error (how much the exponents move when the monodromy is
-        recomputed at 100 times looser ``rtol`` and ``atol``; an upper estimate), not a
-        statistical one; ``floquet_n`` the orbit's minimal period; ``periods`` 0 and
-        ``qr_exponents`` NaN (no QR average); ``converged`` Newton's convergence.  The
-        orbit need not be stable: an unstable one has a positive largest exponent.  When
-        Newton does not converge or the integration fails: NaN exponents, ``status``
-        FAILED (or DIVERGED) and the reason.
+        ``exponents`` shape (m,) per unit ``tau``, descending, of the orbit whether stable
+        or not; ``stderr`` shape (m,) their numerical error, estimated as their change
+        when the monodromy is recomputed at 100x looser ``rtol`` and ``atol`` (an upper
+        estimate); ``floquet_n`` the minimal period; ``method`` "floquet"; ``periods`` 0.
+        If Newton fails: NaN exponents, ``status`` FAILED (or DIVERGED), ``reason``.
 
     Examples
     --------
@@ -548,22 +476,33 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
     if m > d:
         raise ValueError(f"n_exponents must be <= {d}, got {n_exponents}")
     n = _count("n", n, 1)
-    from .shooting import shoot_periodic_orbit
-    orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, method=method,
-                               rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
-                               model=model)
+    from .shooting import floquet_exponents, floquet_multipliers, monodromy, \
+        shoot_periodic_orbit
+    kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
+              model=model)
+    orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, **kw)
+    if orb.converged and orb.minimal_period < n:  # the shorter the map, the more accurate
+        orb = shoot_periodic_orbit(p, orb.state, orb.minimal_period, tol=tol,
+                                   max_iter=max_iter, **kw)
     kind = _KIND_FLOW_PHASE if include_phase else _KIND_FLOW
+    k = m + bool(include_phase)
     if orb.status is not Status.OK or not orb.converged:
-        k = m + bool(include_phase)
         st = orb.status if orb.status is not Status.OK else Status.FAILED
         return LyapunovResult(np.full(k, np.nan), np.full(k, np.nan), T, 0, False,
                               "floquet", kind, st, orb.reason or "shooting failed",
-                              floquet_n=0, qr_exponents=np.full(k, np.nan))
-    settings = dict(method=method, rtol=rtol, atol=atol, max_step=max_step,
-                    event_tol=event_tol, model=model)
-    res = _floquet_result(p, orb, m, include_phase, kind, np.inf, settings,
-                          np.zeros((0, m)), T, 2)
-    return replace(res, method="floquet")
+                              qr_exponents=np.full(k, np.nan))
+    lam = orb.exponents[:m]
+    # numerical error: the change at 100x looser tolerances (the integration error
+    # dominates; Newton's residual moves the multipliers by less)
+    loose = monodromy(p, orb.state, orb.n, **dict(kw, rtol=100 * rtol, atol=100 * atol))
+    err = np.full(m, np.inf)
+    if loose.status is Status.OK and np.all(np.isfinite(loose.matrix)):
+        err = np.abs(floquet_exponents(floquet_multipliers(loose), orb.period)[:m] - lam)
+    if include_phase:
+        idx = np.argsort(-np.append(lam, 0.0), kind="stable")
+        lam, err = np.append(lam, 0.0)[idx], np.append(err, 0.0)[idx]
+    return LyapunovResult(lam, err, T, 0, True, "floquet", kind, Status.OK, "",
+                          np.zeros((0, k)), int(orb.minimal_period), np.full(k, np.nan))
 
 
 def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
