@@ -27,9 +27,10 @@ Systems*, ch. 4).  The QR average (Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 61
 III.B) tends to them only like ``1/N`` when multipliers share a modulus: a complex pair
 (every underdamped mode of the rotor) rotates its tangent plane, so ``R_11`` and ``R_22``
 split the pair's growth unevenly, by an amount that oscillates without decaying (only the
-plane's area growth is free of it).  After 400 periods at B = 0.01, ``lambda_1`` comes out
-up to ~20 % above ``ln|mu|/T``, ``lambda_2`` below, and their batch-means errors can be
-several times too small (tests/test_lyapunov_floquet.py).  :func:`lyapunov_spectrum` thus
+plane's area growth is free of it).  After 400 periods at B = 0.01 (impacting period-1
+orbits of fig8, eta = 1.05, and fig10, eta = 1.075), ``lambda_1`` came out up to 17 %
+above ``ln|mu|/T``, ``lambda_2`` below, with batch-means errors up to 8 times smaller than
+the actual ones.  :func:`lyapunov_spectrum` thus
 returns the Floquet exponents, exact, once the stroboscopic points repeat and shooting
 confirms a stable orbit; :func:`floquet_lyapunov` gives them for a point of an orbit.
 """
@@ -320,21 +321,15 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         tolerances for sensitivities are also an option of CVODES
         (``CVodeSensSStolerances``, ``CVodeSetSensErrCon``; Hindmarsh et al. 2005, ACM
         TOMS 31, 363).
-    floquet : bool
-        After every block, if the last ``max(block, 3 floquet_max_period + 1)``
-        stroboscopic points repeat with a period ``n <= floquet_max_period`` to
-        ``floquet_tol`` (relative), shoot the orbit from the last point, and if Newton
-        converges to a *stable* orbit within 1e-2 of it, stop and return the Floquet
-        exponents of :func:`floquet_lyapunov` (``floquet_n = n``): the QR average's limit,
-        which a complex pair of multipliers lets it reach only like ``1/N`` (module
-        docstring).  Trajectories whose points do not repeat (chaotic, quasi-periodic,
-        in a transient) get the QR average bit for bit as with ``floquet=False``.
-    floquet_tol : float
-        Relative tolerance of the repeat test, above the integration's accuracy.  Newton
-        and the stability test decide; the repeat only says when to try, so it may be
-        loose: 1e-5 is met some 300 periods before 1e-7 where ``|mu| = 0.98``.
-    floquet_max_period : int
-        Longest period (forcing periods) looked for.
+    floquet, floquet_tol, floquet_max_period : bool, float, int
+        With ``floquet``, once the last ``max(block, 3 floquet_max_period + 1)`` strobe
+        points repeat with a period ``n <= floquet_max_period`` to ``floquet_tol``
+        (relative; it only says when to try Newton, so it may be loose: 1e-5 is met ~300
+        periods before 1e-7 where ``|mu| = 0.98``) and Newton from the last converges to
+        a *stable* orbit within 1e-2 of it, stop and return its Floquet exponents
+        (:func:`floquet_lyapunov`, ``floquet_n > 0``), the limit that a complex pair lets
+        the QR average reach only like ``1/N``.  Points that never repeat (chaos,
+        quasi-periodicity, transients) leave the QR average as with ``floquet=False``.
     method, rtol, atol, max_step, event_tol
         Integrator settings, as in :func:`vibimpact.simulate` (adaptive methods only).
     model : Model, optional
@@ -443,10 +438,8 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
         A point of the orbit at the start of a forcing period, or a guess close to one.
     n : int
         Period in forcing periods (a multiple of the minimal one gives the same).
-    n_exponents : int, optional
-        How many, the largest first; all ``d`` by default.
-    include_phase : bool
-        Append the forcing phase's exponent 0.
+    n_exponents, include_phase
+        As in :func:`lyapunov_spectrum`.
     tol, max_iter
         Newton's relative residual tolerance and iteration limit.
     method, rtol, atol, max_step, event_tol, model
@@ -458,7 +451,8 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
         ``exponents`` shape (m,) per unit ``tau``, descending, of the orbit whether stable
         or not; ``stderr`` shape (m,) their numerical error, estimated as their change
         when the monodromy is recomputed at 100x looser ``rtol`` and ``atol`` (an upper
-        estimate); ``floquet_n`` the minimal period; ``method`` "floquet"; ``periods`` 0.
+        estimate: the integration error dominates Newton's residual); ``floquet_n`` the
+        minimal period; ``method`` "floquet"; ``periods`` 0.
         If Newton fails: NaN exponents, ``status`` FAILED (or DIVERGED), ``reason``.
 
     Examples
@@ -492,8 +486,6 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
                               "floquet", kind, st, orb.reason or "shooting failed",
                               qr_exponents=np.full(k, np.nan))
     lam = orb.exponents[:m]
-    # numerical error: the change at 100x looser tolerances (the integration error
-    # dominates; Newton's residual moves the multipliers by less)
     loose = monodromy(p, orb.state, orb.n, **dict(kw, rtol=100 * rtol, atol=100 * atol))
     err = np.full(m, np.inf)
     if loose.status is Status.OK and np.all(np.isfinite(loose.matrix)):
