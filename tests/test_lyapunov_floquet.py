@@ -8,10 +8,10 @@ Known values used below: with no contact damping (Bh = BT = f = 0, or no contact
 the only dissipation is the uniform viscous B, so the flow is conformally symplectic and
 the monodromy matrix M satisfies ``M^T J M = exp(-B T) J``; its multipliers come in
 quadruples ``mu, conj(mu), exp(-B T)/mu, exp(-B T)/conj(mu)``, and when all four are
-complex and distinct in argument (elliptic: the stable, underdamped case) they all have
-``|mu| = exp(-B T / 2)``, so every Floquet exponent is ``-B/2`` exactly (Dressler 1988,
-Phys. Rev. A 38, 2103; Meyer, Hall & Offin 2009, *Introduction to Hamiltonian Dynamical
-Systems*, sec. 3.3).  The numerical error of an exponent computed from a monodromy matrix
+complex and the two pairs differ in argument (the stable, underdamped case) they all have
+``|mu| = exp(-B T / 2)`` (a quadruple with ``|mu|`` off that circle has two pairs of the
+same argument), so every Floquet exponent is ``-B/2`` exactly (Dressler 1988, Phys. Rev.
+A 38, 2103, for the pairing).  The numerical error of an exponent computed from a monodromy matrix
 integrated at rtol 1e-10 is about ``1e-10 / T``, some 1e-11 per unit tau (the error
 estimate the code reports is of that size); the tolerance 1e-8 leaves a margin of ~100
 and is still 10^4 times below the QR splits these orbits show (1e-4 .. 1e-3).
@@ -27,6 +27,12 @@ from vibimpact.analysis.lyapunov import floquet_lyapunov
 
 #: tolerance on a Floquet exponent per unit tau (module docstring)
 TOL = 1e-8
+
+
+def _pairs_differ_in_argument(mu):
+    """Both multiplier pairs complex, with different arguments (module docstring)."""
+    arg = np.sort(np.abs(np.angle(mu)))
+    return bool(np.all(np.abs(np.imag(mu)) > 1e-3) and arg[2] - arg[0] > 1e-5)
 
 
 def _impactless():
@@ -53,8 +59,9 @@ def test_impactless_low_damping_orbit_has_floquet_exponents_minus_half_B():
     p = _impactless()
     res = floquet_lyapunov(p, [0.0, 0.0, 0.0, 0.0])
     assert res.status is vi.Status.OK and res.floquet_n == 1 and res.method == "floquet"
-    orbit = vi.simulate(p, periods=1, state0=shoot_periodic_orbit(p, [0.0] * 4).state)
-    assert len(orbit.impacts) == 0
+    orb = shoot_periodic_orbit(p, [0.0] * 4)
+    assert len(vi.simulate(p, periods=1, state0=orb.state).impacts) == 0
+    assert _pairs_differ_in_argument(orb.multipliers)
     np.testing.assert_allclose(res.exponents, -p.B / 2, rtol=0, atol=TOL)
     assert np.all(res.stderr < TOL)
 
@@ -98,6 +105,7 @@ def test_conservative_contact_orbit_has_all_exponents_minus_half_B():
     p = vi.presets.get("fig8").replace(B=0.01, Ec=0.11, eta=1.4)
     x = vi.simulate(p, periods=1, transient=1500, state0=[0.0, 1.0, 0.0, 0.0]).final_state
     assert len(vi.simulate(p, periods=1, state0=x).impacts) >= 1
+    assert _pairs_differ_in_argument(shoot_periodic_orbit(p, x, 1).multipliers)
     res = lyapunov_spectrum(p, state0=x, transient=0)
     assert res.floquet_n == 1
     np.testing.assert_allclose(res.exponents, -p.B / 2, rtol=0, atol=TOL)
