@@ -60,19 +60,26 @@ def test_henon_points_with_positive_exponent_are_chaotic():
     assert reg.label is Regime.CHAOTIC
 
 
-@pytest.mark.parametrize("lam, err, k01, label, n", [
-    (-0.05, 0.001, math.nan, Label.PERIODIC, 0),       # stable, period too long to see
-    (0.0005, 0.001, 0.02, Label.QUASIPERIODIC, 0),     # zero band, regular K
-    (0.0005, 0.001, 0.95, Label.CHAOTIC, 0),           # zero band, chaotic K
-    (0.2, 0.01, 0.95, Label.CHAOTIC, 0),               # clearly positive
-    (0.2, 0.1, 0.02, Label.QUASIPERIODIC, 0),          # positive but not significant
-    (math.nan, math.nan, 0.9, Label.CHAOTIC, 0),       # K only
+@pytest.mark.parametrize("lam, err, k01, torus, label", [
+    (-0.05, 0.001, math.nan, None, Label.UNSETTLED),      # attracting, no period found
+    (0.0005, 0.001, 0.02, None, Label.QUASIPERIODIC),     # zero band, regular K
+    (0.0005, 0.001, 0.02, True, Label.QUASIPERIODIC),     # ... on a torus
+    (0.0005, 0.001, 0.02, False, Label.UNSETTLED),        # ... but the points contract
+    (0.0005, 0.001, 0.95, None, Label.UNSETTLED),         # zero band, chaotic K
+    (0.2, 0.01, 0.95, None, Label.CHAOTIC),               # clearly positive
+    (0.2, 0.1, 0.02, None, Label.QUASIPERIODIC),          # positive but not significant
+    (math.nan, math.nan, 0.9, None, Label.CHAOTIC),       # K only
+    (math.nan, math.nan, 0.1, False, Label.UNSETTLED),    # K only, contracting points
+    (math.nan, math.nan, math.nan, None, Label.UNSETTLED),  # no test at all
 ])
-def test_decision_rule_branches(lam, err, k01, label, n):
-    """Without a detected period the rule decides from the exponent per period, its error
-    and K, as documented in DecisionRule."""
-    got, got_n, conf, _ = decide(0, lam, err, k01)
-    assert got is label and got_n == n and 0.0 <= conf <= 1.0
+def test_decision_rule_branches(lam, err, k01, torus, label):
+    """Without a detected period the rule decides from the exponent per period, its error,
+    K and the torus evidence, as documented in DecisionRule: every label needs positive
+    evidence, and what none decides is UNSETTLED, never a guess."""
+    got, got_n, conf, _ = decide(0, lam, err, k01, torus=torus)
+    assert got is label and got_n == 0 and 0.0 <= conf <= 1.0
+    if label is Label.UNSETTLED:
+        assert conf == 0.0
 
 
 def test_period_beats_noisy_exponent_but_contradiction_lowers_confidence():

@@ -61,11 +61,11 @@ def test_slowly_converging_orbit_is_found_periodic_with_extrapolation_only():
     """Hypothesis: fig11 at eta = 1.03 lies on a stable period-1 orbit whose slowest
     multiplier is close to 1 (|mu| about 0.985, checked by shooting), so its strobe points
     do not repeat to 1e-6 within the 200-period transient and the sweep without
-    extrapolation does not call it P1; with extrapolation it does, and the recorded state
-    lies on the shot orbit."""
-    p = vi.presets.get("fig11").replace(B=0.07, Ec=0.11)  # pinned: the calibrated pair
+    extrapolation (and without its shooting, which would also find it) does not call it
+    P1; with extrapolation it does, and the recorded state lies on the shot orbit."""
+    p = vi.presets.get("fig11").replace(B=0.07, Ec=0.11)  # pinned: the defaults when written
     eta = np.round(np.arange(0.99, 1.03 + 1e-9, 0.01), 6)
-    a = vi.sweep(p, eta, settings=SweepSettings(extrapolate=0), analyses=("period",))
+    a = vi.sweep(p, eta, settings=SweepSettings(extrapolate=0, shoot=0), analyses=("period",))
     b = vi.sweep(p, eta, settings=SweepSettings(), analyses=("period",))
     x = b.final_state.values[-1]
     orb = shoot_periodic_orbit(p.replace(eta=1.03), x, 1)
@@ -81,7 +81,7 @@ def test_slowly_converging_orbit_is_found_periodic_with_extrapolation_only():
 def saddle_case():
     """fig8 with kh = 10 at eta = 1.085, reached by an upward sweep from 0.9: its period-1
     orbit is a saddle (a multiplier 1.04) and its period-2 orbit attracts."""
-    p = vi.presets.get("fig8").replace(kh=10.0, B=0.07, Ec=0.11)  # pinned: calibrated pair
+    p = vi.presets.get("fig8").replace(kh=10.0, B=0.07, Ec=0.11)  # pinned: the defaults when written
     eta = np.round(np.arange(0.9, 1.085 + 1e-9, 0.005), 6)
     ds = vi.sweep(p, eta, analyses=("period",))
     return p.replace(eta=1.085), ds

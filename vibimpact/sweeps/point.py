@@ -57,6 +57,11 @@ class SweepSettings:
         readily as attractors, only if the orbit's Floquet multipliers lie inside the
         unit circle (otherwise the transient resumes from before the jump, without
         further jumps); 0 turns this off.
+    shoot : int
+        Newton-shooting attempts at most per point (:mod:`vibimpact.sweeps.settle`):
+        where the transient's stroboscopic points contract too slowly to settle within
+        ``transient_max``, the orbit they approach is sought by shooting and accepted on
+        evidence, confirmed by integrating from it; 0 turns this off.
     predict : int
         Continuation's predictor (:mod:`vibimpact.sweeps.predict`): after this many
         consecutive period-1 points, a point is first tried from the polynomial
@@ -91,6 +96,7 @@ class SweepSettings:
     transient_max: int = 200
     chunk: int = 10
     extrapolate: int = 5
+    shoot: int = MAX_SHOTS
     predict: int = 4
     record: int = 128
     record_periodic: int = 8
@@ -429,7 +435,7 @@ def analyse_point(p, state0, settings, guess=None):
                 chunk = min(st.chunk, CHUNK_AFTER_JUMP)
                 continue
         chunk = st.chunk
-        if shots < MAX_SHOTS and strobe.shape[0] > MIN_SHOOT_PERIODS and \
+        if shots < st.shoot and strobe.shape[0] > MIN_SHOOT_PERIODS and \
                 done % (3 * st.chunk) == 0:
             con = find_contraction(strobe)
             if needs_shooting(con, rule.period_tol, st.transient_max - done):
@@ -456,7 +462,7 @@ def analyse_point(p, state0, settings, guess=None):
     con = None
     if not n:  # a record that still moves: does it contract onto an orbit?
         con = find_contraction(run.strobe)
-        if con is not None and shots < MAX_SHOTS:
+        if con is not None and shots < st.shoot:
             shots += 1
             evidence = shoot(p, run.strobe, con, st, need_dense)
             if evidence is not None:

@@ -1,0 +1,138 @@
+"""Known truths of the low-damping regime (passive magnetic bearings, B -> 0).
+
+At low damping an impactless motion is a weakly nonlinear, harmonically forced oscillator:
+its attractor is the forced period-1 orbit, and the free oscillation of the transient
+decays like ``exp(-B tau / 2)`` -- hundreds to thousands of forcing periods, far past the
+sweep's 200-period transient.  At ``B = 0`` exactly it never decays: the motion is
+quasi-periodic.  The labels must be right on both sides without a blanket longer
+transient.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact.analysis import shoot_periodic_orbit
+from vibimpact.analysis.settling import contraction_rate
+from vibimpact.sweeps.point import REGIME_CODES, SweepSettings
+from vibimpact.analysis.classify import Label
+
+ETA = np.round(np.arange(1.30, 1.50 + 1e-9, 0.01), 6)  # 21 speeds above resonance
+PRESETS = ("fig8", "fig10")
+P1, QP, UNSETTLED = (REGIME_CODES[k] for k in (Label.PERIODIC, Label.QUASIPERIODIC,
+                                               Label.UNSETTLED))
+
+
+@pytest.mark.parametrize("preset", PRESETS)
+def test_undamped_impactless_motion_is_quasi_periodic_at_every_eta(preset):
+    """Hypothesis: at B = 0 with no impacts the free oscillation never decays, so at every
+    one of 21 speeds the motion is quasi-periodic (exponent zero, 0-1 test regular,
+    Poincaré points that neither contract nor stop recurring), never periodic or
+    unsettled."""
+    p = vi.presets.get(preset).replace(B=0.0, Ec=0.05)
+    ds = vi.sweep(p, ETA, analyses=("period", "impacts", "lyapunov", "test01"))
+    assert np.all(ds.impacts_per_period.values == 0.0)
+    assert np.all(ds.regime.values == QP), list(ds.label.values)
+    assert np.all(np.abs(ds.lyapunov.values) < 1e-3)
+
+
+@pytest.mark.parametrize("B", [0.001, 0.002, 0.005])
+@pytest.mark.parametrize("preset", PRESETS)
+def test_weakly_damped_impactless_motion_is_period_one_at_every_eta(preset, B):
+    """Hypothesis: at B = 0.001, 0.002, 0.005 with no impacts the attractor is the forced
+    period-1 orbit at every one of 21 speeds; its Floquet exponent is -B/2 (the support's
+    damping is the only dissipation), and the label is bought by evidence within the
+    transient budget, not by a longer transient: the free oscillation would need more
+    periods than the budget to decay below the period test's tolerance, and shooting (or
+    an extrapolation jump or the continuation's predictor, both checked by the orbit's
+    multipliers) decided it within the budget."""
+    p = vi.presets.get(preset).replace(B=B, Ec=0.05)
+    st = SweepSettings()
+    ds = vi.sweep(p, ETA, analyses=("period", "impacts", "floquet"))
+    assert np.all(ds.impacts_per_period.values == 0.0)
+    assert np.all(ds.regime.values == P1) and np.all(ds.period.values == 1), \
+        list(ds.label.values)
+    np.testing.assert_allclose(ds.floquet_exponent.values, -B / 2, rtol=2e-3)
+    assert np.all(ds.transient.values <= st.transient_max + st.record)
+    slow = np.log(st.rule.period_tol) / (-B / 2 * 2 * np.pi / ETA) > st.transient_max
+    assert np.all(slow) and np.any(np.isfinite(ds.shoot_residual.values))
+    shot = np.isfinite(ds.shoot_residual.values)
+    assert np.all(ds.orbit_distance.values[shot] < 1.0)
+
+
+def test_the_reported_low_damping_example_is_period_one_everywhere():
+    """Hypothesis: the reported case (fig10, B = 0.002, Ec = 0.05, eta from 1.5 down to 1.3,
+    step 0.01), once labelled 'quasi-periodic impactless' at all 21 points, is P1
+    impactless at every point, as the CLI prints it."""
+    p = vi.presets.get("fig10").replace(B=0.002, Ec=0.05)
+    ds = vi.sweep(p, ETA, direction="down")
+    assert set(ds.label.values.ravel()) == {"P1 impactless"}
+
+
+def test_a_contracting_motion_without_shooting_is_unsettled_with_its_rate():
+    """Hypothesis: with shooting turned off, a slowly contracting impactless transient at
+    B = 0.002 is not labelled by default but UNSETTLED, with the measured contraction rate
+    (the free oscillation's -B T / 2 per forcing period, within 5 %) and the periods it
+    would still need (more than its budget)."""
+    B, eta = 0.002, 1.4
+    p = vi.presets.get("fig10").replace(B=B, Ec=0.05)
+    st = SweepSettings(shoot=0, extrapolate=0)
+    ds = vi.sweep(p, [eta], analyses=("period", "impacts"), settings=st)
+    assert int(ds.regime.values[0]) == UNSETTLED
+    rate = -B / 2 * 2 * np.pi / eta
+    assert abs(float(ds.contraction.values[0]) / rate - 1.0) < 0.15
+    assert float(ds.settle_periods.values[0]) > st.transient_max
+    assert "would need" in str(ds.reason.values[0])
+
+
+CASES = {  # preset, B, Ec: an impacting period-1 branch reached by continuation
+    "fig8": (0.005, 0.05),
+    "fig10": (0.01, 0.05),
+}
+
+
+@pytest.fixture(scope="module", params=sorted(CASES))
+def impacting_branch(request):
+    preset = request.param
+    B, Ec = CASES[preset]
+    p = vi.presets.get(preset).replace(B=B, Ec=Ec)
+    eta = np.round(np.arange(1.0, 1.19 + 1e-9, 0.005), 6)
+    ds = vi.sweep(p, eta, blocks=1, analyses=("period", "impacts", "floquet"))
+    return p, ds.sel(eta=slice(1.06, None))
+
+
+def test_impacting_periodic_orbits_at_low_damping_are_labelled_with_their_period(
+        impacting_branch):
+    """Hypothesis: on the impacting period-1 branch (two impacts per period) at B <= 0.01,
+    reached by continuation, every one of >= 20 speeds is labelled P1, and the orbit is an
+    attractor by an independent computation: Newton shooting from the sweep's final state
+    converges to a period-1 orbit with every |mu| < 1, whose |mu|max the sweep stored."""
+    p, ds = impacting_branch
+    assert ds.eta.size >= 20
+    assert np.all(ds.period.values == 1) and np.all(ds.regime.values == P1), \
+        list(zip(ds.eta.values, ds.label.values))
+    assert np.all(ds.impacts_per_period.values == 2.0)
+    for e, x, amax in zip(ds.eta.values, ds.final_state.values, ds.floquet_abs_max.values):
+        orb = shoot_periodic_orbit(p.replace(eta=float(e)), x, 1, tol=1e-10, rtol=1e-10)
+        assert orb.converged and orb.minimal_period == 1 and orb.abs_max < 1.0
+        assert abs(orb.abs_max - amax) < 1e-4
+        assert np.abs(orb.state - x).max() < 1e-4
+
+
+def test_impacting_orbits_multipliers_match_a_long_run(impacting_branch):
+    """Hypothesis: the shooting's leading multiplier is what a long run sees: from the
+    orbit's point pushed off by 1e-4, 600 periods of plain integration return to the orbit
+    at the rate ln|mu|max per period (within 5 %, measured on the run's stroboscopic
+    steps), and ends closer to the orbit than |mu|max^300 times the offset, at three speeds
+    of the branch."""
+    p, ds = impacting_branch
+    for k in (0, ds.eta.size // 2, ds.eta.size - 1):
+        pe = p.replace(eta=float(ds.eta.values[k]))
+        orb = shoot_periodic_orbit(pe, ds.final_state.values[k], 1, tol=1e-11, rtol=1e-11,
+                                   atol=1e-13)
+        run = vi.simulate(pe, periods=600, state0=orb.state + 1e-4, rtol=1e-11, atol=1e-13)
+        c = contraction_rate(run.strobe[:400], 1)
+        assert c is not None and c.contracting
+        assert abs(c.rate / math.log(orb.abs_max) - 1.0) < 0.05
+        assert np.abs(run.strobe[-1] - orb.state).max() < 1e-4 * orb.abs_max ** 300
