@@ -11,9 +11,13 @@
 :func:`largest_lyapunov`    two-trajectory estimate (independent check)
 :func:`lyapunov_from_jacobians`  QR method for any map
 :func:`lyapunov_from_series`     nolds (Rosenstein) on a series, a cross-check only
+:func:`floquet_lyapunov`    exact exponents ln|mu|/T of a periodic orbit (shooting)
 :func:`strobe_map_jacobian` finite-difference Jacobian of the stroboscopic map
+:func:`contraction_rate`    how fast stroboscopic points settle (linear map of the steps)
+:func:`torus_evidence`      non-contracting, recurring Poincaré points (quasi-periodicity)
 :func:`test01`              Gottwald--Melbourne 0-1 test for chaos
-:func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED)
+:func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED,
+                            UNSETTLED)
 :func:`classify_params`     simulate one parameter point and classify it
 :func:`extrapolate_limit`   limit of a converging map iteration (minimal polynomial
                             extrapolation)
@@ -29,8 +33,10 @@ from .extrapolation import extrapolate_limit
 from .classify import DEFAULT_RULE, DecisionRule, Label, Regime, classify, classify_params
 from .impacts import (ContactArcs, ImpactCount, ImpactStatistics, contact_arcs,
                       impact_count, impact_statistics)
-from .lyapunov import (LyapunovResult, largest_lyapunov, lyapunov_from_jacobians,
-                       lyapunov_from_series, lyapunov_spectrum, strobe_map_jacobian)
+from .lyapunov import (LyapunovResult, floquet_lyapunov, largest_lyapunov,
+                       lyapunov_from_jacobians, lyapunov_from_series, lyapunov_spectrum,
+                       strobe_map_jacobian)
+from .settling import Contraction, TorusEvidence, contraction_rate, torus_evidence
 from .period import detect_period, impact_map, poincare_section
 from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
                        monodromy, shoot_periodic_orbit)
@@ -44,5 +50,6 @@ __all__ = [
     "lyapunov_spectrum", "poincare_section", "strobe_map_jacobian", "test01",
     "Bifurcation", "Branch", "Monodromy", "PeriodicOrbit", "continue_orbit",
     "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
-    "shoot_periodic_orbit",
+    "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
+    "contraction_rate", "torus_evidence",
 ]
