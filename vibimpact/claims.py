@@ -11,7 +11,8 @@ Kinds of motion a claim can name (``Claim.motion``):
 
 ``"irregular"``
     The paper's "chaos": impacting motion without a period up to the detector's maximum,
-    i.e. our *chaotic*, *quasi-periodic* and *periodic (long period)* labels.  The paper
+    i.e. our *chaotic*, *quasi-periodic*, *periodic (long period)* and *unsettled* labels
+    (an impacting motion no test decided within its budget).  The paper
     judged the kind of motion from response curves and X-Y trajectories, on which these
     look alike; the report names which of our labels make up a detected interval.
 ``"periodic"``
@@ -159,7 +160,7 @@ def match_points(sub, claim):
     ipp = np.asarray(sub["impacts_per_period"].values, dtype=float)
     impacting = np.isfinite(ipp) & (ipp > 0)
     if claim.motion == "irregular":
-        return impacting & ((reg == 2) | (reg == 3) | ((reg == 1) & (per == 0)))
+        return impacting & ((reg == 2) | (reg == 3) | (reg == 5) | ((reg == 1) & (per == 0)))
     if claim.motion == "impactless":
         contact = np.asarray(sub["contact"].values, dtype=int) if "contact" in sub else 0
         return (reg == 1) & (ipp == 0) & (contact == 0)

@@ -208,7 +208,7 @@ def _summary(ds, elapsed, computed):
     reg = np.asarray(ds["regime"].values)
     counts = ", ".join(f"{k} {int((reg == c).sum())}" for k, c in
                        (("periodic", 1), ("quasi-periodic", 2), ("chaotic", 3),
-                        ("diverged", 4)))
+                        ("diverged", 4), ("unsettled", 5)))
     shape = " x ".join(f"{ds.sizes[d]} {d}" for d in ds["regime"].dims)
     print(f"map {shape} = {reg.size} points: {counts} ({computed} computed in "
           f"{elapsed:.1f} s, {computed / max(elapsed, 1e-9):.1f} points/s)")

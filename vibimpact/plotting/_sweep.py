@@ -10,7 +10,7 @@ DIRECTION_COLORS = {"up": "tab:blue", "down": "tab:orange"}
 
 #: regime code (CF flag of the ``regime`` variable) -> name
 REGIME_NAMES = {0: "not computed", 1: "periodic", 2: "quasi-periodic", 3: "chaotic",
-                4: "diverged"}
+                4: "diverged", 5: "unsettled"}
 
 
 def check_sweep(ds, *names):

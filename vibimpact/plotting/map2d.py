@@ -7,7 +7,8 @@ import numpy as np
 from ._sweep import REGIME_NAMES, title
 
 #: regime code -> colour (0: not computed)
-MAP_REGIME_COLORS = {0: "0.85", 1: "#31a354", 2: "tab:orange", 3: "tab:red", 4: "0.15"}
+MAP_REGIME_COLORS = {0: "0.85", 1: "#31a354", 2: "tab:orange", 3: "tab:red", 4: "0.15",
+                     5: "tab:purple"}
 #: colour of points where a quantity was not computed or does not exist
 MISSING = "0.9"
 
@@ -70,9 +71,11 @@ def _regime_panel(ax, xe, ye, reg):
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    cmap = ListedColormap([MAP_REGIME_COLORS[c] for c in range(5)])
-    ax.pcolormesh(xe, ye, reg, cmap=cmap, norm=BoundaryNorm(np.arange(-0.5, 5.5), 5))
-    present = [c for c in range(5) if np.any(reg == c)]
+    codes = len(MAP_REGIME_COLORS)
+    cmap = ListedColormap([MAP_REGIME_COLORS[c] for c in range(codes)])
+    ax.pcolormesh(xe, ye, reg, cmap=cmap,
+                  norm=BoundaryNorm(np.arange(-0.5, codes + 0.5), codes))
+    present = [c for c in range(codes) if np.any(reg == c)]
     ax.legend(handles=[Patch(facecolor=MAP_REGIME_COLORS[c], edgecolor="0.5",
                              label=REGIME_NAMES[c]) for c in present],
               loc="upper left", fontsize="x-small", framealpha=0.85)

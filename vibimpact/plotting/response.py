@@ -7,7 +7,7 @@ from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, check_sweep, directions, gr
                      new_figure, title)
 
 #: regime code -> band colour of :func:`plot_intervals` (periodic: by period, below)
-REGIME_COLORS = {0: "0.85", 2: "tab:orange", 3: "tab:red", 4: "0.15"}
+REGIME_COLORS = {0: "0.85", 2: "tab:orange", 3: "tab:red", 4: "0.15", 5: "tab:purple"}
 PERIOD_COLORS = ("#a1d99b", "#31a354", "#74c476", "#006d2c", "#c7e9c0", "#41ab5d")
 LONG_PERIOD_COLOR = "#d9ef8b"
 
@@ -66,7 +66,7 @@ def plot_response(ds, ax=None, path=None, bands=True):
             v = np.asarray(sub[name].values, dtype=float).copy()
             v[reg == 4] = np.nan
             a.plot(eta, v, color=color, lw=0.9, marker=".", ms=3, label=f"sweep {d}")
-            for code, marker, ms in ((3, "x", 5), (2, "+", 6)):
+            for code, marker, ms in ((3, "x", 5), (2, "+", 6), (5, "1", 6)):
                 sel = (reg == code) & np.isfinite(v)
                 if sel.any():
                     lab = REGIME_NAMES[code] if (a, code) not in marked else None
@@ -138,7 +138,7 @@ def _bands(ds, axes):
 def _short(label, regime, period):
     if regime == 1:
         return f"P{period}" if period else "P"
-    return {2: "QP", 3: "C", 4: "D"}.get(regime, "")
+    return {2: "QP", 3: "C", 4: "D", 5: "U"}.get(regime, "")
 
 
 def plot_intervals(ds, ax=None, path=None):

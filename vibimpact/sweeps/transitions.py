@@ -68,6 +68,7 @@ TYPES = ("period doubling", "fold", "Neimark-Sacker", "grazing", "stick-slip",
 _PERIODIC = REGIME_CODES[Label.PERIODIC]
 _QUASI = REGIME_CODES[Label.QUASIPERIODIC]
 _CHAOTIC = REGIME_CODES[Label.CHAOTIC]
+_UNSETTLED = REGIME_CODES[Label.UNSETTLED]
 _SHOOT = dict(tol=1e-9, max_iter=12)
 _SEEDED = {False: "", True: " (a sweep block starts there from a seeded state, not from "
                             "the previous point)"}
@@ -141,9 +142,10 @@ def _attractor(p, pt, hints, periods=400):
     ``final_state`` at tight tolerances, its period detected at 1e-7, and the orbit shot.
     Without a period, the sweep's and neighbours' periods are shot and accepted when the
     motion visibly converges to the orbit (a slowly converging orbit near a bifurcation,
-    labelled 'long period' or 'quasi-periodic' by the sweep).
+    labelled 'long period', 'quasi-periodic' or 'unsettled' by the sweep).
     """
-    if pt.regime not in (_PERIODIC, _QUASI, _CHAOTIC) or not np.all(np.isfinite(pt.state)):
+    if pt.regime not in (_PERIODIC, _QUASI, _CHAOTIC, _UNSETTLED) or \
+            not np.all(np.isfinite(pt.state)):
         return None
     q = p.replace(eta=pt.eta)
     run = simulate(q, periods=periods, state0=pt.state, rtol=1e-10, atol=1e-12)
