@@ -511,8 +511,10 @@ def analyse_point(p, state0, settings, guess=None):
             return res
         lam, err = float(ly.exponents[0]), float(ly.stderr[0])
     torus = None
-    zero_band = not (math.isfinite(lam) and abs(lam * T) - rule.z * err * T > rule.zero)
-    if not n and zero_band and pts.shape[0] >= 16:  # a torus? (only where it decides)
+    # a torus? (only where it can decide: an exponent in the zero band, or K regular)
+    zero_band = math.isfinite(lam) and abs(lam * T) - rule.z * err * T <= rule.zero
+    regular_k = not math.isfinite(lam) and math.isfinite(k) and k < rule.k_chaos
+    if not n and (zero_band or regular_k) and pts.shape[0] >= 16:
         tor = torus_evidence(pts)
         if con is None and tor.non_contracting and not tor.recurrent:
             # a torus whose rotation number lies near a rational covers its curve slowly:
