@@ -136,3 +136,30 @@ def test_impacting_orbits_multipliers_match_a_long_run(impacting_branch):
         assert c is not None and c.contracting
         assert abs(c.rate / math.log(orb.abs_max) - 1.0) < 0.05
         assert np.abs(run.strobe[-1] - orb.state).max() < 1e-4 * orb.abs_max ** 300
+
+
+def test_every_label_carries_its_evidence_at_low_damping():
+    """Hypothesis: no label is a default.  On a low-damping fig8 sweep (B = 0.005, the
+    shipped Ec, 61 speeds, all analysers) every periodic point has its period (no
+    'periodic (long period)' without a recurrence found), every chaotic point a positive
+    exponent beyond its error and the zero band, every quasi-periodic point an exponent in
+    the zero band and Poincaré points that do not contract, and every unsettled point a
+    reason."""
+    from vibimpact.analysis.settling import FLOOR
+
+    p = vi.presets.get("fig8").replace(B=0.005)
+    st = SweepSettings()
+    rule = st.rule
+    eta = np.round(np.arange(0.9, 1.5 + 1e-9, 0.01), 6)
+    ds = vi.sweep(p, eta)
+    reg, per = ds.regime.values, ds.period.values
+    T = 2 * np.pi / eta
+    lam, err = ds.lyapunov.values * T, ds.lyapunov_err.values * T
+    assert np.all(per[reg == P1] > 0)
+    ch = reg == REGIME_CODES[Label.CHAOTIC]
+    assert np.all(lam[ch] - rule.z * err[ch] > rule.zero)
+    qp = reg == QP
+    assert np.all(np.abs(lam[qp]) - rule.z * err[qp] <= rule.zero)
+    assert np.all(~(ds.contraction.values[qp] < -FLOOR))
+    assert all(str(r) for r in ds.reason.values[reg == UNSETTLED])
+    assert set(np.unique(reg)) <= {P1, QP, UNSETTLED, REGIME_CODES[Label.CHAOTIC]}
