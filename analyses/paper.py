@@ -9,7 +9,7 @@ For every preset (figs 4-11 and rr10) it runs an up-and-down sweep with pure con
 (``blocks=1``) and all analysers, draws the response curves with regime bands
 (``response_<preset>.png``), the bifurcation diagram (``bifurcation_<preset>.png``) and the
 X-Y trajectories at the frequencies the paper shows (``xy_<preset>.png``), then checks each
-claim of SPEC section 2: the interval claims of :data:`vibimpact.claims.CLAIMS`
+claim of the paper: the interval claims of :data:`vibimpact.claims.CLAIMS`
 automatically (detected interval, labels, agreement within one sweep step), and the
 comparative claims ("X and Y identical", "no considerable change from fig6", ...) by the
 measures stated in the table.  Every interval boundary of fig8, fig10 and fig11 gets its
@@ -467,7 +467,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
         f"Parameters the paper does not state: **B = {p8.B:g}, Ec = {p8.Ec:g}**"
         + (" (set on the command line)" if overrides else
            " (the presets' defaults, calibrated in [calibration.md](calibration.md))")
-        + ".  Everything else is SPEC §2.  \"Chaos\" in the paper is matched by our "
+        + ".  Everything else is the presets' table (`vibimpact.presets`).  \"Chaos\" in the paper is matched by our "
         "*irregular* motion: chaotic, quasi-periodic, or periodic with a period above 64 "
         "(the paper judged from response curves and trajectories, on which these look "
         "alike); the labels column names which of ours make up each interval.",

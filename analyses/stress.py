@@ -11,7 +11,7 @@ Cases (all with ``vibimpact.simulate``, DOP853, default tolerances unless stated
   conservative run (B = Bh = BT = f = Ec = G = 0, start (0, 0, 1.5, 0.5), rtol 1e-12) whose
   energy must stay constant to 1e-8 over 50 periods.
 * **Bh** so large that ``1 + Bh R'`` turns negative during contact (the paper's formula is not
-  clipped, SPEC section 1): the check value is the smallest ``1 + Bh R'`` at contact exits.
+  clipped): the check value is the smallest ``1 + Bh R'`` at contact exits.
 * **f** up to 1 with Rr = 0 on fig11 at eta = 1.0: Filippov stick phases counted (friction
   switches into stick), steps per period must stay bounded (< 5000).
 * **grazing**: fig8 at eta = 0.9 from rest, Ec chosen by bisection so that the steady orbit's

@@ -3,9 +3,10 @@ import pytest
 
 import vibimpact as vi
 
-#: The configuration the tests' reference values were measured at: B = Ec = 0.1, the
-#: defaults before the calibration of issue 5 (now B = 0.07, Ec = 0.11).  Tests of the
-#: analysers need a fixed, known configuration, not whatever the calibration picks.
+#: The configuration the analysers' tests use: B = Ec = 0.1, a fixed, known configuration
+#: (the first defaults), not whatever the calibration picks.  These tests say so in their
+#: docstrings; what the shipped defaults produce is tested in test_shipped_defaults.py
+#: (the paper's claims the report says agree) and test_report_sources.py.
 MEASURED_AT = dict(B=0.1, Ec=0.1)
 
 
@@ -34,7 +35,7 @@ def continued_state(preset, eta_stop, eta_start=1.0, step=0.02, transient=200):
 
 @pytest.fixture(scope="session")
 def fig8_chaotic():
-    """fig8 at eta = 1.22 on the continued (impacting) branch: inside the paper's chaotic
-    interval (1.21, 1.29)."""
+    """fig8 at eta = 1.22 on the continued (impacting) branch, at the pinned configuration:
+    a chaotic point."""
     p = preset("fig8").replace(eta=1.22)
     return p, continued_state("fig8", 1.22)

@@ -65,9 +65,9 @@ def test_continuation_reaches_impacting_branch_that_rest_start_misses():
     assert fixed["impacts_per_period"].values[-1] == 0.0
 
 
-def test_sweep_finds_chaos_inside_paper_interval_and_periodic_orbit_below(serial):
-    """On fig8 the sweep labels eta = 1.22 (inside the paper's (1.21, 1.29)) chaotic with a
-    positive exponent and eta = 1.16 P1 with two impacts."""
+def test_sweep_labels_the_pinned_chaotic_point_and_the_periodic_orbit_below(serial):
+    """At the pinned configuration (conftest.MEASURED_AT), the fig8 sweep labels eta =
+    1.22 chaotic with a positive exponent and eta = 1.16 P1 with two impacts."""
     lab = dict(zip(serial["eta"].values.round(3), serial["label"].values))
     assert lab[1.16] == "P1, 2 impacts, 2 small arcs"
     k = int(np.argmin(abs(serial["eta"].values - 1.22)))

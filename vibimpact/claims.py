@@ -1,4 +1,4 @@
-"""The paper's claims (SPEC section 2) as data, and their automated check on sweeps.
+"""The paper's claims as data, and their automated check on sweeps.
 
 Every statement of Půst & Kozánek about a frequency interval ("chaos in η ∈ (1.21, 1.29)",
 "period 3 with 8 impacts near η = 1.40", ...) is one :class:`Claim`.  :func:`match_points`
@@ -100,7 +100,7 @@ WINDOW = 0.03
 #: credit in the objective for a claimed P-n window (n >= 2) found with another period
 RELAXED_CREDIT = 0.5
 
-#: the paper's interval claims, figure by figure (SPEC section 2)
+#: the paper's interval claims, figure by figure
 CLAIMS = (
     Claim("fig6-chaos", "fig6", "a new chaotic motion near eta = 1.2 (kh = 40)",
           "irregular", 1.2, 1.2, near=True, weight=0.5),

@@ -1,4 +1,4 @@
-"""The ``vibimpact`` command line (SPEC section 5).
+"""The ``vibimpact`` command line.
 
 Only :mod:`argparse` and :mod:`sys` are imported at module level, so that ``vibimpact
 --help`` is instant; numpy, numba and xarray are imported inside the commands.  Bad input

@@ -1,5 +1,5 @@
 """The sweep commands of the ``vibimpact`` command line: ``classify``, ``bifurcation`` and
-``plot`` (SPEC section 5).
+``plot``.
 
 Like :mod:`vibimpact.cli`, this module imports only the standard library at module level;
 numpy, numba, xarray and matplotlib are imported inside the commands, so ``--help`` stays
@@ -11,7 +11,7 @@ import sys
 from ._cli_common import (_check_output, _finish_checkpointed, _image_ext_ok, _interrupt_status, _parse_analyses,
                           _parse_sets, _positive_int, _StopWorkersOnSignal, _UsageError)
 
-#: the main job of SPEC section 5
+#: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
 DEFAULT_PRESET = "fig8"
 PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map")

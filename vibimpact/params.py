@@ -1,7 +1,7 @@
 """Validated, immutable model parameters.
 
 :class:`Params` holds the ten dimensionless parameters of eq. (5) of Pust & Kozanek
-("Vibrations of rotor supported in magnetic bearings with impacts"), SPEC section 1.
+("Vibrations of rotor supported in magnetic bearings with impacts"), with the conventions the paper leaves open fixed below.
 :class:`DuffingParams` holds the forced Duffing oscillator, the kernel's second model.
 """
 from __future__ import annotations

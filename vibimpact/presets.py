@@ -1,4 +1,4 @@
-"""The paper's parameter sets, one per figure (SPEC section 2).
+"""The paper's parameter sets, one per figure.
 
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
 preset uses :data:`vibimpact.params.DEFAULT_B` = 0.07 and :data:`vibimpact.params.DEFAULT_EC`

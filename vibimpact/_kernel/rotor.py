@@ -1,7 +1,7 @@
 """The rotor of Pust & Kozanek, eq. (5), as a kernel model (all ``@njit``).
 
 State ``y = (X, Y, X', Y')``; parameter vector ``p`` laid out as :data:`PARAM_NAMES`
-(the order of SPEC section 1, then the friction regularisation ``eps``).
+(the order of :class:`vibimpact.Params`, then the friction regularisation ``eps``).
 
 The right-hand side is piecewise smooth.  The kernel keeps a *discrete mode* next to the
 state, an int64 array of two entries:

@@ -196,6 +196,6 @@ def test01(series, c=None, n_c=100, n_cut=None, seed=0, *, constant_tol=1e-12):
     return float(np.median(K_c))
 
 
-# not a pytest test, although its name (fixed by SPEC section 4) starts with "test": tell
+# not a pytest test, although its name (fixed by the public API) starts with "test": tell
 # pytest so, for test modules that import it by name
 test01.__test__ = False

@@ -5,7 +5,7 @@ where they fall ("bottom half", "two small loaded arcs", "whole circle"); :func:
 and :func:`contact_arcs` turn :attr:`vibimpact.Run.impacts` into those words, and
 :func:`impact_statistics` gives the speeds and penetrations that govern retainer wear.
 Angles are ``theta = atan2(Y, X)`` in degrees in (-180, 180]; gravity acts along +Y, so the
-bottom of the retainer is theta = +90 deg and the top -90 deg (SPEC section 1).
+bottom of the retainer is theta = +90 deg and the top -90 deg (gravity acts along +Y).
 
 References
 ----------

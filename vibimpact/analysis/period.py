@@ -1,7 +1,7 @@
 """Period of a stroboscopic (Poincare) sequence, and the two sections of a rotor run.
 
-:func:`detect_period` works on plain arrays of Poincare points from any system (SPEC
-section 4): it returns the smallest ``n`` with ``x[k + n] = x[k]`` for *every* ``k`` of the
+:func:`detect_period` works on plain arrays of Poincare points from any system: it
+returns the smallest ``n`` with ``x[k + n] = x[k]`` for *every* ``k`` of the
 window, to a tolerance relative to the size of the data, or 0 when there is none.  Requiring
 the recurrence over the whole window, and several repeats of it, is what keeps a slowly
 converging transient, a quasi-periodic orbit (whose near-returns are never exact) and a
