@@ -65,7 +65,7 @@ def summary_text(root=ROOT):
         "[reports/calibration.md](reports/calibration.md)).",
         f"* **Agreement with the paper** ([reports/paper.md](reports/paper.md)): "
         f"{pap['agree']} of {pap['claims']} interval claims agree within one sweep step at "
-        f"these defaults, {pap['agree_previous']} of {pap['claims']} at the previous "
+        f"these defaults, {pap['agree_previous']} of {pap['claims_previous']} at the previous "
         f"defaults (B = {pap['previous']['fig8']['B']:g}, Ec = "
         f"{pap['previous']['fig8']['Ec']:g}) in the same run.  Agree: {_keys(v, 'agree')}; "
         f"partly: {_keys(v, 'partly')}; disagree: {_keys(v, 'disagree')}.",

@@ -1,0 +1,87 @@
+"""The README's and the reports' figures are the data's: these tests fail when they drift.
+
+Every number of the README's summary, of the calibration report and of the paper report is
+written by a script from the files it measured (``reports/calibration.nc``,
+``reports/paper.json``); the shipped defaults are the calibration's winner.
+"""
+import json
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+import vibimpact as vi
+from vibimpact import params
+
+ROOT = Path(__file__).resolve().parents[1]
+REPORTS = ROOT / "reports"
+sys.path.insert(0, str(ROOT / "analyses"))
+
+
+def _winner():
+    import xarray as xr
+
+    with xr.open_dataset(REPORTS / "calibration.nc") as cal:
+        return json.loads(cal.attrs["winner"])
+
+
+def _section(text, name):
+    m = re.search(rf"<!-- section:{name} -->\n(.*?)\n<!-- /section:{name} -->", text, re.S)
+    return None if m is None else m.group(1)
+
+
+def test_readme_summary_is_what_the_report_files_say():
+    """Hypothesis: the README's summary section is exactly what readme_summary renders from
+    reports/calibration.nc, calibration.md and paper.json (no hand-typed figure)."""
+    import readme_summary
+
+    got = _section((ROOT / "README.md").read_text(), readme_summary.SECTION)
+    assert got is not None, "README has no summary section"
+    assert got.strip() == readme_summary.summary_text(ROOT).strip()
+
+
+def test_shipped_defaults_are_the_converged_calibration_winner():
+    """Hypothesis: DEFAULT_B, DEFAULT_EC and every fitted preset's B and contact dampings
+    are the winning reading's of the calibration, whose optimum is interior and
+    converged."""
+    win = _winner()
+    assert win["interior"] and win["converged"]
+    assert params.DEFAULT_B == pytest.approx(win["B"], rel=1e-12, abs=1e-15)
+    assert params.DEFAULT_EC == pytest.approx(win["Ec"], rel=1e-12)
+    for fig, d in win["presets"].items():
+        p = vi.presets.get(fig)
+        for name in ("B", "Bh", "BT", "f"):
+            assert getattr(p, name) == pytest.approx(d[name], abs=1e-15), (fig, name)
+        assert p.Ec == pytest.approx(win["Ec"], rel=1e-12)
+
+
+def test_calibration_report_states_the_datasets_winner():
+    """Hypothesis: the winner's JSON block in calibration.md is the dataset's winner."""
+    text = (REPORTS / "calibration.md").read_text()
+    blocks = [json.loads(b) for b in re.findall(r"```json\n(.*?)\n```", text, re.S)]
+    assert _winner() in blocks
+
+
+def test_paper_report_counts_are_its_data_and_describe_the_shipped_defaults():
+    """Hypothesis: the paper report's headline count of agreeing claims (shipped and
+    previous defaults) is the one its JSON records, the JSON's verdicts add up to it, and
+    it was made at the shipped B and Ec."""
+    pap = json.loads((REPORTS / "paper.json").read_text())
+    text = (REPORTS / "paper.md").read_text()
+    assert f"**Interval claims: {pap['agree']} of {pap['claims']} agree" in text
+    assert pap["claims_previous"] == pap["claims"]
+    assert f"with the same detection: {pap['agree_previous']} of {pap['claims']}" in text
+    assert sum(v == "agree" for v in pap["verdicts"].values()) == pap["agree"]
+    assert sum(v == "agree" for v in pap["verdicts_previous"].values()) == \
+        pap["agree_previous"]
+    assert pap["B"] == pytest.approx(params.DEFAULT_B) and \
+        pap["Ec"] == pytest.approx(params.DEFAULT_EC)
+
+
+def test_performance_report_has_the_low_damping_timing():
+    """Hypothesis: the performance report carries the measured low-damping ratio section,
+    written by analyses/benchmark_sweep.py, for the shipped defaults."""
+    sec = _section((REPORTS / "performance.md").read_text(), "low-damping")
+    assert sec is not None
+    assert f"| shipped defaults | {params.DEFAULT_B:g} | {params.DEFAULT_EC:g} |" in sec
