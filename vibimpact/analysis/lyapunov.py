@@ -37,7 +37,7 @@ confirms a stable orbit; :func:`floquet_lyapunov` gives them for a point of an o
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -46,119 +46,10 @@ from .._kernel.lyapunov import benettin as _benettin
 from .._kernel.lyapunov import qr_growth as _qr_growth
 from .._kernel.lyapunov import two_trajectory as _two_trajectory
 from ..run import Status, status_of
-from ..simulate import (_count, _model_and_vector, _options, _positive, _state0,
-                        _tableau, simulate)
-
-
-@dataclass(frozen=True)
-class LyapunovResult:
-    """Lyapunov exponents with their standard errors.
-
-    Behaves as the array of exponents (``np.asarray(result)``, ``result[0]``).
-
-    Attributes
-    ----------
-    exponents : ndarray, shape (m,)
-        Per unit of dimensionless time ``tau``, descending; NaN when the run diverged.
-    stderr : ndarray, shape (m,)
-        Standard error of each exponent from the spread of block estimates (batch means).
-    period : float
-        Forcing period ``T``; the stroboscopic map's exponents are ``exponents * T``.
-    periods : int
-        Forcing periods averaged (after the transient and the tangent-vector alignment).
-    converged : bool
-        The largest exponent's standard error reached the requested target.
-    method : str
-        "variational", "two-trajectory", "map" or "nolds".
-    kind : str
-        What the numbers are the exponents of (see the module docstring).
-    status : Status
-    reason : str
-    history : ndarray, shape (n_blocks, m)
-        Running estimate after each block (convergence plot); of the QR average also when
-        the exponents are Floquet exponents.
-    floquet_n : int
-        ``n > 0``: ``exponents`` are the Floquet exponents of a period-``n`` orbit (minimal
-        period) and ``stderr`` their numerical error; 0: QR averages.
-    qr_exponents : ndarray, shape (m,)
-        The QR average over ``periods`` periods (NaN if none); ``exponents`` if
-        ``floquet_n`` is 0.
-    """
-
-    exponents: np.ndarray
-    stderr: np.ndarray
-    period: float
-    periods: int
-    converged: bool
-    method: str
-    kind: str
-    status: Status = Status.OK
-    reason: str = ""
-    history: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    floquet_n: int = 0
-    qr_exponents: np.ndarray = field(default_factory=lambda: np.zeros(0))
-
-    @property
-    def map_exponents(self):
-        """Exponents of the stroboscopic map, per forcing period (``exponents * T``)."""
-        return self.exponents * self.period
-
-    @property
-    def largest(self):
-        """The largest exponent (per ``tau``)."""
-        return float(self.exponents[0])
-
-    def __array__(self, dtype=None, copy=None):
-        return np.asarray(self.exponents, dtype=dtype)
-
-    def __len__(self):
-        return len(self.exponents)
-
-    def __getitem__(self, i):
-        return self.exponents[i]
-
-    def __iter__(self):
-        return iter(self.exponents)
-
-
-#: the tangent vectors' local errors are tested at this many times the tolerances
-TANGENT_TOL = 1e3
-
-_KIND_FLOW = ("flow of the non-autonomous state equations, per unit tau, without the "
-              "forcing phase's zero exponent")
-_KIND_FLOW_PHASE = ("flow of the autonomous extension (state, forcing phase), per unit tau, "
-                    "with the phase's zero exponent")
-
-
-def _tangent_tolerance(opts, n, tangent_tol):
-    """Set the error test of the tangent entries (beyond the ``n`` state entries) in the
-    kernel options to ``tangent_tol`` times the tolerances (``inf``: no test)."""
-    try:
-        f = float(tangent_tol)
-    except (TypeError, ValueError):
-        raise ValueError(f"tangent_tol must be a number >= 1 or inf, got {tangent_tol!r}") \
-            from None
-    if not f >= 1.0:
-        raise ValueError(f"tangent_tol must be a number >= 1 or inf, got {tangent_tol!r}")
-    opts[_k.O_NERR] = float(n)
-    opts[_k.O_TFAC] = 0.0 if math.isinf(f) else f
-
-
-def _setup(p, model, method, rtol, atol, max_step, event_tol):
-    """Model, parameter vector, frequency, period, tableau and kernel options (the bound
-    on the model state only)."""
-    mdl, pvec = _model_and_vector(p, model)
-    if method not in ("dop853", "dp5"):
-        raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), got {method!r}")
-    rtol = _positive("rtol", rtol)
-    atol = _positive("atol", atol)
-    event_tol = _positive("event_tol", event_tol)
-    omega = float(pvec[mdl.omega_index])
-    T = 2.0 * math.pi / omega
-    max_step = T / 4.0 if max_step is None else _positive("max_step", max_step)
-    opts = _options(rtol, atol, T / 400.0, max_step, mdl.bound, event_tol, 1e6, True,
-                    method, n_bound=len(mdl.state_names))
-    return mdl, pvec, omega, T, _tableau(method), opts
+from ..simulate import _count, _positive, _state0, simulate
+from ._variational import (_KIND_FLOW, _KIND_FLOW_PHASE, TANGENT_TOL, LyapunovResult,
+                           _setup, _tangent_tolerance)
+from .floquet import floquet_lyapunov
 
 
 def _start(p, mdl, pvec, state0, transient, model, method, rtol, atol):
@@ -388,7 +279,7 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         decisive = (float(decisive[0]), float(decisive[1]))
     watch = None
     if floquet:
-        from .shooting import shoot_periodic_orbit  # lazy: shooting imports this module
+        from .shooting import shoot_periodic_orbit
         fmax = _count("floquet_max_period", floquet_max_period, 1)
         newton = dict(tol=max(1e-9, 10.0 * rtol), method=method, rtol=rtol, atol=atol,
                       max_step=max_step, event_tol=event_tol, model=model)
@@ -417,84 +308,6 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
                            history=res.history if qr_ok else np.zeros((0, len(fl))),
                            qr_exponents=res.exponents if qr_ok else np.full(len(fl), np.nan))
     return res
-
-
-def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, tol=1e-9,
-                     max_iter=20, method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-                     event_tol=1e-12, model=None):
-    """Lyapunov exponents of a periodic orbit: its Floquet exponents ``ln|mu| / (n T)``.
-
-    The period-``n`` orbit through (near) ``state0`` is found by Newton shooting
-    (:func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`: variational equations with
-    saltation matrices, so impacting orbits too).  The tangent map over ``k`` orbit
-    periods is ``M^k``, whose singular values grow like ``|mu_i|^k``: ``ln|mu_i| / (n T)``
-    are exactly the limits of :func:`lyapunov_spectrum`'s QR average (Parker & Chua 1989,
-    ch. 4; Leine & Nijmeijer 2004, ch. 7), a complex pair two equal exponents.
-
-    Parameters
-    ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
-    state0 : array_like, shape (d,)
-        A point of the orbit at the start of a forcing period, or a guess close to one.
-    n : int
-        Period in forcing periods (a multiple of the minimal one gives the same).
-    n_exponents, include_phase
-        As in :func:`lyapunov_spectrum`.
-    tol, max_iter
-        Newton's relative residual tolerance and iteration limit.
-    method, rtol, atol, max_step, event_tol, model
-        Integrator settings, as in :func:`lyapunov_spectrum`.
-
-    Returns
-    -------
-    LyapunovResult
-        ``exponents`` shape (m,) per unit ``tau``, descending, of the orbit whether stable
-        or not; ``stderr`` shape (m,) their numerical error, estimated as their change
-        when the monodromy is recomputed at 100x looser ``rtol`` and ``atol`` (an upper
-        estimate: the integration error dominates Newton's residual); ``floquet_n`` the
-        minimal period; ``method`` "floquet"; ``periods`` 0.
-        If Newton fails: NaN exponents, ``status`` FAILED (or DIVERGED), ``reason``.
-
-    Examples
-    --------
-    >>> import vibimpact as vi
-    >>> from vibimpact.analysis.lyapunov import floquet_lyapunov
-    >>> p = vi.DuffingParams(delta=0.2, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    >>> res = floquet_lyapunov(p, [0.0, 0.0])   # x'' + 0.2 x' + x = 0: -delta/2 twice
-    >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)
-    True
-    """
-    mdl, _, _, T, _, _ = _setup(p, model, method, rtol, atol, max_step, event_tol)
-    d = len(mdl.state_names)
-    m = d if n_exponents is None else _count("n_exponents", n_exponents, 1)
-    if m > d:
-        raise ValueError(f"n_exponents must be <= {d}, got {n_exponents}")
-    n = _count("n", n, 1)
-    from .shooting import floquet_exponents, floquet_multipliers, monodromy, \
-        shoot_periodic_orbit
-    kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
-              model=model)
-    orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, **kw)
-    if orb.converged and orb.minimal_period < n:  # the shorter the map, the more accurate
-        orb = shoot_periodic_orbit(p, orb.state, orb.minimal_period, tol=tol,
-                                   max_iter=max_iter, **kw)
-    kind = _KIND_FLOW_PHASE if include_phase else _KIND_FLOW
-    k = m + bool(include_phase)
-    if orb.status is not Status.OK or not orb.converged:
-        st = orb.status if orb.status is not Status.OK else Status.FAILED
-        return LyapunovResult(np.full(k, np.nan), np.full(k, np.nan), T, 0, False,
-                              "floquet", kind, st, orb.reason or "shooting failed",
-                              qr_exponents=np.full(k, np.nan))
-    lam = orb.exponents[:m]
-    loose = monodromy(p, orb.state, orb.n, **dict(kw, rtol=100 * rtol, atol=100 * atol))
-    err = np.full(m, np.inf)
-    if loose.status is Status.OK and np.all(np.isfinite(loose.matrix)):
-        err = np.abs(floquet_exponents(floquet_multipliers(loose), orb.period)[:m] - lam)
-    if include_phase:
-        idx = np.argsort(-np.append(lam, 0.0), kind="stable")
-        lam, err = np.append(lam, 0.0)[idx], np.append(err, 0.0)[idx]
-    return LyapunovResult(lam, err, T, 0, True, "floquet", kind, Status.OK, "",
-                          np.zeros((0, k)), int(orb.minimal_period), np.full(k, np.nan))
 
 
 def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,

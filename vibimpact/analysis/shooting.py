@@ -44,7 +44,7 @@ from .._kernel import integrator as _k
 from .._kernel.driver import integrate as _integrate
 from ..run import Status, status_of
 from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
-from .lyapunov import _setup, _tangent_tolerance
+from ._variational import _setup, _tangent_tolerance
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
