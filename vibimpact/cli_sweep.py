@@ -31,10 +31,19 @@ Ctrl-C (exit status 130) or a crash, run the same command again with --resume: t
 points are loaded, not recomputed, and the file is identical to an uninterrupted run.
 The checkpoint is removed once OUT is written.
 
+Labels need evidence: periodic a period found (or an orbit found by Newton shooting
+from a slowly settling transient and confirmed by integration), chaotic a positive
+exponent beyond its error, quasi-periodic a zero exponent, a regular 0-1 test and
+Poincare points that neither contract nor stop recurring; what no test decides within
+the transient budget is "unsettled" (its contraction rate and the periods it would
+still need are stored).  This keeps labels right at the very low damping of passive
+magnetic bearings, where transients decay over thousands of periods.
+
 The NetCDF file holds per eta (and direction): regime (flag), label, period,
-impacts_per_period, lyapunov, lyapunov_err, k01, X_m, Y_m, R_m, min_gap, arcs,
-poincare_X, poincare_Y, ...; every parameter and the command line as attributes.  The
-interval table (consecutive points with the same label) is printed on stdout.
+impacts_per_period, lyapunov, lyapunov_err, k01, floquet_exponent, contraction,
+settle_periods, shoot_residual, X_m, Y_m, R_m, min_gap, arcs, poincare_X, poincare_Y,
+...; every parameter and the command line as attributes.  The interval table
+(consecutive points with the same label) is printed on stdout.
 
 exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
 """
