@@ -163,3 +163,25 @@ def test_every_label_carries_its_evidence_at_low_damping():
     assert np.all(~(ds.contraction.values[qp] < -FLOOR))
     assert all(str(r) for r in ds.reason.values[reg == UNSETTLED])
     assert set(np.unique(reg)) <= {P1, QP, UNSETTLED, REGIME_CODES[Label.CHAOTIC]}
+
+
+def test_points_that_repeat_only_because_they_move_slowly_have_not_settled():
+    """Hypothesis: the 'has it settled?' test scales with the contraction.  Points
+    approaching their limit geometrically with steps below the period test's tolerance
+    (1e-6 of their scale) repeat to it, yet at |mu| = 0.999 the geometric tail of those
+    steps, step mu / (1 - mu), is 1000 times longer: not settled.  At |mu| = 0.5 the same
+    steps leave a tail within the tolerance: settled."""
+    from vibimpact.sweeps.settle import unsettled_repeat
+
+    k = np.arange(150)[:, None]
+    limit = np.array([[0.8, -0.1, 0.3, 0.9]])
+    direction = np.array([[1.0, 0.5, -0.3, 0.2]])
+    for mu, settled in ((0.999, False), (0.5, True)):
+        step = 5e-8 / (1.0 - mu)            # first step: 5e-8 of the unit scale
+        z = limit + step * mu ** k * direction
+        assert np.abs(np.diff(z, axis=0)).max() < 1e-6  # repeats to the tolerance
+        con = unsettled_repeat(z, 1, 1e-6)
+        assert (con is None) is settled
+        if con is not None:
+            assert abs(con.multiplier - mu) < 1e-6
+            assert con.distance > 1e-6 * con.scale

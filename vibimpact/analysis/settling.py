@@ -121,9 +121,8 @@ def _fit(sub, scale, n):
     """Linear map of the steps of ``sub`` (the last ``MAX_STEPS``) -> Contraction."""
     u = np.diff(sub, axis=0)[-MAX_STEPS:]
     u0, u1 = u[:-1], u[1:]
-    g = u0.T @ u0
-    try:
-        a = np.linalg.solve(g, u0.T @ u1)
+    try:  # minimum-norm least squares: steps spanning fewer modes than dimensions are fine
+        a = np.linalg.lstsq(u0, u1, rcond=1e-10)[0]
     except np.linalg.LinAlgError:
         return None
     r = u1 - u0 @ a

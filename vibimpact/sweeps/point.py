@@ -20,7 +20,8 @@ from ..analysis.period import detect_period, detect_period_windows
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
 from ..run import Status, join_runs
 from ..simulate import simulate, strobe_only
-from .settle import MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot
+from .settle import (MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot,
+                     unsettled_repeat)
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
@@ -325,7 +326,11 @@ def analyse_point(p, state0, settings, guess=None):
 
     Notes
     -----
-    The transient's budget follows the motion's own contraction: at every check where
+    The transient's budget and its "has it settled?" test follow the motion's own
+    contraction.  Points that repeat to the period test's tolerance have settled only
+    when the geometric tail of their steps (the distance still to go, from the measured
+    rate) is within that tolerance too; otherwise the orbit is refined by shooting (the
+    period test's ``n`` stands when shooting fails).  At every check where
     the points neither repeat nor allow an extrapolation jump, their contraction rate
     (:func:`vibimpact.analysis.settling.contraction_rate`) says how many periods they
     still need; when that exceeds what is left of ``transient_max``, the attractor is
@@ -422,6 +427,14 @@ def analyse_point(p, state0, settings, guess=None):
             chunk = st.chunk
             continue
         if n:
+            if shots < st.shoot and strobe.shape[0] > MIN_SHOOT_PERIODS:
+                con = unsettled_repeat(strobe, n, rule.period_tol)
+                if con is not None:  # repeating only because the points move slowly
+                    shots += 1
+                    evidence = shoot(p, strobe, con, st, need_dense)
+                    if evidence is not None:
+                        run, n, x_start = evidence.run, evidence.n, evidence.state
+                        rec = run.strobe.shape[0] - 1
             break
         if jumps < st.extrapolate:
             xs = _extrapolated(strobe)

@@ -99,6 +99,16 @@ def needs_shooting(con, tol, periods_left):
     return con is not None and settling_periods(con, tol) > periods_left
 
 
+def unsettled_repeat(strobe, n, tol):
+    """The contraction of points that repeat with period ``n`` to ``tol`` but are still
+    farther than ``tol`` (of their scale) from their limit, judged by the geometric tail
+    of their lag-``n`` steps; None when they have settled (or do not contract)."""
+    con = contraction_rates(strobe, n)[n - 1]
+    if con is None or not con.contracting or con.distance <= tol * con.scale:
+        return None
+    return con
+
+
 def _guess(strobe, n):
     """Extrapolated limit of the last 6 iterates of ``P^n`` (the last point if the
     extrapolation leaves their neighbourhood)."""
