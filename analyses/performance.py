@@ -12,6 +12,7 @@ replaces its own section of the report:
 ``work_precision.py``      error against run time vs SciPy; overhead against the RHS floor
 ``stress.py``              the numerical stress table
 ``benchmark_map.py``       parameter-map throughput on 1 and 2 workers; the 30k-point map
+``lyapunov_error_control.py``  the tangent vectors' error test of the exponents
 =========================  ==========================================================
 """
 import subprocess
@@ -21,7 +22,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 SCRIPTS = ("benchmark_kernel.py", "benchmark_sweep.py", "profile_sweep.py",
-           "work_precision.py", "stress.py", "benchmark_map.py")
+           "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py")
 
 
 def main(argv):
