@@ -35,6 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .period import _as_points, _positive_int
+
 #: the set's size shrinks significantly when its log-slope per period lies ``Z`` standard
 #: errors below ``-SPREAD_FLOOR``
 Z = 3.0
@@ -99,24 +101,6 @@ class Contraction:
         return self.step * rho / (1.0 - rho) if self.contracting and rho < 1.0 else math.inf
 
 
-def _points(points):
-    try:
-        z = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("points must be an array of numbers of shape (m, d)") from None
-    if z.ndim == 1:
-        z = z[:, None]
-    if z.ndim != 2 or not np.all(np.isfinite(z)):
-        raise ValueError(f"points must be a finite array of shape (m, d), got shape {z.shape}")
-    return z
-
-
-def _int(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def _fit(sub, scale, n):
     """Linear map of the steps of ``sub`` (the last ``MAX_STEPS``) -> Contraction."""
     u = np.diff(sub, axis=0)[-MAX_STEPS:]
@@ -136,8 +120,8 @@ def _fit(sub, scale, n):
     return Contraction(n, math.log(rho) / n, res, float(np.sqrt(u[-1] @ u[-1])), scale)
 
 
-def contraction_rates(points, max_n):
-    """Contraction of every ``n``-th point for ``n = 1 .. max_n``.
+def contraction_rates(points, lags):
+    """Contraction of every ``n``-th point for each ``n`` of ``lags``.
 
     The unchecked form of :func:`contraction_rate`, for screening the candidate periods of
     a transient at every check.
@@ -146,18 +130,19 @@ def contraction_rates(points, max_n):
     ----------
     points : ndarray, shape (m, d)
         Finite stroboscopic points (not validated: the sweep's own arrays).
-    max_n : int
+    lags : iterable of int
+        The candidate periods ``n >= 1``.
 
     Returns
     -------
     list of Contraction or None
-        Entry ``n - 1`` for ``n`` (None where there are fewer than :data:`MIN_STEPS`
-        steps, or the steps do not determine a map: repeating or degenerate points).
+        One entry per lag (None where there are fewer than :data:`MIN_STEPS` steps, or
+        the steps do not determine a map: repeating or degenerate points).
     """
     z = np.asarray(points, dtype=np.float64)
     scale = max(float(np.abs(z).max()), 1e-300)
     out = []
-    for n in range(1, max_n + 1):
+    for n in lags:
         sub = z[::-1][::n][::-1]
         out.append(_fit(sub, scale, n) if sub.shape[0] > MIN_STEPS + 1 else None)
     return out
@@ -202,9 +187,9 @@ def contraction_rate(points, n=1):
     >>> round(c.multiplier, 6), c.contracting
     (0.9, True)
     """
-    z = _points(points)
-    n = _int("n", n, 1)
-    return contraction_rates(z, n)[n - 1]
+    z = _as_points(points)
+    n = _positive_int("n", n)
+    return contraction_rates(z, (n,))[0]
 
 
 def settling_periods(contraction, tol):
@@ -296,7 +281,7 @@ def torus_evidence(points):
     ValueError
         Naming ``points``.
     """
-    z = _points(points)
+    z = _as_points(points)
     m = z.shape[0]
     if m < 16:
         raise ValueError(f"points must hold at least 16 points, got {m}")

@@ -145,6 +145,8 @@ SCALARS = {
 LONG_SEARCH = 4
 #: a record whose points neither contract nor recur is looked at this many times as long
 TORUS_EXTEND = 4
+#: the transient's contraction is checked every this many chunks
+CHECK_EVERY = 3
 
 #: Floquet multipliers stored per point (one per state variable)
 N_MULTIPLIERS = 4
@@ -357,6 +359,12 @@ def analyse_point(p, state0, settings, guess=None):
         res["reason"] = f"{where}: {status.value}, {reason}"
         return res
 
+    def try_shoot(strobe, con):
+        """Shoot from a contracting ``strobe`` (one attempt of ``st.shoot``)."""
+        nonlocal shots
+        shots += 1
+        return shoot(p, strobe, con, st, need_dense)
+
     # --- transient, ended early on a converged periodic orbit -----------------------
     tail = [x[None, :]]
     done = 0
@@ -367,6 +375,7 @@ def analyse_point(p, state0, settings, guess=None):
     x_jump = None  # the integrated state a jump left (None: no jump since the last reset)
     run = None  # the record, when the guess's run is one
     evidence = None  # a shooting result confirmed by integration
+    looked = -st.transient_max  # `done` at the last contraction check of the transient
     need_dense = "response" in want
     guessed = guess is not None
     ready = False  # the trial's points wait for the transient's first check
@@ -430,11 +439,7 @@ def analyse_point(p, state0, settings, guess=None):
             if shots < st.shoot and strobe.shape[0] > MIN_SHOOT_PERIODS:
                 con = unsettled_repeat(strobe, n, rule.period_tol)
                 if con is not None:  # repeating only because the points move slowly
-                    shots += 1
-                    evidence = shoot(p, strobe, con, st, need_dense)
-                    if evidence is not None:
-                        run, n, x_start = evidence.run, evidence.n, evidence.state
-                        rec = run.strobe.shape[0] - 1
+                    evidence = try_shoot(strobe, con)
             break
         if jumps < st.extrapolate:
             xs = _extrapolated(strobe)
@@ -449,14 +454,16 @@ def analyse_point(p, state0, settings, guess=None):
                 continue
         chunk = st.chunk
         if shots < st.shoot and strobe.shape[0] > MIN_SHOOT_PERIODS and \
-                done % (3 * st.chunk) == 0:
+                done - looked >= CHECK_EVERY * st.chunk:
+            looked = done
             con = find_contraction(strobe)
             if needs_shooting(con, rule.period_tol, st.transient_max - done):
-                shots += 1
-                evidence = shoot(p, strobe, con, st, need_dense)
+                evidence = try_shoot(strobe, con)
                 if evidence is not None:
-                    run, n, x_start = evidence.run, evidence.n, evidence.state
-                    rec = run.strobe.shape[0] - 1
+                    break
+    if evidence is not None:  # the orbit's confirming run is the record
+        run, n, x_start = evidence.run, evidence.n, evidence.state
+        rec = run.strobe.shape[0] - 1
     if run is None and not n and logged and \
             sum(c.strobe.shape[0] - 1 for c in logged) >= st.record:
         run = join_runs(logged, 2.0 * math.pi / p.eta)
@@ -476,8 +483,7 @@ def analyse_point(p, state0, settings, guess=None):
     if not n:  # a record that still moves: does it contract onto an orbit?
         con = find_contraction(run.strobe)
         if con is not None and shots < st.shoot:
-            shots += 1
-            evidence = shoot(p, run.strobe, con, st, need_dense)
+            evidence = try_shoot(run.strobe, con)
             if evidence is not None:
                 done += rec
                 run, n, x_start = evidence.run, evidence.n, evidence.state
@@ -523,7 +529,7 @@ def analyse_point(p, state0, settings, guess=None):
             res["reason"] = f"lyapunov: {ly.status.value}, {ly.reason}"
             return res
         lam, err = float(ly.exponents[0]), float(ly.stderr[0])
-    torus = None
+    torus = tor = None
     # a torus? (only where it can decide: an exponent in the zero band, or K regular)
     zero_band = math.isfinite(lam) and abs(lam * T) - rule.z * err * T <= rule.zero
     regular_k = not math.isfinite(lam) and math.isfinite(k) and k < rule.k_chaos
@@ -540,16 +546,17 @@ def analyse_point(p, state0, settings, guess=None):
             tor = torus_evidence(np.concatenate([pts, more[1:]]))
         torus = tor.torus and con is None
     if not n and con is None and pts.shape[0] > 8:
-        c1 = contraction_rate(pts, 1)
+        c1 = tor.contraction if tor is not None else contraction_rate(pts, 1)
         res["contraction"] = np.nan if c1 is None else c1.rate
     label, n_out, conf, reason = decide(n, lam * T, err * T, k, rule, torus=torus)
     if label is Label.UNSETTLED and math.isfinite(lam) and \
             lam * T + rule.z * err * T < -rule.zero:
         # an attracting motion without a period <= max_period: search a longer record
-        long_n, long_run = _long_recurrence(p, x, rule, st, need_dense)
-        if long_run.status is not Status.OK:
-            return diverged(long_run.status, long_run.reason, "recurrence search")
-        if long_n:
+        long_n, long_run, status, why = _long_recurrence(p, x, rule, st, need_dense)
+        if status is not Status.OK:
+            return diverged(status, why, "recurrence search")
+        if long_n:  # the search's periods were transient; the record follows them
+            res["transient"] += 3 * LONG_SEARCH * rule.max_period + 1
             res["recorded"] = rec = long_run.strobe.shape[0] - 1
             res["final_state"] = long_run.final_state.copy()
             _describe(res, long_run, long_n, rec, r_start, want, st)
@@ -568,11 +575,17 @@ def analyse_point(p, state0, settings, guess=None):
 
 
 def _long_recurrence(p, x, rule, st, need_dense):
-    """Period of the motion from ``x`` up to ``LONG_SEARCH * max_period`` (0 if none),
-    and the run searched."""
+    """``(n, run, status, reason)``: the period of the motion from ``x`` up to
+    ``LONG_SEARCH * max_period`` (0 if none), searched on stroboscopic points only, and
+    when one is found the record integrated on from the search's end (4 motion periods,
+    with events and dense samples as the request needs; None otherwise)."""
     m = LONG_SEARCH * rule.max_period
-    run = simulate(p, periods=3 * m + 1, state0=x, dense=st.dense if need_dense else 0,
+    status, why, pts = strobe_only(p, 3 * m + 1, x, st.method, st.rtol, st.atol)
+    if status is not Status.OK:
+        return 0, None, status, why
+    n = detect_period(pts, tol=rule.period_tol, max_period=m)
+    if not n:
+        return 0, None, status, why
+    run = simulate(p, periods=4 * n, state0=pts[-1], dense=st.dense if need_dense else 0,
                    method=st.method, rtol=st.rtol, atol=st.atol)
-    if run.status is not Status.OK:
-        return 0, run
-    return detect_period(run.strobe, tol=rule.period_tol, max_period=m), run
+    return n, run, run.status, run.reason

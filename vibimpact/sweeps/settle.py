@@ -88,7 +88,7 @@ def find_contraction(strobe, max_n=SHOOT_MAX_N):
     strobe : ndarray, shape (m, 4)
         Stroboscopic points of one trajectory, oldest first.
     """
-    for c in contraction_rates(strobe, max_n):
+    for c in contraction_rates(strobe, range(1, max_n + 1)):
         if c is not None and c.contracting:
             return c
     return None
@@ -103,7 +103,7 @@ def unsettled_repeat(strobe, n, tol):
     """The contraction of points that repeat with period ``n`` to ``tol`` but are still
     farther than ``tol`` (of their scale) from their limit, judged by the geometric tail
     of their lag-``n`` steps; None when they have settled (or do not contract)."""
-    con = contraction_rates(strobe, n)[n - 1]
+    con = contraction_rates(strobe, (n,))[0]
     if con is None or not con.contracting or con.distance <= tol * con.scale:
         return None
     return con
