@@ -5,7 +5,8 @@ import pytest
 
 import vibimpact as vi
 from vibimpact._kernel import dispatch, events, integrator, rotor
-from vibimpact.simulate import _model_and_vector, _tableau
+from vibimpact._kernel.boundary import Method
+from vibimpact.models import resolve
 
 
 def _calls(f, *args, **change):
@@ -22,8 +23,8 @@ def _calls(f, *args, **change):
 
 def _stage_args(model, n):
     p = vi.presets.get("fig8").replace(eta=1.22)
-    _, pvec = _model_and_vector(p, None)
-    method, A, B, C, E, E3, D, P, order, n_stages = _tableau("dop853")
+    _, pvec = resolve(p)
+    method, A, B, C, E, E3, D, P, order, n_stages = Method.named("dop853").kernel_args()
     y = np.zeros(n)
     y[:4] = (1.01, 0.1, 0.2, 0.3)
     y[4:] = 1.0

@@ -11,8 +11,6 @@ The public names are imported on first use (PEP 562), so that ``import vibimpact
 ``vibimpact --help`` do not load numba.
 """
 import importlib
-import sys
-import types
 
 __version__ = "0.1.0"
 
@@ -21,8 +19,8 @@ _EXPORTS = {
     "Params": ("params", "Params"),
     "DuffingParams": ("params", "DuffingParams"),
     "presets": ("presets", None),
-    "simulate": ("simulate", "simulate"),
-    "METHODS": ("simulate", "METHODS"),
+    "simulate": ("simulation", "simulate"),
+    "METHODS": ("simulation", "METHODS"),
     "Run": ("run", "Run"),
     "Status": ("run", "Status"),
     "Model": ("models", "Model"),
@@ -49,32 +47,13 @@ def _load(name):
     return mod if attr is None else getattr(mod, attr)
 
 
-class _Package(types.ModuleType):
-    """The package module: lazy exports, and ``vibimpact.simulate`` is always the function.
-
-    Importing the submodule ``vibimpact.simulate`` makes the import system set the package
-    attribute ``simulate`` to the submodule; the property below keeps the function.
-    """
-
-    @property
-    def simulate(self):
-        """:func:`vibimpact.simulate.simulate`."""
-        return _load("simulate")
-
-    @simulate.setter
-    def simulate(self, value):
-        if not isinstance(value, types.ModuleType):
-            raise AttributeError("vibimpact.simulate cannot be replaced")
-
-    def __getattr__(self, name):
-        if name in _EXPORTS:
-            value = _load(name)
-            self.__dict__[name] = value
-            return value
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(_EXPORTS))
+def __getattr__(name):
+    if name in _EXPORTS:
+        value = _load(name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-sys.modules[__name__].__class__ = _Package
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -96,7 +96,7 @@ def _cmd_simulate(args):
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
 
     from . import io
-    from .simulate import simulate
+    from .simulation import simulate
 
     start = time.perf_counter()
     try:

@@ -14,6 +14,8 @@ import numpy as np
 from ._kernel import duffing as _duffing
 from ._kernel import dispatch as _dispatch
 from ._kernel import rotor as _rotor
+from ._kernel.boundary import Problem
+from .params import DuffingParams, Params
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,13 @@ class Model:
     transition: Callable
     init_mode: Callable
     bound: float = 1e3
+
+    def problem(self, p, variational=False):
+        """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
+        ``p`` (of the variational equations with ``variational``)."""
+        kmodel = self.variational_kernel_model if variational else self.kernel_model
+        return Problem(kmodel, self.terminal, self.n_mode, p, float(p[self.omega_index]),
+                       self.init_mode)
 
     @property
     def variational_kernel_model(self):
@@ -105,3 +114,38 @@ DUFFING = Model(name="duffing", state_names=("x", "dx"), param_names=_duffing.PA
                 kernel_model=_dispatch.DUFFING, rhs=_duffing.rhs, jac=_duffing.jac,
                 switches=_duffing.switches, transition=_duffing.transition,
                 init_mode=_duffing.init_mode, bound=1e6)
+
+
+def resolve(p, model=None):
+    """The model and the parameter vector of ``p``.
+
+    Parameters
+    ----------
+    p : Params, DuffingParams or array_like
+        Parameters; a plain vector needs ``model``.
+    model : Model, optional
+        A user model; ``p`` is then its parameter vector.
+
+    Returns
+    -------
+    (Model, ndarray of float64)
+
+    Raises
+    ------
+    ValueError
+        Naming ``model`` or ``p``.
+    """
+    if model is not None:
+        if not isinstance(model, Model):
+            raise ValueError("model must be a vibimpact.models.Model")
+        vec = np.ascontiguousarray(p.as_array() if hasattr(p, "as_array") else p,
+                                   dtype=np.float64)
+        if vec.ndim != 1 or vec.size != len(model.param_names):
+            raise ValueError(f"p must have {len(model.param_names)} parameters "
+                             f"{model.param_names}")
+        return model, vec
+    if isinstance(p, Params):
+        return ROTOR, p.as_array()
+    if isinstance(p, DuffingParams):
+        return DUFFING, p.as_array()
+    raise ValueError(f"p must be vibimpact.Params or DuffingParams, got {type(p).__name__}")

@@ -13,9 +13,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._kernel import integrator as _k
+from .._kernel import boundary as _kb
 from ..run import Status
-from ..simulate import _model_and_vector, _options, _positive, _tableau
+from .. import _validate as _v
+from ..models import resolve
 
 
 @dataclass(frozen=True)
@@ -92,15 +93,15 @@ class LyapunovResult:
 #: the tangent vectors' local errors are tested at this many times the tolerances
 TANGENT_TOL = 1e3
 
-_KIND_FLOW = ("flow of the non-autonomous state equations, per unit tau, without the "
+KIND_FLOW = ("flow of the non-autonomous state equations, per unit tau, without the "
               "forcing phase's zero exponent")
-_KIND_FLOW_PHASE = ("flow of the autonomous extension (state, forcing phase), per unit tau, "
+KIND_FLOW_PHASE = ("flow of the autonomous extension (state, forcing phase), per unit tau, "
                     "with the phase's zero exponent")
 
 
-def _tangent_tolerance(opts, n, tangent_tol):
-    """Set the error test of the tangent entries (beyond the ``n`` state entries) in the
-    kernel options to ``tangent_tol`` times the tolerances (``inf``: no test)."""
+def tangent_tolerance(options, n, tangent_tol):
+    """``options`` with the error test of the tangent entries (beyond the ``n`` state
+    entries) at ``tangent_tol`` times the tolerances (``inf``: no test)."""
     try:
         f = float(tangent_tol)
     except (TypeError, ValueError):
@@ -108,22 +109,22 @@ def _tangent_tolerance(opts, n, tangent_tol):
             from None
     if not f >= 1.0:
         raise ValueError(f"tangent_tol must be a number >= 1 or inf, got {tangent_tol!r}")
-    opts[_k.O_NERR] = float(n)
-    opts[_k.O_TFAC] = 0.0 if math.isinf(f) else f
+    return options.with_(n_err=n, tangent_factor=0.0 if math.isinf(f) else f)
 
 
-def _setup(p, model, method, rtol, atol, max_step, event_tol):
-    """Model, parameter vector, frequency, period, tableau and kernel options (the bound
-    on the model state only)."""
-    mdl, pvec = _model_and_vector(p, model)
+def setup(p, model, method, rtol, atol, max_step, event_tol):
+    """Model, parameter vector, frequency, period, method and kernel options (the bound
+    on the model state only) of a variational run."""
+    mdl, pvec = resolve(p, model)
     if method not in ("dop853", "dp5"):
         raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), got {method!r}")
-    rtol = _positive("rtol", rtol)
-    atol = _positive("atol", atol)
-    event_tol = _positive("event_tol", event_tol)
+    rtol = _v.positive("rtol", rtol)
+    atol = _v.positive("atol", atol)
+    event_tol = _v.positive("event_tol", event_tol)
     omega = float(pvec[mdl.omega_index])
     T = 2.0 * math.pi / omega
-    max_step = T / 4.0 if max_step is None else _positive("max_step", max_step)
-    opts = _options(rtol, atol, T / 400.0, max_step, mdl.bound, event_tol, 1e6, True,
-                    method, n_bound=len(mdl.state_names))
-    return mdl, pvec, omega, T, _tableau(method), opts
+    max_step = T / 4.0 if max_step is None else _v.positive("max_step", max_step)
+    options = _kb.Options(rtol=rtol, atol=atol, h_fixed=T / 400.0, max_step=max_step,
+                          bound=mdl.bound, event_tol=event_tol, max_steps_per_period=10**6,
+                          adaptive=True, n_bound=len(mdl.state_names))
+    return mdl, pvec, omega, T, _kb.Method.named(method), options

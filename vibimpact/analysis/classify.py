@@ -293,7 +293,7 @@ def classify_params(p, state0=None, *, transient=500, periods=200, lyapunov="aut
     (Regime, Run)
         The regime and the recorded run (for impacts and Poincaré points).
     """
-    from ..simulate import simulate
+    from ..simulation import simulate
     from ..run import Status
     from .lyapunov import lyapunov_spectrum
 

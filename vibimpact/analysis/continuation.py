@@ -39,7 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..run import Status
-from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
+from .. import _validate as _v
+from ..models import resolve
+from ..simulation import simulate
 from .shooting import (PeriodicOrbit, critical_multiplier, floquet_multipliers, monodromy,
                        param_value, shoot_periodic_orbit, with_param)
 
@@ -64,8 +66,8 @@ def orbit_signature(p, state, n, *, model=None):
     signature until a grazing (a contact appears or disappears, or a permanent contact
     lifts off) or a stick-slip change.
     """
-    mdl, pvec = _model_and_vector(p, model)
-    x = _state0(state, len(mdl.state_names))
+    mdl, pvec = resolve(p, model)
+    x = _v.state("state0", state, len(mdl.state_names))
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, x.copy(), pvec, mode)
     run = simulate(p, periods=n, state0=x, model=model, **_SOLVER)
@@ -89,7 +91,7 @@ def grazing_gap(p, state, n, *, model=None):
     closest approaches in free flight and the deepest points of contacts.  NaN for a model
     other than the rotor (no retainer) or an orbit without extrema.
     """
-    mdl, _ = _model_and_vector(p, model)
+    mdl, _ = resolve(p, model)
     if mdl.name != "rotor":
         return math.nan
     run = simulate(p, periods=n, state0=state, model=model, **_SOLVER)
@@ -302,10 +304,10 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
     stop = float(_finite("stop", stop))
     if start == stop:
         raise ValueError("stop must differ from start")
-    tol = _positive("tol", tol)
-    n = _count("n", n, 1)
+    tol = _v.positive("tol", tol)
+    n = _v.count("n", n, 1)
     param_value(p, param)  # validates param
-    step = abs(stop - start) if step is None else _positive("step", step)
+    step = abs(stop - start) if step is None else _v.positive("step", step)
     shoot_kw = dict(shoot_kw or {})
     q0 = with_param(p, param, start)
     orb = shoot_periodic_orbit(q0, state0, n, model=model, **shoot_kw)
@@ -465,9 +467,9 @@ def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
     ValueError
         Naming the argument; ``state0`` when the shooting at the start fails.
     """
-    mdl, _ = _model_and_vector(p, model)
+    mdl, _ = resolve(p, model)
     d = len(mdl.state_names)
-    n = _count("n", n, 1)
+    n = _v.count("n", n, 1)
     lam0 = param_value(p, param)
     if np.ndim(stop) == 0:
         s = _finite("stop", stop)
@@ -476,13 +478,13 @@ def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
         if len(stop) != 2:
             raise ValueError(f"stop must be a float or (lo, hi), got {stop!r}")
         window = tuple(sorted((_finite("stop", stop[0]), _finite("stop", stop[1]))))
-    ds = _positive("ds", ds)
-    ds_min = _positive("ds_min", ds_min)
-    ds_max = _positive("ds_max", ds_max)
-    max_points = _count("max_points", max_points, 2)
+    ds = _v.positive("ds", ds)
+    ds_min = _v.positive("ds_min", ds_min)
+    ds_max = _v.positive("ds_max", ds_max)
+    max_points = _v.count("max_points", max_points, 2)
     if direction not in (1, -1):
         raise ValueError(f"direction must be 1 or -1, got {direction!r}")
-    fd_step = _positive("fd_step", fd_step)
+    fd_step = _v.positive("fd_step", fd_step)
     kw = {**_SOLVER, **solver}
     orb = shoot_periodic_orbit(p, state0, n, tol=newton_tol, model=model, **kw)
     if not orb.converged:

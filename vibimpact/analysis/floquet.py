@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..run import Status
-from ..simulate import _count
-from ._variational import _KIND_FLOW, _KIND_FLOW_PHASE, LyapunovResult, _setup
+from .. import _validate as _v
+from ._variational import KIND_FLOW, KIND_FLOW_PHASE, LyapunovResult, setup
 from .shooting import floquet_exponents, floquet_multipliers, monodromy, shoot_periodic_orbit
 
 __all__ = ["floquet_lyapunov"]
@@ -61,19 +61,19 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
     >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)
     True
     """
-    mdl, _, _, T, _, _ = _setup(p, model, method, rtol, atol, max_step, event_tol)
+    mdl, _, _, T, _, _ = setup(p, model, method, rtol, atol, max_step, event_tol)
     d = len(mdl.state_names)
-    m = d if n_exponents is None else _count("n_exponents", n_exponents, 1)
+    m = d if n_exponents is None else _v.count("n_exponents", n_exponents, 1)
     if m > d:
         raise ValueError(f"n_exponents must be <= {d}, got {n_exponents}")
-    n = _count("n", n, 1)
+    n = _v.count("n", n, 1)
     kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
               model=model)
     orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, **kw)
     if orb.converged and orb.minimal_period < n:  # the shorter the map, the more accurate
         orb = shoot_periodic_orbit(p, orb.state, orb.minimal_period, tol=tol,
                                    max_iter=max_iter, **kw)
-    kind = _KIND_FLOW_PHASE if include_phase else _KIND_FLOW
+    kind = KIND_FLOW_PHASE if include_phase else KIND_FLOW
     k = m + bool(include_phase)
     if orb.status is not Status.OK or not orb.converged:
         st = orb.status if orb.status is not Status.OK else Status.FAILED

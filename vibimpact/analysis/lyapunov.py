@@ -41,20 +41,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from .._kernel import integrator as _k
-from .._kernel.lyapunov import benettin as _benettin
-from .._kernel.lyapunov import qr_growth as _qr_growth
-from .._kernel.lyapunov import two_trajectory as _two_trajectory
+from .._kernel import boundary as _kb
 from ..run import Status, status_of
-from ..simulate import _count, _positive, _state0, simulate
-from ._variational import (_KIND_FLOW, _KIND_FLOW_PHASE, TANGENT_TOL, LyapunovResult,
-                           _setup, _tangent_tolerance)
+from .. import _validate as _v
+from ..simulation import simulate
+from ._variational import (KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, LyapunovResult,
+                           setup, tangent_tolerance)
 from .floquet import floquet_lyapunov
 
 
 def _start(p, mdl, pvec, state0, transient, model, method, rtol, atol):
     """State at the start of a forcing period after ``transient`` periods."""
-    y = _state0(state0, len(mdl.state_names))
+    y = _v.state("state0", state0, len(mdl.state_names))
     if transient == 0:
         return y, Status.OK, ""
     run = simulate(p, periods=1, transient=transient - 1, state0=y, method=method,
@@ -63,13 +61,13 @@ def _start(p, mdl, pvec, state0, transient, model, method, rtol, atol):
 
 
 def _control(block, min_periods, max_periods, target_stderr):
-    block = _count("block", block, 2)
-    min_periods = _count("min_periods", min_periods, 1)
-    max_periods = _count("max_periods", max_periods, 1)
+    block = _v.count("block", block, 2)
+    min_periods = _v.count("min_periods", min_periods, 1)
+    max_periods = _v.count("max_periods", max_periods, 1)
     if max_periods < min_periods:
         raise ValueError(f"max_periods must be >= min_periods ({min_periods}), "
                          f"got {max_periods}")
-    target = _positive("target_stderr", target_stderr)
+    target = _v.positive("target_stderr", target_stderr)
     return block, min_periods, max_periods, target
 
 
@@ -95,12 +93,12 @@ def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decis
     of periods integrated, returns True)."""
     logs = np.empty((max_periods + skip, m))
     done = 0
-    status = _k.OK
+    status = _kb.OK
     while done < max_periods + skip:
         todo = skip if done == 0 and skip else min(block, max_periods + skip - done)
         status, got = step(todo, logs[done:done + todo])
         done += got
-        if status != _k.OK:
+        if status != _kb.OK:
             break
         if watch is not None and watch(done):
             break
@@ -240,19 +238,19 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     >>> res.exponents.shape
     (4,)
     """
-    mdl, pvec, omega, T, tab, opts = _setup(p, model, method, rtol, atol, max_step,
-                                            event_tol)
+    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
+                                               event_tol)
     n = len(mdl.state_names)
-    _tangent_tolerance(opts, n, tangent_tol)
-    m = n if n_exponents is None else _count("n_exponents", n_exponents, 1)
+    options = tangent_tolerance(options, n, tangent_tol)
+    m = n if n_exponents is None else _v.count("n_exponents", n_exponents, 1)
     if m > n:
         raise ValueError(f"n_exponents must be <= {n}, got {n_exponents}")
-    transient = _count("transient", transient, 0)
-    align = _count("align", align, 0)
+    transient = _v.count("transient", transient, 0)
+    align = _v.count("align", align, 0)
     block, min_periods, max_periods, target = _control(block, min_periods, max_periods,
                                                        target_stderr)
     x0, st, reason = _start(p, mdl, pvec, state0, transient, model, method, rtol, atol)
-    kind = _KIND_FLOW_PHASE if include_phase else _KIND_FLOW
+    kind = KIND_FLOW_PHASE if include_phase else KIND_FLOW
     if st is not Status.OK:
         return LyapunovResult(np.full(m, np.nan), np.full(m, np.nan), T, 0, False,
                               "variational", kind, st, "transient: " + reason)
@@ -260,18 +258,16 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     y[:n] = x0
     for c in range(m):
         y[n + c * n + c] = 1.0
-    mode = np.zeros(mdl.n_mode, dtype=np.int64)
-    mdl.init_mode(0.0, x0, pvec, mode)
-    ks = np.array([0.0, 0.0, T / 50.0])
-    counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
-    vmodel = mdl.variational_kernel_model
+    problem = mdl.problem(pvec, variational=True)
+    mode = problem.initial_mode(x0)
+    ks = _kb.new_clock(problem, options, h0=T / 50.0, steps=False)
+    counters = _kb.counters()
     states = np.full((max_periods + align, n), np.nan)
     pos = [0]
 
     def step(count, out):
-        st_, got = _benettin(vmodel, mdl.terminal, *tab, pvec, omega, y, mode, ks, opts, n,
-                             mdl.bound, count, out, states[pos[0]:pos[0] + count],
-                             counters)
+        st_, got = _kb.benettin(problem, meth, options, y, mode, ks, n, mdl.bound, count,
+                                out, states[pos[0]:pos[0] + count], counters)
         pos[0] += got
         return st_, got
 
@@ -280,11 +276,11 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     watch = None
     if floquet:
         from .shooting import shoot_periodic_orbit
-        fmax = _count("floquet_max_period", floquet_max_period, 1)
+        fmax = _v.count("floquet_max_period", floquet_max_period, 1)
         newton = dict(tol=max(1e-9, 10.0 * rtol), method=method, rtol=rtol, atol=atol,
                       max_step=max_step, event_tol=event_tol, model=model)
         watch = _period_watch(states, lambda x, k: shoot_periodic_orbit(p, x, k, **newton),
-                              _positive("floquet_tol", floquet_tol), fmax,
+                              _v.positive("floquet_tol", floquet_tol), fmax,
                               max(block, 3 * fmax + 1))
     logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align,
                                decisive, watch)
@@ -297,7 +293,7 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         res = LyapunovResult(lam[idx], err[idx], T, res.periods, res.converged,
                              res.method, kind, res.status, res.reason, hist[:, idx], 0,
                              lam[idx])
-    if watch is not None and watch.orbit is not None and status == _k.OK:
+    if watch is not None and watch.orbit is not None and status == _kb.OK:
         orb = watch.orbit
         fl = floquet_lyapunov(p, orb.state, orb.n, n_exponents=m, include_phase=include_phase,
                               **newton)
@@ -330,39 +326,36 @@ def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
     d0 : float
         Separation after each renormalisation.
     """
-    mdl, pvec, omega, T, tab, opts = _setup(p, model, method, rtol, atol, max_step,
-                                            event_tol)
-    d0 = _positive("d0", d0)
+    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
+                                               event_tol)
+    d0 = _v.positive("d0", d0)
     n = len(mdl.state_names)
-    transient = _count("transient", transient, 0)
-    align = _count("align", align, 0)
+    transient = _v.count("transient", transient, 0)
+    align = _v.count("align", align, 0)
     block, min_periods, max_periods, target = _control(block, min_periods, max_periods,
                                                        target_stderr)
     x0, st, reason = _start(p, mdl, pvec, state0, transient, model, method, rtol, atol)
     if st is not Status.OK:
         return LyapunovResult(np.full(1, np.nan), np.full(1, np.nan), T, 0, False,
-                              "two-trajectory", _KIND_FLOW, st, "transient: " + reason)
+                              "two-trajectory", KIND_FLOW, st, "transient: " + reason)
     y = x0.copy()
     y2 = x0.copy()
     y2 += d0 / math.sqrt(n)
-    mode = np.zeros(mdl.n_mode, dtype=np.int64)
-    mdl.init_mode(0.0, y, pvec, mode)
-    mode2 = np.zeros(mdl.n_mode, dtype=np.int64)
-    mdl.init_mode(0.0, y2, pvec, mode2)
-    ks = np.array([0.0, 0.0, T / 50.0])
+    problem = mdl.problem(pvec)
+    mode = problem.initial_mode(y)
+    mode2 = problem.initial_mode(y2)
+    ks = _kb.new_clock(problem, options, h0=T / 50.0, steps=False)
     ks2 = ks.copy()
     scale = np.ones(n)
-    opts2 = opts.copy()
-    opts2[_k.O_NBOUND] = 0.0
-    counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
+    options = options.with_(n_bound=0)
+    counters = _kb.counters()
 
     def step(count, out):
-        return _two_trajectory(mdl.kernel_model, mdl.terminal, *tab, pvec, omega, y, mode,
-                               ks, y2, mode2, ks2, opts2, d0, scale, mdl.bound, count, out,
-                               counters)
+        return _kb.two_trajectory(problem, meth, options, y, mode, ks, y2, mode2, ks2, d0,
+                                  scale, mdl.bound, count, out, counters)
 
     logs, status = _run_blocks(step, 1, T, block, min_periods, max_periods, target, align)
-    return _result(logs, status, T, block, target, "two-trajectory", _KIND_FLOW)
+    return _result(logs, status, T, block, target, "two-trajectory", KIND_FLOW)
 
 
 def lyapunov_from_jacobians(jacobians, dt=1.0, *, block=None, discard=0):
@@ -395,15 +388,15 @@ def lyapunov_from_jacobians(jacobians, dt=1.0, *, block=None, discard=0):
         raise ValueError(f"jacobians must have shape (N >= 2, d, d), got {J.shape}")
     if not np.all(np.isfinite(J)):
         raise ValueError("jacobians must be finite")
-    dt = _positive("dt", dt)
-    discard = _count("discard", discard, 0)
+    dt = _v.positive("dt", dt)
+    discard = _v.count("discard", discard, 0)
     N, d, _ = J.shape
     if discard >= N - 1:
         raise ValueError(f"discard must be < {N - 1}, got {discard}")
-    block = max(2, (N - discard) // 20) if block is None else _count("block", block, 2)
+    block = max(2, (N - discard) // 20) if block is None else _v.count("block", block, 2)
     logs = np.empty((N, d))
-    _qr_growth(np.ascontiguousarray(J), logs)
-    return _result(logs[discard:], _k.OK, dt, block, np.inf, "map",
+    _kb.qr_growth(np.ascontiguousarray(J), logs)
+    return _result(logs[discard:], _kb.OK, dt, block, np.inf, "map",
                    "map, per unit dt (dt = 1: per iteration)")
 
 
@@ -436,7 +429,7 @@ def lyapunov_from_series(series, period=1.0, **kwargs):
     x = np.asarray(series, dtype=np.float64).reshape(-1)
     if x.size < 50 or not np.all(np.isfinite(x)):
         raise ValueError("series must be at least 50 finite numbers")
-    period = _positive("period", period)
+    period = _v.positive("period", period)
     import nolds  # lazy: fragile import, needed only for this cross-check
     # one sample per forcing period is already a "lag": nolds' autocorrelation rule picks
     # a lag of hundreds of samples on Poincaré data, which destroys the estimate
@@ -460,8 +453,8 @@ def strobe_map_jacobian(p, state0, *, n=1, eps=1e-6, method="dop853", rtol=1e-12
     ndarray, shape (d, d)
     """
     x0 = np.asarray(state0, dtype=np.float64).reshape(-1)
-    n = _count("n", n, 1)
-    eps = _positive("eps", eps)
+    n = _v.count("n", n, 1)
+    eps = _v.positive("eps", eps)
     d = x0.size
     M = np.empty((d, d))
     for j in range(d):

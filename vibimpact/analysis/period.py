@@ -191,7 +191,7 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
         ws.append(w)
     if not ws:
         return 0
-    from .._kernel.recurrence import suffix_lag_residuals
+    from .._kernel.boundary import suffix_lag_residuals
 
     W = max(ws)
     xs = np.ascontiguousarray(x[-W:])

@@ -40,11 +40,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._kernel import integrator as _k
-from .._kernel.driver import integrate as _integrate
+from .._kernel import boundary as _kb
 from ..run import Status, status_of
-from ..simulate import _count, _model_and_vector, _positive, _state0, simulate
-from ._variational import _setup, _tangent_tolerance
+from .. import _validate as _v
+from ..models import resolve
+from ..simulation import simulate
+from ._variational import setup, tangent_tolerance
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
@@ -199,7 +200,7 @@ def floquet_exponents(multipliers, period):
         The orbit's period in units of time (``n T``).
     """
     mu = np.asarray(multipliers, dtype=complex).reshape(-1)
-    period = _positive("period", period)
+    period = _v.positive("period", period)
     with np.errstate(divide="ignore"):
         lam = np.log(np.abs(mu)) / period
     return np.sort(lam)[::-1]
@@ -308,33 +309,24 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     >>> m.matrix.shape
     (2, 2)
     """
-    mdl, pvec, omega, T, tab, opts = _setup(p, model, method, rtol, atol, max_step,
-                                            event_tol)
+    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
+                                               event_tol)
     d = len(mdl.state_names)
-    _tangent_tolerance(opts, d, tangent_tol)
+    options = tangent_tolerance(options, d, tangent_tol)
     if state0 is None:
         raise ValueError(f"state0 must be {d} finite numbers, got None")
-    x0 = _state0(state0, d)
-    n = _count("n", n, 1)
-    max_step = opts[_k.O_HMAX]
+    x0 = _v.state("state0", state0, d)
+    n = _v.count("n", n, 1)
     y = np.zeros(d * (1 + d))
     y[:d] = x0
     for c in range(d):
         y[d + c * d + c] = 1.0
-    mode = np.zeros(mdl.n_mode, dtype=np.int64)
-    mdl.init_mode(0.0, x0.copy(), pvec, mode)
-    ks = np.array([0.0, 0.0, min(T / 50.0, max_step)])
-    strobe = np.empty((1, y.size))
-    cap = 64
-    ev_t = np.empty(cap)
-    ev_which = np.empty(cap, dtype=np.int64)
-    ev_mode = np.empty((cap, 2 * mdl.n_mode), dtype=np.int64)
-    ev_y = np.empty((cap, y.size))
-    counters = np.zeros(_k.N_COUNTERS, dtype=np.int64)
+    problem = mdl.problem(pvec, variational=True)
+    mode = problem.initial_mode(x0.copy())
+    ks = _kb.new_clock(problem, options, steps=False)
     # nothing is recorded before k_record = n, so the event log never fills
-    status, _ = _integrate(mdl.variational_kernel_model, mdl.terminal, *tab,
-                           pvec, omega, y, mode, ks, opts, n, n, strobe, ev_t, ev_which,
-                           ev_mode, ev_y, 0, 0, np.empty((1, y.size)), counters)
+    status, _ = _kb.integrate(problem, meth, options, y, mode, ks, n, k_record=n,
+                              log=_kb.EventLog(64, y.size, mdl.n_mode))
     st, reason = status_of(status)
     if st is not Status.OK:
         return Monodromy(np.full((d, d), np.nan), x0, np.full(d, np.nan), n, n * T, st,
@@ -412,12 +404,12 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
     >>> orb.converged, orb.stable
     (True, True)
     """
-    mdl, _ = _model_and_vector(p, model)
+    mdl, _ = resolve(p, model)
     d = len(mdl.state_names)
-    x = _state0(state0, d)
-    n = _count("n", n, 1)
-    tol = _positive("tol", tol)
-    max_iter = _count("max_iter", max_iter, 1)
+    x = _v.state("state0", state0, d)
+    n = _v.count("n", n, 1)
+    tol = _v.positive("tol", tol)
+    max_iter = _v.count("max_iter", max_iter, 1)
     kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
               model=model)
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from .. import _limits
 from ..params import Params
-from ..simulate import _count
+from .. import _validate as _v
 from ..sweeps.sweep import _grid, check_request, sweep
 from . import execute
 from .checkpoint import RowStore
@@ -263,8 +263,8 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     etas = _grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0)
     check_size(etas.size, values.size * (2 if direction == "both" else 1), name)
-    workers = _count("workers", workers, 1)
-    task_points = _count("task_points", task_points, 1)
+    workers = _v.count("workers", workers, 1)
+    task_points = _v.count("task_points", task_points, 1)
     p = p.replace(eta=1.0, **{name: float(values[0])})
     dirs = ("up", "down") if direction == "both" else (direction,)
 

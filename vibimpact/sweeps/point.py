@@ -19,7 +19,7 @@ from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
 from ..analysis.period import detect_period, detect_period_windows
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
 from ..run import Status, join_runs
-from ..simulate import simulate, strobe_only
+from ..simulation import simulate, strobe_only
 from .settle import (MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot,
                      unsettled_repeat)
 

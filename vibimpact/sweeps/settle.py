@@ -33,7 +33,7 @@ from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.period import detect_period
 from ..analysis.settling import Contraction, contraction_rates, settling_periods
 from ..run import Status
-from ..simulate import simulate
+from ..simulation import simulate
 
 #: candidate periods of the shooting
 SHOOT_MAX_N = 8

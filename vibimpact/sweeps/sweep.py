@@ -26,7 +26,8 @@ from .. import _limits
 from ..analysis.classify import Label
 from ..params import Params
 from ..run import Status
-from ..simulate import _count, simulate
+from .. import _validate as _v
+from ..simulation import simulate
 from . import checkpoint as ck
 from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
 from .predict import extrapolate_branch
@@ -255,9 +256,9 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
         raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
     etas = _grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0)
-    blocks = _count("blocks", blocks, 1)
-    workers = _count("workers", workers, 1)
-    seed_periods = _count("seed_periods", seed_periods, 1)
+    blocks = _v.count("blocks", blocks, 1)
+    workers = _v.count("workers", workers, 1)
+    seed_periods = _v.count("seed_periods", seed_periods, 1)
     dirs = ("up", "down") if direction == "both" else (direction,)
     request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(), directions=dirs,
                    settings=settings.as_attrs(), state0=None if state0 is None else

@@ -56,7 +56,8 @@ from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
 from ..params import Params
 from ..run import Status
-from ..simulate import _positive, simulate
+from .. import _validate as _v
+from ..simulation import simulate
 from .dataset import _label_text
 from .point import REGIME_CODES, SweepSettings, analyse_point
 
@@ -448,7 +449,7 @@ def transition_types(ds, p=None, *, refine=True, tol=1e-4, direction=None, setti
         raise ValueError("ds must be a sweep dataset (variables label, final_state; dim "
                          "eta)")
     p = _params_of(ds, p)
-    tol = _positive("tol", tol)
+    tol = _v.positive("tol", tol)
     settings = _settings_of(ds) if settings is None else settings
     if not isinstance(settings, SweepSettings):
         raise ValueError("settings must be a SweepSettings")

@@ -1,0 +1,354 @@
+"""The one door into the numba kernel (plain Python, no ``@njit``).
+
+Everything above :mod:`vibimpact._kernel` calls the kernel through this module: it holds
+the kernel's inputs as frozen values and builds the jitted functions' argument lists in one
+place (:func:`_leading`), in the spirit of SciPy's ``OdeSolver`` and ross's state
+dataclasses.
+
+* :class:`Method` -- a Runge--Kutta scheme as data (its tableau, order and dense-output
+  coefficients, :mod:`.tableaux`);
+* :class:`Options` -- the solver settings (tolerances, step limits, divergence bound, the
+  error test of tangent entries);
+* :class:`Problem` -- a model (built-in id or tuple of numba functions), its switching
+  surfaces, its parameter vector and forcing frequency;
+* :class:`EventLog` -- the preallocated event log, emptied into chunks when it fills;
+* :func:`integrate` -- the integration call and its LOG_FULL restart loop;
+  :func:`benettin` and :func:`two_trajectory` -- the Lyapunov loops;
+  :func:`qr_growth` (QR growth factors of a product of Jacobians) and
+  :func:`suffix_lag_residuals` (recurrence residuals of stroboscopic points) are the
+  kernel's array routines, re-exported.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from . import integrator as _integrator
+from . import tableaux as _tab
+from .driver import integrate as _integrate
+from .lyapunov import benettin as _benettin
+from .lyapunov import qr_growth
+from .recurrence import suffix_lag_residuals
+from .lyapunov import two_trajectory as _two_trajectory
+
+#: method names, in the order the kernel numbers them
+METHODS = tuple(_tab.METHOD_IDS)
+#: status codes of the kernel (see :mod:`.integrator`)
+OK = _integrator.OK
+LOG_FULL = _integrator.LOG_FULL
+N_COUNTERS = _integrator.N_COUNTERS
+
+_EMPTY1 = np.zeros(1)
+_EMPTY2 = np.zeros((1, 1))
+
+
+@dataclass(frozen=True, eq=False)
+class Method:
+    """An explicit Runge--Kutta method as data.
+
+    Attributes
+    ----------
+    name : {"rk4", "dp5", "dop853"}
+    id : int
+        The kernel's number of the method (:mod:`.tableaux`).
+    A, B, C, E, E3, D, P : ndarray
+        Tableau, error weights (``E3``: DOP853's third-order estimate), dense-output
+        coefficients (``D``: DOP853, ``P``: DP5); one-element placeholders where unused.
+    order : int
+    n_stages : int
+    hertz : tuple of float
+        Local error constants of steps at a Hertz contact's entry and exit
+        (:func:`.tableaux.hertz_error_constants`; zeros for RK4).
+    """
+
+    name: str
+    id: int
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    E: np.ndarray
+    E3: np.ndarray
+    D: np.ndarray
+    P: np.ndarray
+    order: int
+    n_stages: int
+    hertz: tuple = (0.0, 0.0)
+
+    @classmethod
+    def named(cls, name):
+        """The method called ``name``; ``ValueError`` naming ``method`` otherwise."""
+        try:
+            return _BY_NAME[name]
+        except (KeyError, TypeError):
+            raise ValueError(f"method must be one of {', '.join(METHODS)}, "
+                             f"got {name!r}") from None
+
+    @property
+    def adaptive(self):
+        """Whether the method has an error estimate (DP5, DOP853)."""
+        return self.id != _tab.RK4
+
+    def kernel_args(self):
+        """The tableau as the kernel's argument tuple."""
+        return (self.id, self.A, self.B, self.C, self.E, self.E3, self.D, self.P,
+                self.order, self.n_stages)
+
+
+def _methods():
+    out = {}
+    for name, mid in _tab.METHOD_IDS.items():
+        hertz = tuple(float(g) for g in _tab.HERTZ_ERROR.get(mid, (0.0, 0.0)))
+        if mid == _tab.RK4:
+            out[name] = Method(name, mid, _tab.RK4_A, _tab.RK4_B, _tab.RK4_C, _EMPTY1,
+                               _EMPTY1, _EMPTY2, _EMPTY2, 4, 4, hertz)
+        elif mid == _tab.DP5:
+            out[name] = Method(name, mid, _tab.DP5_A, _tab.DP5_B, _tab.DP5_C, _tab.DP5_E,
+                               _EMPTY1, _EMPTY2, _tab.DP5_P, 5, 6, hertz)
+        else:
+            out[name] = Method(name, mid, _tab.DOP853_A, _tab.DOP853_B, _tab.DOP853_C,
+                               _tab.DOP853_E5, _tab.DOP853_E3, _tab.DOP853_D, _EMPTY2, 8,
+                               _tab.DOP853_NSTAGES, hertz)
+    return out
+
+
+_BY_NAME = _methods()
+
+
+@dataclass(frozen=True)
+class Options:
+    """Solver settings of one kernel call.
+
+    Attributes
+    ----------
+    rtol, atol : float
+        Tolerances of the adaptive methods.
+    h_fixed : float
+        Step of fixed-step runs.
+    max_step : float
+    bound : float
+        A state component beyond this ends the run as diverged.
+    event_tol : float
+        Switching functions are zero to this at a located event.
+    max_steps_per_period : int
+    adaptive : bool
+        False runs an embedded method with fixed steps.
+    n_bound : int
+        Leading state entries the bound applies to (0: all).
+    n_err : int
+        Leading entries the local error test measures at the tolerances (0: all); the
+        others (tangent vectors) at ``tangent_factor`` times them.
+    tangent_factor : float
+        0: the entries beyond ``n_err`` are not tested.
+    """
+
+    rtol: float
+    atol: float
+    h_fixed: float
+    max_step: float
+    bound: float
+    event_tol: float
+    max_steps_per_period: int
+    adaptive: bool = True
+    n_bound: int = 0
+    n_err: int = 0
+    tangent_factor: float = 1.0
+
+    def with_(self, **changes):
+        """A copy with some settings changed."""
+        return replace(self, **changes)
+
+    def vector(self, method):
+        """The kernel's option vector (layout in :mod:`.integrator`)."""
+        g_in, g_out = method.hertz if method.id != _tab.RK4 else (0.0, 0.0)
+        return np.array([self.rtol, self.atol, self.h_fixed, self.max_step, self.bound,
+                         self.event_tol, float(self.max_steps_per_period),
+                         0.0 if self.adaptive else 1.0, float(self.n_bound),
+                         float(self.n_err), float(self.tangent_factor), g_in, g_out])
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """What the kernel integrates: a model, its parameters and its forcing.
+
+    Attributes
+    ----------
+    model : int or tuple
+        A built-in model id or a tuple of numba functions (:mod:`.dispatch`).
+    terminal : ndarray of int64, shape (n_switch,)
+        1 for a mode-changing switching function, 0 for an observer.
+    n_mode : int
+    p : ndarray of float64
+        Parameter vector.
+    omega : float
+        Forcing frequency; the period is ``T = 2 pi / omega``.
+    init_mode : callable
+        ``init_mode(s, y, p, mode)``: the mode consistent with a state.
+    """
+
+    model: object
+    terminal: np.ndarray
+    n_mode: int
+    p: np.ndarray
+    omega: float
+    init_mode: Callable = field(repr=False, default=None)
+
+    @property
+    def period(self):
+        """The forcing period ``2 pi / omega``."""
+        return 2.0 * math.pi / self.omega
+
+    def initial_mode(self, y):
+        """The mode consistent with state ``y`` at ``tau = 0``."""
+        mode = np.zeros(self.n_mode, dtype=np.int64)
+        self.init_mode(0.0, y, self.p, mode)
+        return mode
+
+
+class EventLog:
+    """The kernel's preallocated event log, emptied into chunks when it fills.
+
+    Parameters
+    ----------
+    cap : int
+        Entries per fill.
+    n : int
+        State size.
+    n_mode : int
+    """
+
+    def __init__(self, cap, n, n_mode):
+        self.cap, self.n, self.n_mode = int(cap), int(n), int(n_mode)
+        self.chunks = []
+        self._arrays = None
+
+    def arrays(self):
+        """Fresh arrays ``(t, which, mode, state)`` for the next fill."""
+        self._arrays = (np.empty(self.cap), np.empty(self.cap, dtype=np.int64),
+                        np.empty((self.cap, 2 * self.n_mode), dtype=np.int64),
+                        np.empty((self.cap, self.n)))
+        return self._arrays
+
+    def keep(self, n_ev):
+        """Keep the first ``n_ev`` entries of the last fill."""
+        self.chunks.append(tuple(a[:n_ev] for a in self._arrays))
+
+    def events(self):
+        """All entries: ``{"t", "which", "mode_before", "mode_after", "state"}``."""
+        modes = np.concatenate([c[2] for c in self.chunks]) if self.chunks else \
+            np.zeros((0, 2 * self.n_mode), dtype=np.int64)
+        cat = (lambda i, empty: np.concatenate([c[i] for c in self.chunks])
+               if self.chunks else empty)
+        return {"t": cat(0, np.zeros(0)),
+                "which": cat(1, np.zeros(0, dtype=np.int64)),
+                "mode_before": modes[:, :self.n_mode],
+                "mode_after": modes[:, self.n_mode:],
+                "state": cat(3, np.zeros((0, self.n)))}
+
+
+def log_capacity(periods):
+    """Event-log entries per fill for ``periods`` recorded periods."""
+    return int(min(max(64 * periods, 1024), 262_144))
+
+
+def new_clock(problem, options, h0=None, steps=True):
+    """``(k, s, h[, steps])`` at ``tau = 0`` with the first step size trial ``h0``
+    (``min(T / 50, max_step)`` by default); ``steps``: the clock carries the steps taken
+    in the current period across calls (a run continued after LOG_FULL)."""
+    h = min(problem.period / 50.0, options.max_step) if h0 is None else h0
+    return np.array([0.0, 0.0, h, 0.0]) if steps else np.array([0.0, 0.0, h])
+
+
+def counters():
+    """Zeroed counters: steps, RHS evaluations, rejected steps, events, observed."""
+    return np.zeros(N_COUNTERS, dtype=np.int64)
+
+
+def _leading(problem, method, opts):
+    """The arguments every kernel entry point starts with: the one place a kernel call
+    is built."""
+    return (problem.model, problem.terminal, *method.kernel_args(), problem.p,
+            problem.omega), opts
+
+
+def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, strobe=None,
+              dense_m=0, dense=None, count=None, log=None):
+    """Integrate from ``clock = (k, s, h, steps)`` until the start of forcing period
+    ``k_end``, emptying the event log whenever it fills.
+
+    Parameters
+    ----------
+    problem : Problem
+    method : Method
+    options : Options
+    y : ndarray of float64, shape (n,)
+        State at the clock's time; overwritten with the final state.
+    mode : ndarray of int64
+        Discrete mode consistent with ``y``; overwritten.
+    clock : ndarray of float64, shape (3,) or (4,)
+        ``(k, s, h[, steps])``: period index, local time, next step size, steps taken in
+        period ``k``; overwritten.
+    k_end : int
+    k_record : int
+        Samples and events are recorded from ``tau = k_record T``.
+    strobe : ndarray, shape (k_end - k_record + 1, n), optional
+        Row ``j`` receives the state at ``tau = (k_record + j) T``.
+    dense_m : int
+        Dense samples per period (``dense`` of shape ``((k_end - k_record) dense_m + 1,
+        n)``).
+    count : ndarray of int64, shape (5,), optional
+        Counters to accumulate into.
+    log : EventLog, optional
+        Receives the events (a fresh one of :func:`log_capacity` entries by default).
+
+    Returns
+    -------
+    status : int
+        The kernel's status (:mod:`.integrator`), never LOG_FULL.
+    log : EventLog
+    """
+    n = y.size
+    if strobe is None:
+        strobe = np.empty((1, n))
+    if dense is None:
+        dense = np.empty((1, n))
+    if count is None:
+        count = counters()
+    if log is None:
+        log = EventLog(log_capacity(k_end - k_record), n, problem.n_mode)
+    lead, opts = _leading(problem, method, options.vector(method))
+    status = LOG_FULL
+    while status == LOG_FULL:
+        ev_t, ev_which, ev_mode, ev_y = log.arrays()
+        status, n_ev = _integrate(*lead, y, mode, clock, opts, k_end, k_record, strobe,
+                                  ev_t, ev_which, ev_mode, ev_y, 0, dense_m, dense, count)
+        log.keep(n_ev)
+    return status, log
+
+
+def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods, logs,
+             states, count):
+    """``n_periods`` periods of the variational model ``problem`` with QR
+    re-orthonormalisation after each (:func:`.lyapunov.benettin`).
+
+    Returns ``(status, done)``.
+    """
+    lead, opts = _leading(problem, method, options.vector(method))
+    return _benettin(*lead, y, mode, clock, opts, n_state, bound, n_periods, logs, states,
+                     count)
+
+
+def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, d0, scale,
+                   bound, n_periods, logs, count):
+    """A reference and a perturbed trajectory over ``n_periods`` periods, renormalised to
+    ``d0`` after each (:func:`.lyapunov.two_trajectory`).  Returns ``(status, done)``."""
+    lead, opts = _leading(problem, method, options.vector(method))
+    return _two_trajectory(*lead, y, mode, clock, y2, mode2, clock2, opts, d0, scale, bound,
+                           n_periods, logs, count)
+
+
+__all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "benettin",
+           "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
+           "counters", "log_capacity", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
