@@ -24,6 +24,7 @@ _EXPORTS = {
     "Run": ("run", "Run"),
     "Status": ("run", "Status"),
     "Model": ("models", "Model"),
+    "System": ("system", "System"),
     "ROTOR": ("models", "ROTOR"),
     "DUFFING": ("models", "DUFFING"),
     "Regime": ("analysis.classify", "Regime"),
@@ -36,6 +37,7 @@ _EXPORTS = {
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
+           "System",
            "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings",
            "transition_types",
            "map2d", "__version__"]

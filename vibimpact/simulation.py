@@ -34,24 +34,30 @@ def _stopped(reason, clock, T):
     return f"{reason} at tau = {k_done * T + clock[1]:.6g} (forcing period {k_done})"
 
 
-def strobe_only(p, periods, state0, method, rtol, atol):
-    """Stroboscopic points of a rotor run, for the loops of sweeps (not validated).
+def strobe_only(model, p, periods, state0, method, rtol, atol):
+    """Stroboscopic points of a run, for the loops of sweeps (not validated).
 
     The same kernel call, with the same numbers, as ``simulate(p, periods,
-    state0=state0, method=method, rtol=rtol, atol=atol)``, without the argument checks
-    and the event records: a transient chunk needs neither.
+    state0=state0, method=method, rtol=rtol, atol=atol, model=model)``, without the
+    argument checks and the event records: a transient chunk needs neither.
+
+    Parameters
+    ----------
+    model : Model
+    p : ndarray of float64
+        The model's parameter vector.
 
     Returns
     -------
     status : Status
     reason : str
-    strobe : ndarray, shape (rows, 4)
+    strobe : ndarray, shape (rows, n)
         Rows 0..periods (fewer when the run stopped early).
     """
-    problem = ROTOR.problem(p.as_array())
+    problem = model.problem(p)
     T = problem.period
     y = np.array(state0, dtype=np.float64)
-    options = solver_options(T, rtol, atol, bound=ROTOR.bound)
+    options = solver_options(T, rtol, atol, bound=model.bound)
     mode = problem.initial_mode(y)
     clock = _kb.new_clock(problem, options)
     strobe = np.empty((periods + 1, y.size))

@@ -18,6 +18,7 @@ from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
 from ..analysis.period import detect_period, detect_period_windows
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
+from ..models import ROTOR
 from ..run import Status, join_runs
 from ..simulation import simulate, strobe_only
 from .settle import (MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot,
@@ -409,7 +410,7 @@ def analyse_point(p, state0, settings, guess=None):
                 status, why, pts = c.status, c.reason, c.strobe
                 logged.append(c)
             else:
-                status, why, pts = strobe_only(p, todo, x, st.method, st.rtol, st.atol)
+                status, why, pts = strobe_only(ROTOR, p.as_array(), todo, x, st.method, st.rtol, st.atol)
             if status is not Status.OK:
                 return diverged(status, why, "transient")
             done += todo
@@ -538,7 +539,7 @@ def analyse_point(p, state0, settings, guess=None):
         if con is None and tor.non_contracting and not tor.recurrent:
             # a torus whose rotation number lies near a rational covers its curve slowly:
             # look at a record TORUS_EXTEND times as long before deciding
-            status, why, more = strobe_only(p, (TORUS_EXTEND - 1) * rec, x, st.method,
+            status, why, more = strobe_only(ROTOR, p.as_array(), (TORUS_EXTEND - 1) * rec, x, st.method,
                                             st.rtol, st.atol)
             if status is not Status.OK:
                 return diverged(status, why, "torus record")
@@ -580,7 +581,7 @@ def _long_recurrence(p, x, rule, st, need_dense):
     when one is found the record integrated on from the search's end (4 motion periods,
     with events and dense samples as the request needs; None otherwise)."""
     m = LONG_SEARCH * rule.max_period
-    status, why, pts = strobe_only(p, 3 * m + 1, x, st.method, st.rtol, st.atol)
+    status, why, pts = strobe_only(ROTOR, p.as_array(), 3 * m + 1, x, st.method, st.rtol, st.atol)
     if status is not Status.OK:
         return 0, None, status, why
     n = detect_period(pts, tol=rule.period_tol, max_period=m)

@@ -1,0 +1,299 @@
+"""`System`: a model, its parameters and the solver settings, as the analysers take it.
+
+As ChaosTools' analysers take a dynamical system, every analyser of
+:mod:`vibimpact.analysis` (Lyapunov exponents, shooting, continuation, classification)
+takes a :class:`System` and only the parameters of the analysis itself::
+
+    sys = vi.System(vi.presets.get("fig8").replace(eta=1.25))
+    sys.period                            # 2 pi / eta
+    run = sys.simulate(periods=200, transient=500)
+    lyapunov_spectrum(sys.with_params(eta=1.185))
+
+A solver setting left ``None`` means "the analysis' own default" (e.g. tolerances of
+1e-9 for :meth:`System.simulate`, 1e-10 for the variational equations), so that a
+default ``System`` runs every analysis as it was designed and tested.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from . import _validate as _v
+from ._kernel import boundary as _kb
+from .models import DUFFING, ROTOR, Model, resolve
+from .run import Status, status_of
+
+#: solver settings a System carries (None: the analysis' default)
+SOLVER_FIELDS = ("method", "rtol", "atol", "max_step", "event_tol")
+
+
+@dataclass(frozen=True, eq=False)
+class Monodromy:
+    """The ``n``-fold stroboscopic map and its Jacobian at one state.
+
+    Attributes
+    ----------
+    matrix : ndarray, shape (d, d)
+        ``M = D P^n(start)`` from the variational equations with saltation matrices; the
+        monodromy matrix when ``start`` lies on a period-``n`` orbit.
+    start, end : ndarray, shape (d,)
+        ``x`` and ``P^n(x)``.
+    n : int
+        Forcing periods integrated.
+    period : float
+        ``n T``, the time integrated.
+    status : Status
+    reason : str
+    """
+
+    matrix: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    n: int
+    period: float
+    status: Status = Status.OK
+    reason: str = ""
+
+    @property
+    def residual(self):
+        """``P^n(x) - x``."""
+        return self.end - self.start
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """A periodically forced piecewise-smooth system ready to be analysed.
+
+    Parameters
+    ----------
+    params : Params, DuffingParams or array_like
+        Parameters; a plain vector with a user ``model``.
+    model : Model, optional
+        A user model (:meth:`vibimpact.Model.from_functions`); the built-in rotor or
+        Duffing oscillator is taken from the type of ``params`` otherwise.
+    method : {"dop853", "dp5", "rk4"}, optional
+    rtol, atol, max_step, event_tol : float, optional
+        Solver settings; ``None`` leaves each analysis its own default.
+
+    Raises
+    ------
+    ValueError
+        Naming the offending argument.
+    """
+
+    params: object
+    model: Model = None
+    method: str = None
+    rtol: float = None
+    atol: float = None
+    max_step: float = None
+    event_tol: float = None
+    p: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        mdl, vec = resolve(self.params, self.model)
+        object.__setattr__(self, "model", mdl)
+        object.__setattr__(self, "p", vec)
+        if self.method is not None:
+            _kb.Method.named(self.method)
+        for name in ("rtol", "atol", "max_step", "event_tol"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, _v.positive(name, value))
+        if not math.isfinite(self.omega) or self.omega <= 0.0:
+            raise ValueError(f"the forcing frequency {mdl.param_names[mdl.omega_index]} "
+                             f"must be finite and > 0, got {self.omega!r}")
+
+    # --- what the system is ---------------------------------------------------------
+    @property
+    def omega(self):
+        """The forcing frequency (``eta`` for the rotor)."""
+        return float(self.p[self.model.omega_index])
+
+    @property
+    def period(self):
+        """The forcing period ``T = 2 pi / omega``."""
+        return 2.0 * math.pi / self.omega
+
+    @property
+    def n_state(self):
+        """Length of the state vector."""
+        return len(self.model.state_names)
+
+    @property
+    def builtin(self):
+        """Whether the model is the built-in rotor or Duffing oscillator."""
+        return self.model is ROTOR or self.model is DUFFING
+
+    @property
+    def user_model(self):
+        """The model as :func:`vibimpact.simulate` takes it (None for a built-in one)."""
+        return None if self.builtin else self.model
+
+    def param(self, name):
+        """The value of parameter ``name`` (a field name, or an index of a user model's
+        vector); ``ValueError`` naming ``param`` otherwise."""
+        return float(self.p[self._index(name)])
+
+    def _index(self, name):
+        names = self.model.param_names
+        if isinstance(name, str) and name in names:
+            return names.index(name)
+        if self.builtin or isinstance(name, bool) or \
+                not isinstance(name, (int, np.integer)) or not 0 <= int(name) < len(names):
+            raise ValueError(f"param must be one of {', '.join(names)}"
+                             + ("" if self.builtin else " or an index") + f", got {name!r}")
+        return int(name)
+
+    # --- new systems from this one --------------------------------------------------------
+    def with_params(self, **changes):
+        """The same system with some parameters changed (by name)."""
+        if not changes:
+            return self
+        if hasattr(self.params, "replace"):
+            return replace(self, params=self.params.replace(**changes))
+        vec = self.p.copy()
+        for name, value in changes.items():
+            vec[self._index(name)] = float(value)
+        return replace(self, params=vec)
+
+    def with_param(self, name, value):
+        """The same system with one parameter (name, or index of a user vector) set."""
+        i = self._index(name)
+        if hasattr(self.params, "replace"):
+            return replace(self, params=self.params.replace(
+                **{self.model.param_names[i]: float(value)}))
+        vec = self.p.copy()
+        vec[i] = float(value)
+        return replace(self, params=vec)
+
+    def with_solver(self, **settings):
+        """The same system with other solver settings (``method``, ``rtol``, ...)."""
+        unknown = set(settings) - set(SOLVER_FIELDS)
+        if unknown:
+            raise ValueError(f"solver settings are {', '.join(SOLVER_FIELDS)}, got "
+                             f"{', '.join(sorted(unknown))}")
+        return replace(self, **settings)
+
+    def solver(self, **defaults):
+        """The solver settings, each ``None`` replaced by the caller's default (then by
+        :func:`vibimpact.simulate`'s)."""
+        base = dict(method="dop853", rtol=1e-9, atol=1e-12, max_step=None, event_tol=1e-12)
+        base.update(defaults)
+        return {k: getattr(self, k) if getattr(self, k) is not None else base[k]
+                for k in SOLVER_FIELDS}
+
+    # --- runs ---------------------------------------------------------------------------
+    def simulate(self, periods=100, transient=0, state0=None, *, dense=0, **solver):
+        """:func:`vibimpact.simulate` of this system (``solver`` overrides its settings).
+
+        Returns
+        -------
+        Run
+        """
+        from .simulation import simulate
+        kw = self.solver()
+        kw.update(solver)
+        return simulate(self.params, periods, transient, state0, dense=dense,
+                        model=self.user_model, **kw)
+
+    def strobe(self, periods, state0, **defaults):
+        """Stroboscopic points only, unvalidated (the loops of sweeps).
+
+        Returns
+        -------
+        status : Status
+        reason : str
+        strobe : ndarray, shape (rows, n)
+            Rows 0..periods, fewer when the run stopped early.
+        """
+        from .simulation import strobe_only
+        kw = self.solver(**defaults)
+        return strobe_only(self.model, self.p, periods, state0, kw["method"], kw["rtol"],
+                           kw["atol"])
+
+    def monodromy(self, state0, n=1, *, tangent_tol=1.0):
+        """Jacobian of the ``n``-fold stroboscopic map by the variational equations.
+
+        The state and ``d`` tangent vectors (the columns of the identity) are integrated
+        together over ``n`` forcing periods from ``tau = 0``; at every switching event the
+        tangent vectors are mapped by the saltation matrix (Leine & Nijmeijer 2004,
+        *Dynamics and Bifurcations of Non-Smooth Mechanical Systems*, sec. 3.5), so the
+        result is the Jacobian of the non-smooth map, not of a smoothed one.  Solver
+        defaults: DOP853 (or DP5; adaptive only), ``rtol = 1e-10``.
+
+        Parameters
+        ----------
+        state0 : array_like, shape (d,)
+        n : int
+        tangent_tol : float
+            The tangent vectors' local errors are tested against ``tangent_tol`` times the
+            tolerances (1: Newton's steps and multipliers near the unit circle need the
+            matrix itself to the tolerance; ``inf``: not tested).
+
+        Returns
+        -------
+        Monodromy
+            ``status`` DIVERGED/FAILED with a NaN matrix when the integration stopped.
+        """
+        meth, options = self.variational(tangent_tol)
+        d = self.n_state
+        if state0 is None:
+            raise ValueError(f"state0 must be {d} finite numbers, got None")
+        x0 = _v.state("state0", state0, d)
+        n = _v.count("n", n, 1)
+        y = np.zeros(d * (1 + d))
+        y[:d] = x0
+        for c in range(d):
+            y[d + c * d + c] = 1.0
+        problem = self.model.problem(self.p, variational=True)
+        mode = problem.initial_mode(x0.copy())
+        clock = _kb.new_clock(problem, options, steps=False)
+        # nothing is recorded before k_record = n, so the event log never fills
+        status, _ = _kb.integrate(problem, meth, options, y, mode, clock, n, k_record=n,
+                                  log=_kb.EventLog(64, y.size, self.model.n_mode))
+        T = self.period
+        st, reason = status_of(status)
+        if st is not Status.OK:
+            return Monodromy(np.full((d, d), np.nan), x0, np.full(d, np.nan), n, n * T, st,
+                             f"{reason} in forcing period {int(clock[0])}")
+        M = y[d:].reshape(d, d).T.copy()  # column c is the tangent vector started at e_c
+        return Monodromy(M, x0, y[:d].copy(), n, n * T)
+
+    def variational(self, tangent_tol=None):
+        """Method and kernel options of the variational equations: adaptive methods
+        only, ``rtol = 1e-10`` by default, the bound on the model state only, the tangent
+        entries' local errors tested at ``tangent_tol`` times the tolerances (``inf``: not
+        tested; None: as the state's)."""
+        kw = self.solver(rtol=1e-10)
+        if kw["method"] not in ("dop853", "dp5"):
+            raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), "
+                             f"got {kw['method']!r}")
+        T = self.period
+        options = _kb.Options(rtol=kw["rtol"], atol=kw["atol"], h_fixed=T / 400.0,
+                              max_step=T / 4.0 if kw["max_step"] is None else kw["max_step"],
+                              bound=self.model.bound, event_tol=kw["event_tol"],
+                              max_steps_per_period=10**6, adaptive=True,
+                              n_bound=self.n_state)
+        if tangent_tol is not None:
+            try:
+                f = float(tangent_tol)
+            except (TypeError, ValueError):
+                f = float("nan")
+            if not f >= 1.0:
+                raise ValueError(f"tangent_tol must be a number >= 1 or inf, "
+                                 f"got {tangent_tol!r}")
+            options = options.with_(n_err=self.n_state,
+                                    tangent_factor=0.0 if math.isinf(f) else f)
+        return _kb.Method.named(kw["method"]), options
+
+
+def as_system(system, name="system"):
+    """``system`` if it is a :class:`System`; a ``ValueError`` naming ``name`` that says
+    how to make one otherwise."""
+    if isinstance(system, System):
+        return system
+    raise ValueError(f"{name} must be a vibimpact.System (e.g. vi.System(params)), got "
+                     f"{type(system).__name__}")
