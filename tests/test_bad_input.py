@@ -414,9 +414,10 @@ def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd
         shutil.rmtree("d.nc.partial")
     shutil.copytree("c.nc.partial", "d.nc.partial")
     ck = classified / "d.nc.partial"
-    (ck / "up_000000.npz").write_bytes(b"garbage")
-    good = (ck / "up_000001.npz").read_bytes()
-    (ck / "up_000001.npz").write_bytes(good[: len(good) // 2])
+    first, second = sorted(ck.glob("up_*.npz"))[:2]  # one entry per point
+    first.write_bytes(b"garbage")
+    good = second.read_bytes()
+    second.write_bytes(good[: len(good) // 2])
     rc, out, err = run_cli(["classify", "--eta", "1.0:1.025:0.01", "--no-progress",
                             "--workers", "1", "--analyses", "period,impacts,response,poincare",
                             "-o", "d.nc", "--resume"], capfd)
@@ -430,14 +431,24 @@ def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd
     assert diffs == [] and total > 10
 
 
-def test_load_point_sets_aside_a_foreign_npz(tmp_path):
-    """An .npz that loads but is not a point (missing fields) counts as not done."""
-    from vibimpact.sweeps import checkpoint as ck
+def test_load_sets_aside_a_foreign_npz(tmp_path):
+    """An entry that loads but is not one (missing fields), or one of another request,
+    counts as not done: set aside as *.corrupt and listed by the resume."""
+    from vibimpact.engine.store import Checkpoint, entry_name
 
-    np.savez(tmp_path / "up_000003.npz", a=np.arange(3))
-    assert ck.load_point(tmp_path, "up", 3) is None
-    assert ck.corrupt_files(tmp_path) == ["up_000003.npz.corrupt"]
-    assert ck.load_point(tmp_path, "up", 3) is None  # now simply absent
+    ck = Checkpoint(tmp_path / "ck").open("sweep", {"a": 1}, {"points": 5}, False)
+    np.savez(ck.path / entry_name(0, "up", 3, 4), a=np.arange(3))
+    ck.save(0, "up", [(1, {"regime": 1, "final_state": np.zeros(4)})])
+    other = Checkpoint(tmp_path / "other").open("sweep", {"a": 2}, {"points": 5}, False)
+    other.save(0, "up", [(2, {"regime": 1, "final_state": np.ones(4)})])
+    os.replace(other.path / entry_name(0, "up", 2, 3), ck.path / entry_name(0, "up", 2, 3))
+    done = ck.load()
+    assert list(done) == [(0, "up")] and list(done[(0, "up")]) == [1]
+    assert done[(0, "up")][1]["final_state"].tolist() == [0.0] * 4
+    assert ck.last_resume()["damaged"] == [entry_name(0, "up", 2, 3) + ".corrupt",
+                                           entry_name(0, "up", 3, 4) + ".corrupt"]
+    assert ck.saved() == (1, 0)
+    assert list(ck.load()) == [(0, "up")]  # now simply absent
 
 
 def test_rerun_help_is_light():

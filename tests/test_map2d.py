@@ -1,4 +1,4 @@
-"""Parameter maps (issue 9): ``vi.map2d``, its Dask execution, row checkpoints and resume,
+"""Parameter maps (issue 9): ``vi.map2d``, its Dask execution, checkpoints and resume,
 the ``vibimpact map`` command and the map plot.
 
 The maps are small (a few rows of fig8 x 16 eta points, short transients through
@@ -21,8 +21,10 @@ import pytest
 
 import vibimpact as vi
 from vibimpact.cli import main
-from vibimpact.maps import checkpoint as mck
-from vibimpact.maps import execute, open_map, write_map
+from vibimpact.engine import cluster as dask_executor
+from vibimpact.engine import plan
+from vibimpact.engine.store import Checkpoint
+from vibimpact.maps import open_map, write_map
 from vibimpact.maps import store as mstore
 from vibimpact.sweeps import SweepSettings, parse_range
 
@@ -33,6 +35,16 @@ P = vi.presets.get("fig8")
 ETA = np.round(np.arange(1.0, 1.3 + 1e-9, 0.02), 12)
 VARY = {"kh": [40.0, 80.0, 120.0]}
 FAST = SweepSettings(transient_max=100, record=48, lyap_min=40, lyap_max=150)
+
+
+def saved_rows(path):
+    """Rows completely saved in a map checkpoint."""
+    return Checkpoint(path).saved()[1]
+
+
+def fake_tasks(k, n):
+    """``k`` plan tasks of ``n`` points (rows of a map), for the grouping."""
+    return [plan.Task(i, "up", 0, n, None, None, None, None, False) for i in range(k)]
 
 
 def assert_same(a, b):
@@ -133,8 +145,7 @@ def test_scheduler_address_and_task_grouping_do_not_change_the_map(serial, clust
     ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
                   scheduler=cl.scheduler_address, task_points=40)
     assert_same(ds, serial)
-    tasks = M._make_tasks((), [("up", i, 0.0) for i in range(6)], 16, 40, None)
-    assert [len(t[0]) for t in tasks] == [3, 3]
+    assert [len(job) for job in plan.group(fake_tasks(6, 16), 40, None)] == [3, 3]
 
 
 def test_local_processes_equal_serial(serial):
@@ -145,36 +156,33 @@ def test_local_processes_equal_serial(serial):
     assert_same(ds, serial)
 
 
-def _chunk_files(store, at):
-    """Every chunk file of the row ``at`` (indices in the leading dims) in a checkpoint
-    (``row_damaged``, one chunk for all rows, left out)."""
-    key = "/".join(map(str, at))
-    files = list(store.glob(f"*/c/{key}/**/*")) + list(store.glob(f"*/c/{key}"))
-    return sorted(f for f in files if f.is_file() and f.parts[-3 - len(at) + 1] !=
-                  "row_damaged" and "row_damaged" not in f.parts)
+def _entries(store, at):
+    """The entry files of the row ``at`` (indices in the leading dims) in a checkpoint."""
+    d, row = (("up", "down")[at[0]], at[1]) if len(at) == 2 else ("up", at[0])
+    return sorted(store.glob(f"{d}_{row:06d}_*.npz"))
 
 
 def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path,
                                                                  monkeypatch):
-    """Hypothesis: a map interrupted after two rows has exactly those rows in its Zarr
+    """Hypothesis: a map interrupted after two rows has exactly those rows in its
     checkpoint, readable as a map (finished rows equal to the serial map's, the others
-    not computed); resuming computes only the other rows (plus one whose chunk was
-    damaged, counted in row_damaged; a row written but not flagged done is recomputed),
-    leaves the saved rows' chunks untouched and equals the uninterrupted map."""
+    not computed); resuming computes only the other rows (plus one whose entry was
+    damaged, listed by the resume; a write cut short, a temporary file, is ignored),
+    leaves the saved rows' entries untouched and equals the uninterrupted map."""
     store = tmp_path / "rows"
-    real = M.compute_rows
+    real = plan.run_job
     calls = []
 
-    def dying(task):
+    def dying(job, on_point=None):
         if len(calls) == 2:
             raise KeyboardInterrupt
-        calls.append(task[-1])
-        return real(task)
+        calls.append(job)
+        return real(job, on_point)
 
-    monkeypatch.setattr(M, "compute_rows", dying)
+    monkeypatch.setattr(plan, "run_job", dying)
     with pytest.raises(KeyboardInterrupt):
         vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, task_points=1)
-    assert mck.saved_rows(store) == 2
+    assert saved_rows(store) == 2
     part = open_map(store)
     done = part["row_done"].values == 1
     assert done.sum() == 2 and part["regime"].dims == ("direction", "kh", "eta")
@@ -184,28 +192,25 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
             np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name
     assert (part["regime"].values[~done] == 0).all()  # not computed
     (keep, damaged) = [tuple(int(k) for k in at) for at in np.argwhere(done)]
-    kept = {f: f.stat().st_mtime_ns for f in _chunk_files(store, keep)}
-    assert {"regime", "label", "final_state", "row_done"} <= {f.parts[len(store.parts)]
-                                                              for f in kept}
-    victim = _chunk_files(store, damaged)[0]
+    kept = {f: f.stat().st_mtime_ns for f in _entries(store, keep)}
+    assert len(kept) == 1  # one entry per row
+    victim = _entries(store, damaged)[0]
     victim.write_bytes(victim.read_bytes()[:-3])
-    import zarr  # a row cut short by a kill: values written, flag not
-
-    cut = tuple(int(k) for k in np.argwhere(~done)[0])
-    zarr.open_group(store, mode="r+")["regime"][cut] = np.full(ETA.size, 7, np.int8)
+    (store / ".tmp-cut.npz").write_bytes(b"half")  # a write cut short by a kill
 
     computed = []
 
-    def counting(task):
-        computed.extend(task[-1])
-        return real(task)
+    def counting(job, on_point=None):
+        computed.extend((t.row, t.direction) for t in job)
+        return real(job, on_point)
 
-    monkeypatch.setattr(M, "compute_rows", counting)
+    monkeypatch.setattr(plan, "run_job", counting)
     ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, resume=True,
                   task_points=1)
     assert len(computed) == 6 - 1
     assert all(f.stat().st_mtime_ns == t for f, t in kept.items())
-    assert mck.damaged_rows(store) == 1 and mck.saved_rows(store) == 6
+    assert Checkpoint(store).last_resume()["damaged"] == [victim.name + ".corrupt"]
+    assert saved_rows(store) == 6
     assert_same(ds, serial)
     with pytest.raises(ValueError, match="different map request"):
         vi.map2d(P, ETA, {"kh": [40.0, 81.0, 120.0]}, direction="both", settings=FAST,
@@ -267,7 +272,7 @@ def test_unreachable_scheduler_is_a_value_error():
     """Hypothesis: a scheduler that does not answer is reported as a ValueError naming its
     address (the CLI's exit 2), not a hang or a traceback from deep inside Dask."""
     with pytest.raises(ValueError, match="cannot connect to the Dask scheduler"):
-        execute.connect("tcp://127.0.0.1:9", timeout=1)
+        dask_executor.connect("tcp://127.0.0.1:9", timeout=1)
 
 
 def _main(capsys, *args):
@@ -347,16 +352,16 @@ def test_cli_killed_map_resumes_to_the_uninterrupted_map(tmp_path, capsys):
     part = tmp_path / "m.zarr.partial"
     deadline = time.monotonic() + 120
     while proc.poll() is None and time.monotonic() < deadline:
-        if mck.saved_rows(part) >= 2:
+        if saved_rows(part) >= 2:
             proc.send_signal(signal.SIGKILL)
             break
         time.sleep(0.005)
     proc.wait(60)
     assert proc.returncode == -signal.SIGKILL, proc.stderr.read()
-    n = mck.saved_rows(part)
+    n = saved_rows(part)
     assert 2 <= n < 8 and not (tmp_path / "m.zarr").exists()
     done = [i for i, flag in enumerate(open_map(part)["row_done"].values) if flag == 1]
-    saved = {f: f.stat().st_mtime_ns for i in done for f in _chunk_files(part, (i,))}
+    saved = {f: f.stat().st_mtime_ns for i in done for f in _entries(part, (i,))}
     rc, out, err = _main(capsys, "plot", str(part), "--kind", "map", "-o",
                          str(tmp_path / "partial.png"))
     assert rc == 0, err
@@ -421,11 +426,10 @@ def test_cli_task_points_default_is_the_api_default():
     grouping gives a 151-point row a task of its own only when rows are long enough."""
     from vibimpact.cli import build_parser
     from vibimpact.maps import DEFAULT_TASK_POINTS
-    from vibimpact.maps.map2d import _make_tasks
 
     args = build_parser().parse_args(["map", "--eta", "1:1.1:0.01", "--vary", "kh=10,20"])
     assert args.task_points == DEFAULT_TASK_POINTS
-    rows = list(range(10))
-    assert [len(t[-1]) for t in _make_tasks((), rows, 151, DEFAULT_TASK_POINTS, 0)] == \
+    assert [len(j) for j in plan.group(fake_tasks(10, 151), DEFAULT_TASK_POINTS, 0)] == \
         [-(-DEFAULT_TASK_POINTS // 151)] * (10 // -(-DEFAULT_TASK_POINTS // 151))
-    assert [len(t[-1]) for t in _make_tasks((), rows, 400, DEFAULT_TASK_POINTS, 0)] == [1] * 10
+    assert [len(j) for j in plan.group(fake_tasks(10, 400), DEFAULT_TASK_POINTS, 0)] == \
+        [1] * 10

@@ -7,7 +7,7 @@ import xarray as xr
 import vibimpact as vi
 from vibimpact.io import read_netcdf, write_netcdf
 from vibimpact.sweeps import SweepSettings, analyse_point, parse_range
-from vibimpact.sweeps import checkpoint as ck
+from vibimpact.engine.store import fingerprint
 from conftest import continued_state, preset
 
 FIG8 = preset("fig8")
@@ -144,7 +144,7 @@ def test_resumed_sweep_equals_uninterrupted_and_reuses_saved_points(serial, tmp_
     saved points without recomputing them and gives the uninterrupted numbers."""
     ckdir = tmp_path / "ck"
     vi.sweep(FIG8, GRID, state0=X0, blocks=3, checkpoint=ckdir)
-    files = sorted(ckdir.glob("up_*.npz"))
+    files = sorted(ckdir.glob("up_*.npz"))  # one entry per point, in sweep order
     assert len(files) == GRID.size
     for f in files[5:]:
         f.unlink()
@@ -163,7 +163,7 @@ def test_checkpoint_refuses_other_request_or_missing_resume(tmp_path):
         vi.sweep(FIG8, GRID[:2], checkpoint=ckdir)
     with pytest.raises(ValueError, match="checkpoint"):
         vi.sweep(FIG8, GRID[:3], checkpoint=ckdir, resume=True)
-    assert ck.fingerprint({"a": 1}) != ck.fingerprint({"a": 2})
+    assert fingerprint({"a": 1}) != fingerprint({"a": 2})
 
 
 def test_blow_up_is_labelled_diverged_not_stored_as_data():

@@ -4,11 +4,11 @@ import os
 import sys
 
 
-class _UsageError(Exception):
+class UsageError(Exception):
     """Bad input: reported as one line and exit status 2."""
 
 
-class _Parser(argparse.ArgumentParser):
+class Parser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line on stderr (exit status 2)."""
 
     def error(self, message):
@@ -17,7 +17,7 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"vibimpact: error: {message} (see '{self.prog} --help')\n")
 
 
-def _positive_int(minimum):
+def positive_int(minimum):
     def convert(text):
         try:
             value = int(text)
@@ -30,81 +30,81 @@ def _positive_int(minimum):
     return convert
 
 
-def _float(text):
+def number(text):
     try:
         return float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"invalid number {text!r}") from None
 
 
-def _parse_sets(items):
-    """``["k=v", ...]`` -> ``{k: float(v)}``; raises _UsageError naming the bad item."""
+def parse_sets(items):
+    """``["k=v", ...]`` -> ``{k: float(v)}``; raises UsageError naming the bad item."""
     out = {}
     for item in items or ():
         key, sep, text = item.partition("=")
         key = key.strip()
         if not sep or not key:
-            raise _UsageError(f"--set expects NAME=VALUE, got {item!r}")
+            raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
         if key == "eta":
-            raise _UsageError("set eta with --eta, not --set")
+            raise UsageError("set eta with --eta, not --set")
         try:
             out[key] = float(text)
         except ValueError:
-            raise _UsageError(f"--set {key}: value {text.strip()!r} is not a number") from None
+            raise UsageError(f"--set {key}: value {text.strip()!r} is not a number") from None
     return out
 
 
-def _check_output(path, overwrite, what):
+def check_output(path, overwrite, what):
     """Fail early (before computing) if ``path`` cannot be created."""
 
     if os.path.isdir(path):
-        raise _UsageError(f"{what} {path!r} is a directory")
+        raise UsageError(f"{what} {path!r} is a directory")
     if os.path.exists(path) and not overwrite:
-        raise _UsageError(f"{what} {path!r} exists; pass --overwrite to replace it")
+        raise UsageError(f"{what} {path!r} exists; pass --overwrite to replace it")
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
-        raise _UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
+        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
                           "does not exist")
     if not os.access(directory, os.W_OK | os.X_OK):
-        raise _UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
+        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
                           "is not writable")
     import tempfile
 
     try:  # os.access says yes to root and knows nothing of read-only mounts: try it
         fd, probe = tempfile.mkstemp(prefix=".vibimpact-probe-", dir=directory)
     except OSError as exc:
-        raise _UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
+        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
                           f"is not writable ({exc.strerror or exc})") from None
     os.close(fd)
     os.unlink(probe)
 
 
-def _parse_analyses(text):
+def parse_analyses(text):
     from .sweeps.point import ANALYSES
 
     names = [a.strip() for a in str(text).split(",") if a.strip()]
     if not names:
-        raise _UsageError("--analyses: give a comma-separated list of "
+        raise UsageError("--analyses: give a comma-separated list of "
                           f"{', '.join(ANALYSES)} (or all)")
     if names == ["all"]:
         return tuple(ANALYSES)
     bad = [a for a in names if a not in ANALYSES]
     if bad:
-        raise _UsageError(f"--analyses: unknown {', '.join(map(repr, bad))}; choose from "
+        raise UsageError(f"--analyses: unknown {', '.join(map(repr, bad))}; choose from "
                           f"{', '.join(ANALYSES)} (or all)")
     return tuple(a for a in ANALYSES if a in names or a == "period")
 
 
-def _image_ext_ok(path, what):
+def image_ext_ok(path, what):
     from matplotlib.backend_bases import FigureCanvasBase
 
     ext = os.path.splitext(path)[1].lstrip(".").lower()
     if ext == "nc" or ext not in FigureCanvasBase.get_supported_filetypes():
-        raise _UsageError(f"{what} {path!r}: unknown image extension (use .png, .pdf or "
+        raise UsageError(f"{what} {path!r}: unknown image extension (use .png, .pdf or "
                           ".svg)")
 
 
-class _Interrupted(KeyboardInterrupt):
+class Interrupted(KeyboardInterrupt):
     """SIGINT or SIGTERM during a sweep; ``signum`` decides the exit status 128 + signum."""
 
     def __init__(self, signum):
@@ -112,8 +112,8 @@ class _Interrupted(KeyboardInterrupt):
         self.signum = signum
 
 
-class _StopWorkersOnSignal:
-    """While a sweep runs: SIGINT and SIGTERM raise :class:`_Interrupted` in the main
+class StopWorkersOnSignal:
+    """While a sweep runs: SIGINT and SIGTERM raise :class:`Interrupted` in the main
     thread, so both end with the saved-points message and exit status 128 + signum;
     :func:`vibimpact.sweep` kills its workers on the way out (finished points are already
     saved atomically, the points in flight are lost).
@@ -132,7 +132,7 @@ class _StopWorkersOnSignal:
 
     def _handle(self, signum, frame):
         self.__exit__(None, None, None)  # a second Ctrl-C acts at once
-        raise _Interrupted(signum)  # vi.sweep stops its workers on the way out
+        raise Interrupted(signum)  # vi.sweep stops its workers on the way out
 
     def __exit__(self, *exc):
         import signal
@@ -143,47 +143,78 @@ class _StopWorkersOnSignal:
         return False
 
 
-def _interrupt_status(exc):
+def interrupt_status(exc):
     import signal
 
     return 128 + int(getattr(exc, "signum", signal.SIGINT))
 
 
-def _finish_checkpointed(ds, out, ckpt, write, *, resuming, loaded, keep, overwrite, unit,
-                         damaged=None):
+def checkpoint_of(out):
+    """The checkpoint ``OUT.partial`` of the output ``out``, a
+    :class:`vibimpact.engine.store.Checkpoint` (nothing is checked or created)."""
+    from .engine.store import Checkpoint
+
+    return Checkpoint(out + ".partial")
+
+
+def check_checkpoint(ckpt, resume):
+    """UsageError unless a run may go ahead with ``ckpt``: it exists and is not a
+    directory, or exists without ``resume``."""
+    try:
+        ckpt.check_reusable(resume)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def run_checkpointed(ckpt, unit, compute):
+    """``(compute(), None)``, or ``(None, exit status)`` after an interrupt.
+
+    SIGINT and SIGTERM interrupt ``compute`` (:class:`StopWorkersOnSignal`); the line
+    printed then says how many ``unit`` ("points" or "rows") the checkpoint holds.  A
+    ValueError (a checkpoint of another request, a lost scheduler) is a UsageError.
+    """
+    try:
+        with StopWorkersOnSignal():
+            return compute(), None
+    except KeyboardInterrupt as exc:
+        if ckpt.exists():
+            points, rows = ckpt.saved()
+            n = points if unit == "points" else rows
+            print(f"vibimpact: interrupted: {n} {unit} saved in {os.fspath(ckpt.path)}; "
+                  "rerun with --resume", file=sys.stderr)
+        else:
+            print(f"vibimpact: interrupted before any {unit[:-1]} was saved",
+                  file=sys.stderr)
+        return None, interrupt_status(exc)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit):
     """Write the result of a checkpointed run and tidy its checkpoint.
 
-    Warns about damaged checkpoint files that were recomputed, writes ``ds`` to ``out``
-    with ``write(ds, out, overwrite=...)`` (a failure is a usage error that keeps the
-    checkpoint), removes the checkpoint unless ``keep``, and says what a resumed run
-    loaded.  ``unit`` names what a checkpoint file holds ("points", "rows").  Returns the
-    number of ``unit`` loaded from the checkpoint and not recomputed.  ``damaged``: how
-    many ``unit`` the checkpoint found damaged and recomputed, for a checkpoint that
-    counts them itself (a map's); by default its ``*.corrupt`` files are listed.
+    Warns about the damaged checkpoint entries the resume recomputed, writes ``ds`` to
+    ``out`` with ``write(ds, out, overwrite=...)`` (a failure is a usage error that keeps
+    the checkpoint), removes the checkpoint unless ``keep``, and says what a resumed run
+    loaded.  ``unit`` names what the run counts ("points", "rows").  Returns the number of
+    points loaded from the checkpoint and not recomputed.
     """
-    import shutil
-
-    from .sweeps.checkpoint import corrupt_files
-
-    if damaged is None:
-        bad = corrupt_files(ckpt) if resuming else []
-        what = f"{unit[:-1]} files"
-        names = f" ({', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''})"
-        damaged = len(bad)
-    else:
-        what, names, damaged = unit, "", damaged if resuming else 0
-    if damaged:
-        loaded = max(0, loaded - damaged)
-        print(f"vibimpact: warning: {damaged} damaged {what} in {ckpt} were "
-              f"recomputed{names}", file=sys.stderr)
+    last = ckpt.last_resume() if resuming else {"points": 0, "streams": 0, "damaged": []}
+    where = os.fspath(ckpt.path)
+    bad = last["damaged"]
+    if bad:
+        names = f"{', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''}"
+        print(f"vibimpact: warning: {len(bad)} damaged {unit[:-1]} files in {where} were "
+              f"recomputed ({names})", file=sys.stderr)
     try:
         write(ds, out, overwrite=overwrite or resuming)
     except (ValueError, OSError) as exc:
-        raise _UsageError(f"{exc} (the computed {unit} stay in {ckpt}; fix the problem "
-                          "and rerun with --resume)") from None
+        raise UsageError(f"{exc} (the computed {unit} stay in {where}; fix the problem "
+                         "and rerun with --resume)") from None
     if not keep:
-        shutil.rmtree(ckpt, ignore_errors=True)
+        ckpt.remove()
     if resuming:
-        print(f"vibimpact: resumed from {ckpt}: {loaded} {unit} loaded, not recomputed",
+        loaded = last["points"] if unit == "points" else last["streams"]
+        print(f"vibimpact: resumed from {where}: {loaded} {unit} loaded, not recomputed",
               file=sys.stderr)
-    return loaded
+    return last["points"]

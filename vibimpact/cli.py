@@ -46,8 +46,8 @@ written).
 """
 
 
-from ._cli_common import (_check_output, _float, _parse_sets, _Parser, _positive_int,
-                          _UsageError)
+from ._cli_common import (check_output, number, parse_sets, Parser, positive_int,
+                          UsageError)
 
 
 def _cmd_presets(args):
@@ -76,23 +76,23 @@ def _cmd_simulate(args):
     from . import presets
 
     out = os.fspath(args.output)
-    _check_output(out, args.overwrite, "output file")
+    check_output(out, args.overwrite, "output file")
     if args.plot is not None:
-        _check_output(args.plot, args.overwrite, "plot file")
+        check_output(args.plot, args.overwrite, "plot file")
         if os.path.abspath(args.plot) == os.path.abspath(out):
-            raise _UsageError("--plot and -o must be different files")
+            raise UsageError("--plot and -o must be different files")
         ext = os.path.splitext(args.plot)[1].lstrip(".").lower()
         from matplotlib.backend_bases import FigureCanvasBase
 
         if ext not in FigureCanvasBase.get_supported_filetypes():
-            raise _UsageError(f"--plot {args.plot!r}: unknown image extension "
+            raise UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
     try:
         base = presets.get(args.preset)
         eta = base.eta if args.eta is None else args.eta
-        params = base.replace(eta=eta, **_parse_sets(args.set))
+        params = base.replace(eta=eta, **parse_sets(args.set))
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
 
     from . import io
@@ -104,7 +104,7 @@ def _cmd_simulate(args):
                        state0=args.state0, method=args.method, rtol=args.rtol,
                        atol=args.atol, dense=dense)
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     elapsed = time.perf_counter() - start
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = io.run_to_dataset(run, command=command, state0=args.state0 or [0.0, 0.0, 0.0, 0.0],
@@ -118,7 +118,7 @@ def _cmd_simulate(args):
 
             plot_xy(ds, args.plot)
     except (ValueError, OSError) as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     if not run.ok:
         print(f"vibimpact: warning: run {run.status.value.upper()}: {run.reason}; "
               f"wrote the {len(run.strobe)} samples computed", file=sys.stderr)
@@ -136,10 +136,10 @@ def build_parser():
     argparse.ArgumentParser
     """
     fmt = argparse.RawDescriptionHelpFormatter
-    parser = _Parser(prog="vibimpact", formatter_class=fmt, epilog=_MAIN_EPILOG,
+    parser = Parser(prog="vibimpact", formatter_class=fmt, epilog=_MAIN_EPILOG,
                      description="Bifurcation and chaos analysis of a vibro-impact rotor on "
                                  "magnetic bearings\n(Pust & Kozanek, eq. 5).")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     sub.required = True
 
     p = sub.add_parser("presets", help="list the paper's parameter sets",
@@ -155,23 +155,23 @@ def build_parser():
                        formatter_class=fmt)
     s.add_argument("--preset", default="fig8", help="parameter set (default: fig8); "
                    "see 'vibimpact presets'")
-    s.add_argument("--eta", type=_float, default=None,
+    s.add_argument("--eta", type=number, default=None,
                    help="forcing (rotor speed) frequency ratio, > 0 (default: the preset's, 1.0)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
-    s.add_argument("--periods", type=_positive_int(1), default=200,
+    s.add_argument("--periods", type=positive_int(1), default=200,
                    help="forcing periods recorded (default: 200)")
-    s.add_argument("--transient", type=_positive_int(0), default=500,
+    s.add_argument("--transient", type=positive_int(0), default=500,
                    help="forcing periods integrated first and discarded (default: 500)")
-    s.add_argument("--state0", type=_float, nargs=4, metavar=("X", "Y", "dX", "dY"),
+    s.add_argument("--state0", type=number, nargs=4, metavar=("X", "Y", "dX", "dY"),
                    help="initial state at tau = 0 (default: rest, 0 0 0 0)")
     s.add_argument("--method", choices=("dop853", "dp5", "rk4"), default="dop853",
                    help="integrator (default: dop853)")
-    s.add_argument("--rtol", type=_float, default=1e-9, help="relative tolerance "
+    s.add_argument("--rtol", type=number, default=1e-9, help="relative tolerance "
                    "(default: 1e-9)")
-    s.add_argument("--atol", type=_float, default=1e-12, help="absolute tolerance "
+    s.add_argument("--atol", type=number, default=1e-12, help="absolute tolerance "
                    "(default: 1e-12)")
-    s.add_argument("--dense", type=_positive_int(0), default=None, metavar="N",
+    s.add_argument("--dense", type=positive_int(0), default=None, metavar="N",
                    help="keep N evenly spaced samples per period (default: 0, or 64 with "
                         "--plot)")
     s.add_argument("-o", "--output", required=True, metavar="FILE.nc",
@@ -211,7 +211,7 @@ def main(argv=None):
     args.argv = argv
     try:
         return args.func(args)
-    except _UsageError as exc:
+    except UsageError as exc:
         print("vibimpact: error: " + " ".join(str(exc).split()), file=sys.stderr)
         return 2
     except KeyboardInterrupt:

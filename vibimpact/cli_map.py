@@ -7,8 +7,9 @@ instant.
 import os
 import sys
 
-from ._cli_common import (_check_output, _finish_checkpointed, _image_ext_ok, _interrupt_status, _parse_analyses,
-                          _parse_sets, _positive_int, _StopWorkersOnSignal, _UsageError)
+from ._cli_common import (UsageError, check_checkpoint, check_output, checkpoint_of,
+                          finish_checkpointed, image_ext_ok, parse_analyses, parse_sets,
+                          positive_int, run_checkpointed)
 
 DEFAULT_ETA = "0.9:1.5:0.005"
 
@@ -48,7 +49,7 @@ def parse_vary(text, preset_params):
 
     Raises
     ------
-    _UsageError
+    UsageError
         Naming the problem (the size check and the parameter's domain included).
     """
     import numpy as np
@@ -59,12 +60,12 @@ def parse_vary(text, preset_params):
     name, sep, spec = str(text).partition("=")
     name = name.strip()
     if not sep or not name or not spec.strip():
-        raise _UsageError(f"--vary expects NAME=START:STOP:STEP or NAME=V1,V2,..., "
+        raise UsageError(f"--vary expects NAME=START:STOP:STEP or NAME=V1,V2,..., "
                           f"got {text!r}")
     if name == "eta":
-        raise _UsageError("--vary: eta is the map's other axis; set its grid with --eta")
+        raise UsageError("--vary: eta is the map's other axis; set its grid with --eta")
     if name not in parameter_names():
-        raise _UsageError(f"--vary: unknown parameter {name!r}; choose one of "
+        raise UsageError(f"--vary: unknown parameter {name!r}; choose one of "
                           f"{', '.join(parameter_names())}")
     try:
         if ":" in spec:
@@ -77,7 +78,7 @@ def parse_vary(text, preset_params):
         check_vary(preset_params, {name: values})
     except ValueError as exc:
         msg = str(exc)
-        raise _UsageError(f"--{msg}" if msg.startswith("vary ") else f"--vary: {msg}") \
+        raise UsageError(f"--{msg}" if msg.startswith("vary ") else f"--vary: {msg}") \
             from None
     return name, np.asarray(values, dtype=float)
 
@@ -88,17 +89,17 @@ def _check_map_output(out, overwrite):
     try:
         fmt = output_format(out)
     except ValueError as exc:
-        raise _UsageError(f"-o: {exc}") from None
+        raise UsageError(f"-o: {exc}") from None
     if fmt == "netcdf":
-        _check_output(out, overwrite, "output file")
+        check_output(out, overwrite, "output file")
         return
     if os.path.lexists(out):
         if not overwrite:
-            raise _UsageError(f"output {out!r} exists; pass --overwrite to replace it")
+            raise UsageError(f"output {out!r} exists; pass --overwrite to replace it")
         if not os.path.isfile(os.path.join(out, "zarr.json")):
-            raise _UsageError(f"output {out!r} exists and is not a Zarr store; not "
+            raise UsageError(f"output {out!r} exists and is not a Zarr store; not "
                               "replacing it")
-    _check_output(out.rstrip("/" + os.sep) + ".probe", False, "output")
+    check_output(out.rstrip("/" + os.sep) + ".probe", False, "output")
 
 
 def _inputs(args):
@@ -110,23 +111,23 @@ def _inputs(args):
     try:
         etas = parse_range(args.eta)
     except ValueError as exc:
-        raise _UsageError(f"--eta: {exc}") from None
-    sets = _parse_sets(args.set)
+        raise UsageError(f"--eta: {exc}") from None
+    sets = parse_sets(args.set)
     try:
         params = presets.get(args.preset).replace(**sets)
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     if len(args.vary) != 1:
-        raise _UsageError("give exactly one --vary NAME=START:STOP:STEP (a map varies eta "
+        raise UsageError("give exactly one --vary NAME=START:STOP:STEP (a map varies eta "
                           "and one other parameter)")
     name, values = parse_vary(args.vary[0], params)
     if name in sets:
-        raise _UsageError(f"{name} is both --set and --vary; give it only with --vary")
+        raise UsageError(f"{name} is both --set and --vary; give it only with --vary")
     rows = values.size * (2 if args.direction == "both" else 1)
     try:
         check_size(etas.size, rows, name)
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     return params, etas, name, values
 
 
@@ -134,70 +135,57 @@ def _cmd_map(args):
     import shlex
     import time
 
-
     out = os.fspath(args.output).rstrip("/" + os.sep) or os.fspath(args.output)
-    ckpt = out + ".partial"
     params, etas, name, values = _inputs(args)
-    analyses = _parse_analyses(args.analyses)
+    analyses = parse_analyses(args.analyses)
     if args.scheduler is not None and args.workers is not None:
-        raise _UsageError("--workers is for local runs; the workers of --scheduler are "
-                          "the cluster's")
-    resuming = args.resume and os.path.isdir(ckpt)
+        raise UsageError("--workers is for local runs; the workers of --scheduler are "
+                         "the cluster's")
+    ckpt = checkpoint_of(out)
+    resuming = args.resume and ckpt.exists()
     _check_map_output(out, args.overwrite or resuming)
     if args.plot is not None:
+        image_ext_ok(args.plot, "--plot")
+        check_output(args.plot, args.overwrite, "plot file")
+    check_checkpoint(ckpt, args.resume)
 
-        _image_ext_ok(args.plot, "--plot")
-        _check_output(args.plot, args.overwrite, "plot file")
-    if os.path.lexists(ckpt) and not os.path.isdir(ckpt):
-        raise _UsageError(f"checkpoint {ckpt!r} exists and is not a directory; remove it")
-    if os.path.isdir(ckpt) and not args.resume:
-        raise _UsageError(f"checkpoint {ckpt!r} exists (an interrupted run): pass --resume "
-                          "to continue it, or remove it")
-
-    from .maps import checkpoint, execute, store
+    from .engine import cluster
+    from .maps import store
     from .maps.map2d import map2d
 
     scheduler = None
     if args.scheduler is not None:
         try:
-            scheduler, _ = execute.connect(args.scheduler)
+            scheduler, _ = cluster.connect(args.scheduler)
         except ValueError as exc:
-            raise _UsageError(f"--scheduler: {exc}") from None
+            raise UsageError(f"--scheduler: {exc}") from None
     workers = args.workers if args.workers is not None else min(2, os.cpu_count() or 1)
-    loaded = checkpoint.saved_rows(ckpt) if resuming else 0
     t0 = time.perf_counter()
     try:
-        with _StopWorkersOnSignal():
-            ds = map2d(params, etas, {name: values}, direction=args.direction,
-                       analyses=analyses, scheduler=scheduler, workers=workers,
-                       task_points=args.task_points, store=ckpt, resume=args.resume,
-                       progress=not args.no_progress,
-                       command=shlex.join(["vibimpact"] + list(args.argv)))
-    except KeyboardInterrupt as exc:
-        n = checkpoint.saved_rows(ckpt)
-        print(f"vibimpact: interrupted: {n} rows saved in {ckpt}; rerun with --resume"
-              if n else "vibimpact: interrupted before any row was saved", file=sys.stderr)
-        return _interrupt_status(exc)
-    except ValueError as exc:  # a checkpoint of a different map, a lost scheduler
-        raise _UsageError(str(exc)) from None
+        ds, status = run_checkpointed(ckpt, "rows", lambda: map2d(
+            params, etas, {name: values}, direction=args.direction, analyses=analyses,
+            scheduler=scheduler, workers=workers, task_points=args.task_points,
+            store=ckpt.path, resume=args.resume, progress=not args.no_progress,
+            command=shlex.join(["vibimpact"] + list(args.argv))))
     finally:
         if scheduler is not None:
             scheduler.close()
+    if ds is None:
+        return status
     elapsed = time.perf_counter() - t0
     ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
-    loaded = _finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
-                                  loaded=loaded, keep=args.keep_checkpoint,
-                                  overwrite=args.overwrite, unit="rows",
-                                  damaged=checkpoint.damaged_rows(ckpt) if resuming else 0)
-    _summary(ds, elapsed, computed=ds["regime"].size - loaded * etas.size)
+    loaded = finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
+                                 keep=args.keep_checkpoint, overwrite=args.overwrite,
+                                 unit="rows")
+    _summary(ds, elapsed, computed=ds["regime"].size - loaded)
     if args.plot is not None:
-        from .plotting.map2d import plot_map
         from .plotting import save_figure
+        from .plotting.map2d import plot_map
 
         try:
             save_figure(plot_map(ds), args.plot)
         except (ValueError, OSError) as exc:
-            raise _UsageError(f"--plot: {exc} ({out} is written)") from None
+            raise UsageError(f"--plot: {exc} ({out} is written)") from None
         print(f"wrote {args.plot}")
     return 0
 
@@ -221,32 +209,32 @@ def plot_command(args, ds=None):
     path = os.fspath(args.file)
     if ds is None:
         if not os.path.exists(path):
-            raise _UsageError(f"{path!r}: no such file or directory")
+            raise UsageError(f"{path!r}: no such file or directory")
         try:
             ds = open_map(path)
         except Exception as exc:
-            raise _UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
+            raise UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
                               f"{type(exc).__name__}: {exc}") from None
     if "map_vary" not in ds.attrs:
-        raise _UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
+        raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
                           "one")
     if args.kind not in (None, "map"):
-        raise _UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
+        raise UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
                           "a parameter map (use --kind map)")
     out = args.output
     if out is None:
         out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"
     out = os.fspath(out)
 
-    _image_ext_ok(out, "-o")
-    _check_output(out, args.overwrite, "image file")
+    image_ext_ok(out, "-o")
+    check_output(out, args.overwrite, "image file")
     from .plotting import save_figure
     from .plotting.map2d import plot_map
 
     try:
         save_figure(plot_map(ds), out)
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
-        raise _UsageError(f"cannot draw a map from {path!r}: {type(exc).__name__}: "
+        raise UsageError(f"cannot draw a map from {path!r}: {type(exc).__name__}: "
                           f"{exc}") from None
     print(f"wrote {out}")
     return 0
@@ -275,12 +263,12 @@ def add_parser(sub, fmt):
                    help="what to compute (default: period,impacts,lyapunov: regime, "
                         "period, impacts per period, and the largest exponent only where "
                         "no period is found); see 'vibimpact classify --help'")
-    m.add_argument("--workers", type=_positive_int(1), default=None, metavar="N",
+    m.add_argument("--workers", type=positive_int(1), default=None, metavar="N",
                    help="local processes (default: min(2, CPUs)); 1 runs in this process")
     m.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run the rows on a Dask cluster: scheduler address "
                         "(tcp://host:8786) or scheduler file")
-    m.add_argument("--task-points", type=_positive_int(1), default=300, metavar="N",
+    m.add_argument("--task-points", type=positive_int(1), default=300, metavar="N",
                    help="least points per task: short rows are grouped (default: 300)")
     m.add_argument("-o", "--output", default="map.zarr", metavar="OUT.zarr|OUT.nc",
                    help="Zarr store or NetCDF file to write (default: map.zarr)")

@@ -13,7 +13,7 @@ import os
 import shlex
 import sys
 
-from ._cli_common import _check_output, _UsageError
+from ._cli_common import check_output, UsageError
 
 RERUNNABLE = ("simulate", "classify", "bifurcation")
 
@@ -35,11 +35,11 @@ def _read(path, what):
     from . import io
 
     if not os.path.isfile(path):
-        raise _UsageError(f"{what} {path!r}: no such file")
+        raise UsageError(f"{what} {path!r}: no such file")
     try:
         return io.read_netcdf(path)
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise _UsageError(f"cannot read {path!r} as NetCDF: {type(exc).__name__}: "
+        raise UsageError(f"cannot read {path!r} as NetCDF: {type(exc).__name__}: "
                           f"{exc}") from None
 
 
@@ -48,16 +48,16 @@ def _recorded_args(path, command, build_parser):
     down by :mod:`vibimpact.cli` so that this module does not import it back); the
     argparse Namespace."""
     if not isinstance(command, str) or not command.strip():
-        raise _UsageError(f"{path!r} has no 'command' attribute: not written by vibimpact "
+        raise UsageError(f"{path!r} has no 'command' attribute: not written by vibimpact "
                           f"{', '.join(RERUNNABLE)}")
     try:
         argv = shlex.split(command)
     except ValueError as exc:
-        raise _UsageError(f"{path!r}: cannot parse the recorded command {command!r}: "
+        raise UsageError(f"{path!r}: cannot parse the recorded command {command!r}: "
                           f"{exc}") from None
     if len(argv) < 2 or os.path.basename(argv[0]) != "vibimpact" or \
             argv[1] not in RERUNNABLE:
-        raise _UsageError(f"{path!r}: the recorded command {command!r} is not a vibimpact "
+        raise UsageError(f"{path!r}: the recorded command {command!r} is not a vibimpact "
                           f"{', '.join(RERUNNABLE)} command")
     err = _stdio.StringIO()
     try:
@@ -65,7 +65,7 @@ def _recorded_args(path, command, build_parser):
             args = build_parser().parse_args(argv[1:])
     except SystemExit:
         why = " ".join(err.getvalue().split()) or "not accepted"
-        raise _UsageError(f"{path!r}: the recorded command {command!r} is not valid for "
+        raise UsageError(f"{path!r}: the recorded command {command!r} is not valid for "
                           f"this version ({why})") from None
     args.argv = argv[1:]
     return args
@@ -138,8 +138,8 @@ def _cmd_rerun(args):
     if keep:
         new = os.fspath(args.output)
         if os.path.abspath(new) == os.path.abspath(path):
-            raise _UsageError("-o must differ from the file being rerun")
-        _check_output(new, args.overwrite, "output file")
+            raise UsageError("-o must differ from the file being rerun")
+        check_output(new, args.overwrite, "output file")
     old = _read(path, "file")
     parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
     if not keep:
@@ -148,7 +148,7 @@ def _cmd_rerun(args):
             fd, new = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".rerun-",
                                        suffix=".nc", dir=directory)
         except OSError as exc:
-            raise _UsageError(f"cannot create a temporary file next to {path!r} "
+            raise UsageError(f"cannot create a temporary file next to {path!r} "
                               f"({exc.strerror or exc}); give -o NEW.nc") from None
         os.close(fd)
         os.unlink(new)
@@ -162,8 +162,8 @@ def _cmd_rerun(args):
         with contextlib.redirect_stdout(_stdio.StringIO()):
             try:
                 status = parsed.func(parsed)
-            except _UsageError as exc:
-                raise _UsageError(f"rerunning {old.attrs['command']!r}: {exc}") from None
+            except UsageError as exc:
+                raise UsageError(f"rerunning {old.attrs['command']!r}: {exc}") from None
         if status != 0:
             return status
         fresh = _read(new, "rerun output")

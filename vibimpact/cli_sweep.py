@@ -8,8 +8,9 @@ instant.
 import os
 import sys
 
-from ._cli_common import (_check_output, _finish_checkpointed, _image_ext_ok, _interrupt_status, _parse_analyses,
-                          _parse_sets, _positive_int, _StopWorkersOnSignal, _UsageError)
+from ._cli_common import (StopWorkersOnSignal, UsageError, check_checkpoint, check_output,
+                          checkpoint_of, finish_checkpointed, image_ext_ok, interrupt_status,
+                          parse_analyses, parse_sets, positive_int, run_checkpointed)
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -84,18 +85,18 @@ def _default_workers():
 
 
 def _sweep_inputs(args):
-    """Grid, parameters from the parsed arguments; _UsageError for bad input."""
+    """Grid, parameters from the parsed arguments; UsageError for bad input."""
     from . import presets
     from .sweeps import parse_range
 
     try:
         etas = parse_range(args.eta)
     except ValueError as exc:
-        raise _UsageError(f"--eta: {exc}") from None
+        raise UsageError(f"--eta: {exc}") from None
     try:
-        params = presets.get(args.preset).replace(**_parse_sets(args.set))
+        params = presets.get(args.preset).replace(**parse_sets(args.set))
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     return etas, params
 
 
@@ -105,53 +106,30 @@ def _command_line(args):
     return shlex.join(["vibimpact"] + list(args.argv))
 
 
-def _saved_points(ckpt):
-    try:
-        return sum(1 for f in os.listdir(ckpt) if f.endswith(".npz") and
-                   not f.startswith("."))
-    except OSError:
-        return 0
-
-
 def _cmd_classify(args):
-
     out = os.fspath(args.output)
-    ckpt = out + ".partial"
     etas, params = _sweep_inputs(args)
-    analyses = _parse_analyses(args.analyses)
-    resuming = args.resume and os.path.isdir(ckpt)
+    analyses = parse_analyses(args.analyses)
+    ckpt = checkpoint_of(out)
+    resuming = args.resume and ckpt.exists()
     # with --resume, an output next to its checkpoint is the remains of a run killed
     # between writing the file and removing the checkpoint: it is replaced
-    _check_output(out, args.overwrite or resuming, "output file")
-    if os.path.exists(ckpt) and not os.path.isdir(ckpt):
-        raise _UsageError(f"checkpoint {ckpt!r} exists and is not a directory; remove it")
-    if os.path.isdir(ckpt) and not args.resume:
-        raise _UsageError(f"checkpoint {ckpt!r} exists (an interrupted run): pass --resume "
-                          "to continue it, or remove it")
+    check_output(out, args.overwrite or resuming, "output file")
+    check_checkpoint(ckpt, args.resume)
 
     import vibimpact as vi
     from . import io
     from .sweeps import format_intervals
 
-    loaded = _saved_points(ckpt) if resuming else 0
-    try:
-        with _StopWorkersOnSignal():
-            ds = vi.sweep(params, etas, direction=args.direction, analyses=analyses,
-                          blocks=args.blocks, workers=args.workers, checkpoint=ckpt,
-                          resume=args.resume, progress=not args.no_progress,
-                          command=_command_line(args))
-    except KeyboardInterrupt as exc:
-        if os.path.isdir(ckpt):
-            print(f"vibimpact: interrupted: {_saved_points(ckpt)} points saved in {ckpt}; "
-                  "rerun with --resume", file=sys.stderr)
-        else:
-            print("vibimpact: interrupted before any point was saved", file=sys.stderr)
-        return _interrupt_status(exc)
-    except ValueError as exc:  # e.g. a checkpoint of a different sweep
-        raise _UsageError(str(exc)) from None
+    ds, status = run_checkpointed(ckpt, "points", lambda: vi.sweep(
+        params, etas, direction=args.direction, analyses=analyses, blocks=args.blocks,
+        workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
+        progress=not args.no_progress, command=_command_line(args)))
+    if ds is None:
+        return status
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
-    _finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming, loaded=loaded,
-                         keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points")
+    finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
+                        keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points")
     print(format_intervals(vi.intervals(ds)))
     print(f"wrote {out}")
     return 0
@@ -162,30 +140,30 @@ def _cmd_bifurcation(args):
     data_only = getattr(args, "data_only", None)
     image = os.fspath(args.output)
     if data_only is None:
-        _image_ext_ok(image, "-o")
+        image_ext_ok(image, "-o")
         data = os.path.splitext(image)[0] + ".nc"
     else:
         data = os.fspath(data_only)
     etas, params = _sweep_inputs(args)
     if data_only is None:
-        _check_output(image, args.overwrite, "image file")
-    _check_output(data, args.overwrite, "data file")
+        check_output(image, args.overwrite, "image file")
+    check_output(data, args.overwrite, "data file")
 
     import vibimpact as vi
     from . import io
     from .plotting import plot_bifurcation, save_figure
 
     try:
-        with _StopWorkersOnSignal():
+        with StopWorkersOnSignal():
             ds = vi.sweep(params, etas, direction=args.direction,
                           analyses=("period", "poincare"), blocks=args.blocks,
                           workers=args.workers, progress=not args.no_progress,
                           command=_command_line(args))
     except KeyboardInterrupt as exc:
         print("vibimpact: interrupted; nothing written", file=sys.stderr)
-        return _interrupt_status(exc)
+        return interrupt_status(exc)
     except ValueError as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
     try:
         io.write_netcdf(ds, data, overwrite=args.overwrite)
@@ -194,7 +172,7 @@ def _cmd_bifurcation(args):
             return 0
         save_figure(plot_bifurcation(ds), image)
     except (ValueError, OSError) as exc:
-        raise _UsageError(str(exc)) from None
+        raise UsageError(str(exc)) from None
     print(f"wrote {image} and {data}")
     return 0
 
@@ -220,13 +198,13 @@ def _cmd_plot(args):
         from .cli_map import plot_command
         return plot_command(args)
     if not os.path.isfile(path):
-        raise _UsageError(f"{path!r}: no such file")
+        raise UsageError(f"{path!r}: no such file")
     from . import io
 
     try:
         ds = io.read_netcdf(path)
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise _UsageError(f"cannot read {path!r} as NetCDF: "
+        raise UsageError(f"cannot read {path!r} as NetCDF: "
                           f"{type(exc).__name__}: {exc}") from None
     if "map_vary" in ds.attrs:
         from .cli_map import plot_command
@@ -234,31 +212,31 @@ def _cmd_plot(args):
     try:
         what = _kind_of(ds)
     except Exception as exc:
-        raise _UsageError(f"{path!r} is not a vibimpact file: {exc}") from None
+        raise UsageError(f"{path!r} is not a vibimpact file: {exc}") from None
     if what is None:
-        raise _UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
+        raise UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
     kind = args.kind
     if kind is None:
         kind = "xy" if what == "run" else (
             "bifurcation" if not _has(ds, "X_m") and _has(ds, "poincare_X") else "response")
     if kind == "xy" and what != "run":
-        raise _UsageError(f"--kind xy needs a 'vibimpact simulate' file; {path!r} is a "
+        raise UsageError(f"--kind xy needs a 'vibimpact simulate' file; {path!r} is a "
                           "sweep (use response, bifurcation or intervals)")
     if kind != "xy" and what != "sweep":
-        raise _UsageError(f"--kind {kind} needs a sweep file ('vibimpact classify' or "
+        raise UsageError(f"--kind {kind} needs a sweep file ('vibimpact classify' or "
                           f"'bifurcation'); {path!r} is a simulate run (use --kind xy)")
     if kind == "response" and not _has(ds, "X_m"):
-        raise _UsageError(f"{path!r} has no response data (X_m): sweep with --analyses "
+        raise UsageError(f"{path!r} has no response data (X_m): sweep with --analyses "
                           "including response")
     if kind == "bifurcation" and not _has(ds, "poincare_X"):
-        raise _UsageError(f"{path!r} has no Poincare points: sweep with --analyses "
+        raise UsageError(f"{path!r} has no Poincare points: sweep with --analyses "
                           "including poincare")
     out = args.output
     if out is None:
         out = os.path.splitext(path)[0] + f"_{kind}.png"
     out = os.fspath(out)
-    _image_ext_ok(out, "-o")
-    _check_output(out, args.overwrite, "image file")
+    image_ext_ok(out, "-o")
+    check_output(out, args.overwrite, "image file")
 
     from . import plotting
 
@@ -272,7 +250,7 @@ def _cmd_plot(args):
             plotting.save_figure(draw(ds), out)
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing;
         # save_figure writes atomically, so nothing partial is left
-        raise _UsageError(f"cannot draw {kind} from {path!r}: "
+        raise UsageError(f"cannot draw {kind} from {path!r}: "
                           f"{type(exc).__name__}: {exc}") from None
     print(f"wrote {out}")
     return 0
@@ -288,10 +266,10 @@ def _add_sweep_options(s, direction):
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     s.add_argument("--direction", choices=("up", "down", "both"), default=direction,
                    help=f"sweep direction (default: {direction})")
-    s.add_argument("--workers", type=_positive_int(1), default=_default_workers(),
+    s.add_argument("--workers", type=positive_int(1), default=_default_workers(),
                    metavar="N", help="processes computing at once (default: min(2, CPUs) "
                    f"= {_default_workers()}); does not change the result")
-    s.add_argument("--blocks", type=_positive_int(1), default=16, metavar="N",
+    s.add_argument("--blocks", type=positive_int(1), default=16, metavar="N",
                    help="seeded blocks per direction, 1 = pure serial continuation "
                         "(default: 16)")
     s.add_argument("--overwrite", action="store_true", help="replace existing output files")

@@ -1,6 +1,5 @@
-"""Parameter maps: regime maps over eta and one other parameter, rows on Dask distributed
-(:func:`map2d`), their row checkpoints (:mod:`vibimpact.maps.checkpoint`) and map files
-(:mod:`vibimpact.maps.store`)."""
+"""Parameter maps: regime maps over eta and one other parameter, rows on the engine
+(:func:`map2d`, :mod:`vibimpact.engine`) and map files (:mod:`vibimpact.maps.store`)."""
 from .map2d import DEFAULT_TASK_POINTS, MAP_ANALYSES, MAX_MAP_POINTS, map2d, parameter_names
 from .store import open_map, write_map
 

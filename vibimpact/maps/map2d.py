@@ -17,27 +17,30 @@ two rows per parameter value, computed independently.  Which rows share a task, 
 many workers there are and in which order tasks finish never change a number: serial,
 local-process and cluster maps are bit-identical.
 
-Checkpoints
------------
-With ``store=`` every finished row is written at once into a Zarr store laid out like
-the map (:mod:`vibimpact.maps.checkpoint`), by this process as the results arrive, and
-``resume=True`` loads the saved rows instead of recomputing them.
+Engine and checkpoints
+----------------------
+The work is done by :mod:`vibimpact.engine`: every ``(row, direction)`` is one task of
+the plan (one block: ``blocks=1``), tasks are grouped into jobs of at least
+``task_points`` points and run in this process or on Dask
+(:class:`vibimpact.engine.cluster.Dask`).  With ``store=`` every finished row is saved
+at once as one entry of the checkpoint (:mod:`vibimpact.engine.store`, the format of a
+sweep's checkpoint), by this process as the results arrive, and ``resume=True`` loads
+the saved rows instead of recomputing them.  :func:`partial_map` reads a checkpoint as
+the map so far.
 """
 from __future__ import annotations
 
+import json
 import sys
-import threading
 from collections.abc import Mapping
 from dataclasses import fields
 
 import numpy as np
 
 from .. import _limits
-from ..params import Params
 from .. import _validate as _v
-from ..sweeps.sweep import _grid, check_request, sweep
-from . import execute
-from .checkpoint import RowStore
+from ..params import Params
+from ..sweeps.sweep import check_grid, check_request
 
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
@@ -47,11 +50,8 @@ MAX_MAP_POINTS = 2_000_000
 #: least points per task (~1 s or more of work at 200-400 points per second and core,
 #: reports/performance.md)
 DEFAULT_TASK_POINTS = 300
-
-#: one row at a time per process: the numba integrator holds the GIL (threads would not
-#: run rows in parallel anyway), and threads of a multi-threaded worker must not share the
-#: sweep module's global progress hook
-_ROW_LOCK = threading.Lock()
+#: the flag variable of :func:`partial_map`
+DONE = "row_done"
 
 
 def parameter_names():
@@ -113,40 +113,50 @@ def check_size(n_eta, n_rows, name):
                          f"{MAX_MAP_POINTS}")
 
 
-def compute_rows(task):
-    """Compute the rows of one task (this runs on a worker).
+def row_arrays(p, etas, direction, points, settings):
+    """``{variable: values along eta}`` of one row from its points' results in sweep
+    order: the data of the sweep dataset of the row (``blocks=1``)."""
+    from ..sweeps.dataset import to_dataset
 
-    Parameters
-    ----------
-    task : tuple
-        ``(p, name, etas, settings, state0, rows)`` with ``rows`` a list of
-        ``(direction, index, value)``.
-
-    Returns
-    -------
-    list of (direction, index, dict)
-        Per row, ``{variable: values along eta}`` of its sweep dataset.
-    """
-    p, name, etas, settings, state0, rows = task
-    out = []
-    with _ROW_LOCK:
-        for d, i, v in rows:
-            try:
-                ds = sweep(p.replace(**{name: v}), etas, direction=d,
-                           analyses=settings.analyses, settings=settings, state0=state0,
-                           blocks=1, workers=1, command="")
-            except Exception as exc:
-                raise RuntimeError(f"map row {name} = {v:g}, sweep {d}: "
-                                   f"{type(exc).__name__}: {exc}") from exc
-            out.append((d, i, {k: ds[k].values for k in ds.data_vars}))
-    return out
+    ds = to_dataset(p, etas, (direction,), {direction: points}, settings,
+                    direction=direction, continuation=True, blocks=1, command="")
+    return {k: ds[k].values for k in ds.data_vars}
 
 
-def _make_tasks(head, rows, n_eta, task_points, slots):
-    per = max(1, -(-task_points // n_eta))
-    if slots:  # keep every worker busy: at least two tasks per worker thread
-        per = min(per, max(1, len(rows) // (2 * slots)))
-    return [head + (rows[k:k + per],) for k in range(0, len(rows), per)]
+def _request(p, name, values, etas, dirs, settings, state0):
+    """Everything a map's rows depend on, JSON-able (its checkpoint's fingerprint)."""
+    return dict(kind="map", params=p.as_dict(), vary=name, values=values.tolist(),
+                eta=etas.tolist(), directions=list(dirs), settings=settings.as_attrs(),
+                state0=None if state0 is None else state0.tolist())
+
+
+class _Rows:
+    """The map being filled: ``on_task`` writes a finished row into the dataset."""
+
+    def __init__(self, ds, p, name, values, etas, dirs, settings, shapes):
+        self.ds, self.p, self.name, self.values = ds, p, name, values
+        self.etas, self.dirs, self.settings, self.shapes = etas, dirs, settings, shapes
+        self.both = "direction" in ds.dims
+
+    def at(self, d, i):
+        return (self.dirs.index(d), i) if self.both else (i,)
+
+    def fill(self, row, d, points):
+        """``points``: ``{position: result}`` or ``[(position, result)]`` of a row."""
+        points = dict(points)
+        res = [points.get(i) for i in range(self.etas.size)]
+        p = self.p.replace(**{self.name: float(self.values[row])})
+        arrays = row_arrays(p, self.etas, d, res, self.settings)
+        for k in self.shapes:
+            self.ds[k].values[self.at(d, row)] = arrays[k]  # the dataset's own arrays
+
+    def on_task(self, task, points):
+        try:
+            self.fill(task.row, task.direction, points)
+        except Exception as exc:
+            v = self.values[task.row]
+            raise RuntimeError(f"map row {self.name} = {v:g}, sweep {task.direction}: "
+                               f"{type(exc).__name__}: {exc}") from exc
 
 
 def _template(p, name, values, etas, dirs, direction, settings, command):
@@ -177,7 +187,7 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
     for k in ("eta", name):
         params.pop(k, None)
     attrs.update(title="vibimpact parameter map", map_vary=name, sweep_direction=direction,
-                 params=_json(params), map_rows=int(values.size),
+                 params=json.dumps(params, sort_keys=True), map_rows=int(values.size),
                  command=command if command is not None else " ".join(sys.argv))
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
@@ -185,12 +195,6 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
     ds.attrs = attrs
     shapes = {k: (var.shape, var.dtype) for k, var in base.data_vars.items()}
     return ds, shapes
-
-
-def _json(obj):
-    import json
-
-    return json.dumps(obj, sort_keys=True)
 
 
 def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
@@ -226,12 +230,13 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     task_points : int
         Least points per Dask task (rows are grouped up to this); never changes results.
     store : path, optional
-        Row checkpoint, a Zarr store laid out like the map: every finished row is written
-        into it at once (:mod:`vibimpact.maps.checkpoint`).
+        Checkpoint directory: every finished row is saved in it at once
+        (:mod:`vibimpact.engine.store`).
     resume : bool
         Continue the map saved in ``store``: its rows are loaded, not recomputed.
-    progress : bool
-        A progress bar (points) on stderr.
+    progress : bool or callable
+        A progress bar (points) on stderr; a callable is called as ``progress(k)`` with
+        every ``k`` points finished instead.
     command : str, optional
         The command line to record in the attributes.
 
@@ -257,68 +262,86 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     >>> ds.regime.dims                                                # doctest: +SKIP
     ('kh', 'eta')
     """
+    from ..engine import executors, plan, progress as prog
+    from ..engine.cluster import Dask
+    from ..engine.compute import compute
+    from ..engine.store import Checkpoint
+
     if not isinstance(p, Params):
         raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
     name, values = check_vary(p, vary)
-    etas = _grid(eta)
+    etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0)
     check_size(etas.size, values.size * (2 if direction == "both" else 1), name)
     workers = _v.count("workers", workers, 1)
     task_points = _v.count("task_points", task_points, 1)
     p = p.replace(eta=1.0, **{name: float(values[0])})
-    dirs = ("up", "down") if direction == "both" else (direction,)
+    dirs = plan.directions(direction)
 
     ds, shapes = _template(p, name, values, etas, dirs, direction, settings, command)
-    request = dict(kind="map", params=p.as_dict(), vary=name, values=values.tolist(),
-                   eta=etas.tolist(), directions=dirs, settings=settings.as_attrs(),
-                   state0=None if state0 is None else state0.tolist())
-    rows = RowStore.open(store, ds, request, resume) if store is not None else None
-
-    def at(d, i):
-        return (i,) if direction != "both" else (dirs.index(d), i)
-
-    results = {}
-    todo = []
-    for i, v in enumerate(values):
-        for d in dirs:
-            row = None if rows is None else rows.load(at(d, i), shapes)
-            if row is None:
-                todo.append((d, i, float(v)))
-            else:
-                results[(d, i)] = row
-    if rows is not None and resume:
-        rows.record_damaged()
-    bar = None
-    if progress and todo:
-        from tqdm import tqdm
-        bar = tqdm(total=len(todo) * etas.size, desc="map", unit="pt", file=sys.stderr)
-
-    def on_result(out):
-        for d, i, arrays in out:
-            arrays = {k: arrays[k] for k in shapes}
-            if rows is not None:
-                rows.save(at(d, i), arrays)
-            results[(d, i)] = arrays
-            if bar is not None:
-                bar.update(etas.size)
-
-    head = (p, name, etas, settings, state0)
-    try:
-        if todo:
-            execute.run_tasks(
-                _call_compute_rows, lambda slots: _make_tasks(head, todo, etas.size,
-                                                              task_points, slots),
-                on_result, scheduler=scheduler, workers=workers)
-    finally:
-        if bar is not None:
-            bar.close()
-
-    for (d, i), arrays in results.items():
-        for k, arr in arrays.items():
-            ds[k].values[at(d, i)] = arr  # the dataset's own NumPy arrays, filled in place
+    rows = _Rows(ds, p, name, values, etas, dirs, settings, shapes)
+    done = {}
+    ckpt = None
+    if store is not None:
+        ckpt = Checkpoint(store, what="map checkpoint").open(
+            "map", _request(p, name, values, etas, dirs, settings, state0),
+            dict(rows=int(values.size), directions=list(dirs), points=int(etas.size)),
+            resume)
+        done = ckpt.load() if resume else {}
+    done = {k: v for k, v in done.items() if len(v) == etas.size}  # whole rows only
+    for (r, d), points in done.items():
+        rows.fill(r, d, points)
+    params = [p.replace(**{name: float(v)}) for v in values]
+    tasks = plan.plan(params, etas, dirs, settings, state0, done=done)
+    executor = executors.Serial() if scheduler is None and workers == 1 else \
+        Dask(scheduler, workers, prefix="vibimpact-map")
+    with prog.callback(progress, sum(t.todo for t in tasks), "map") as report:
+        compute(tasks, executor, rows.on_task, store=ckpt, progress=report, stream=False,
+                make_jobs=lambda slots: plan.group(tasks, task_points, slots))
     return ds
 
 
-def _call_compute_rows(task):
-    """Looked up by name at call time (tests count calls through the module attribute)."""
-    return sys.modules[__name__].compute_rows(task)
+def _settings(attrs):
+    """The SweepSettings recorded by :meth:`SweepSettings.as_attrs`."""
+    from ..analysis.classify import DecisionRule
+    from ..sweeps.point import SweepSettings
+
+    rule = {k[5:]: v for k, v in attrs.items() if k.startswith("rule_")}
+    rest = {k: v for k, v in attrs.items() if not k.startswith("rule_")}
+    rest["analyses"] = tuple(str(rest.get("analyses", "")).split(","))
+    return SweepSettings(**{**rest, "rule": DecisionRule(**rule)})
+
+
+def partial_map(path):
+    """The map so far in the checkpoint ``path`` of a running or interrupted map.
+
+    Rows not saved yet hold the "not computed" values; the variable ``row_done`` (dims
+    the rows', ``(direction, PARAM)`` or ``(PARAM,)``) is 1 for the saved rows.
+
+    Raises
+    ------
+    ValueError
+        ``path`` is not a map checkpoint.
+    """
+    from ..engine.store import Checkpoint
+
+    ckpt = Checkpoint(path, what="map checkpoint")
+    record = ckpt.attach()
+    req = record.get("request", {})
+    if record.get("kind") != "map":
+        raise ValueError(f"{path!r} is not a vibimpact map checkpoint")
+    name, values = req["vary"], np.asarray(req["values"], dtype=float)
+    etas, dirs = np.asarray(req["eta"], dtype=float), tuple(req["directions"])
+    direction = "both" if len(dirs) == 2 else dirs[0]
+    settings = _settings(req["settings"])
+    p = Params(**req["params"])
+    ds, shapes = _template(p, name, values, etas, dirs, direction, settings, "")
+    rows = _Rows(ds, p, name, values, etas, dirs, settings, shapes)
+    flags = np.zeros(ds["regime"].shape[:-1], dtype=np.int8)
+    for (r, d), points in ckpt.load(resume=False).items():
+        if len(points) == etas.size:
+            rows.fill(r, d, points)
+            flags[rows.at(d, r)] = 1
+    ds[DONE] = (ds["regime"].dims[:-1], flags,
+                dict(long_name="row completely saved", flag_values="0 1"))
+    return ds

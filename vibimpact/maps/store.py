@@ -4,7 +4,7 @@
 ``*.zarr``) or a NetCDF-4 file (``*.nc``), atomically in both cases: into a temporary
 name in the target directory, then renamed.  :func:`open_map` reads either back, fully
 loaded, with strings as Python ``str`` objects (as :func:`vibimpact.map2d` returns them);
-it also opens a map's row checkpoint (:mod:`vibimpact.maps.checkpoint`) while the map
+it also opens a map's checkpoint (:func:`vibimpact.maps.map2d.partial_map`) while the map
 runs.
 """
 from __future__ import annotations
@@ -115,7 +115,8 @@ def open_map(path):
     Parameters
     ----------
     path : str or os.PathLike
-        A ``*.zarr`` directory or a NetCDF file.
+        A ``*.zarr`` directory, a NetCDF file, or the checkpoint directory of a running
+        or interrupted map (the map so far, with ``row_done``).
 
     Returns
     -------
@@ -125,7 +126,13 @@ def open_map(path):
 
     from .. import io as vio
 
+    from ..engine.store import is_checkpoint
+
     path = os.fspath(path)
+    if os.path.isdir(path) and is_checkpoint(path):
+        from .map2d import partial_map
+
+        return partial_map(path)
     if os.path.isdir(path):
         with xr.open_zarr(path, consolidated=False, chunks=None) as ds:
             ds = ds.load()

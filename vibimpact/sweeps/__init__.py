@@ -1,5 +1,5 @@
-"""Frequency sweeps: per-point analysis, continuation in blocks, checkpoints, datasets and
-the labelled interval map."""
+"""Frequency sweeps: per-point analysis, continuation in blocks (run by
+:mod:`vibimpact.engine`), datasets and the labelled interval map."""
 from .dataset import format_intervals, intervals, to_dataset
 from .point import ANALYSES, SweepSettings, analyse_point
 from .sweep import DIRECTIONS, continued_state, parse_range, sweep

@@ -11,33 +11,29 @@ independently, so ``workers`` only decides how many run at once: the result depe
 ``blocks`` (1 = pure serial continuation), never on ``workers``, and serial and parallel
 runs are bit-identical.  With ``direction="both"`` the up and down sweeps are independent
 streams as well.
+
+The work is done by :mod:`vibimpact.engine` (a sweep is the one-row case of a map): the
+request is planned into tasks (:mod:`vibimpact.engine.plan`), run in this process or on
+``workers`` local processes (:mod:`vibimpact.engine.executors`), every finished point
+saved at once in the checkpoint (:mod:`vibimpact.engine.store`).
 """
 from __future__ import annotations
 
 import math
-import multiprocessing as mp
-import os
-import queue as _queue
-import sys
 
 import numpy as np
 
 from .. import _limits
-from ..analysis.classify import Label
-from ..params import Params
-from ..run import Status
 from .. import _validate as _v
+from ..params import Params
 from ..simulation import simulate
-from . import checkpoint as ck
-from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
-from .predict import extrapolate_branch
-
-PERIODIC = REGIME_CODES[Label.PERIODIC]
+from .point import ANALYSES, SweepSettings
 
 DIRECTIONS = ("up", "down", "both")
 
 
-def _grid(eta):
+def check_grid(eta):
+    """``eta`` as a validated, strictly increasing float64 grid (ValueError naming it)."""
     size = np.size(eta) if isinstance(eta, np.ndarray) else None
     if size is not None:
         _limits.check_points(size)  # before copying a huge array
@@ -54,26 +50,6 @@ def _grid(eta):
         raise ValueError("eta must be strictly increasing (the direction is a separate "
                          "argument)")
     return arr
-
-
-def _block_starts(n, blocks):
-    """First indices of ``blocks`` contiguous, nearly equal blocks of ``n`` points."""
-    blocks = max(1, min(blocks, n))
-    return [int(round(b * n / blocks)) for b in range(blocks)] + [n]
-
-
-def _seeds(p, etas, starts, state0, seed_periods):
-    """States at the block starts from a cheap continuation pass over the grid."""
-    seeds = {0: None if state0 is None else np.array(state0, dtype=np.float64)}
-    x = seeds[0]
-    last = max(starts[:-1])
-    for i in range(1, last + 1):
-        run = simulate(p.replace(eta=float(etas[i - 1])), periods=1,
-                       transient=seed_periods - 1, state0=x)
-        x = run.final_state if run.status is Status.OK else None
-        if i in starts[:-1]:
-            seeds[i] = None if x is None else x.copy()
-    return seeds
 
 
 def continued_state(p, eta, *, eta_start=1.0, step=0.02, transient=200, state0=None):
@@ -100,73 +76,6 @@ def continued_state(p, eta, *, eta_start=1.0, step=0.02, transient=200, state0=N
         x = simulate(p.replace(eta=float(eta)), periods=1, transient=transient,
                      state0=x).final_state
     return x
-
-
-_PROGRESS = None
-
-
-def _init_worker(q):
-    """Worker set-up: progress queue; Ctrl-C is the parent's to handle; die with it."""
-    global _PROGRESS
-    _PROGRESS = q
-    import signal
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not a handler inherited by fork
-    if sys.platform.startswith("linux"):
-        try:  # PR_SET_PDEATHSIG: SIGKILL this worker when the parent process dies
-            import ctypes
-            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
-        except (OSError, AttributeError):
-            pass
-        if os.getppid() == 1:  # the parent died before the line above
-            os._exit(1)
-
-
-def _run_block(task):
-    """Compute one block in order; returns [(index, result)].  Runs in a worker."""
-    p, etas, direction, idx, seed, settings, fixed, ckdir, done = task
-    out = []
-    x = seed
-    branch = []  # (eta, orbit_point) of the latest consecutive period-1 points
-    for i in idx:
-        res = done.get(i)
-        if res is None:
-            s0 = seed if fixed else x
-            guess = None if fixed else _predicted(branch, float(etas[i]), settings.predict)
-            res = analyse_point(p.replace(eta=float(etas[i])), s0, settings, guess=guess)
-            if ckdir is not None:
-                ck.save_point(ckdir, direction, i, res)
-            if _PROGRESS is not None:
-                _PROGRESS.put(1)
-        out.append((i, res))
-        fs = res["final_state"]
-        x = None if not np.all(np.isfinite(fs)) else np.asarray(fs)
-        orbit = res.get("orbit_point")
-        if res["regime"] == PERIODIC and res["period"] == 1 and orbit is not None \
-                and np.all(np.isfinite(orbit)) and settings.predict > 1:
-            branch = branch[-(settings.predict - 1):] + [(float(etas[i]), orbit)]
-        else:
-            branch = []
-    return direction, out
-
-
-#: the predictor is used only when its step is at most this many times the branch's last
-#: step (beyond a fold the extrapolated branch has no orbit to land on)
-PREDICT_MAX_STEP = 2.0
-
-
-def _predicted(branch, eta, m):
-    """The continuation predictor's guess at ``eta`` from the last ``m`` period-1 points
-    of ``branch``, or None (fewer points, or a step out of line with the branch's)."""
-    if m < 2 or len(branch) < m:
-        return None
-    e, xs = zip(*branch[-m:])
-    guess = extrapolate_branch(e, xs, eta)
-    last = float(np.abs(xs[-1] - xs[-2]).max())
-    if not np.all(np.isfinite(guess)) or \
-            float(np.abs(guess - xs[-1]).max()) > PREDICT_MAX_STEP * last:
-        return None
-    return guess
 
 
 def check_request(direction, analyses, settings, state0):
@@ -231,10 +140,12 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
     seed_periods : int
         Forcing periods per grid point of the seeding pass.
     checkpoint : path, optional
-        Directory where every finished point is saved at once; with ``resume=True`` the
-        points found there are loaded instead of recomputed.
-    progress : bool
-        A progress bar on stderr.
+        Directory where every finished point is saved at once
+        (:mod:`vibimpact.engine.store`); with ``resume=True`` the points found there are
+        loaded instead of recomputed.
+    progress : bool or callable
+        A progress bar on stderr; a callable is called as ``progress(k)`` with every
+        ``k`` points finished instead.
     command : str, optional
         Command line to record in the attributes.
 
@@ -250,124 +161,46 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
     >>> ds.regime.dims
     ('eta',)
     """
+    from ..engine import executors, plan, progress as prog
+    from ..engine.compute import compute
+    from ..engine.store import Checkpoint
     from .dataset import to_dataset
 
     if not isinstance(p, Params):
         raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
-    etas = _grid(eta)
+    etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0)
     blocks = _v.count("blocks", blocks, 1)
     workers = _v.count("workers", workers, 1)
     seed_periods = _v.count("seed_periods", seed_periods, 1)
-    dirs = ("up", "down") if direction == "both" else (direction,)
-    request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(), directions=dirs,
-                   settings=settings.as_attrs(), state0=None if state0 is None else
-                   state0.tolist(), continuation=continuation, blocks=blocks,
-                   seed_periods=seed_periods)
-    ckdir = ck.open_checkpoint(checkpoint, request, resume) if checkpoint else None
-
-    tasks = []
+    dirs = plan.directions(direction)
     n = etas.size
-    total = 0
-    for d in dirs:
-        order = etas if d == "up" else etas[::-1]
-        done = {}
-        if ckdir is not None:
-            for i in range(n):
-                r = ck.load_point(ckdir, d, i)
-                if r is not None:
-                    done[i] = r
-        total += n - len(done)
-        if not continuation:  # every point from state0: blocks need no seeding
-            starts = _block_starts(n, blocks)
-            seeds = {s: state0 for s in starts}
-        else:
-            starts = _block_starts(n, blocks)
-            need = [s for s in starts[1:-1] if any(i not in done for i in
-                                                   range(s, starts[starts.index(s) + 1]))]
-            seeds = {0: state0}
-            if need:
-                seeds.update(_seeds(p, order, starts, state0, seed_periods))
-        for b in range(len(starts) - 1):
-            idx = list(range(starts[b], starts[b + 1]))
-            if all(i in done for i in idx):
-                tasks.append((p, order, d, idx, None, settings, None, None,
-                              {i: done[i] for i in idx}))
-                continue
-            tasks.append((p, order, d, idx, seeds.get(starts[b]), settings,
-                          not continuation, ckdir,
-                          {i: done[i] for i in idx if i in done}))
-
+    done = {}
+    store = None
+    if checkpoint:
+        request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(),
+                       directions=dirs, settings=settings.as_attrs(),
+                       state0=None if state0 is None else state0.tolist(),
+                       continuation=continuation, blocks=blocks, seed_periods=seed_periods)
+        store = Checkpoint(checkpoint).open("sweep", request, dict(
+            rows=1, directions=list(dirs), points=n), resume)
+        done = store.load() if resume else {}
+    tasks = plan.plan([p], etas, dirs, settings, state0, blocks=blocks,
+                      continuation=continuation, seed_periods=seed_periods, done=done)
     results = {d: [None] * n for d in dirs}
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=total, desc="classify", unit="pt", file=sys.stderr)
-    try:
-        if workers == 1 or len(tasks) == 1:
-            global _PROGRESS
-            q = _LocalBar(bar)
-            _PROGRESS = q
-            try:
-                for t in tasks:
-                    d, out = _run_block(t)
-                    for i, r in out:
-                        results[d][i] = r
-            finally:
-                _PROGRESS = None
-        else:
-            ctx = mp.get_context("fork" if sys.platform != "win32" else "spawn")
-            q = ctx.Queue()
-            pool = ctx.Pool(processes=min(workers, len(tasks)), initializer=_init_worker,
-                            initargs=(q,))
-            try:
-                pending = [pool.apply_async(_run_block, (t,)) for t in tasks]
-                while pending:
-                    for r in [r for r in pending if r.ready()]:
-                        d, out = r.get()  # re-raises a worker's exception
-                        for i, res in out:
-                            results[d][i] = res
-                        pending.remove(r)
-                    if pending:
-                        try:
-                            q.get(timeout=0.05)
-                            if bar is not None:
-                                bar.update(1)
-                        except _queue.Empty:
-                            pass
-                _drain(q, bar)
-                pool.close()
-            except BaseException:
-                # Ctrl-C or an error: kill the workers now (finished points are already in
-                # the checkpoint; the points in flight are lost)
-                pool.terminate()
-                raise
-            finally:
-                pool.join()
-    finally:
-        if bar is not None:
-            bar.close()
+    for (_, d), points in done.items():
+        for i, res in points.items():
+            results[d][i] = res
+
+    def on_task(task, points):
+        for i, res in points:
+            results[task.direction][i] = res
+
+    with prog.callback(progress, sum(t.todo for t in tasks), "classify") as report:
+        compute(tasks, executors.choose(workers, len(tasks)), on_task, store=store,
+                progress=report, stream=True)
     return to_dataset(p, etas, dirs, results, settings, direction=direction,
                       continuation=continuation, blocks=blocks, command=command)
-
-
-class _LocalBar:
-    def __init__(self, bar):
-        self.bar = bar
-
-    def put(self, k):
-        if self.bar is not None:
-            self.bar.update(k)
-
-
-def _drain(q, bar):
-    while True:
-        try:
-            q.get_nowait()
-        except (_queue.Empty, OSError, ValueError):
-            return
-        if bar is not None:
-            bar.update(1)
 
 
 def parse_range(text, name="eta", positive=True):

@@ -104,7 +104,7 @@ def _settings_of(ds):
 def _seeded_positions(ds, n):
     """Sweep-order positions where a block started from a seeded state (not from the
     previous point): a change of attractor there need not be a bifurcation."""
-    from .sweep import _block_starts
+    from ..engine.plan import block_starts
 
     try:
         blocks = int(ds.attrs.get("blocks", 1))
@@ -113,7 +113,7 @@ def _seeded_positions(ds, n):
         return set()
     if not cont:
         return set(range(n))
-    return set(_block_starts(n, blocks)[1:-1])
+    return set(block_starts(n, blocks)[1:-1])
 
 
 class _Point:

@@ -1,11 +1,12 @@
-"""Running a map's tasks: in this process, on a local Dask cluster, or on a remote one.
+"""The Dask executor: the jobs of a plan on a local Dask cluster or on a remote one.
 
-No scheduling of our own: the tasks are handed to Dask distributed (``Client.submit``)
+No scheduling of our own: the jobs are handed to Dask distributed (``Client.submit``)
 and their results taken in the order they finish (``distributed.as_completed``), so
 Dask's scheduler decides placement, load balance and recovery.  When a worker dies, the
-scheduler gives its tasks to another worker (up to ``distributed.scheduler.allowed-
-failures`` times); every task is a pure function of its arguments, so a recomputed task
-returns the same numbers.
+scheduler gives its jobs to another worker (up to ``distributed.scheduler.allowed-
+failures`` times); every job is a pure function of its arguments, so a recomputed job
+returns the same numbers.  Results come back per job: :class:`Dask` reports whole tasks
+(``on_point`` is not called).
 
 ``distributed`` is imported only when a cluster is used.
 """
@@ -156,44 +157,37 @@ def slots(client):
         return 1
 
 
-def run_tasks(fn, make_tasks, on_result, *, scheduler=None, workers=1):
-    """Run ``fn(task)`` for every task; ``on_result(result)`` as each one finishes.
+class Dask:
+    """Run the jobs on Dask: ``scheduler`` None starts a ``LocalCluster`` of ``workers``
+    single-threaded processes for the run; otherwise see :func:`connect`.  Task keys start
+    with ``prefix``."""
 
-    Parameters
-    ----------
-    fn : callable
-        A module-level function (workers import it by name).
-    make_tasks : callable
-        ``make_tasks(slots) -> list of tasks``, given the number of worker threads
-        (None in this process), so that tasks can be sized to the cluster.
-    on_result : callable
-        Called in this process, in the order tasks finish.
-    scheduler : optional
-        None: ``workers == 1`` runs in this process, more start a ``LocalCluster`` of that
-        many processes for the run.  Otherwise see :func:`connect`.
-    workers : int
+    def __init__(self, scheduler=None, workers=1, prefix="vibimpact"):
+        self.scheduler = scheduler
+        self.workers = workers
+        self.prefix = prefix
 
-    Notes
-    -----
-    On any exception (a failing task, Ctrl-C) the tasks not yet finished are cancelled
-    before it propagates; results already passed to ``on_result`` stay delivered.
-    """
-    if scheduler is None and workers == 1:
-        for t in make_tasks(None):
-            on_result(fn(t))
-        return
-    from distributed import as_completed
+    def run(self, make_jobs, on_point, on_task):
+        """See :mod:`vibimpact.engine.executors`.  On any exception (a failing job,
+        Ctrl-C) the jobs not yet finished are cancelled before it propagates; results
+        already passed to ``on_task`` stay delivered."""
+        from distributed import as_completed
 
-    with _client(scheduler, workers) as client:
-        tasks = make_tasks(slots(client))
-        prefix = f"vibimpact-map-{uuid.uuid4().hex[:12]}"
-        futures = [client.submit(fn, t, key=f"{prefix}-{k:06d}", pure=False)
-                   for k, t in enumerate(tasks)]
-        try:
-            for fut, result in as_completed(futures, with_results=True, loop=client.loop):
-                on_result(result)
-                fut.release()
-        except BaseException:
-            with contextlib.suppress(Exception):
-                client.cancel(futures)
-            raise
+        from . import plan
+
+        with _client(self.scheduler, self.workers) as client:
+            jobs = make_jobs(slots(client))
+            prefix = f"{self.prefix}-{uuid.uuid4().hex[:12]}"
+            futures = [client.submit(plan.run_job, job, key=f"{prefix}-{k:06d}",
+                                     pure=False) for k, job in enumerate(jobs)]
+            index = {f.key: k for k, f in enumerate(futures)}
+            try:
+                for fut, results in as_completed(futures, with_results=True,
+                                                 loop=client.loop):
+                    for task, res in zip(jobs[index[fut.key]], results):
+                        on_task(task, res)
+                    fut.release()
+            except BaseException:
+                with contextlib.suppress(Exception):
+                    client.cancel(futures)
+                raise

@@ -1,0 +1,61 @@
+"""Running a plan: the tasks on an executor, every finished point saved in the checkpoint
+and counted by the progress callback, in the process that asked for the results."""
+from __future__ import annotations
+
+from .progress import nothing
+
+
+def _runs(points):
+    """``[(position, result)]`` cut into runs of consecutive positions."""
+    runs = []
+    for i, res in points:
+        if runs and runs[-1][-1][0] == i - 1:
+            runs[-1].append((i, res))
+        else:
+            runs.append([(i, res)])
+    return runs
+
+
+def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=nothing,
+            stream=True):
+    """Run ``tasks`` on ``executor``; ``on_task(task, results)`` as each one finishes.
+
+    Parameters
+    ----------
+    tasks : list of Task
+    executor : Serial, Processes or Dask
+    on_task : callable
+        ``on_task(task, [(position, result)])`` with every point of the task, the ones
+        loaded from the checkpoint included.
+    make_jobs : callable, optional
+        ``make_jobs(slots) -> list of jobs``; one task per job by default.
+    store : Checkpoint, optional
+        Opened for the request: every point computed is saved.
+    progress : callable
+        ``progress(k)``: ``k`` more points computed.
+    stream : bool
+        True: every point is saved (as its own entry) and counted as soon as it is
+        finished, where the executor can report points; False: a task's points are saved
+        together (one entry) and counted when the task finishes.
+    """
+    if make_jobs is None:
+        def make_jobs(slots):
+            return [[t] for t in tasks]
+    streamed = set()
+
+    def on_point(task, i, res):
+        streamed.add(id(task))
+        if store is not None:
+            store.save(task.row, task.direction, [(i, res)])
+        progress(1)
+
+    def finished(task, results):
+        if id(task) not in streamed:
+            new = [(i, r) for i, r in results if i not in task.done]
+            if store is not None:
+                for run in _runs(new):
+                    store.save(task.row, task.direction, run)
+            progress(len(new))
+        on_task(task, results)
+
+    executor.run(make_jobs, on_point if stream else None, finished)

@@ -1,0 +1,149 @@
+"""Executors: where the jobs of a plan run.  Every executor has one method,
+
+``run(make_jobs, on_point, on_task)``
+
+``make_jobs(slots)``
+    The jobs (lists of :class:`~vibimpact.engine.plan.Task`), given the number of worker
+    threads (None when the executor does not know it), so that jobs can be sized to it.
+``on_point(task, position, result)`` or None
+    Called in this process for every point as soon as it is finished (None: only whole
+    tasks are reported).
+``on_task(task, results)``
+    Called in this process for every finished task with its ``[(position, result)]``.
+
+* :class:`Serial`: in this process, in order.
+* :class:`Processes`: local worker processes (``concurrent.futures.ProcessPoolExecutor``,
+  forked on Linux); points travel back through a queue of a manager process.  A worker
+  that dies ends the run with an error (``BrokenProcessPool``) instead of a hang; Ctrl-C
+  or any error kills the workers at once.
+* :class:`vibimpact.engine.cluster.Dask`: a Dask cluster (local or remote).
+
+Which executor runs a plan never changes a number.
+"""
+from __future__ import annotations
+
+import os
+import queue as _queue
+import signal
+import sys
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from . import plan
+
+
+class Serial:
+    """Run every job in this process, in order."""
+
+    def run(self, make_jobs, on_point, on_task):
+        for job in make_jobs(None):
+            for task, results in zip(job, plan.run_job(job, on_point)):
+                on_task(task, results)
+
+
+def worker_setup():
+    """Set-up of a worker or manager process: Ctrl-C is the parent's to handle, SIGTERM
+    ends it (no handler inherited by fork), and it dies with the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:  # PR_SET_PDEATHSIG: SIGKILL this process when the parent process dies
+            import ctypes
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+        except (OSError, AttributeError):
+            pass
+        if os.getppid() == 1:  # the parent died before the line above
+            os._exit(1)
+
+
+def run_job_streaming(job, points):
+    """Runs in a worker: :func:`plan.run_job`, every finished point put on the queue
+    ``points`` as ``(row, direction, start, position, result)``; returns the results."""
+    def put(task, i, res):
+        points.put((task.row, task.direction, task.start, i, res))
+
+    return plan.run_job(job, put)
+
+
+class Processes:
+    """Run the jobs on ``workers`` local processes (see the module docstring)."""
+
+    def __init__(self, workers):
+        self.workers = workers
+
+    def run(self, make_jobs, on_point, on_task):
+        import multiprocessing as mp
+
+        jobs = make_jobs(None)
+        if not jobs:
+            return
+        ctx = mp.get_context("fork" if sys.platform != "win32" else "spawn")
+        manager = None
+        try:
+            if on_point is not None:
+                from multiprocessing.managers import SyncManager
+
+                manager = SyncManager(ctx=ctx)
+                manager.start(worker_setup)
+            before = set(mp.active_children())  # the manager's process: not a worker
+            pool = ProcessPoolExecutor(min(self.workers, len(jobs)), mp_context=ctx,
+                                       initializer=worker_setup)
+            try:
+                self._loop(pool, jobs, manager, on_point, on_task)
+            except BaseException:
+                # Ctrl-C or an error: kill the workers now (the finished points are
+                # already reported; the points in flight are lost)
+                _kill(set(mp.active_children()) - before)
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+            pool.shutdown(wait=True)
+        finally:
+            if manager is not None:
+                manager.shutdown()
+
+    @staticmethod
+    def _loop(pool, jobs, manager, on_point, on_task):
+        q = None if manager is None else manager.Queue()
+        tasks = {(t.row, t.direction, t.start): t for job in jobs for t in job}
+        if q is None:
+            futures = {pool.submit(plan.run_job, job): job for job in jobs}
+        else:
+            futures = {pool.submit(run_job_streaming, job, q): job for job in jobs}
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
+            _drain(q, tasks, on_point)
+            for f in done:
+                try:
+                    results = f.result()  # re-raises a worker's exception
+                except BrokenProcessPool as exc:
+                    raise RuntimeError(f"a worker process died unexpectedly ({exc}); the "
+                                       "finished points are in the checkpoint, if any") \
+                        from exc
+                for task, res in zip(futures[f], results):
+                    on_task(task, res)
+        _drain(q, tasks, on_point)
+
+
+def _drain(q, tasks, on_point):
+    if q is None:
+        return
+    while True:
+        try:
+            row, d, start, i, res = q.get_nowait()
+        except _queue.Empty:
+            return
+        on_point(tasks[(row, d, start)], i, res)
+
+
+def _kill(processes):
+    for proc in processes:
+        try:
+            proc.kill()
+        except (OSError, ValueError, AttributeError):
+            pass
+
+
+def choose(workers, n_tasks):
+    """The local executor for ``workers`` processes and ``n_tasks`` tasks."""
+    return Serial() if workers == 1 or n_tasks <= 1 else Processes(workers)
