@@ -28,8 +28,9 @@ import vibimpact as vi
 import vibimpact.maps
 from vibimpact.cli_map import parse_vary
 from vibimpact.maps import DEFAULT_TASK_POINTS, MAP_ANALYSES
-from vibimpact.maps.checkpoint import DONE
-from vibimpact.maps.map2d import _make_tasks
+from vibimpact.engine import plan
+from vibimpact.engine.store import Checkpoint
+from vibimpact.maps.map2d import DONE
 from vibimpact.sweeps import parse_range
 from vibimpact.sweeps.point import REGIME_CODES, SweepSettings, analyse_point
 
@@ -147,7 +148,7 @@ def _rows_by_point(p, etas, name, values):
     import contextlib
     import sys as _sys
 
-    sweep_module = _sys.modules["vibimpact.sweeps.sweep"]
+    sweep_module = _sys.modules["vibimpact.engine.plan"]  # where the tasks call it
     inner = sweep_module.analyse_point
     cost, no_transient = {}, [0]
 
@@ -208,8 +209,8 @@ def full_run(p, budget=FULL_BUDGET_S):
         flags = vi.maps.open_map(part)[DONE].values if os.path.isdir(part) else []
         done = [i for i, flag in enumerate(flags) if flag == 1]
         missing = [f"{fv[i]:g}" for i in range(fv.size) if i not in done]
-        # when the last saved row was written (its flag's chunk), from the command's start
-        rows = [os.path.join(part, DONE, "c", str(i)) for i in done]
+        # when the last saved row was written (its entry), from the command's start
+        rows = [os.path.join(part, e[0]) for e in Checkpoint(part).entries()]
         last = (max(os.stat(f).st_mtime for f in rows) - t_wall if rows else float("nan"))
         pts = len(done) * fe.size
         return [f"Measured: {run} **did not finish** within {budget:.0f} s (stopped with "
@@ -224,7 +225,9 @@ def full_run(p, budget=FULL_BUDGET_S):
 
 def _rows_per_task(n_rows, n_eta):
     """Rows per task of a map on 2 single-threaded workers with the default grouping."""
-    return len(_make_tasks((), list(range(n_rows)), n_eta, DEFAULT_TASK_POINTS, 2)[0][-1])
+    rows = [plan.Task(i, "up", 0, n_eta, None, None, None, None, False)
+            for i in range(n_rows)]
+    return len(plan.group(rows, DEFAULT_TASK_POINTS, 2)[0])
 
 
 def main(argv):
@@ -248,7 +251,7 @@ def main(argv):
     import dask
     from distributed import Client, LocalCluster
 
-    from vibimpact.maps.execute import WORKER_CONFIG
+    from vibimpact.engine.cluster import WORKER_CONFIG
 
     t_up = time.perf_counter()
     with dask.config.set(WORKER_CONFIG), \

@@ -110,7 +110,7 @@ def search(engine, readings, coarse_b, coarse_ec, max_iter=S.MAX_ITER, tol=S.TOL
 
 def _client(args):
     if args.scheduler:
-        from vibimpact.maps.execute import connect
+        from vibimpact.engine.cluster import connect
 
         client, _ = connect(args.scheduler)
         return client, None

@@ -162,7 +162,7 @@ def local_client(workers):
     import dask
     from distributed import Client, LocalCluster
 
-    from vibimpact.maps.execute import WORKER_CONFIG
+    from vibimpact.engine.cluster import WORKER_CONFIG
 
     with dask.config.set(WORKER_CONFIG):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,

@@ -246,3 +246,34 @@ def test_runs_joined_from_chunks_equal_one_run():
         assert np.allclose(joined.impacts[f], whole.impacts[f], rtol=0, atol=1e-5), f
     assert np.array_equal(joined.events["which"], whole.events["which"])
     assert np.allclose(joined.final_state, whole.final_state, rtol=0, atol=1e-6)
+
+
+def test_progress_is_a_callback_counting_every_point_once(tmp_path):
+    """``progress`` may be a callable: it is called in this process with the points
+    finished, every computed point once (and loaded points not at all)."""
+    got = []
+    grid = GRID[:3]
+    ds = vi.sweep(FIG8, grid, direction="both", blocks=2, workers=2, progress=got.append,
+                  checkpoint=tmp_path / "ck", settings=SweepSettings(transient_max=60))
+    assert sum(got) == 2 * grid.size and set(got) == {1}
+    again = []
+    vi.sweep(FIG8, grid, direction="both", blocks=2, workers=2, progress=again.append,
+             checkpoint=tmp_path / "ck", resume=True,
+             settings=SweepSettings(transient_max=60))
+    assert sum(again) == 0
+    assert ds.sizes["direction"] == 2
+
+
+def test_a_dead_worker_process_is_an_error_not_a_hang(monkeypatch):
+    """A worker process that dies (killed, out of memory) ends a parallel sweep with a
+    RuntimeError saying so, instead of waiting for it forever."""
+    import os
+
+    from vibimpact.engine import plan
+
+    def die(*args, **kwargs):
+        os._exit(3)
+
+    monkeypatch.setattr(plan, "analyse_point", die)  # forked workers inherit it
+    with pytest.raises(RuntimeError, match="worker process died"):
+        vi.sweep(FIG8, GRID[:4], blocks=2, workers=2)

@@ -29,11 +29,11 @@ the workers of a running Dask cluster (an address, or a scheduler file as writte
 'dask scheduler --scheduler-file', dask-jobqueue or dask-mpi).  The result never depends
 on where or in which order rows run.
 
-Each finished row is written at once into OUT.partial, a Zarr store laid out like the
-map (row_done marks the finished rows; 'vibimpact plot OUT.partial --kind map' draws the
-map so far).  After Ctrl-C, a kill or a lost cluster, run the same command again with
---resume: the saved rows are loaded, not recomputed, and the map is identical to an
-uninterrupted run.
+Each finished row is saved at once in the checkpoint directory OUT.partial (one file
+per row, the format of a classify checkpoint; 'vibimpact plot OUT.partial --kind map'
+draws the map so far).  After Ctrl-C, a kill or a lost cluster, run the same command
+again with --resume: the saved rows are loaded, not recomputed, and the map is identical
+to an uninterrupted run.
 
 OUT.zarr is a Zarr store, OUT.nc a NetCDF file; dims (PARAM, eta) or, with --direction
 both, (direction, PARAM, eta); variables as in a classify file (regime, label, period,

@@ -18,10 +18,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.classify import Label
+from ..analysis.classify import DecisionRule, Label
 from ..run import Status
 from ..simulation import simulate
-from ..sweeps.point import REGIME_CODES, analyse_point
+from ..sweeps.point import REGIME_CODES, SweepSettings, analyse_point
 from ..sweeps.predict import extrapolate_branch
 
 PERIODIC = REGIME_CODES[Label.PERIODIC]
@@ -79,6 +79,15 @@ class Task:
     def todo(self):
         """Points this task computes (the others are loaded)."""
         return self.size - len(self.done)
+
+
+def settings_from_attrs(attrs):
+    """The :class:`SweepSettings` whose :meth:`~SweepSettings.as_attrs` is ``attrs`` (as
+    a dataset or a checkpoint records them); TypeError for unknown fields."""
+    rule = {k[5:]: v for k, v in attrs.items() if k.startswith("rule_")}
+    rest = {k: v for k, v in attrs.items() if not k.startswith("rule_")}
+    rest["analyses"] = tuple(str(rest.get("analyses", "")).split(","))
+    return SweepSettings(**{**rest, "rule": DecisionRule(**rule)})
 
 
 def directions(direction):

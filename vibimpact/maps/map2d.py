@@ -301,17 +301,6 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     return ds
 
 
-def _settings(attrs):
-    """The SweepSettings recorded by :meth:`SweepSettings.as_attrs`."""
-    from ..analysis.classify import DecisionRule
-    from ..sweeps.point import SweepSettings
-
-    rule = {k[5:]: v for k, v in attrs.items() if k.startswith("rule_")}
-    rest = {k: v for k, v in attrs.items() if not k.startswith("rule_")}
-    rest["analyses"] = tuple(str(rest.get("analyses", "")).split(","))
-    return SweepSettings(**{**rest, "rule": DecisionRule(**rule)})
-
-
 def partial_map(path):
     """The map so far in the checkpoint ``path`` of a running or interrupted map.
 
@@ -323,6 +312,7 @@ def partial_map(path):
     ValueError
         ``path`` is not a map checkpoint.
     """
+    from ..engine.plan import settings_from_attrs
     from ..engine.store import Checkpoint
 
     ckpt = Checkpoint(path, what="map checkpoint")
@@ -333,7 +323,7 @@ def partial_map(path):
     name, values = req["vary"], np.asarray(req["values"], dtype=float)
     etas, dirs = np.asarray(req["eta"], dtype=float), tuple(req["directions"])
     direction = "both" if len(dirs) == 2 else dirs[0]
-    settings = _settings(req["settings"])
+    settings = settings_from_attrs(req["settings"])
     p = Params(**req["params"])
     ds, shapes = _template(p, name, values, etas, dirs, direction, settings, "")
     rows = _Rows(ds, p, name, values, etas, dirs, settings, shapes)

@@ -50,7 +50,7 @@ import json
 
 import numpy as np
 
-from ..analysis.classify import DecisionRule, Label
+from ..analysis.classify import Label
 from ..analysis.continuation import locate_bifurcation
 from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
@@ -58,6 +58,7 @@ from ..params import Params
 from ..run import Status
 from .. import _validate as _v
 from ..simulation import simulate
+from ..system import System
 from .dataset import _label_text
 from .point import REGIME_CODES, SweepSettings, analyse_point
 
@@ -88,16 +89,11 @@ def _params_of(ds, p):
 
 
 def _settings_of(ds):
+    from ..engine.plan import settings_from_attrs
+
     try:
-        raw = json.loads(ds.attrs["settings"])
+        return settings_from_attrs(json.loads(ds.attrs["settings"]))
     except (KeyError, TypeError, ValueError):
-        return SweepSettings()
-    rule = {k[5:]: v for k, v in raw.items() if k.startswith("rule_")}
-    rest = {k: v for k, v in raw.items() if not k.startswith("rule_")}
-    rest["analyses"] = tuple(str(rest.get("analyses", "")).split(","))
-    try:
-        return SweepSettings(**{**rest, "rule": DecisionRule(**rule)})
-    except TypeError:
         return SweepSettings()
 
 
@@ -162,7 +158,7 @@ def _attractor(p, pt, hints, periods=400):
         if not m or m in tried:
             continue
         tried.add(m)
-        orb = shoot_periodic_orbit(q, st[-1], m, **_SHOOT)
+        orb = shoot_periodic_orbit(System(q), st[-1], m, **_SHOOT)
         if not (orb.converged and orb.minimal_period == m and orb.abs_max < 1.0):
             continue
         scale = max(1.0, float(np.abs(orb.cycle).max()))
@@ -241,8 +237,8 @@ def _follow(p, orb, start, stop, width, max_events=4):
     events = []
     x, n, lo = orb.state, orb.n, start
     while len(events) < max_events:
-        bif = locate_bifurcation(p, x, n, param="eta", start=lo, stop=stop, tol=width,
-                                 shoot_kw=_SHOOT)
+        bif = locate_bifurcation(System(p), x, n, param="eta", start=lo, stop=stop,
+                                 tol=width, shoot_kw=_SHOOT)
         events.append(bif)
         nxt = bif.beyond
         if bif.kind not in ("grazing", "stick-slip") or nxt is None or not nxt.stable \
