@@ -61,10 +61,12 @@ ETA, REGIME_TEXT, TRIED, P0 = None, "", (), None
 
 
 def label_orbit(p, s0):
-    """The classifier's regime of the attractor reached from ``s0`` (``LABEL_TRANSIENT``
-    periods discarded, ``LABEL_PERIODS`` recorded; the exponent only without a period)."""
-    regime, _ = classify_params(p, state0=s0, transient=LABEL_TRANSIENT,
-                                periods=LABEL_PERIODS)
+    """The classifier's regime of the attractor reached from ``s0`` (the sweeps' point
+    pipeline: a transient of at most ``LABEL_TRANSIENT`` periods, ended early on a
+    converged orbit, then ``LABEL_PERIODS`` recorded; the exponent only without a
+    period)."""
+    regime, _ = classify_params(vi.System(p), state0=s0, transient_max=LABEL_TRANSIENT,
+                                record=LABEL_PERIODS)
     return regime
 
 
@@ -226,8 +228,8 @@ def report(s0, n_imp, rows, cross, series, rat):
          f"- trajectory: preset `{PRESET}` (B = {P0.B:g}, Ec = {P0.Ec:g}), eta = {ETA}, "
          f"state0 = [{', '.join(f'{v:.12g}' for v in s0)}] (reached from {list(START)} after "
          f"{START_TRANSIENT} periods); {n_imp} impacts in {WP_PERIODS} periods",
-         f"- regime, decided in this run by `classify_params` ({LABEL_TRANSIENT} periods "
-         f"from state0 discarded, {LABEL_PERIODS} recorded): **{REGIME_TEXT}**; eta was the "
+         f"- regime, decided in this run by `classify_params` (at most {LABEL_TRANSIENT} "
+         f"transient periods from state0, {LABEL_PERIODS} recorded): **{REGIME_TEXT}**; eta was the "
          "first of the candidates " + ", ".join(f"{e:g}" for e in CANDIDATE_ETAS)
          + " labelled periodic with impacts (" + "; ".join(
              f"{e:g}: {describe(r)}" for e, r in TRIED) + ")", "",

@@ -64,14 +64,17 @@ def results():
     p = fig8.replace(eta=1.25)
     p1 = fig8.replace(eta=1.12)
     x1 = vi.simulate(p1, periods=1, transient=600).strobe[-1]
-    if _api(vi):
+    if _api(vi):  # the same settings as the keyword API's defaults below
         s, s1 = vi.System(p), vi.System(p1)
-        lyap = an.lyapunov_spectrum(s, max_periods=2000)
-        largest = an.largest_lyapunov(s, max_periods=2000)
+        lyap = an.lyapunov_spectrum(s, averaging=an.Averaging(max_periods=2000))
+        largest = an.largest_lyapunov(s, averaging=an.Averaging(align=20, max_periods=2000))
         shot = an.shoot_periodic_orbit(s1, x1)
         mono = an.monodromy(s1, shot.state)
         fl = an.floquet_lyapunov(s1, shot.state)
-        br = an.continue_orbit(s1, shot.state, stop=1.16, max_points=12)
+        br = an.continue_orbit(s1, shot.state, stop=1.16, steps=an.Steps(max_points=12))
+        # classify_params is now the sweeps' point pipeline and returns (Regime, dict):
+        # not the old (Regime, Run) of simulate(p, 200, 500) + classify, so this entry
+        # cannot match a reference of the keyword API
         cp = an.classify_params(s)
     else:
         lyap = an.lyapunov_spectrum(p, max_periods=2000)

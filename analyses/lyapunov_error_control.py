@@ -30,7 +30,7 @@ import numpy as np
 from _report import write_section
 
 import vibimpact as vi
-from vibimpact.analysis import lyapunov_spectrum, monodromy, shoot_periodic_orbit
+from vibimpact.analysis import Averaging, lyapunov_spectrum, monodromy, shoot_periodic_orbit
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"
@@ -107,10 +107,11 @@ def jacobian_errors(preset, eta, n_states=40):
     rows = {mode: [] for mode in MODES}
     times = dict.fromkeys(MODES, 0.0)
     for x in run.strobe[1:]:
-        ref = monodromy(p, x, 1, **REF).matrix
+        ref = monodromy(vi.System(p, **REF), x, 1).matrix
         scale = np.linalg.norm(ref)
         for mode in rows:
-            t, m = _timed(lambda: monodromy(p, x, 1, tangent_tol=mode, **TOL).matrix)
+            t, m = _timed(lambda: monodromy(vi.System(p, **TOL), x, 1,
+                                            tangent_tol=mode).matrix)
             times[mode] += t
             rows[mode].append(np.linalg.norm(m - ref) / scale)
     return {k: np.array(v) for k, v in rows.items()}, times
@@ -119,18 +120,19 @@ def jacobian_errors(preset, eta, n_states=40):
 def periodic_exponents(preset, eta, n):
     """Exact largest exponent of a shot orbit and both modes' estimates."""
     p, x = _state(preset, eta)
-    orb = shoot_periodic_orbit(p, x, n, rtol=1e-12, atol=1e-14)
-    T = 2.0 * np.pi / eta
+    orb = shoot_periodic_orbit(vi.System(p, rtol=1e-12, atol=1e-14), x, n)
+    T = vi.System(p).period
     exact = float(np.log(orb.abs_max) / (n * T))
     out = {}
+    s = vi.System(p, **TOL)
+    avg = Averaging(transient=0, min_periods=200, max_periods=200, align=20)
     for mode in MODES:
         t, ly = _timed(lambda: lyapunov_spectrum(
-            p, state0=orb.state, n_exponents=1, transient=0, min_periods=200,
-            max_periods=200, align=20, tangent_tol=mode, floquet=False, **TOL))
+            s, state0=orb.state, n_exponents=1, averaging=avg, tangent_tol=mode,
+            floquet=False))
         out[mode] = (float(ly.exponents[0]), float(ly.stderr[0]), t)
     t, ly = _timed(lambda: lyapunov_spectrum(  # the default: the periodic-orbit watch
-        p, state0=orb.state, n_exponents=1, transient=0, min_periods=200,
-        max_periods=200, align=20, **TOL))
+        s, state0=orb.state, n_exponents=1, averaging=avg))
     out["floquet"] = (float(ly.exponents[0]), float(ly.stderr[0]), t)
     return exact, bool(orb.converged), out
 
@@ -138,10 +140,12 @@ def periodic_exponents(preset, eta, n):
 def chaotic_exponents(preset, eta):
     p, x = _state(preset, eta)
     out = {}
+    avg = Averaging(transient=0, min_periods=100, max_periods=600, target_stderr=1e-9,
+                    align=20)
     for mode in MODES:
         t, ly = _timed(lambda: lyapunov_spectrum(
-            p, state0=x, n_exponents=1, transient=0, min_periods=100, max_periods=600,
-            target_stderr=1e-9, align=20, tangent_tol=mode, floquet=False, **TOL))
+            vi.System(p, **TOL), state0=x, n_exponents=1, averaging=avg, tangent_tol=mode,
+            floquet=False))
         out[mode] = (float(ly.exponents[0]), float(ly.stderr[0]), ly.periods, t)
     return out
 
@@ -149,8 +153,9 @@ def chaotic_exponents(preset, eta):
 def main():
     p0 = vi.presets.get("fig8")
     for mode in MODES:  # compile first
-        lyapunov_spectrum(p0, n_exponents=1, transient=0, min_periods=2, max_periods=2,
-                          block=2, align=0, tangent_tol=mode, **TOL)
+        lyapunov_spectrum(vi.System(p0, **TOL), n_exponents=1, tangent_tol=mode,
+                          averaging=Averaging(transient=0, min_periods=2, max_periods=2,
+                                              block=2, align=0))
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = ["# Lyapunov exponents: the tangent vectors' error test", "",
              "Written by `python analyses/lyapunov_error_control.py`; every number is "

@@ -31,8 +31,8 @@ import numpy as np
 from _report import write_section
 
 import vibimpact as vi
-from vibimpact.analysis import (continue_orbit, locate_bifurcation, lyapunov_spectrum,
-                                shoot_periodic_orbit, strobe_map_jacobian)
+from vibimpact.analysis import (Averaging, Steps, continue_orbit, locate_bifurcation,
+                                lyapunov_spectrum, shoot_periodic_orbit, strobe_map_jacobian)
 from vibimpact.sweeps import continued_state, parse_range
 from vibimpact.sweeps.transitions import format_transitions, transition_types
 
@@ -70,8 +70,8 @@ def duffing():
     """Shooting + multipliers against a brute-force reference (no Newton, no tangents)."""
     p = vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.25, omega=1.2)
     t = time.perf_counter()
-    bif = locate_bifurcation(p, [1.0, 0.0], param="gamma", start=0.25, stop=0.28,
-                             tol=1e-7)
+    bif = locate_bifurcation(vi.System(p), [1.0, 0.0], param="gamma", start=0.25,
+                             stop=0.28, tol=1e-7)
     t_shoot = time.perf_counter() - t
     x = vi.simulate(p.replace(gamma=0.26), periods=1, transient=300,
                     state0=[1.0, 0.0]).final_state
@@ -139,17 +139,18 @@ def floquet(ds8):
             seen.add((name, i))
             p = vi.presets.get(name).replace(eta=eta)
             x = sub["final_state"].values[i]
-        orb = shoot_periodic_orbit(p, x, n)
+        orb = shoot_periodic_orbit(vi.System(p), x, n)
         if not orb.converged or orb.minimal_period != n or not orb.stable:
             rows.append(f"| {name} | {eta:.3f} | {n} | no stable period-{n} orbit "
                         f"(converged {orb.converged}, minimal period "
                         f"{orb.minimal_period}, abs(mu) {orb.abs_max:.3f}) | | | | | |")
             continue
-        ly = lyapunov_spectrum(p, state0=orb.state, transient=0, n_exponents=1,
-                               min_periods=400, target_stderr=1e-3)
+        ly = lyapunov_spectrum(vi.System(p), state0=orb.state, n_exponents=1,
+                               averaging=Averaging(transient=0, min_periods=400,
+                                                   target_stderr=1e-3))
         lam = math.log(orb.abs_max) / orb.period
         d = lam - ly.exponents[0]
-        fd = strobe_map_jacobian(p, orb.state, n=n)
+        fd = strobe_map_jacobian(vi.System(p), orb.state, n=n)
         rel = float(np.abs(orb.monodromy - fd).max() / np.abs(fd).max())
         worst_d, worst_fd = max(worst_d, abs(d)), max(worst_fd, rel)
         if ly.stderr[0] >= 1e-5:  # below that the error bar is no yardstick
@@ -228,14 +229,14 @@ def branches(ds8):
     low = p8.replace(eta=1.3)
     x = vi.simulate(low, periods=1, transient=300).final_state
     out.append(("low branch from eta = 1.3, down",
-                continue_orbit(low, x, stop=(0.9, 1.5), direction=-1, ds=0.01,
-                               ds_max=0.015, max_points=200)))
+                continue_orbit(vi.System(low), x, stop=(0.9, 1.5), direction=-1,
+                               steps=Steps(ds=0.01, ds_max=0.015, max_points=200))))
     up = p8.replace(eta=1.1)
     xu = continued_state(p8, 1.1)
     for d in (1, -1):
         out.append((f"impacting branch from eta = 1.1, {'up' if d > 0 else 'down'}",
-                    continue_orbit(up, xu, stop=(0.9, 1.5), direction=d, ds=0.01,
-                                   ds_max=0.015, max_points=150)))
+                    continue_orbit(vi.System(up), xu, stop=(0.9, 1.5), direction=d,
+                                   steps=Steps(ds=0.01, ds_max=0.015, max_points=150))))
     cost = time.perf_counter() - t
     fig = Figure(figsize=(10.5, 7.5))
     axes = [fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2)]

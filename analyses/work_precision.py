@@ -364,7 +364,8 @@ def report(results, ov, st, load, elapsed):
          + ", ".join(f"{m} {_span(t)}" for m, t in SCIPY_TOLS.items())
          + f", best of {SCIPY_REPEATS}.", "",
          f"Regime: decided in this run by `classify_params` on the trajectory's attractor "
-         f"({LABEL_TRANSIENT} periods from state0 discarded, {LABEL_PERIODS} recorded); "
+         f"(at most {LABEL_TRANSIENT} transient periods from state0, {LABEL_PERIODS} "
+         f"recorded); "
          f"parameters B = {results_b(results)}.  The fig8 rows use the first candidate "
          "speed with the regime their name asks for: "
          + "; ".join(f"{label}: " + ", ".join(f"{e:g} {describe(g)}" for e, g in r["tried"])

@@ -94,7 +94,7 @@ def test_divergence_is_labelled_diverged():
     assert classify(np.array([[0.0], [np.nan], [1.0]])).label is Regime.DIVERGED
     assert classify(np.zeros((10, 2)), diverged=True).label is Regime.DIVERGED
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=-1.0, gamma=5.0, omega=1.0)
-    reg, _ = classify_params(p, transient=10, periods=20)
+    reg, _ = classify_params(vi.System(p), transient_max=10, record=20)
     assert reg.label is Regime.DIVERGED
 
 
@@ -102,10 +102,11 @@ def test_ueda_oscillator_is_chaotic_and_damped_oscillator_periodic():
     """The Duffing model through classify_params: Ueda's chaotic regime is CHAOTIC with a
     positive exponent; a weakly forced linear oscillator is P1."""
     ueda = vi.DuffingParams(delta=0.05, alpha=0.0, beta=1.0, gamma=7.5, omega=1.0)
-    reg, _ = classify_params(ueda, state0=[2.5, 0.0], transient=100, periods=300)
+    reg, _ = classify_params(vi.System(ueda), state0=[2.5, 0.0], transient_max=100,
+                             record=300)
     assert reg.label is Regime.CHAOTIC and reg.lyapunov > 0.05
     lin = vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2, omega=1.3)
-    reg, _ = classify_params(lin, transient=200, periods=100)
+    reg, _ = classify_params(vi.System(lin), transient_max=200, record=100)
     assert reg.label is Regime.PERIODIC and reg.n == 1
 
 
@@ -115,7 +116,7 @@ def test_pinned_fig8_chaotic_point_is_chaotic(fig8_chaotic):
     test_shipped_defaults.py), fig8 at eta = 1.22 on the impacting branch is CHAOTIC,
     impacting, with a significantly positive exponent."""
     p, x = fig8_chaotic
-    reg, run = classify_params(p, state0=x, transient=100, periods=300)
+    reg, run = classify_params(vi.System(p), state0=x, transient_max=100, record=300)
     assert reg.label is Regime.CHAOTIC and reg.impacting
     assert reg.lyapunov > 3 * reg.lyapunov_err
 
@@ -126,8 +127,8 @@ def test_pinned_fig8_impacting_orbit_is_p1_with_two_impacts():
     2 impacts per period, no exponent needed."""
     from conftest import continued_state, preset
     p = preset("fig8").replace(eta=1.10)
-    reg, _ = classify_params(p, state0=continued_state("fig8", 1.10), transient=100,
-                             periods=100)
+    reg, _ = classify_params(vi.System(p), state0=continued_state("fig8", 1.10),
+                             transient_max=100, record=100)
     assert reg.label is Regime.PERIODIC and reg.n == 1
     assert reg.impacting and reg.impacts_per_period == 2.0
     assert math.isnan(reg.lyapunov)  # proven periodic: the exponent was skipped
@@ -141,4 +142,8 @@ def test_bad_arguments_raise_value_error_naming_them():
     with pytest.raises(ValueError, match="period"):
         classify(np.zeros((10, 2)), period=-1.0)
     with pytest.raises(ValueError, match="lyapunov"):
-        classify_params(preset("fig8"), lyapunov="maybe")
+        classify_params(vi.System(preset("fig8")), lyapunov="maybe")
+    with pytest.raises(ValueError, match="system"):
+        classify_params(preset("fig8"))
+    with pytest.raises(ValueError, match="periods"):
+        classify_params(vi.System(preset("fig8")), periods=10)

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.analysis import (largest_lyapunov, lyapunov_from_jacobians,
+from vibimpact import System
+from vibimpact.analysis import (Averaging, largest_lyapunov, lyapunov_from_jacobians,
                                 lyapunov_from_series, lyapunov_spectrum,
                                 strobe_map_jacobian)
 from conftest import continued_state, preset
@@ -17,8 +18,9 @@ def test_damped_linear_oscillator_spectrum_is_analytic():
     (distinct real eigenvalues, so the QR estimate converges fast); with the tangent
     vectors' errors tested at the tolerances they sum to the trace to 1e-5."""
     p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    res = lyapunov_spectrum(p, state0=[1.0, 0.0], transient=0, min_periods=100,
-                            max_periods=200, tangent_tol=1.0)
+    res = lyapunov_spectrum(System(p), state0=[1.0, 0.0], tangent_tol=1.0,
+                            averaging=Averaging(transient=0, min_periods=100,
+                                                max_periods=200))
     exact = np.array([(-3 + math.sqrt(5)) / 2, (-3 - math.sqrt(5)) / 2])
     np.testing.assert_allclose(res.exponents, exact, atol=2e-3)
     # trace of the Jacobian; the second tangent vector shrinks by e^-16 per period, to
@@ -30,7 +32,8 @@ def test_rotor_without_contact_has_all_exponents_minus_half_damping():
     """Far from the retainer (eta = 0.5, no contact) with k3 = 0 the rotor is two damped
     linear oscillators: four exponents -B/2 (underdamped), sum exactly -2B."""
     p = preset("fig8").replace(eta=0.5, k3=0.0)
-    res = lyapunov_spectrum(p, transient=20, min_periods=200, max_periods=400)
+    res = lyapunov_spectrum(System(p), averaging=Averaging(transient=20, min_periods=200,
+                                                           max_periods=400))
     np.testing.assert_allclose(res.exponents, -0.05, atol=1e-3)
     assert abs(res.exponents.sum() + 0.2) < 1e-8
 
@@ -63,9 +66,9 @@ UEDA = vi.DuffingParams(delta=0.05, alpha=0.0, beta=1.0, gamma=7.5, omega=1.0)
 @pytest.fixture(scope="module")
 def ueda():
     """Variational and two-trajectory estimates on Ueda's chaotic oscillator."""
-    kw = dict(state0=[2.5, 0.0], transient=100, min_periods=600, max_periods=3000,
-              target_stderr=4e-3)
-    return lyapunov_spectrum(UEDA, **kw), largest_lyapunov(UEDA, **kw)
+    avg = Averaging(transient=100, min_periods=600, max_periods=3000, target_stderr=4e-3)
+    return (lyapunov_spectrum(System(UEDA), [2.5, 0.0], averaging=avg),
+            largest_lyapunov(System(UEDA), [2.5, 0.0], averaging=avg))
 
 
 def test_ueda_oscillator_matches_published_exponent(ueda):
@@ -96,10 +99,10 @@ def test_variational_exponent_equals_floquet_exponent_of_impacting_orbit(name, e
     x = continued_state(name, eta, transient=300)
     run = vi.simulate(p, periods=3, state0=x)
     assert len(run.impacts) >= 2 and np.ptp(run.strobe, axis=0).max() < 1e-6
-    res = lyapunov_spectrum(p, state0=x, transient=0, min_periods=300, max_periods=1500,
-                            target_stderr=5e-4, floquet=False)
+    res = lyapunov_spectrum(System(p), state0=x, floquet=False, averaging=Averaging(
+        transient=0, min_periods=300, max_periods=1500, target_stderr=5e-4))
     assert res.floquet_n == 0
-    mu = np.linalg.eigvals(strobe_map_jacobian(p, x))
+    mu = np.linalg.eigvals(strobe_map_jacobian(System(p), x))
     floquet = np.log(np.abs(mu)).max() / res.period
     assert abs(res.exponents[0] - floquet) <= 0.02 * abs(floquet)
 
@@ -113,11 +116,12 @@ def test_looser_tangent_tolerance_gives_the_same_exponent_as_the_full_test():
     p = preset("fig8").replace(eta=1.13)
     x = continued_state("fig8", 1.13, transient=300)
     assert len(vi.simulate(p, periods=2, state0=x).impacts) >= 1
-    kw = dict(state0=x, n_exponents=1, transient=0, min_periods=150, max_periods=150,
-              align=20, rtol=1e-8, atol=1e-11, floquet=False)
-    lam_all = lyapunov_spectrum(p, tangent_tol=1.0, **kw).exponents[0]
+    kw = dict(state0=x, n_exponents=1, floquet=False, averaging=Averaging(
+        transient=0, min_periods=150, max_periods=150, align=20))
+    s = System(p, rtol=1e-8, atol=1e-11)
+    lam_all = lyapunov_spectrum(s, tangent_tol=1.0, **kw).exponents[0]
     for tol in (1e3, math.inf):
-        lam = lyapunov_spectrum(p, tangent_tol=tol, **kw).exponents[0]
+        lam = lyapunov_spectrum(s, tangent_tol=tol, **kw).exponents[0]
         assert lam < 0.0 and abs(lam - lam_all) < 1e-4
 
 
@@ -127,9 +131,9 @@ def test_a_state_at_rest_still_controls_its_tangent_vectors():
     right because its local errors are still tested (default tangent_tol), and is wrong
     by more than 5 % when they are not (tangent_tol = inf).  QR averages (floquet=False):
     the rest point is a periodic orbit whose Floquet exponents would be returned exactly."""
-    p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    kw = dict(state0=[1.0, 0.0], transient=0, min_periods=100, max_periods=200,
-              floquet=False)
+    p = System(vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0))
+    kw = dict(state0=[1.0, 0.0], floquet=False,
+              averaging=Averaging(transient=0, min_periods=100, max_periods=200))
     exact = (-3 - math.sqrt(5)) / 2
     assert abs(lyapunov_spectrum(p, **kw).exponents[1] - exact) < 1e-3
     assert abs(lyapunov_spectrum(p, tangent_tol=math.inf, **kw).exponents[1] - exact) > \
@@ -139,8 +143,9 @@ def test_a_state_at_rest_still_controls_its_tangent_vectors():
 @pytest.fixture(scope="module")
 def fig8_exponents(fig8_chaotic):
     p, x = fig8_chaotic
-    kw = dict(state0=x, transient=100, min_periods=4000, max_periods=4000)
-    return p, x, lyapunov_spectrum(p, **kw), largest_lyapunov(p, **kw)
+    avg = Averaging(transient=100, min_periods=4000, max_periods=4000)
+    return (p, x, lyapunov_spectrum(System(p), x, averaging=avg),
+            largest_lyapunov(System(p), x, averaging=avg.replace(align=20)))
 
 
 def test_fig8_chaotic_point_variational_and_two_trajectory_agree(fig8_exponents):
@@ -175,8 +180,9 @@ def test_map_exponents_are_flow_exponents_times_period():
     """The stroboscopic map's exponents are the flow's times T; include_phase appends the
     forcing phase's exact zero."""
     p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=2.0)
-    res = lyapunov_spectrum(p, state0=[1.0, 0.0], transient=0, min_periods=100,
-                            max_periods=100, include_phase=True)
+    res = lyapunov_spectrum(System(p), state0=[1.0, 0.0], include_phase=True,
+                            averaging=Averaging(transient=0, min_periods=100,
+                                                max_periods=100))
     assert res.exponents.shape == (3,) and res.exponents[0] == 0.0
     np.testing.assert_allclose(res.map_exponents, res.exponents * math.pi)
 
@@ -184,9 +190,11 @@ def test_map_exponents_are_flow_exponents_times_period():
 def test_tighter_target_integrates_longer_and_meets_it():
     """Convergence control: the run goes on until the largest exponent's standard error
     reaches the target, so a tighter target needs more periods and is met."""
-    kw = dict(state0=[2.5, 0.0], transient=50, min_periods=200, max_periods=20000)
-    loose = largest_lyapunov(UEDA, target_stderr=1e-2, **kw)
-    tight = largest_lyapunov(UEDA, target_stderr=3e-3, **kw)
+    avg = Averaging(transient=50, min_periods=200, max_periods=20000, align=20)
+    loose = largest_lyapunov(System(UEDA), [2.5, 0.0],
+                             averaging=avg.replace(target_stderr=1e-2))
+    tight = largest_lyapunov(System(UEDA), [2.5, 0.0],
+                             averaging=avg.replace(target_stderr=3e-3))
     assert loose.stderr[0] <= 1e-2 and tight.stderr[0] <= 3e-3
     assert tight.periods > loose.periods
 
@@ -195,16 +203,24 @@ def test_blow_up_is_labelled_not_returned_as_exponents():
     """A trajectory that escapes (softening Duffing, strong forcing) gives status DIVERGED
     and NaN exponents, never numbers."""
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=-1.0, gamma=5.0, omega=1.0)
-    res = lyapunov_spectrum(p, transient=0, min_periods=50, max_periods=100)
+    res = lyapunov_spectrum(System(p), averaging=Averaging(transient=0, min_periods=50,
+                                                           max_periods=100))
     assert res.status is vi.Status.DIVERGED and np.all(np.isnan(res.exponents))
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(n_exponents=5), "n_exponents"), (dict(min_periods=10, max_periods=5),
-                                          "max_periods"),
-    (dict(method="rk4"), "method"), (dict(target_stderr=-1.0), "target_stderr"),
-    (dict(state0=[1.0, 2.0]), "state0"), (dict(tangent_tol=0.5), "tangent_tol")])
-def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
-    """Invalid arguments raise ValueError naming the argument."""
+@pytest.mark.parametrize("call, name", [
+    (lambda s: lyapunov_spectrum(s, n_exponents=5), "n_exponents"),
+    (lambda s: Averaging(min_periods=10, max_periods=5), "max_periods"),
+    (lambda s: lyapunov_spectrum(s.with_solver(method="rk4")), "method"),
+    (lambda s: Averaging(target_stderr=-1.0), "target_stderr"),
+    (lambda s: Averaging(block=1), "block"),
+    (lambda s: lyapunov_spectrum(s, averaging=dict(transient=0)), "averaging"),
+    (lambda s: lyapunov_spectrum(s, state0=[1.0, 2.0]), "state0"),
+    (lambda s: lyapunov_spectrum(s, tangent_tol=0.5), "tangent_tol"),
+    (lambda s: lyapunov_spectrum(preset("fig8")), "system"),
+    (lambda s: largest_lyapunov(s, d0=0.0), "d0"),
+    (lambda s: strobe_map_jacobian(s, [0.0] * 4, eps=-1.0), "eps")])
+def test_bad_arguments_raise_value_error_naming_them(call, name):
+    """Invalid arguments raise ValueError naming the argument (a System is required)."""
     with pytest.raises(ValueError, match=name):
-        lyapunov_spectrum(preset("fig8"), **kwargs)
+        call(System(preset("fig8")))

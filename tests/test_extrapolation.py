@@ -68,7 +68,7 @@ def test_slowly_converging_orbit_is_found_periodic_with_extrapolation_only():
     a = vi.sweep(p, eta, settings=SweepSettings(extrapolate=0, shoot=0), analyses=("period",))
     b = vi.sweep(p, eta, settings=SweepSettings(), analyses=("period",))
     x = b.final_state.values[-1]
-    orb = shoot_periodic_orbit(p.replace(eta=1.03), x, 1)
+    orb = shoot_periodic_orbit(vi.System(p.replace(eta=1.03)), x, 1)
     assert orb.converged and 0.95 < orb.abs_max < 1.0
     assert int(b.period.values[-1]) == 1 and int(a.period.values[-1]) != 1
     assert np.abs(orb.state - x).max() < 1e-5
@@ -94,8 +94,8 @@ def test_a_jump_onto_a_saddle_is_not_accepted_as_periodic(saddle_case):
     the attracting period-2 orbit, not the saddle."""
     p, ds = saddle_case
     x = ds.final_state.values[-1]
-    p1 = shoot_periodic_orbit(p, x, 1)
-    p2 = shoot_periodic_orbit(p, x, 2)
+    p1 = shoot_periodic_orbit(vi.System(p), x, 1)
+    p2 = shoot_periodic_orbit(vi.System(p), x, 2)
     assert p1.converged and p1.abs_max > 1.02
     assert p2.converged and p2.minimal_period == 2 and p2.abs_max < 1.0
     assert int(ds.period.values[-1]) == 2
@@ -112,5 +112,5 @@ def test_stability_check_tells_the_saddle_from_the_attractor(saddle_case):
     p, ds = saddle_case
     x = ds.final_state.values[-1]
     st = SweepSettings()
-    assert not _attracting(p, shoot_periodic_orbit(p, x, 1).state, 1, st)
-    assert _attracting(p, shoot_periodic_orbit(p, x, 2).state, 2, st)
+    assert not _attracting(p, shoot_periodic_orbit(vi.System(p), x, 1).state, 1, st)
+    assert _attracting(p, shoot_periodic_orbit(vi.System(p), x, 2).state, 2, st)

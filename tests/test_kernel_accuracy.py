@@ -169,7 +169,7 @@ def test_stable_impacting_orbit_repeats_at_the_sweeps_tolerance():
     from vibimpact.sweeps import continued_state
 
     p = vi.presets.get("fig8").replace(eta=1.085, B=0.07, Ec=0.11)
-    orb = shoot_periodic_orbit(p, continued_state(p, 1.085), 1)
+    orb = shoot_periodic_orbit(vi.System(p), continued_state(p, 1.085), 1)
     assert orb.converged and orb.minimal_period == 1 and orb.abs_max < 0.9
     run = vi.simulate(p, periods=30, state0=orb.state, rtol=1e-8, atol=1e-11)
     assert run.ok and len(run.impacts) == 60

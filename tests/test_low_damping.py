@@ -117,7 +117,8 @@ def test_impacting_periodic_orbits_at_low_damping_are_labelled_with_their_period
         list(zip(ds.eta.values, ds.label.values))
     assert np.all(ds.impacts_per_period.values == 2.0)
     for e, x, amax in zip(ds.eta.values, ds.final_state.values, ds.floquet_abs_max.values):
-        orb = shoot_periodic_orbit(p.replace(eta=float(e)), x, 1, tol=1e-10, rtol=1e-10)
+        orb = shoot_periodic_orbit(vi.System(p.replace(eta=float(e)), rtol=1e-10), x, 1,
+                                   tol=1e-10)
         assert orb.converged and orb.minimal_period == 1 and orb.abs_max < 1.0
         assert abs(orb.abs_max - amax) < 1e-4
         assert np.abs(orb.state - x).max() < 1e-4
@@ -132,8 +133,8 @@ def test_impacting_orbits_multipliers_match_a_long_run(impacting_branch):
     p, ds = impacting_branch
     for k in (0, ds.eta.size // 2, ds.eta.size - 1):
         pe = p.replace(eta=float(ds.eta.values[k]))
-        orb = shoot_periodic_orbit(pe, ds.final_state.values[k], 1, tol=1e-11, rtol=1e-11,
-                                   atol=1e-13)
+        orb = shoot_periodic_orbit(vi.System(pe, rtol=1e-11, atol=1e-13),
+                                   ds.final_state.values[k], 1, tol=1e-11)
         run = vi.simulate(pe, periods=600, state0=orb.state + 1e-4, rtol=1e-11, atol=1e-13)
         c = contraction_rate(run.strobe[:400], 1)
         assert c is not None and c.contracting

@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.analysis import lyapunov_spectrum, shoot_periodic_orbit
-from vibimpact.analysis.lyapunov import floquet_lyapunov
+from vibimpact.analysis import (Averaging, floquet_lyapunov, lyapunov_spectrum,
+                                shoot_periodic_orbit)
 
 #: tolerance on a Floquet exponent per unit tau (module docstring)
 TOL = 1e-8
@@ -57,9 +57,9 @@ def test_impactless_low_damping_orbit_has_floquet_exponents_minus_half_B():
     floquet_lyapunov from rest (Newton converges: the problem is nearly linear) returns
     four equal exponents -B/2 to TOL, with a numerical-error estimate below TOL."""
     p = _impactless()
-    res = floquet_lyapunov(p, [0.0, 0.0, 0.0, 0.0])
+    res = floquet_lyapunov(vi.System(p), [0.0, 0.0, 0.0, 0.0])
     assert res.status is vi.Status.OK and res.floquet_n == 1 and res.method == "floquet"
-    orb = shoot_periodic_orbit(p, [0.0] * 4)
+    orb = shoot_periodic_orbit(vi.System(p), [0.0] * 4)
     assert len(vi.simulate(p, periods=1, state0=orb.state).impacts) == 0
     assert _pairs_differ_in_argument(orb.multipliers)
     np.testing.assert_allclose(res.exponents, -p.B / 2, rtol=0, atol=TOL)
@@ -71,7 +71,7 @@ def test_spectrum_from_rest_converges_to_the_pair_not_a_split_of_it():
     the Floquet exponents: lambda_1 = lambda_2 = -B/2 (the leading complex pair, not split
     into one above and one below) and the whole spectrum -B/2, each to TOL."""
     p = _impactless()
-    res = lyapunov_spectrum(p)
+    res = lyapunov_spectrum(vi.System(p))
     assert res.status is vi.Status.OK and res.floquet_n == 1
     assert abs(res.exponents[0] + p.B / 2) <= TOL
     assert abs(res.exponents[1] + p.B / 2) <= TOL
@@ -85,12 +85,12 @@ def test_impacting_orbit_with_complex_pair_converges_to_shooting(impacting_fig10
     still in its transient returns the shooting's ln|mu|/T: both of the leading pair
     equal, and all four exponents, to TOL."""
     p, x = impacting_fig10
-    orb = shoot_periodic_orbit(p, x, 1)
+    orb = shoot_periodic_orbit(vi.System(p), x, 1)
     assert orb.converged and orb.stable and orb.critical == "complex"
     assert len(vi.simulate(p, periods=1, state0=orb.state).impacts) >= 1
     exact = orb.exponents
     assert abs(exact[0] - exact[1]) < TOL and exact[0] - exact[2] > 1e-3
-    res = lyapunov_spectrum(p, state0=x, transient=0)
+    res = lyapunov_spectrum(vi.System(p), state0=x, averaging=Averaging(transient=0))
     assert res.status is vi.Status.OK and res.floquet_n == 1 and res.periods > 0
     np.testing.assert_allclose(res.exponents, exact, rtol=0, atol=TOL)
     assert np.all(np.isfinite(res.qr_exponents))
@@ -105,12 +105,12 @@ def test_conservative_contact_orbit_has_all_exponents_minus_half_B():
     p = vi.presets.get("fig8").replace(B=0.01, Ec=0.11, eta=1.4)
     x = vi.simulate(p, periods=1, transient=1500, state0=[0.0, 1.0, 0.0, 0.0]).final_state
     assert len(vi.simulate(p, periods=1, state0=x).impacts) >= 1
-    assert _pairs_differ_in_argument(shoot_periodic_orbit(p, x, 1).multipliers)
-    res = lyapunov_spectrum(p, state0=x, transient=0)
+    assert _pairs_differ_in_argument(shoot_periodic_orbit(vi.System(p), x).multipliers)
+    res = lyapunov_spectrum(vi.System(p), state0=x, averaging=Averaging(transient=0))
     assert res.floquet_n == 1
     np.testing.assert_allclose(res.exponents, -p.B / 2, rtol=0, atol=TOL)
-    qr = lyapunov_spectrum(p, state0=x, transient=0, floquet=False, min_periods=200,
-                           max_periods=200)
+    qr = lyapunov_spectrum(vi.System(p), state0=x, floquet=False, averaging=Averaging(
+        transient=0, min_periods=200, max_periods=200))
     assert qr.floquet_n == 0 and abs(qr.exponents.sum() + 2 * p.B) < TOL
 
 
@@ -119,9 +119,9 @@ def test_chaotic_spectrum_is_bit_identical_with_and_without_the_watch():
     stroboscopic points never repeat, so the periodic-orbit watch never acts and the
     spectrum and its errors are bit for bit the QR average of floquet=False."""
     p = vi.presets.get("fig8").replace(B=0.01, Ec=0.11, eta=1.2)
-    kw = dict(transient=200, min_periods=300, max_periods=300)
-    on = lyapunov_spectrum(p, **kw)
-    off = lyapunov_spectrum(p, floquet=False, **kw)
+    kw = dict(averaging=Averaging(transient=200, min_periods=300, max_periods=300))
+    on = lyapunov_spectrum(vi.System(p), **kw)
+    off = lyapunov_spectrum(vi.System(p), floquet=False, **kw)
     assert on.exponents[0] > 3 * on.stderr[0] > 0 and on.floquet_n == 0
     assert np.array_equal(on.exponents, off.exponents)
     assert np.array_equal(on.stderr, off.stderr) and on.periods == off.periods
@@ -136,12 +136,12 @@ def test_floquet_lyapunov_of_damped_linear_oscillator_is_analytic():
     p = vi.DuffingParams(delta=3.0, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
     exact = np.array([(-3 + math.sqrt(5)) / 2, (-3 - math.sqrt(5)) / 2])
     for n in (1, 2):
-        res = floquet_lyapunov(p, [0.1, 0.0], n)
+        res = floquet_lyapunov(vi.System(p), [0.1, 0.0], n)
         assert res.floquet_n == 1 and abs(res.exponents[0] - exact[0]) < TOL
         # |mu_2| = exp(-2.618 * 2 pi) = 7e-8 is only known to about atol / |mu_2|: the
         # reported numerical error must cover the actual one
         assert np.all(np.abs(res.exponents - exact) <= res.stderr)
-    res = floquet_lyapunov(p, [0.0, 0.0], n_exponents=1, include_phase=True)
+    res = floquet_lyapunov(vi.System(p), [0.0, 0.0], n_exponents=1, include_phase=True)
     assert res.exponents.shape == (2,) and res.exponents[0] == 0.0
     assert abs(res.exponents[1] - exact[0]) < TOL
 
@@ -151,7 +151,7 @@ def test_floquet_lyapunov_reports_failure_not_numbers():
     iterations from a point of the attractor) the result is status FAILED with NaN
     exponents and a reason, never numbers."""
     ueda = vi.DuffingParams(delta=0.05, alpha=0.0, beta=1.0, gamma=7.5, omega=1.0)
-    res = floquet_lyapunov(ueda, [2.5, 0.0], max_iter=2)
+    res = floquet_lyapunov(vi.System(ueda), [2.5, 0.0], max_iter=2)
     assert res.status is vi.Status.FAILED and np.all(np.isnan(res.exponents))
     assert res.reason and not res.converged
 
@@ -161,10 +161,10 @@ def test_floquet_lyapunov_reports_failure_not_numbers():
 def test_floquet_lyapunov_bad_arguments_raise_value_error(kwargs, name):
     """Invalid arguments raise ValueError naming the argument."""
     with pytest.raises(ValueError, match=name):
-        floquet_lyapunov(_impactless(), [0.0] * 4, **kwargs)
+        floquet_lyapunov(vi.System(_impactless()), [0.0] * 4, **kwargs)
 
 
 def test_spectrum_bad_floquet_tolerance_raises_value_error():
     """A non-positive floquet_tol is refused, naming it."""
     with pytest.raises(ValueError, match="floquet_tol"):
-        lyapunov_spectrum(_impactless(), transient=0, floquet_tol=0.0)
+        lyapunov_spectrum(vi.System(_impactless()), floquet_tol=0.0)

@@ -77,7 +77,7 @@ def test_a_guess_on_a_saddle_is_not_accepted():
         analyses=("period",), predict=0))
     q = p.replace(eta=1.085)
     x = ds.final_state.values[-2]  # the previous point's state: plain continuation
-    saddle = shoot_periodic_orbit(q, x, 1)
+    saddle = shoot_periodic_orbit(vi.System(q), x, 1)
     assert saddle.converged and saddle.abs_max > 1.02
     st = SweepSettings(analyses=("period",))
     res = analyse_point(q, x, st, guess=saddle.state)

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.analysis import (continue_orbit, floquet_exponents, floquet_multipliers,
-                                locate_bifurcation, lyapunov_spectrum, monodromy,
-                                shoot_periodic_orbit, strobe_map_jacobian)
+from vibimpact.analysis import (Averaging, Steps, continue_orbit, floquet_exponents,
+                                floquet_multipliers, locate_bifurcation, lyapunov_spectrum,
+                                monodromy, shoot_periodic_orbit, strobe_map_jacobian)
 from vibimpact.analysis.continuation import orbit_signature
 from conftest import continued_state, preset
 
@@ -48,8 +48,8 @@ def test_duffing_period_doubling_matches_brute_force_reference():
     mu = -1 at the gamma where brute-force simulation sees the period-2 splitting vanish
     (acceptance: within 1e-3; measured about 1e-5)."""
     ref = _pd_by_simulation()
-    bif = locate_bifurcation(DUFFING, [1.0, 0.0], param="gamma", start=0.25, stop=0.28,
-                             tol=1e-6)
+    bif = locate_bifurcation(vi.System(DUFFING), [1.0, 0.0], param="gamma", start=0.25,
+                             stop=0.28, tol=1e-6)
     assert bif.kind == "period doubling"
     assert abs(bif.value - ref) < 1e-3
     assert abs(bif.value - ref) < 1e-4  # what it actually achieves
@@ -60,7 +60,7 @@ def test_duffing_period_doubling_matches_brute_force_reference():
 def test_monodromy_determinant_obeys_liouville():
     """det M = exp(-delta n T) for the Duffing oscillator (the trace of its Jacobian is
     -delta), so the product of the multipliers is fixed independently of the orbit."""
-    orb = shoot_periodic_orbit(DUFFING.replace(gamma=0.28), [1.0, 0.0], 2)
+    orb = shoot_periodic_orbit(vi.System(DUFFING.replace(gamma=0.28)), [1.0, 0.0], 2)
     assert orb.converged and orb.minimal_period == 2
     T = 2.0 * math.pi / 1.2
     assert np.prod(orb.multipliers).real == pytest.approx(math.exp(-0.3 * 2 * T),
@@ -71,7 +71,7 @@ def test_newton_converges_quadratically_to_a_tight_residual():
     """From a point of the transient the Newton iteration reaches the tolerance in a few
     monodromy evaluations; the cycle repeats under simulation."""
     p = DUFFING.replace(gamma=0.2)
-    orb = shoot_periodic_orbit(p, [1.0, 0.0], 1, tol=1e-11)
+    orb = shoot_periodic_orbit(vi.System(p), [1.0, 0.0], 1, tol=1e-11)
     assert orb.converged and orb.iterations <= 8 and orb.residual < 1e-10
     run = vi.simulate(p, periods=5, state0=orb.state, rtol=1e-12, atol=1e-14)
     assert np.abs(run.strobe - orb.state).max() < 1e-9
@@ -85,7 +85,7 @@ def fig8_orbits():
     out = {}
     for eta in (1.185, 1.195):
         p = preset("fig8").replace(eta=eta)
-        orb = shoot_periodic_orbit(p, continued_state("fig8", eta), 1)
+        orb = shoot_periodic_orbit(vi.System(p), continued_state("fig8", eta), 1)
         out[eta] = (p, orb)
     return out
 
@@ -95,8 +95,8 @@ def test_fig8_floquet_exponents_match_variational_lyapunov(fig8_orbits):
     analysers (variational equations, QR) within its error bar (-0.0500 at 1.185)."""
     for eta, (p, orb) in fig8_orbits.items():
         assert orb.converged and orb.stable
-        ly = lyapunov_spectrum(p, state0=orb.state, transient=0, min_periods=400,
-                               target_stderr=1e-3)
+        ly = lyapunov_spectrum(vi.System(p), state0=orb.state, averaging=Averaging(
+            transient=0, min_periods=400, target_stderr=1e-3))
         lam = np.log(orb.abs_max) / orb.period
         assert abs(lam - ly.exponents[0]) < 4 * ly.stderr[0] + 5e-4, eta
         # the whole spectrum: four Floquet exponents against four Lyapunov exponents
@@ -111,14 +111,14 @@ def test_variational_monodromy_matches_finite_differences(fig8_orbits):
     equals the central-difference Jacobian of the stroboscopic map, on impacting orbits
     with a continuous (fig8) and a discontinuous (fig10, B_T) contact force."""
     for eta, (p, orb) in fig8_orbits.items():
-        fd = strobe_map_jacobian(p, orb.state)
+        fd = strobe_map_jacobian(vi.System(p), orb.state)
         assert np.abs(orb.monodromy - fd).max() < 1e-5 * np.abs(fd).max(), eta
     p = preset("fig10").replace(eta=1.1)
-    orb = shoot_periodic_orbit(p, continued_state("fig10", 1.1), 1)
+    orb = shoot_periodic_orbit(vi.System(p), continued_state("fig10", 1.1), 1)
     assert orb.converged
-    sig = orbit_signature(p, orb.state, 1)
+    sig = orbit_signature(vi.System(p), orb.state, 1)
     assert sig[0][0] >= 2  # contact entries and exits: the saltation matrix is used
-    fd = strobe_map_jacobian(p, orb.state)
+    fd = strobe_map_jacobian(vi.System(p), orb.state)
     assert np.abs(orb.monodromy - fd).max() < 1e-5 * np.abs(fd).max()
 
 
@@ -129,7 +129,8 @@ def test_continuation_goes_round_the_folds_of_a_hardening_duffing():
     locate_bifurcation followed along the upper branch."""
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=0.8)
     x = vi.simulate(p, periods=1, transient=400).final_state
-    br = continue_orbit(p, x, param="omega", stop=(0.8, 2.0), ds=0.02, ds_max=0.05)
+    br = continue_orbit(vi.System(p), x, param="omega", stop=(0.8, 2.0),
+                        steps=Steps(ds=0.02, ds_max=0.05))
     turns = [(i, v) for i, k, v in br.bifurcations if k == "fold (turning point)"]
     assert len(turns) == 2
     (i1, w1), (i2, w2) = turns
@@ -139,7 +140,7 @@ def test_continuation_goes_round_the_folds_of_a_hardening_duffing():
     mid = br.multipliers[(i1 + i2) // 2]
     assert abs(mid[0].imag) < 1e-9 and mid[0].real > 1.0
     assert br.amplitude["x_m"][i1] > br.amplitude["x_m"][i2]
-    bif = locate_bifurcation(p.replace(omega=1.2), br.states[np.argmin(
+    bif = locate_bifurcation(vi.System(p.replace(omega=1.2)), br.states[np.argmin(
         np.abs(br.values[:i1] - 1.2))], param="omega", start=1.2, stop=1.3, tol=1e-5)
     assert bif.kind == "fold" and abs(bif.value - w1) < 2e-3
 
@@ -156,17 +157,23 @@ def test_multipliers_are_sorted_and_exponents_follow():
 
 
 @pytest.mark.parametrize("call, name", [
-    (lambda: shoot_periodic_orbit(DUFFING, [1.0, 0.0], 0), "n"),
-    (lambda: shoot_periodic_orbit(DUFFING, [1.0], 1), "state0"),
-    (lambda: shoot_periodic_orbit(DUFFING, [1.0, 0.0], tol=-1.0), "tol"),
-    (lambda: monodromy(DUFFING, [1.0, 0.0], method="rk4"), "method"),
+    (lambda: shoot_periodic_orbit(vi.System(DUFFING), [1.0, 0.0], 0), "n"),
+    (lambda: shoot_periodic_orbit(vi.System(DUFFING), [1.0], 1), "state0"),
+    (lambda: shoot_periodic_orbit(vi.System(DUFFING), [1.0, 0.0], tol=-1.0), "tol"),
+    (lambda: monodromy(vi.System(DUFFING, method="rk4"), [1.0, 0.0]), "method"),
+    (lambda: monodromy(DUFFING, [1.0, 0.0]), "system"),
+    (lambda: shoot_periodic_orbit(DUFFING, [1.0, 0.0]), "system"),
     (lambda: floquet_multipliers(np.ones((2, 3))), "M"),
-    (lambda: locate_bifurcation(DUFFING, [1.0, 0.0], param="nope", start=0.2,
+    (lambda: locate_bifurcation(vi.System(DUFFING), [1.0, 0.0], param="nope", start=0.2,
                                 stop=0.3), "param"),
-    (lambda: locate_bifurcation(DUFFING, [1.0, 0.0], param="gamma", start=0.2,
+    (lambda: locate_bifurcation(vi.System(DUFFING), [1.0, 0.0], param="gamma", start=0.2,
                                 stop=0.2), "stop"),
-    (lambda: continue_orbit(DUFFING, [1.0, 0.0], param="gamma", stop=(0.2, 0.3),
+    (lambda: continue_orbit(vi.System(DUFFING), [1.0, 0.0], param="gamma", stop=(0.2, 0.3),
                             direction=2), "direction"),
+    (lambda: Steps(ds_min=-1.0), "ds_min"),
+    (lambda: Steps(max_points=1), "max_points"),
+    (lambda: continue_orbit(vi.System(DUFFING), [1.0, 0.0], param="gamma", stop=0.3,
+                            steps=dict(ds=0.1)), "steps"),
 ])
 def test_bad_input_names_the_argument(call, name):
     """Bad arguments raise ValueError naming the argument."""
@@ -177,8 +184,8 @@ def test_bad_input_names_the_argument(call, name):
 def test_locate_refuses_an_unstable_start():
     """A start without a stable orbit of the asked period is refused (state0 named)."""
     with pytest.raises(ValueError, match="state0"):
-        locate_bifurcation(DUFFING.replace(gamma=0.28), [1.0, 0.0], param="gamma",
-                           start=0.28, stop=0.3)
+        locate_bifurcation(vi.System(DUFFING.replace(gamma=0.28)), [1.0, 0.0],
+                           param="gamma", start=0.28, stop=0.3)
 
 
 def test_plot_branch_draws_stable_solid_and_unstable_dashed():
@@ -189,7 +196,8 @@ def test_plot_branch_draws_stable_solid_and_unstable_dashed():
 
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=1.1)
     x = vi.simulate(p, periods=1, transient=400).final_state
-    br = continue_orbit(p, x, param="omega", stop=(1.1, 1.4), ds=0.02, ds_max=0.05)
+    br = continue_orbit(vi.System(p), x, param="omega", stop=(1.1, 1.4),
+                        steps=Steps(ds=0.02, ds_max=0.05))
     ax = Figure().add_subplot()
     arts = plot_branch(ax, br, "x_m", label="P1")
     styles = {a.get_linestyle() for a in arts if len(a.get_xdata()) > 1}

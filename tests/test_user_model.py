@@ -2,6 +2,7 @@
 import math
 
 import numpy as np
+import pytest
 from numba import njit
 
 import vibimpact as vi
@@ -86,10 +87,57 @@ def test_user_model_lyapunov_spectrum_equals_damping_rate():
     """The variational equations of a user model (its Jacobian allocated per evaluation,
     its saltation map per event) give the linear oscillator's exponents: both equal to
     the real part -c/2 of its eigenvalues (underdamped, c^2 < 4k)."""
-    from vibimpact.analysis import lyapunov_spectrum
+    from vibimpact.analysis import Averaging, lyapunov_spectrum
 
     c = 0.3
-    res = lyapunov_spectrum(np.array([c, 1.0, 0.5, 1.7]), transient=10, min_periods=100,
-                            max_periods=100, model=_linear(_rhs))
+    res = lyapunov_spectrum(vi.System(np.array([c, 1.0, 0.5, 1.7]), model=_linear(_rhs)),
+                            averaging=Averaging(transient=10, min_periods=100,
+                                                max_periods=100))
     assert res.status is vi.Status.OK
     np.testing.assert_allclose(res.exponents, [-c / 2, -c / 2], atol=2e-3)
+
+
+#: the damped forced linear oscillator x'' + c x' + k x = F cos(w t), as a user model
+#: and as the built-in Duffing oscillator (beta = 0), and the rotor far from its retainer
+#: without cubic stiffness (two damped linear oscillators)
+C, K, F, W = 0.3, 1.0, 0.5, 1.7
+SYSTEMS = {
+    "user model": lambda: (vi.System(np.array([C, K, F, W]), model=_linear(_rhs)), "w"),
+    "duffing": lambda: (vi.System(vi.DuffingParams(delta=C, alpha=K, beta=0.0, gamma=F,
+                                                   omega=W)), "omega"),
+    "rotor": lambda: (vi.System(vi.presets.get("fig8").replace(eta=0.5, k3=0.0)), "eta"),
+}
+
+
+@pytest.mark.parametrize("name", list(SYSTEMS))
+def test_every_model_goes_through_the_analysers_as_a_system(name):
+    """A user model, the built-in Duffing oscillator and the rotor go through shooting,
+    the Lyapunov spectrum and continuation the same way, as a System: the shot orbit is
+    the closed-form steady state (linear oscillators), its multipliers have modulus
+    exp(-c T / 2), the exponents are -c/2 (the orbit's Floquet exponents, found by the
+    spectrum's periodic-orbit watch), and every continued orbit is the steady state at
+    its frequency."""
+    from vibimpact.analysis import (Averaging, Steps, continue_orbit, lyapunov_spectrum,
+                                    shoot_periodic_orbit)
+
+    system, param = SYSTEMS[name]()
+    x0 = system.simulate(periods=1, transient=100).final_state
+    orb = shoot_periodic_orbit(system, x0)
+    assert orb.converged and orb.stable and orb.minimal_period == 1
+    rate = system.param("B") / 2 if name == "rotor" else C / 2
+    np.testing.assert_allclose(np.abs(orb.multipliers), math.exp(-rate * system.period),
+                               rtol=1e-8)
+    res = lyapunov_spectrum(system, averaging=Averaging(transient=50, max_periods=2000))
+    assert res.status is vi.Status.OK and res.floquet_n == 1
+    np.testing.assert_allclose(res.exponents, -rate, atol=1e-8)
+    br = continue_orbit(system, orb.state, param=param, stop=system.omega + 0.05,
+                        steps=Steps(ds=0.01, max_points=4))
+    assert br.param == param and br.values.size == 4 and br.stable.all()
+    assert np.all(np.diff(br.values) > 0)
+    if name == "rotor":
+        return
+    for w, x in zip(br.values, br.states):
+        a = F / (K - w ** 2 + 1j * C * w)
+        np.testing.assert_allclose(x, [a.real, (1j * w * a).real], atol=1e-8)
+    a = np.abs(F / (K - br.values ** 2 + 1j * C * br.values))
+    np.testing.assert_allclose(br.amplitude["x_m"], a, rtol=1e-3)

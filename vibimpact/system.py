@@ -262,12 +262,17 @@ class System:
         M = y[d:].reshape(d, d).T.copy()  # column c is the tangent vector started at e_c
         return Monodromy(M, x0, y[:d].copy(), n, n * T)
 
-    def variational(self, tangent_tol=None):
-        """Method and kernel options of the variational equations: adaptive methods
-        only, ``rtol = 1e-10`` by default, the bound on the model state only, the tangent
-        entries' local errors tested at ``tangent_tol`` times the tolerances (``inf``: not
-        tested; None: as the state's)."""
-        kw = self.solver(rtol=1e-10)
+    def variational(self, tangent_tol=None, **defaults):
+        """Method and kernel options of the variational equations (and of the
+        two-trajectory runs, ``tangent_tol`` None): adaptive methods only, the bound on
+        the model state only, the tangent entries' local errors tested at ``tangent_tol``
+        times the tolerances (``inf``: not tested; None: as the state's).
+
+        ``defaults`` are the analysis' solver defaults for the settings left None
+        (``rtol = 1e-10`` unless given; :meth:`solver`); ``max_step`` None means
+        ``T / 4``.
+        """
+        kw = self.solver(**{"rtol": 1e-10, **defaults})
         if kw["method"] not in ("dop853", "dp5"):
             raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), "
                              f"got {kw['method']!r}")
@@ -288,6 +293,12 @@ class System:
             options = options.with_(n_err=self.n_state,
                                     tangent_factor=0.0 if math.isinf(f) else f)
         return _kb.Method.named(kw["method"]), options
+
+    def resolved(self, **defaults):
+        """The same system with every solver setting fixed: the caller's ``defaults``
+        (then :func:`vibimpact.simulate`'s) for those left None, so that the analyses it
+        is passed on to use the caller's defaults, not their own."""
+        return replace(self, **self.solver(**defaults))
 
 
 def as_system(system, name="system"):

@@ -8,6 +8,7 @@
 :func:`contact_arcs`        contact angles grouped into arcs on the retainer circle
 :func:`impact_statistics`   impact speeds, penetrations, contact durations
 :func:`lyapunov_spectrum`   variational equations + saltation matrices (Benettin/QR)
+:class:`Averaging`          how long the Lyapunov estimates integrate and average
 :func:`largest_lyapunov`    two-trajectory estimate (independent check)
 :func:`lyapunov_from_jacobians`  QR method for any map
 :func:`lyapunov_from_series`     nolds (Rosenstein) on a series, a cross-check only
@@ -18,7 +19,8 @@
 :func:`test01`              Gottwald--Melbourne 0-1 test for chaos
 :func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED,
                             UNSETTLED)
-:func:`classify_params`     simulate one parameter point and classify it
+:func:`classify_params`     one parameter point through the sweeps' point pipeline
+                            (:mod:`vibimpact.pipeline`), classified
 :func:`extrapolate_limit`   limit of a converging map iteration (minimal polynomial
                             extrapolation)
 :func:`monodromy`           Jacobian of the n-fold stroboscopic map (variational eqs.)
@@ -26,11 +28,17 @@
 :func:`floquet_multipliers` eigenvalues of a monodromy matrix, by decreasing modulus
 :func:`locate_bifurcation`  where and how a stable orbit stops persisting in a parameter
 :func:`continue_orbit`      pseudo-arclength continuation of a periodic orbit
+:class:`Steps`              its step controls
 ==========================  ==========================================================
+
+Every analyser of a model's trajectories (Lyapunov exponents, shooting, monodromy,
+continuation, classification of a parameter point) takes a :class:`vibimpact.System`
+first: model, parameters and solver settings in one value.
 """
 from .chaos01 import test01
 from .extrapolation import extrapolate_limit
-from .classify import DEFAULT_RULE, DecisionRule, Label, Regime, classify, classify_params
+from .classify import DEFAULT_RULE, DecisionRule, Label, Regime, classify
+from .exponents import Averaging
 from .impacts import (ContactArcs, ImpactCount, ImpactStatistics, contact_arcs,
                       impact_count, impact_statistics)
 from .lyapunov import (LyapunovResult, floquet_lyapunov, largest_lyapunov,
@@ -40,7 +48,7 @@ from .settling import Contraction, TorusEvidence, contraction_rate, torus_eviden
 from .period import detect_period, impact_map, poincare_section
 from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
                        monodromy, shoot_periodic_orbit)
-from .continuation import Bifurcation, Branch, continue_orbit, locate_bifurcation
+from .continuation import Bifurcation, Branch, Steps, continue_orbit, locate_bifurcation
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -51,5 +59,15 @@ __all__ = [
     "Bifurcation", "Branch", "Monodromy", "PeriodicOrbit", "continue_orbit",
     "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
     "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
-    "contraction_rate", "torus_evidence",
+    "contraction_rate", "torus_evidence", "Averaging", "Steps",
 ]
+
+
+def __getattr__(name):
+    # classify_params runs the sweeps' point pipeline, which sits above this package:
+    # imported on first use, so that importing vibimpact.analysis does not import it
+    if name == "classify_params":
+        from ..pipeline import classify_params
+        globals()[name] = classify_params
+        return classify_params
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -33,6 +33,8 @@ import numbers
 
 import numpy as np
 
+from .. import _validate as _v
+
 __all__ = ["test01", "mean_square_displacement", "C_RANGE", "MIN_LENGTH"]
 
 #: interval of the frequencies ``c`` (radians), as recommended in [2]
@@ -55,17 +57,9 @@ def _series(series):
     return x
 
 
-def _int_arg(name, value, minimum, maximum=None):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    if maximum is not None and value > maximum:
-        raise ValueError(f"{name} must be <= {maximum}, got {value!r}")
-    return int(value)
-
-
 def _frequencies(c, n_c, seed):
     if c is None:
-        n_c = _int_arg("n_c", n_c, 1)
+        n_c = _v.count("n_c", n_c, 1)
         rng = np.random.default_rng(seed)
         return rng.uniform(C_RANGE[0], C_RANGE[1], size=n_c)
     try:
@@ -172,7 +166,7 @@ def test01(series, c=None, n_c=100, n_cut=None, seed=0, *, constant_tol=1e-12):
     if n_cut is None:
         n_cut = max(2, N // 10)
     else:
-        n_cut = _int_arg("n_cut", n_cut, 2, N - 1)
+        n_cut = _v.count("n_cut", n_cut, 2, N - 1)
     c = _frequencies(c, n_c, seed)
     if (isinstance(constant_tol, bool) or not isinstance(constant_tol, numbers.Real)
             or not 0.0 <= constant_tol < np.inf):

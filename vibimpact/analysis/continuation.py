@@ -40,21 +40,22 @@ import numpy as np
 
 from ..run import Status
 from .. import _validate as _v
-from ..models import resolve
-from ..simulation import simulate
-from .shooting import (PeriodicOrbit, critical_multiplier, floquet_multipliers, monodromy,
-                       param_value, shoot_periodic_orbit, with_param)
+from ..system import as_system
+from .shooting import (PeriodicOrbit, critical_multiplier, floquet_multipliers,
+                       shoot_periodic_orbit)
 
-__all__ = ["Bifurcation", "Branch", "locate_bifurcation", "continue_orbit",
-           "orbit_signature", "grazing_gap", "KIND_BY_MULTIPLIER"]
+__all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
+           "orbit_signature", "grazing_gap", "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER"]
 
 #: bifurcation named by the multiplier that leaves the unit circle
 KIND_BY_MULTIPLIER = {"-1": "period doubling", "+1": "fold", "complex": "Neimark-Sacker"}
 
-_SOLVER = dict(method="dop853", rtol=1e-10, atol=1e-12)
+#: solver defaults of every integration here (shooting, monodromy, signatures, amplitudes;
+#: the rest as :func:`vibimpact.simulate`)
+CONTINUATION_SOLVER = dict(rtol=1e-10)
 
 
-def orbit_signature(p, state, n, *, model=None):
+def orbit_signature(system, state, n):
     """The switching events of a period-``n`` orbit, as a hashable tuple.
 
     ``(counts, modes)``: the number of mode-changing events of each terminal switch over
@@ -65,12 +66,16 @@ def orbit_signature(p, state, n, *, model=None):
     contact and impactless motion differ.  Two orbits of one branch have the same
     signature until a grazing (a contact appears or disappears, or a permanent contact
     lifts off) or a stick-slip change.
+
+    ``system``'s solver settings default to DOP853, ``rtol = 1e-10``, ``atol = 1e-12``
+    (:data:`CONTINUATION_SOLVER`).
     """
-    mdl, pvec = resolve(p, model)
-    x = _v.state("state0", state, len(mdl.state_names))
+    system = as_system(system)
+    mdl = system.model
+    x = _v.state("state0", state, system.n_state)
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
-    mdl.init_mode(0.0, x.copy(), pvec, mode)
-    run = simulate(p, periods=n, state0=x, model=model, **_SOLVER)
+    mdl.init_mode(0.0, x.copy(), system.p, mode)
+    run = system.simulate(periods=n, state0=x, **system.solver(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return ("diverged",)
     w = np.asarray(run.events["which"])
@@ -84,17 +89,18 @@ def orbit_signature(p, state, n, *, model=None):
     return counts, tuple(sorted(modes))
 
 
-def grazing_gap(p, state, n, *, model=None):
+def grazing_gap(system, state, n):
     """Smallest ``|R - 1|`` over the extrema of ``R`` along a rotor orbit (0 at grazing).
 
     The extrema are the located zeros of ``dR/dtau`` (the rotor's observer switch): the
     closest approaches in free flight and the deepest points of contacts.  NaN for a model
-    other than the rotor (no retainer) or an orbit without extrema.
+    other than the rotor (no retainer) or an orbit without extrema.  Solver defaults as
+    :func:`orbit_signature`'s.
     """
-    mdl, _ = resolve(p, model)
-    if mdl.name != "rotor":
+    system = as_system(system)
+    if system.model.name != "rotor":
         return math.nan
-    run = simulate(p, periods=n, state0=state, model=model, **_SOLVER)
+    run = system.simulate(periods=n, state0=state, **system.solver(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return math.nan
     ext = np.asarray(run.events["which"]) == 2
@@ -154,7 +160,7 @@ class Bifurcation:
         return self.orbit.multipliers
 
 
-def _persistence(p, param, value, guess, n, ref_sig, model, shoot_kw, settle=100):
+def _persistence(system, param, value, guess, n, ref_sig, shoot_kw, settle=100):
     """Shoot at ``value``; returns (ok, why, orbit, signature).
 
     When Newton fails from ``guess`` the motion is first integrated ``settle`` periods
@@ -165,13 +171,13 @@ def _persistence(p, param, value, guess, n, ref_sig, model, shoot_kw, settle=100
     motion leaves for a distant attractor, or lingers near the ghost and Newton fails
     again).
     """
-    q = with_param(p, param, value)
+    q = system.with_param(param, value)
     scale = max(1.0, float(np.abs(guess).max()))
-    orb = shoot_periodic_orbit(q, guess, n, model=model, **shoot_kw)
+    orb = shoot_periodic_orbit(q, guess, n, **shoot_kw)
     if not orb.converged and settle:
-        run = simulate(q, periods=settle, state0=guess, model=model, **_SOLVER)
+        run = q.simulate(periods=settle, state0=guess)
         if run.status is Status.OK:
-            o2 = shoot_periodic_orbit(q, run.final_state, n, model=model, **shoot_kw)
+            o2 = shoot_periodic_orbit(q, run.final_state, n, **shoot_kw)
             if o2.converged and \
                     float(np.abs(o2.cycle - guess).max(axis=1).min()) <= 0.02 * scale:
                 orb = o2
@@ -181,13 +187,12 @@ def _persistence(p, param, value, guess, n, ref_sig, model, shoot_kw, settle=100
     if jump > 0.25 * scale:
         return False, "fold", orb, ()  # Newton left for another orbit: this one is gone
     if orb.minimal_period < n:  # the orbit of lower period it collapsed onto
-        low = shoot_periodic_orbit(q, orb.state, orb.minimal_period, model=model,
-                                   **shoot_kw)
+        low = shoot_periodic_orbit(q, orb.state, orb.minimal_period, **shoot_kw)
         return False, "collapse", (low if low.converged else orb), ()
     k = int(np.argmin(np.abs(orb.cycle - guess).max(axis=1)))
     if k:  # the same cycle from another of its points (after settling): re-anchor it
-        orb = shoot_periodic_orbit(q, orb.cycle[k], n, model=model, **shoot_kw)
-    sig = orbit_signature(q, orb.state, n, model=model)
+        orb = shoot_periodic_orbit(q, orb.cycle[k], n, **shoot_kw)
+    sig = orbit_signature(q, orb.state, n)
     if orb.abs_max >= 1.0:
         return False, "unstable", orb, sig
     if ref_sig is not None and sig != ref_sig:
@@ -241,8 +246,8 @@ def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
                           f"-> {mh}; {at}", False)
 
 
-def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=None,
-                       shoot_kw=None, model=None):
+def locate_bifurcation(system, state0, n=1, *, param, start, stop, tol=1e-6, step=None,
+                       shoot_kw=None):
     """The first value between ``start`` and ``stop`` where a stable period-``n`` orbit
     stops persisting, bracketed to ``tol``, and the kind of bifurcation.
 
@@ -260,7 +265,10 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
+    system : System
+        Model, parameters (the value of ``param`` is replaced) and solver settings
+        (defaults DOP853, ``rtol = 1e-10``, ``atol = 1e-12``: :data:`CONTINUATION_SOLVER`)
+        of every shooting and integration.
     state0 : array_like, shape (d,)
         A guess of the orbit at ``start``.
     n : int
@@ -274,8 +282,8 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
     step : float, optional
         Largest continuation step (``|stop - start|`` by default: bisection at once).
     shoot_kw : dict, optional
-        Passed to :func:`shoot_periodic_orbit` (``tol``, ``rtol``, ...).
-    model : Model, optional
+        Newton's settings passed to :func:`shoot_periodic_orbit` (``tol``, ``max_iter``,
+        ``damping``).
 
     Returns
     -------
@@ -295,8 +303,8 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
 
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import locate_bifurcation
-    >>> b = locate_bifurcation(vi.DuffingParams(gamma=0.25), [1.0, 0.0], param="gamma",
-    ...                        start=0.25, stop=0.28, tol=1e-5)
+    >>> b = locate_bifurcation(vi.System(vi.DuffingParams(gamma=0.25)), [1.0, 0.0],
+    ...                        param="gamma", start=0.25, stop=0.28, tol=1e-5)
     >>> b.kind
     'period doubling'
     """
@@ -306,16 +314,17 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
         raise ValueError("stop must differ from start")
     tol = _v.positive("tol", tol)
     n = _v.count("n", n, 1)
-    param_value(p, param)  # validates param
+    system = as_system(system).resolved(**CONTINUATION_SOLVER)
+    system.param(param)  # validates param
     step = abs(stop - start) if step is None else _v.positive("step", step)
     shoot_kw = dict(shoot_kw or {})
-    q0 = with_param(p, param, start)
-    orb = shoot_periodic_orbit(q0, state0, n, model=model, **shoot_kw)
+    q0 = system.with_param(param, start)
+    orb = shoot_periodic_orbit(q0, state0, n, **shoot_kw)
     if not orb.converged or orb.minimal_period < n or orb.abs_max >= 1.0:
         raise ValueError(f"state0: no stable period-{n} orbit found at {param} = {start} "
                          f"(converged {orb.converged}, |mu|max {orb.abs_max:.4g}, "
                          f"minimal period {orb.minimal_period})")
-    sig = orbit_signature(q0, orb.state, n, model=model)
+    sig = orbit_signature(q0, orb.state, n)
     lo, lo_orb = start, orb
     prev = None  # (value, state) before lo: secant predictor
     sgn = 1.0 if stop > start else -1.0
@@ -326,15 +335,14 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
         guess = lo_orb.state
         if prev is not None:
             guess = guess + (lo_orb.state - prev[1]) * ((nxt - lo) / (lo - prev[0]))
-        ok, why, o, s = _persistence(p, param, nxt, guess, n, sig, model, shoot_kw)
+        ok, why, o, s = _persistence(system, param, nxt, guess, n, sig, shoot_kw)
         if not ok and prev is not None:  # the secant may overshoot near a fold
-            ok, why, o, s = _persistence(p, param, nxt, lo_orb.state, n, sig, model,
-                                         shoot_kw)
+            ok, why, o, s = _persistence(system, param, nxt, lo_orb.state, n, sig, shoot_kw)
         if ok:
             prev = (lo, lo_orb.state)
             lo, lo_orb = nxt, o
             if nxt == stop:
-                gap = grazing_gap(with_param(p, param, lo), lo_orb.state, n, model=model)
+                gap = grazing_gap(system.with_param(param, lo), lo_orb.state, n)
                 return Bifurcation(param, math.nan, (lo, lo), "none",
                                    f"the orbit persists up to {param} = {stop}", lo_orb,
                                    None, sig, sig, gap)
@@ -344,7 +352,7 @@ def locate_bifurcation(p, state0, n=1, *, param, start, stop, tol=1e-6, step=Non
             break
         else:
             h = 0.5 * h if 0.5 * h > tol else tol
-    gap = grazing_gap(with_param(p, param, lo), lo_orb.state, n, model=model)
+    gap = grazing_gap(system.with_param(param, lo), lo_orb.state, n)
     kind, detail, at_grazing = _kind(hi_why, lo_orb, hi_orb, sig, hi_sig, gap, tol)
     return Bifurcation(param, 0.5 * (lo + hi), (lo, hi), kind, detail, lo_orb, hi_orb, sig,
                        hi_sig, gap, at_grazing)
@@ -400,8 +408,47 @@ class Branch:
     status: str = ""
 
 
-def _amplitude(p, x, n, model, names, dense=96):
-    run = simulate(p, periods=n, state0=x, dense=dense, model=model, **_SOLVER)
+@dataclass(frozen=True)
+class Steps:
+    """Step controls of :func:`continue_orbit`.
+
+    Parameters
+    ----------
+    ds, ds_min, ds_max : float
+        Initial, smallest and largest arclength step (in the units of ``(x, lambda)``).
+    max_points : int
+        Orbits on the branch at most (``>= 2``).
+    fd_step : float
+        Relative step of the central difference of the map in the parameter.
+    newton_tol : float
+        Corrector tolerance on ``max |G|`` (relative to ``max(1, max |x|)``), and Newton's
+        tolerance of the shooting at the start.
+    max_newton : int
+        Corrector iterations per step.
+
+    Raises
+    ------
+    ValueError
+        Naming the offending field.
+    """
+
+    ds: float = 0.005
+    ds_min: float = 1e-5
+    ds_max: float = 0.02
+    max_points: int = 400
+    fd_step: float = 1e-6
+    newton_tol: float = 1e-9
+    max_newton: int = 8
+
+    def __post_init__(self):
+        for name in ("ds", "ds_min", "ds_max", "fd_step", "newton_tol"):
+            object.__setattr__(self, name, _v.positive(name, getattr(self, name)))
+        object.__setattr__(self, "max_points", _v.count("max_points", self.max_points, 2))
+        object.__setattr__(self, "max_newton", _v.count("max_newton", self.max_newton, 1))
+
+
+def _amplitude(system, x, n, names, dense=96):
+    run = system.simulate(periods=n, state0=x, dense=dense)
     out = {}
     if run.status is not Status.OK or run.dense is None:
         return {k: math.nan for k in names}
@@ -418,45 +465,114 @@ def _amplitude(p, x, n, model, names, dense=96):
     return out
 
 
-def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
-                   ds_max=0.02, max_points=400, direction=1, fd_step=1e-6, newton_tol=1e-9,
-                   max_newton=8, amplitude=True, model=None, **solver):
+class _Arclength:
+    """The pseudo-arclength problem of :func:`continue_orbit`: ``G(x, lambda) = P^n(x;
+    lambda) - x``, its Jacobian, the tangent and the corrector."""
+
+    def __init__(self, system, param, n, window, steps):
+        self.system, self.param, self.n = system, param, n
+        self.window, self.steps = window, steps
+        self.d = system.n_state
+
+    def jac(self, x, lam):
+        """``(Monodromy, [G_x | G_lambda])`` at ``(x, lam)``; ``(None, None)`` where the
+        map cannot be evaluated."""
+        window, steps, n = self.window, self.steps, self.n
+        if not window[0] - 10.0 * steps.ds_max <= lam <= window[1] + 10.0 * steps.ds_max:
+            return None, None  # a corrector iterate far outside the window
+        try:
+            m = self.system.with_param(self.param, lam).monodromy(x, n)
+        except ValueError:  # an invalid parameter value (e.g. eta <= 0)
+            return None, None
+        if m.status is not Status.OK:
+            return None, None
+        h = steps.fd_step * max(1.0, abs(lam))
+        a = self.system.with_param(self.param, lam + h).simulate(periods=n, state0=x)
+        b = self.system.with_param(self.param, lam - h).simulate(periods=n, state0=x)
+        if a.status is not Status.OK or b.status is not Status.OK:
+            return None, None
+        Gl = (a.final_state - b.final_state) / (2.0 * h)
+        return m, np.hstack([m.matrix - np.eye(self.d), Gl[:, None]])
+
+    def tangent(self, Jg, t_prev):
+        """Unit null vector of ``Jg``, oriented along ``t_prev``."""
+        A = np.vstack([Jg, t_prev[None, :]])
+        rhs = np.zeros(self.d + 1)
+        rhs[-1] = 1.0
+        t = np.linalg.solve(A, rhs)
+        t /= np.linalg.norm(t)
+        return t if t @ t_prev >= 0.0 else -t
+
+    def correct(self, u_pred, t):
+        """Newton on ``G = 0``, ``t . (u - u_pred) = 0`` from ``u_pred``: ``(ok, u,
+        Monodromy, Jacobian, iterations)``."""
+        window, tol = self.window, self.steps.newton_tol
+        u = u_pred.copy()
+        mm = J = None
+        for it in range(self.steps.max_newton):
+            if not window[0] - 1e-12 <= u[-1] <= window[1] + 1e-12 and it == 0:
+                break
+            mm, J = self.jac(u[:-1], u[-1])
+            if mm is None:
+                break
+            G = mm.end - mm.start
+            r = np.append(G, t @ (u - u_pred))
+            if np.abs(G).max() <= tol * max(1.0, np.abs(u[:-1]).max()) and it > 0:
+                return True, u, mm, J, it
+            try:
+                du = np.linalg.solve(np.vstack([J, t[None, :]]), -r)
+            except np.linalg.LinAlgError:
+                break
+            u = u + du
+            if not np.all(np.isfinite(u)):
+                break
+        return False, u, mm, J, self.steps.max_newton
+
+
+def _window(stop, lam0):
+    """The parameter window ``(lo, hi)`` of :func:`continue_orbit`."""
+    if np.ndim(stop) == 0:
+        s = _finite("stop", stop)
+        return (min(lam0, s), max(lam0, s))
+    if len(stop) != 2:
+        raise ValueError(f"stop must be a float or (lo, hi), got {stop!r}")
+    return tuple(sorted((_finite("stop", stop[0]), _finite("stop", stop[1]))))
+
+
+def continue_orbit(system, state0, n=1, *, param="eta", stop, steps=Steps(), direction=1,
+                   amplitude=True):
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 
     Unknowns ``u = (x, lambda)``; equations ``G(u) = P^n(x; lambda) - x = 0`` and the
     arclength condition ``t . (u - u_pred) = 0`` with the unit tangent ``t`` of the
     previous point (Keller 1977).  ``G_x = M - I`` comes from the variational equations
-    (:func:`monodromy`), ``G_lambda`` from central differences of the map in the
-    parameter.  The tangent is the null vector of ``[G_x | G_lambda]``, oriented to keep
-    the direction of travel, so the continuation goes round folds onto the unstable branch.
-    The step adapts (x1.5 after a fast corrector, /2 after a failure).
+    (:func:`~vibimpact.analysis.monodromy`), ``G_lambda`` from central differences of the
+    map in the parameter.  The tangent is the null vector of ``[G_x | G_lambda]``, oriented
+    to keep the direction of travel, so the continuation goes round folds onto the
+    unstable branch.  The step adapts (x1.5 after a fast corrector, /2 after a failure).
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
-        Its value of ``param`` is the starting value.
+    system : System
+        Model, parameters (its value of ``param`` is the starting value) and solver
+        settings of every integration (defaults DOP853, ``rtol = 1e-10``, ``atol =
+        1e-12``: :data:`CONTINUATION_SOLVER`).
     state0 : array_like, shape (d,)
         A guess of the orbit at the start (shot first).
     n : int
     param : str or int
-        ``"eta"`` for the rotor's frequency; any parameter name or index.
+        ``"eta"`` for the rotor's frequency; any parameter name, or an index of a user
+        model's vector.
     stop : (float, float) or float
         The parameter window ``(lo, hi)`` (a single float: from the start value to it);
         the continuation ends when it leaves the window.
-    ds, ds_min, ds_max : float
-        Initial, smallest and largest arclength step.
-    max_points : int
+    steps : Steps
+        Arclength steps, points at most, the corrector's tolerance and iterations, the
+        finite-difference step (:class:`Steps`).
     direction : {1, -1}
         Initial direction in the parameter.
-    fd_step : float
-        Relative step of the central difference in the parameter.
-    newton_tol, max_newton : float, int
-        Corrector tolerance on ``max |G|`` and iterations per step.
     amplitude : bool
         Compute the response amplitudes of every orbit (one dense run each).
-    model : Model, optional
-    **solver
-        ``method``, ``rtol``, ``atol`` of the integrations.
 
     Returns
     -------
@@ -466,119 +582,80 @@ def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
     ------
     ValueError
         Naming the argument; ``state0`` when the shooting at the start fails.
+
+    Examples
+    --------
+    >>> import vibimpact as vi
+    >>> from vibimpact.analysis import Steps, continue_orbit
+    >>> sys = vi.System(vi.DuffingParams(gamma=0.1, omega=0.9))
+    >>> br = continue_orbit(sys, [0.0, 0.0], param="omega", stop=(0.9, 1.0),
+    ...                     steps=Steps(max_points=5), amplitude=False)
+    >>> br.values.size
+    5
     """
-    mdl, _ = resolve(p, model)
-    d = len(mdl.state_names)
+    system = as_system(system).resolved(**CONTINUATION_SOLVER)
     n = _v.count("n", n, 1)
-    lam0 = param_value(p, param)
-    if np.ndim(stop) == 0:
-        s = _finite("stop", stop)
-        window = (min(lam0, s), max(lam0, s))
-    else:
-        if len(stop) != 2:
-            raise ValueError(f"stop must be a float or (lo, hi), got {stop!r}")
-        window = tuple(sorted((_finite("stop", stop[0]), _finite("stop", stop[1]))))
-    ds = _v.positive("ds", ds)
-    ds_min = _v.positive("ds_min", ds_min)
-    ds_max = _v.positive("ds_max", ds_max)
-    max_points = _v.count("max_points", max_points, 2)
+    lam0 = system.param(param)
+    window = _window(stop, lam0)
+    if not isinstance(steps, Steps):
+        raise ValueError(f"steps must be a vibimpact.analysis.Steps, got "
+                         f"{type(steps).__name__}")
     if direction not in (1, -1):
         raise ValueError(f"direction must be 1 or -1, got {direction!r}")
-    fd_step = _v.positive("fd_step", fd_step)
-    kw = {**_SOLVER, **solver}
-    orb = shoot_periodic_orbit(p, state0, n, tol=newton_tol, model=model, **kw)
+    orb = shoot_periodic_orbit(system, state0, n, tol=steps.newton_tol)
     if not orb.converged:
         raise ValueError(f"state0: shooting failed at the start ({orb.reason})")
+    mdl = system.model
     names = (("X_m", "Y_m", "R_m") if mdl.name == "rotor" else
              tuple(f"{s}_m" for s in mdl.state_names[:2]))
-
-    def jac(x, lam):
-        if not window[0] - 10.0 * ds_max <= lam <= window[1] + 10.0 * ds_max:
-            return None, None  # a corrector iterate far outside the window
-        try:
-            m = monodromy(with_param(p, param, lam), x, n, model=model, **kw)
-        except ValueError:  # an invalid parameter value (e.g. eta <= 0)
-            return None, None
-        if m.status is not Status.OK:
-            return None, None
-        h = fd_step * max(1.0, abs(lam))
-        a = simulate(with_param(p, param, lam + h), periods=n, state0=x, model=model,
-                     **kw)
-        b = simulate(with_param(p, param, lam - h), periods=n, state0=x, model=model,
-                     **kw)
-        if a.status is not Status.OK or b.status is not Status.OK:
-            return None, None
-        Gl = (a.final_state - b.final_state) / (2.0 * h)
-        return m, np.hstack([m.matrix - np.eye(d), Gl[:, None]])
-
-    def tangent(Jg, t_prev):
-        A = np.vstack([Jg, t_prev[None, :]])
-        rhs = np.zeros(d + 1)
-        rhs[-1] = 1.0
-        t = np.linalg.solve(A, rhs)
-        t /= np.linalg.norm(t)
-        return t if t @ t_prev >= 0.0 else -t
-
-    x, lam = orb.state.copy(), lam0
-    m, Jg = jac(x, lam)
-    t = np.zeros(d + 1)
-    t[-1] = float(direction)
-    t = tangent(Jg, t)
-    vals, states, mults, stab, amps = [], [], [], [], []
+    arc = _Arclength(system, param, n, window, steps)
+    points = []  # (lambda, x, multipliers)
 
     def record(x, lam, M):
-        mu = floquet_multipliers(M)
-        vals.append(lam)
-        states.append(x.copy())
-        mults.append(mu)
-        stab.append(bool(np.abs(mu).max() < 1.0))
-        if amplitude:
-            amps.append(_amplitude(with_param(p, param, lam), x, n, model, names))
+        points.append((lam, x.copy(), floquet_multipliers(M)))
 
+    x, lam = orb.state.copy(), lam0
+    m, Jg = arc.jac(x, lam)
+    t = np.zeros(system.n_state + 1)
+    t[-1] = float(direction)
+    t = arc.tangent(Jg, t)
     record(x, lam, m.matrix)
-    status = f"max_points ({max_points}) reached"
-    while len(vals) < max_points:
+    status = f"max_points ({steps.max_points}) reached"
+    ds = steps.ds
+    while len(points) < steps.max_points:
         u_pred = np.append(x, lam) + ds * t
-        u = u_pred.copy()
-        ok = False
-        for it in range(max_newton):
-            if not window[0] - 1e-12 <= u[-1] <= window[1] + 1e-12 and it == 0:
-                break
-            mm, J = jac(u[:-1], u[-1])
-            if mm is None:
-                break
-            G = mm.end - mm.start
-            r = np.append(G, t @ (u - u_pred))
-            if np.abs(G).max() <= newton_tol * max(1.0, np.abs(u[:-1]).max()) and it > 0:
-                ok = True
-                break
-            try:
-                du = np.linalg.solve(np.vstack([J, t[None, :]]), -r)
-            except np.linalg.LinAlgError:
-                break
-            u = u + du
-            if not np.all(np.isfinite(u)):
-                break
+        ok, u, mm, J, it = arc.correct(u_pred, t)
         if not ok:
             if not window[0] <= u_pred[-1] <= window[1]:
                 status = "left the parameter window"
                 break
             ds *= 0.5
-            if ds < ds_min:
-                status = f"step below ds_min ({ds_min}) at {param} = {lam:.6g}"
+            if ds < steps.ds_min:
+                status = f"step below ds_min ({steps.ds_min}) at {param} = {lam:.6g}"
                 break
             continue
         x_new, lam_new = u[:-1], u[-1]
         if not window[0] <= lam_new <= window[1]:
             status = "left the parameter window"
             break
-        t = tangent(J, t)
+        t = arc.tangent(J, t)
         x, lam, m = x_new, lam_new, mm
         record(x, lam, m.matrix)
-        ds = min(ds_max, ds * 1.5) if it <= 3 else ds
-    vals = np.array(vals)
-    stab = np.array(stab)
-    mults = np.array(mults)
+        ds = min(steps.ds_max, ds * 1.5) if it <= 3 else ds
+    vals = np.array([q[0] for q in points])
+    mults = np.array([q[2] for q in points])
+    stab = np.array([bool(np.abs(mu).max() < 1.0) for mu in mults])
+    amp = {}
+    if amplitude:
+        amps = [_amplitude(system.with_param(param, q[0]), q[1], n, names) for q in points]
+        amp = {k: np.array([a[k] for a in amps]) for k in names}
+    return Branch(param, vals, np.array([q[1] for q in points]), mults, stab, amp, n,
+                  _branch_events(vals, stab, mults), status)
+
+
+def _branch_events(vals, stab, mults):
+    """``(index, kind, value)`` of the turning points and stability changes of a branch
+    (:attr:`Branch.bifurcations`)."""
     turns = [i for i in range(1, vals.size - 1)
              if (vals[i] - vals[i - 1]) * (vals[i + 1] - vals[i]) < 0]
     bif = [(i, "fold (turning point)", float(vals[i])) for i in turns]
@@ -594,5 +671,4 @@ def continue_orbit(p, state0, n=1, *, param="eta", stop, ds=0.005, ds_min=1e-5,
             w = g0 / (g0 - g1) if g0 != g1 else 0.5
             bif.append((i, kind, float(vals[i - 1] + w * (vals[i] - vals[i - 1]))))
     bif.sort()
-    amp = {k: np.array([a[k] for a in amps]) for k in names} if amplitude else {}
-    return Branch(param, vals, np.array(states), mults, stab, amp, n, tuple(bif), status)
+    return tuple(bif)

@@ -10,15 +10,15 @@ import numpy as np
 
 from ..run import Status
 from .. import _validate as _v
-from ._variational import KIND_FLOW, KIND_FLOW_PHASE, LyapunovResult, setup
-from .shooting import floquet_exponents, floquet_multipliers, monodromy, shoot_periodic_orbit
+from ..system import as_system
+from .exponents import KIND_FLOW, KIND_FLOW_PHASE, LyapunovResult
+from .shooting import floquet_exponents, floquet_multipliers, shoot_periodic_orbit
 
 __all__ = ["floquet_lyapunov"]
 
 
-def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, tol=1e-9,
-                     max_iter=20, method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-                     event_tol=1e-12, model=None):
+def floquet_lyapunov(system, state0, n=1, *, n_exponents=None, include_phase=False, tol=1e-9,
+                     max_iter=20):
     """Lyapunov exponents of a periodic orbit: its Floquet exponents ``ln|mu| / (n T)``.
 
     The period-``n`` orbit through (near) ``state0`` is found by Newton shooting
@@ -30,7 +30,9 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
+    system : System
+        Solver settings as in :func:`~vibimpact.analysis.shoot_periodic_orbit` (defaults
+        DOP853, ``rtol = 1e-10``, ``atol = 1e-12``).
     state0 : array_like, shape (d,)
         A point of the orbit at the start of a forcing period, or a guess close to one.
     n : int
@@ -39,8 +41,6 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
         As in :func:`lyapunov_spectrum`.
     tol, max_iter
         Newton's relative residual tolerance and iteration limit.
-    method, rtol, atol, max_step, event_tol, model
-        Integrator settings, as in :func:`lyapunov_spectrum`.
 
     Returns
     -------
@@ -57,22 +57,21 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import floquet_lyapunov
     >>> p = vi.DuffingParams(delta=0.2, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    >>> res = floquet_lyapunov(p, [0.0, 0.0])   # x'' + 0.2 x' + x = 0: -delta/2 twice
+    >>> res = floquet_lyapunov(vi.System(p), [0.0, 0.0])   # x'' + 0.2 x' + x = 0: -delta/2 twice
     >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)
     True
     """
-    mdl, _, _, T, _, _ = setup(p, model, method, rtol, atol, max_step, event_tol)
-    d = len(mdl.state_names)
+    system = as_system(system).resolved(rtol=1e-10)
+    T = system.period
+    d = system.n_state
     m = d if n_exponents is None else _v.count("n_exponents", n_exponents, 1)
     if m > d:
         raise ValueError(f"n_exponents must be <= {d}, got {n_exponents}")
     n = _v.count("n", n, 1)
-    kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
-              model=model)
-    orb = shoot_periodic_orbit(p, state0, n, tol=tol, max_iter=max_iter, **kw)
+    orb = shoot_periodic_orbit(system, state0, n, tol=tol, max_iter=max_iter)
     if orb.converged and orb.minimal_period < n:  # the shorter the map, the more accurate
-        orb = shoot_periodic_orbit(p, orb.state, orb.minimal_period, tol=tol,
-                                   max_iter=max_iter, **kw)
+        orb = shoot_periodic_orbit(system, orb.state, orb.minimal_period, tol=tol,
+                                   max_iter=max_iter)
     kind = KIND_FLOW_PHASE if include_phase else KIND_FLOW
     k = m + bool(include_phase)
     if orb.status is not Status.OK or not orb.converged:
@@ -81,7 +80,8 @@ def floquet_lyapunov(p, state0, n=1, *, n_exponents=None, include_phase=False, t
                               "floquet", kind, st, orb.reason or "shooting failed",
                               qr_exponents=np.full(k, np.nan))
     lam = orb.exponents[:m]
-    loose = monodromy(p, orb.state, orb.n, **dict(kw, rtol=100 * rtol, atol=100 * atol))
+    loose = system.with_solver(rtol=100 * system.rtol, atol=100 * system.atol).monodromy(
+        orb.state, orb.n)
     err = np.full(m, np.inf)
     if loose.status is Status.OK and np.all(np.isfinite(loose.matrix)):
         err = np.abs(floquet_exponents(floquet_multipliers(loose), orb.period)[:m] - lam)

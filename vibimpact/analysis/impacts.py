@@ -21,6 +21,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from .. import _validate as _v
+
 __all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "ImpactStatistics",
            "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS", "HALF_TOLERANCE",
            "WHOLE_CIRCLE_GAP"]
@@ -39,12 +41,6 @@ def _frozen_array(values, dtype=np.float64):
     a = np.array(values, dtype=dtype)
     a.flags.writeable = False
     return a
-
-
-def _int_arg(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,7 +103,7 @@ def impact_count(impact_period, n_periods, period=1):
     if idx.ndim != 1 or not integral or np.any(idx < 0):
         raise ValueError("impact_period must be a 1-D array of integer period indices >= 0")
     idx = idx.astype(np.int64)
-    n_periods, period = _int_arg("n_periods", n_periods, 1), _int_arg("period", period, 1)
+    n_periods, period = _v.count("n_periods", n_periods, 1), _v.count("period", period, 1)
     if n_periods < period:
         raise ValueError(f"n_periods must be >= period ({period}), got {n_periods}")
     n_windows = n_periods // period

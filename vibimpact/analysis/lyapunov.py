@@ -44,31 +44,31 @@ import numpy as np
 from .._kernel import boundary as _kb
 from ..run import Status, status_of
 from .. import _validate as _v
-from ..simulation import simulate
-from ._variational import (KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, LyapunovResult,
-                           setup, tangent_tolerance)
+from ..system import as_system
+from .exponents import KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, Averaging, LyapunovResult
 from .floquet import floquet_lyapunov
+from .period import detect_period
+from .shooting import shoot_periodic_orbit
+
+__all__ = ["lyapunov_spectrum", "largest_lyapunov", "lyapunov_from_jacobians",
+           "lyapunov_from_series", "strobe_map_jacobian", "floquet_lyapunov",
+           "LyapunovResult", "Averaging", "TANGENT_TOL"]
+
+#: solver defaults of the variational runs (rtol; the rest as :func:`vibimpact.simulate`)
+SPECTRUM_SOLVER = dict(rtol=1e-10)
+#: of the two-trajectory runs: tighter, so that ``d0`` stands far above the error
+TWO_TRAJECTORY_SOLVER = dict(rtol=1e-11, atol=1e-13)
+#: of the finite-difference Jacobian
+FD_SOLVER = dict(rtol=1e-12, atol=1e-14)
 
 
-def _start(p, mdl, pvec, state0, transient, model, method, rtol, atol):
+def _start(system, state0, transient, solver):
     """State at the start of a forcing period after ``transient`` periods."""
-    y = _v.state("state0", state0, len(mdl.state_names))
+    y = _v.state("state0", state0, system.n_state)
     if transient == 0:
         return y, Status.OK, ""
-    run = simulate(p, periods=1, transient=transient - 1, state0=y, method=method,
-                   rtol=rtol, atol=atol, model=model)
+    run = system.simulate(periods=1, transient=transient - 1, state0=y, **solver)
     return run.final_state, run.status, run.reason
-
-
-def _control(block, min_periods, max_periods, target_stderr):
-    block = _v.count("block", block, 2)
-    min_periods = _v.count("min_periods", min_periods, 1)
-    max_periods = _v.count("max_periods", max_periods, 1)
-    if max_periods < min_periods:
-        raise ValueError(f"max_periods must be >= min_periods ({min_periods}), "
-                         f"got {max_periods}")
-    target = _v.positive("target_stderr", target_stderr)
-    return block, min_periods, max_periods, target
 
 
 def _estimate(logs, T, block):
@@ -85,29 +85,31 @@ def _estimate(logs, T, block):
     return lam, err, history
 
 
-def _run_blocks(step, m, T, block, min_periods, max_periods, target, skip, decisive=None,
-                watch=None):
-    """Call ``step(n, logs)`` block by block until the largest exponent's error is small
-    (or, with ``decisive = (band, z)``, until its sign is settled: ``|lambda| - z sigma``
-    beyond ``band``; or until ``watch(done)``, called after every block with the number
-    of periods integrated, returns True)."""
-    logs = np.empty((max_periods + skip, m))
+def _run_blocks(step, m, T, avg, watch=None):
+    """Call ``step(n, logs)`` block by block (after ``avg.align`` periods discarded) until
+    the largest exponent's error is ``avg.target_stderr`` (or, with ``avg.decisive = (band,
+    z)``, until its sign is settled: ``|lambda| - z sigma`` beyond ``band``; or until
+    ``watch(done)``, called after every block with the number of periods integrated,
+    returns True)."""
+    skip, block = avg.align, avg.block
+    total = avg.max_periods + skip
+    logs = np.empty((total, m))
     done = 0
     status = _kb.OK
-    while done < max_periods + skip:
-        todo = skip if done == 0 and skip else min(block, max_periods + skip - done)
+    while done < total:
+        todo = skip if done == 0 and skip else min(block, total - done)
         status, got = step(todo, logs[done:done + todo])
         done += got
         if status != _kb.OK:
             break
         if watch is not None and watch(done):
             break
-        used = done - skip
-        if used >= min_periods:
+        if done - skip >= avg.min_periods:
             lam, err, _ = _estimate(logs[skip:done], T, block)
-            if err[0] <= target:
+            if err[0] <= avg.target_stderr:
                 break
-            if decisive is not None and abs(lam.max()) - decisive[1] * err[0] > decisive[0]:
+            dec = avg.decisive
+            if dec is not None and abs(lam.max()) - dec[1] * err[0] > dec[0]:
                 break
     return logs[skip:done] if done > skip else logs[:0], status
 
@@ -133,7 +135,6 @@ def _period_watch(states, shoot, tol, max_period, window, attempts=3):
     relative ``tol``) and ``shoot(x, n)`` from the last converges to a *stable* orbit (so
     the trajectory is attracted to it, not passing a saddle cycle) within 1e-2 of it; the
     orbit is left in ``watch.orbit``.  At most ``attempts`` shootings per run."""
-    from .period import detect_period
     left = [attempts]
 
     def watch(done):
@@ -156,12 +157,9 @@ def _period_watch(states, shoot, tol, max_period, window, attempts=3):
     return watch
 
 
-def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_periods=400,
-                      max_periods=20000, block=50, target_stderr=2e-3, align=50,
-                      include_phase=False, decisive=None, tangent_tol=TANGENT_TOL,
-                      floquet=True, floquet_tol=1e-5, floquet_max_period=16,
-                      method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-                      event_tol=1e-12, model=None):
+def lyapunov_spectrum(system, state0=None, *, n_exponents=None, averaging=Averaging(),
+                      include_phase=False, tangent_tol=TANGENT_TOL, floquet=True,
+                      floquet_tol=1e-5, floquet_max_period=16):
     """Lyapunov spectrum by variational equations with saltation matrices (Benettin/QR).
 
     The tangent vectors follow ``v' = J v`` with the model's analytic Jacobian inside each
@@ -173,29 +171,21 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
+    system : System
+        Model, parameters and solver settings (defaults DOP853, ``rtol = 1e-10``,
+        ``atol = 1e-12``, ``event_tol = 1e-12``, ``max_step = T / 4``; adaptive methods
+        only).
     state0 : array_like, shape (n,), optional
-        Initial state (rest by default), integrated ``transient`` periods first.
+        Initial state (rest by default), integrated ``averaging.transient`` periods first.
     n_exponents : int, optional
         How many exponents (tangent vectors), ``1 <= n_exponents <= n``; all by default.
-    transient : int
-        Forcing periods discarded before the tangent vectors start.
-    min_periods, max_periods : int
-        Forcing periods averaged: at least ``min_periods``, then block by block until the
-        largest exponent's standard error is ``<= target_stderr``, at most ``max_periods``.
-    block : int
-        Periods per block; the standard error is that of the block means (batch means).
-    target_stderr : float
-        Target standard error of the largest exponent, per unit ``tau``.
-    align : int
-        Periods integrated first and discarded so the tangent vectors align with the
-        Lyapunov directions.
+    averaging : Averaging
+        Transient, alignment, periods averaged, blocks, target error, early stop on the
+        sign (:class:`~vibimpact.analysis.Averaging`; default ``Averaging()``: 200
+        transient periods, 50 aligning, 400 to 20000 averaged in blocks of 50 to a
+        standard error of 2e-3).
     include_phase : bool
         Append the forcing phase's exponent 0 (spectrum of the autonomous extension).
-    decisive : (float, float), optional
-        ``(band, z)``: also stop once the largest exponent is at least ``z`` standard
-        errors outside ``(-band, band)`` (its sign is settled; used by sweeps, which only
-        need the sign).  ``converged`` then reports whether ``target_stderr`` was met.
     tangent_tol : float
         The tangent vectors' local errors are tested against ``tangent_tol`` times the
         tolerances (``atol + rtol |v|``); 1 tests them as the state, ``inf`` not at all
@@ -214,14 +204,12 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
         With ``floquet``, once the last ``max(block, 3 floquet_max_period + 1)`` strobe
         points repeat with a period ``n <= floquet_max_period`` to ``floquet_tol``
         (relative; it only says when to try Newton, so it may be loose: 1e-5 is met ~300
-        periods before 1e-7 where ``|mu| = 0.98``) and Newton from the last converges to
-        a *stable* orbit within 1e-2 of it, stop and return its Floquet exponents
-        (:func:`floquet_lyapunov`, ``floquet_n > 0``), the limit that a complex pair lets
-        the QR average reach only like ``1/N``.  Points that never repeat (chaos,
-        quasi-periodicity, transients) leave the QR average as with ``floquet=False``.
-    method, rtol, atol, max_step, event_tol
-        Integrator settings, as in :func:`vibimpact.simulate` (adaptive methods only).
-    model : Model, optional
+        periods before 1e-7 where ``|mu| = 0.98``) and Newton (tolerance
+        ``max(1e-9, 10 rtol)``) from the last converges to a *stable* orbit within 1e-2
+        of it, stop and return its Floquet exponents (:func:`floquet_lyapunov`,
+        ``floquet_n > 0``), the limit that a complex pair lets the QR average reach only
+        like ``1/N``.  Points that never repeat (chaos, quasi-periodicity, transients)
+        leave the QR average as with ``floquet=False``.
 
     Returns
     -------
@@ -234,82 +222,95 @@ def lyapunov_spectrum(p, state0=None, *, n_exponents=None, transient=200, min_pe
     --------
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import lyapunov_spectrum
-    >>> res = lyapunov_spectrum(vi.presets.get("fig8").replace(eta=1.185))
+    >>> res = lyapunov_spectrum(vi.System(vi.presets.get("fig8").replace(eta=1.185)))
     >>> res.exponents.shape
     (4,)
     """
-    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
-                                               event_tol)
-    n = len(mdl.state_names)
-    options = tangent_tolerance(options, n, tangent_tol)
+    system = as_system(system)
+    meth, options = system.variational(tangent_tol, **SPECTRUM_SOLVER)
+    n = system.n_state
     m = n if n_exponents is None else _v.count("n_exponents", n_exponents, 1)
     if m > n:
         raise ValueError(f"n_exponents must be <= {n}, got {n_exponents}")
-    transient = _v.count("transient", transient, 0)
-    align = _v.count("align", align, 0)
-    block, min_periods, max_periods, target = _control(block, min_periods, max_periods,
-                                                       target_stderr)
-    x0, st, reason = _start(p, mdl, pvec, state0, transient, model, method, rtol, atol)
+    avg = _averaging(averaging)
+    if floquet:
+        floquet_max_period = _v.count("floquet_max_period", floquet_max_period, 1)
+        floquet_tol = _v.positive("floquet_tol", floquet_tol)
+    T = system.period
     kind = KIND_FLOW_PHASE if include_phase else KIND_FLOW
+    x0, st, reason = _start(system, state0, avg.transient, system.solver(**SPECTRUM_SOLVER))
     if st is not Status.OK:
         return LyapunovResult(np.full(m, np.nan), np.full(m, np.nan), T, 0, False,
                               "variational", kind, st, "transient: " + reason)
-    y = np.zeros(n * (1 + m))
-    y[:n] = x0
-    for c in range(m):
-        y[n + c * n + c] = 1.0
-    problem = mdl.problem(pvec, variational=True)
-    mode = problem.initial_mode(x0)
-    ks = _kb.new_clock(problem, options, h0=T / 50.0, steps=False)
-    counters = _kb.counters()
-    states = np.full((max_periods + align, n), np.nan)
-    pos = [0]
-
-    def step(count, out):
-        st_, got = _kb.benettin(problem, meth, options, y, mode, ks, n, mdl.bound, count,
-                                out, states[pos[0]:pos[0] + count], counters)
-        pos[0] += got
-        return st_, got
-
-    if decisive is not None:
-        decisive = (float(decisive[0]), float(decisive[1]))
+    states = np.full((avg.max_periods + avg.align, n), np.nan)
+    newton = system.resolved(**SPECTRUM_SOLVER)
+    tol = max(1e-9, 10.0 * newton.rtol)
     watch = None
     if floquet:
-        from .shooting import shoot_periodic_orbit
-        fmax = _v.count("floquet_max_period", floquet_max_period, 1)
-        newton = dict(tol=max(1e-9, 10.0 * rtol), method=method, rtol=rtol, atol=atol,
-                      max_step=max_step, event_tol=event_tol, model=model)
-        watch = _period_watch(states, lambda x, k: shoot_periodic_orbit(p, x, k, **newton),
-                              _v.positive("floquet_tol", floquet_tol), fmax,
-                              max(block, 3 * fmax + 1))
-    logs, status = _run_blocks(step, m, T, block, min_periods, max_periods, target, align,
-                               decisive, watch)
-    res = _result(logs, status, T, block, target, "variational", kind)
+        watch = _period_watch(states, lambda x, k: shoot_periodic_orbit(newton, x, k, tol=tol),
+                              floquet_tol, floquet_max_period,
+                              max(avg.block, 3 * floquet_max_period + 1))
+    logs, status = _benettin_blocks(system, meth, options, x0, m, states, avg, watch)
+    res = _result(logs, status, T, avg.block, avg.target_stderr, "variational", kind)
     if include_phase and res.status is Status.OK:
-        lam = np.concatenate([res.exponents, [0.0]])
-        err = np.concatenate([res.stderr, [0.0]])
-        idx = np.argsort(-lam, kind="stable")
-        hist = np.concatenate([res.history, np.zeros((res.history.shape[0], 1))], axis=1)
-        res = LyapunovResult(lam[idx], err[idx], T, res.periods, res.converged,
-                             res.method, kind, res.status, res.reason, hist[:, idx], 0,
-                             lam[idx])
+        res = _with_phase(res)
     if watch is not None and watch.orbit is not None and status == _kb.OK:
         orb = watch.orbit
-        fl = floquet_lyapunov(p, orb.state, orb.n, n_exponents=m, include_phase=include_phase,
-                              **newton)
+        fl = floquet_lyapunov(newton, orb.state, orb.n, n_exponents=m,
+                              include_phase=include_phase, tol=tol)
         if fl.status is Status.OK:
             qr_ok = res.status is Status.OK
-            return replace(fl, periods=res.periods, converged=bool(fl.stderr[0] <= target),
+            return replace(fl, periods=res.periods,
+                           converged=bool(fl.stderr[0] <= avg.target_stderr),
                            method="variational",
                            history=res.history if qr_ok else np.zeros((0, len(fl))),
                            qr_exponents=res.exponents if qr_ok else np.full(len(fl), np.nan))
     return res
 
 
-def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
-                     max_periods=20000, block=50, target_stderr=2e-3, align=20,
-                     method="dop853", rtol=1e-11, atol=1e-13, max_step=None,
-                     event_tol=1e-12, model=None):
+def _averaging(averaging):
+    if not isinstance(averaging, Averaging):
+        raise ValueError(f"averaging must be a vibimpact.analysis.Averaging, got "
+                         f"{type(averaging).__name__}")
+    return averaging
+
+
+def _benettin_blocks(system, meth, options, x0, m, states, avg, watch):
+    """The tangent vectors' log growths per period (QR after each), and the status; the
+    state at the start of each period goes into ``states``."""
+    n = system.n_state
+    y = np.zeros(n * (1 + m))
+    y[:n] = x0
+    for c in range(m):
+        y[n + c * n + c] = 1.0
+    problem = system.model.problem(system.p, variational=True)
+    mode = problem.initial_mode(x0)
+    ks = _kb.new_clock(problem, options, h0=system.period / 50.0, steps=False)
+    counters = _kb.counters()
+    pos = [0]
+    bound = system.model.bound
+
+    def step(count, out):
+        st_, got = _kb.benettin(problem, meth, options, y, mode, ks, n, bound, count,
+                                out, states[pos[0]:pos[0] + count], counters)
+        pos[0] += got
+        return st_, got
+
+    return _run_blocks(step, m, system.period, avg, watch)
+
+
+def _with_phase(res):
+    """``res`` with the forcing phase's exponent 0 appended (in order)."""
+    lam = np.concatenate([res.exponents, [0.0]])
+    err = np.concatenate([res.stderr, [0.0]])
+    idx = np.argsort(-lam, kind="stable")
+    hist = np.concatenate([res.history, np.zeros((res.history.shape[0], 1))], axis=1)
+    return LyapunovResult(lam[idx], err[idx], res.period, res.periods, res.converged,
+                          res.method, res.kind, res.status, res.reason, hist[:, idx], 0,
+                          lam[idx])
+
+
+def largest_lyapunov(system, state0=None, *, d0=1e-7, averaging=Averaging(align=20)):
     """Largest Lyapunov exponent from two nearby trajectories (renormalised separation).
 
     A perturbed copy starts ``d0`` away from the reference; after each forcing period the
@@ -321,27 +322,38 @@ def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
     error and far below the attractor's size: the default tolerances are tighter than
     :func:`lyapunov_spectrum`'s for that reason.
 
-    Parameters and returns as :func:`lyapunov_spectrum` (one exponent), plus
-
+    Parameters
+    ----------
+    system : System
+        Solver defaults DOP853, ``rtol = 1e-11``, ``atol = 1e-13``, ``event_tol = 1e-12``,
+        ``max_step = T / 4`` (adaptive methods only).
+    state0 : array_like, shape (n,), optional
+        As in :func:`lyapunov_spectrum`.
     d0 : float
         Separation after each renormalisation.
+    averaging : Averaging
+        As in :func:`lyapunov_spectrum`; by default ``Averaging(align=20)``.
+
+    Returns
+    -------
+    LyapunovResult
+        One exponent, ``method`` "two-trajectory".
     """
-    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
-                                               event_tol)
+    system = as_system(system)
+    meth, options = system.variational(None, **TWO_TRAJECTORY_SOLVER)
     d0 = _v.positive("d0", d0)
-    n = len(mdl.state_names)
-    transient = _v.count("transient", transient, 0)
-    align = _v.count("align", align, 0)
-    block, min_periods, max_periods, target = _control(block, min_periods, max_periods,
-                                                       target_stderr)
-    x0, st, reason = _start(p, mdl, pvec, state0, transient, model, method, rtol, atol)
+    n = system.n_state
+    avg = _averaging(averaging)
+    T = system.period
+    x0, st, reason = _start(system, state0, avg.transient,
+                            system.solver(**TWO_TRAJECTORY_SOLVER))
     if st is not Status.OK:
         return LyapunovResult(np.full(1, np.nan), np.full(1, np.nan), T, 0, False,
                               "two-trajectory", KIND_FLOW, st, "transient: " + reason)
     y = x0.copy()
     y2 = x0.copy()
     y2 += d0 / math.sqrt(n)
-    problem = mdl.problem(pvec)
+    problem = system.model.problem(system.p)
     mode = problem.initial_mode(y)
     mode2 = problem.initial_mode(y2)
     ks = _kb.new_clock(problem, options, h0=T / 50.0, steps=False)
@@ -349,13 +361,15 @@ def largest_lyapunov(p, state0=None, *, d0=1e-7, transient=200, min_periods=400,
     scale = np.ones(n)
     options = options.with_(n_bound=0)
     counters = _kb.counters()
+    bound = system.model.bound
 
     def step(count, out):
         return _kb.two_trajectory(problem, meth, options, y, mode, ks, y2, mode2, ks2, d0,
-                                  scale, mdl.bound, count, out, counters)
+                                  scale, bound, count, out, counters)
 
-    logs, status = _run_blocks(step, 1, T, block, min_periods, max_periods, target, align)
-    return _result(logs, status, T, block, target, "two-trajectory", KIND_FLOW)
+    logs, status = _run_blocks(step, 1, T, avg)
+    return _result(logs, status, T, avg.block, avg.target_stderr, "two-trajectory",
+                   KIND_FLOW)
 
 
 def lyapunov_from_jacobians(jacobians, dt=1.0, *, block=None, discard=0):
@@ -441,20 +455,37 @@ def lyapunov_from_series(series, period=1.0, **kwargs):
     return float(nolds.lyap_r(x, **kwargs)) / period
 
 
-def strobe_map_jacobian(p, state0, *, n=1, eps=1e-6, method="dop853", rtol=1e-12,
-                        atol=1e-14, model=None):
+def strobe_map_jacobian(system, state0, *, n=1, eps=1e-6):
     """Jacobian of the ``n``-fold stroboscopic map at ``state0`` by central differences.
 
     At a period-``n`` fixed point this is the monodromy matrix; its eigenvalues are the
     Floquet multipliers ``mu`` and ``ln|mu| / (n T)`` the orbit's Lyapunov exponents.
 
+    Parameters
+    ----------
+    system : System
+        Solver defaults DOP853, ``rtol = 1e-12``, ``atol = 1e-14`` (the differences need
+        the map far below ``eps``).
+    state0 : array_like, shape (d,)
+    n : int
+        Forcing periods of the map.
+    eps : float
+        Step of the central differences in each state entry.
+
     Returns
     -------
     ndarray, shape (d, d)
+
+    Raises
+    ------
+    ValueError
+        Naming the argument; ``state0`` when the map cannot be evaluated there.
     """
+    system = as_system(system)
     x0 = np.asarray(state0, dtype=np.float64).reshape(-1)
     n = _v.count("n", n, 1)
     eps = _v.positive("eps", eps)
+    solver = system.solver(**FD_SOLVER)
     d = x0.size
     M = np.empty((d, d))
     for j in range(d):
@@ -462,8 +493,7 @@ def strobe_map_jacobian(p, state0, *, n=1, eps=1e-6, method="dop853", rtol=1e-12
         for sgn in (1.0, -1.0):
             x = x0.copy()
             x[j] += sgn * eps
-            run = simulate(p, periods=n, state0=x, method=method, rtol=rtol, atol=atol,
-                           model=model)
+            run = system.simulate(periods=n, state0=x, **solver)
             if run.status is not Status.OK:
                 raise ValueError(f"state0: the map could not be evaluated ({run.reason})")
             cols.append(run.final_state)

@@ -23,9 +23,9 @@ References
 """
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
+
+from .. import _validate as _v
 
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]
@@ -36,36 +36,6 @@ SCALE_FLOOR = 1e-12
 #: a period n is refused (0 returned) when a proper divisor d of n repeats within this
 #: many times the tolerance: the data are then a transient spiralling into the d-cycle
 DIVISOR_MARGIN = 1e3
-
-
-def _as_points(points):
-    """``points`` as a float array of shape (m, d); ValueError naming ``points``."""
-    try:
-        x = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"points must be a numeric array: {exc}") from None
-    if x.ndim == 1:
-        x = x[:, None]
-    if x.ndim != 2:
-        raise ValueError(f"points must have shape (m,) or (m, d), got shape {x.shape}")
-    if not np.all(np.isfinite(x)):
-        raise ValueError("points must be finite (no NaN or inf)")
-    return x
-
-
-def _positive_int(name, value, minimum=1):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
-def _positive_float(name, value):
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a real number > 0, got {value!r}")
-    value = float(value)
-    if not np.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return value
 
 
 def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None):
@@ -130,10 +100,10 @@ def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None)
     >>> detect_period(np.random.default_rng(0).random((200, 2)))
     0
     """
-    x = _as_points(points)
-    tol = _positive_float("tol", tol)
-    max_period = _positive_int("max_period", max_period)
-    min_repeats = _positive_int("min_repeats", min_repeats)
+    x = _v.points(points)
+    tol = _v.real_positive("tol", tol)
+    max_period = _v.count("max_period", max_period)
+    min_repeats = _v.count("min_repeats", min_repeats)
     m = x.shape[0]
     if m == 0:
         return 0
@@ -177,15 +147,15 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     (smallest accepted lag, refused when a proper divisor repeats within
     :data:`DIVISOR_MARGIN` times the tolerance) is written once, here.
     """
-    x = _as_points(points)
-    tol = _positive_float("tol", tol)
-    max_period = _positive_int("max_period", max_period)
-    min_repeats = _positive_int("min_repeats", min_repeats)
+    x = _v.points(points)
+    tol = _v.real_positive("tol", tol)
+    max_period = _v.count("max_period", max_period)
+    min_repeats = _v.count("min_repeats", min_repeats)
     if scale is not None:
-        scale = _positive_float("scale", scale)
+        scale = _v.real_positive("scale", scale)
     ws = []
     for w in windows:
-        w = _positive_int("windows", w)
+        w = _v.count("windows", w)
         if w > x.shape[0]:
             break
         ws.append(w)

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .period import _as_points, _positive_int
+from .. import _validate as _v
 
 #: the set's size shrinks significantly when its log-slope per period lies ``Z`` standard
 #: errors below ``-SPREAD_FLOOR``
@@ -187,8 +187,8 @@ def contraction_rate(points, n=1):
     >>> round(c.multiplier, 6), c.contracting
     (0.9, True)
     """
-    z = _as_points(points)
-    n = _positive_int("n", n)
+    z = _v.points(points)
+    n = _v.count("n", n)
     return contraction_rates(z, (n,))[0]
 
 
@@ -281,7 +281,7 @@ def torus_evidence(points):
     ValueError
         Naming ``points``.
     """
-    z = _as_points(points)
+    z = _v.points(points)
     m = z.shape[0]
     if m < 16:
         raise ValueError(f"points must hold at least 16 points, got {m}")

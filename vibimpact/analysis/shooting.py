@@ -40,49 +40,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._kernel import boundary as _kb
-from ..run import Status, status_of
+from ..run import Status
 from .. import _validate as _v
-from ..models import resolve
-from ..simulation import simulate
-from ._variational import setup, tangent_tolerance
+from ..system import Monodromy, as_system
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
-           "with_param"]
+           "SHOOTING_SOLVER"]
 
-
-@dataclass(frozen=True)
-class Monodromy:
-    """The ``n``-fold stroboscopic map and its Jacobian at one state.
-
-    Attributes
-    ----------
-    matrix : ndarray, shape (d, d)
-        ``M = D P^n(start)`` from the variational equations with saltation matrices; the
-        monodromy matrix when ``start`` lies on a period-``n`` orbit.
-    start, end : ndarray, shape (d,)
-        ``x`` and ``P^n(x)``.
-    n : int
-        Forcing periods integrated.
-    period : float
-        ``n T``, the time integrated.
-    status : Status
-    reason : str
-    """
-
-    matrix: np.ndarray
-    start: np.ndarray
-    end: np.ndarray
-    n: int
-    period: float
-    status: Status = Status.OK
-    reason: str = ""
-
-    @property
-    def residual(self):
-        """``P^n(x) - x``."""
-        return self.end - self.start
+#: solver defaults of shooting (the rest as :func:`vibimpact.simulate`): the tangent
+#: vectors share the step-size control, so tighter than a plain run's
+SHOOTING_SOLVER = dict(rtol=1e-10)
 
 
 @dataclass(frozen=True)
@@ -225,47 +193,9 @@ def critical_multiplier(multipliers, tol_imag=1e-6):
     return "-1" if top.real < 0.0 else "+1"
 
 
-def with_param(p, param, value):
-    """``p`` with one parameter set: a name for ``Params``/``DuffingParams`` (``replace``),
-    an integer index for a user model's parameter vector.
-
-    Raises
-    ------
-    ValueError
-        Naming ``param`` when it is not a parameter of ``p``.
-    """
-    if hasattr(p, "replace") and hasattr(p, "as_dict"):
-        if not isinstance(param, str) or param not in p.as_dict():
-            raise ValueError(f"param must be one of {', '.join(p.as_dict())}, "
-                             f"got {param!r}")
-        return p.replace(**{param: float(value)})
-    vec = np.array(p, dtype=np.float64).reshape(-1)
-    if isinstance(param, bool) or not isinstance(param, (int, np.integer)) or \
-            not 0 <= int(param) < vec.size:
-        raise ValueError(f"param must be an index 0..{vec.size - 1} of the parameter "
-                         f"vector, got {param!r}")
-    vec[int(param)] = float(value)
-    return vec
-
-
-def param_value(p, param):
-    """The value of parameter ``param`` of ``p`` (name or index, as :func:`with_param`)."""
-    if hasattr(p, "as_dict"):
-        d = p.as_dict()
-        if not isinstance(param, str) or param not in d:
-            raise ValueError(f"param must be one of {', '.join(d)}, got {param!r}")
-        return float(d[param])
-    vec = np.asarray(p, dtype=np.float64).reshape(-1)
-    if isinstance(param, bool) or not isinstance(param, (int, np.integer)) or \
-            not 0 <= int(param) < vec.size:
-        raise ValueError(f"param must be an index 0..{vec.size - 1} of the parameter "
-                         f"vector, got {param!r}")
-    return float(vec[int(param)])
-
-
-def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-              event_tol=1e-12, tangent_tol=1.0, model=None):
-    """Jacobian of the ``n``-fold stroboscopic map by the variational equations.
+def monodromy(system, state0, n=1, *, tangent_tol=1.0):
+    """Jacobian of the ``n``-fold stroboscopic map by the variational equations:
+    :meth:`vibimpact.System.monodromy`.
 
     The state and ``d`` tangent vectors (the columns of the identity) are integrated
     together over ``n`` forcing periods from ``tau = 0``; at every switching event the
@@ -275,21 +205,19 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
+    system : System
+        Solver defaults DOP853 (or DP5: adaptive methods only), ``rtol = 1e-10``,
+        ``atol = 1e-12``, ``max_step = T / 4`` (tighter than a plain run's: the tangent
+        vectors share the step-size control).
     state0 : array_like, shape (d,)
         State at the start of a forcing period.
     n : int
         Forcing periods, ``>= 1``.
-    method : {"dop853", "dp5"}
-    rtol, atol, max_step, event_tol
-        Integrator settings as in :func:`vibimpact.simulate` (tighter defaults: the
-        tangent vectors share the step-size control).
     tangent_tol : float
         The tangent vectors' local errors are tested against ``tangent_tol`` times the
         tolerances (default 1: Newton's steps and multipliers near the unit circle need
         the matrix itself to the tolerance); see
         :func:`vibimpact.analysis.lyapunov_spectrum`.
-    model : Model, optional
 
     Returns
     -------
@@ -305,39 +233,16 @@ def monodromy(p, state0, n=1, *, method="dop853", rtol=1e-10, atol=1e-12, max_st
     --------
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import monodromy
-    >>> m = monodromy(vi.DuffingParams(), [0.0, 0.0])
+    >>> m = monodromy(vi.System(vi.DuffingParams()), [0.0, 0.0])
     >>> m.matrix.shape
     (2, 2)
     """
-    mdl, pvec, omega, T, meth, options = setup(p, model, method, rtol, atol, max_step,
-                                               event_tol)
-    d = len(mdl.state_names)
-    options = tangent_tolerance(options, d, tangent_tol)
-    if state0 is None:
-        raise ValueError(f"state0 must be {d} finite numbers, got None")
-    x0 = _v.state("state0", state0, d)
-    n = _v.count("n", n, 1)
-    y = np.zeros(d * (1 + d))
-    y[:d] = x0
-    for c in range(d):
-        y[d + c * d + c] = 1.0
-    problem = mdl.problem(pvec, variational=True)
-    mode = problem.initial_mode(x0.copy())
-    ks = _kb.new_clock(problem, options, steps=False)
-    # nothing is recorded before k_record = n, so the event log never fills
-    status, _ = _kb.integrate(problem, meth, options, y, mode, ks, n, k_record=n,
-                              log=_kb.EventLog(64, y.size, mdl.n_mode))
-    st, reason = status_of(status)
-    if st is not Status.OK:
-        return Monodromy(np.full((d, d), np.nan), x0, np.full(d, np.nan), n, n * T, st,
-                         f"{reason} in forcing period {int(ks[0])}")
-    M = y[d:].reshape(d, d).T.copy()  # column c is the tangent vector started at e_c
-    return Monodromy(M, x0, y[:d].copy(), n, n * T)
+    return as_system(system).monodromy(state0, n, tangent_tol=tangent_tol)
 
 
-def _cycle(p, x, n, model, kw):
+def _cycle(system, x, n):
     """Stroboscopic points of ``n`` periods from ``x`` (rows 0..n), or None."""
-    run = simulate(p, periods=n, state0=x, model=model, **kw)
+    run = system.simulate(periods=n, state0=x, **system.solver(**SHOOTING_SOLVER))
     return run.strobe if run.status is Status.OK else None
 
 
@@ -349,9 +254,7 @@ def _minimal_period(strobe, n, tol):
     return n
 
 
-def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
-                         method="dop853", rtol=1e-10, atol=1e-12, max_step=None,
-                         event_tol=1e-12, model=None):
+def shoot_periodic_orbit(system, state0, n=1, *, tol=1e-9, max_iter=20, damping=True):
     """A period-``n`` orbit by Newton shooting on the stroboscopic map, with its Floquet
     multipliers.
 
@@ -363,7 +266,9 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
 
     Parameters
     ----------
-    p : Params or DuffingParams (or a parameter vector with ``model``)
+    system : System
+        Solver settings as in :func:`monodromy` (defaults DOP853, ``rtol = 1e-10``,
+        ``atol = 1e-12``), also for the run that gives the orbit's cycle.
     state0 : array_like, shape (d,)
         Initial guess at the start of a forcing period: e.g. a stroboscopic point of a
         sweep's detected orbit (``final_state``).
@@ -375,8 +280,6 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
         Newton iterations at most.
     damping : bool
         Halve steps that increase the residual.
-    method, rtol, atol, max_step, event_tol, model
-        As in :func:`monodromy`.
 
     Returns
     -------
@@ -400,23 +303,21 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
     --------
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import shoot_periodic_orbit
-    >>> orb = shoot_periodic_orbit(vi.DuffingParams(gamma=0.2), [1.0, 0.0])
+    >>> orb = shoot_periodic_orbit(vi.System(vi.DuffingParams(gamma=0.2)), [1.0, 0.0])
     >>> orb.converged, orb.stable
     (True, True)
     """
-    mdl, _ = resolve(p, model)
-    d = len(mdl.state_names)
+    system = as_system(system)
+    d = system.n_state
     x = _v.state("state0", state0, d)
     n = _v.count("n", n, 1)
     tol = _v.positive("tol", tol)
     max_iter = _v.count("max_iter", max_iter, 1)
-    kw = dict(method=method, rtol=rtol, atol=atol, max_step=max_step, event_tol=event_tol,
-              model=model)
 
     def scale(v):
         return max(1.0, float(np.abs(v).max()))
 
-    m = monodromy(p, x, n, **kw)
+    m = system.monodromy(x, n)
     it = 1
     converged = False
     while True:
@@ -439,7 +340,7 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
         lam = 1.0
         accepted = None
         for _ in range(7 if damping else 1):
-            trial = monodromy(p, x + lam * dx, n, **kw)
+            trial = system.monodromy(x + lam * dx, n)
             it += 1
             if trial.status is Status.OK and (
                     not damping or float(np.abs(trial.residual).max()) < res):
@@ -460,8 +361,7 @@ def shoot_periodic_orbit(p, state0, n=1, *, tol=1e-9, max_iter=20, damping=True,
                              math.nan, m.status, m.reason)
     res = float(np.abs(m.residual).max())
     mu = floquet_multipliers(m.matrix)
-    strobe = _cycle(p, x, n, model, dict(method=method, rtol=rtol, atol=atol,
-                                         max_step=max_step, event_tol=event_tol))
+    strobe = _cycle(system, x, n)
     if strobe is None:
         cycle = np.full((n, d), np.nan)
         nmin = n

@@ -51,7 +51,7 @@ def plot_branch(ax, branch, var="X_m", *, color="k", label=None, lw=1.2, markers
     >>> from vibimpact.plotting.branch import plot_branch
     >>> from matplotlib.figure import Figure
     >>> p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=0.9)
-    >>> br = continue_orbit(p, [0.0, 0.0], param="omega", stop=(0.9, 1.0))
+    >>> br = continue_orbit(vi.System(p), [0.0, 0.0], param="omega", stop=(0.9, 1.0))
     >>> ax = Figure().add_subplot()
     >>> len(plot_branch(ax, br, "x_m")) > 0
     True

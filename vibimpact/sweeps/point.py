@@ -15,12 +15,12 @@ from ..analysis.chaos01 import test01
 from ..analysis.classify import DecisionRule, Label, decide
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.impacts import contact_arcs, impact_count
-from ..analysis.lyapunov import TANGENT_TOL, lyapunov_spectrum
+from ..analysis.exponents import TANGENT_TOL, Averaging
+from ..analysis.lyapunov import lyapunov_spectrum
 from ..analysis.period import detect_period, detect_period_windows
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
-from ..models import ROTOR
 from ..run import Status, join_runs
-from ..simulation import simulate, strobe_only
+from ..system import System
 from .settle import (MAX_SHOTS, MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot,
                      unsettled_repeat)
 
@@ -205,10 +205,9 @@ def _attracting(p, x, n, st):
     """Whether the period-``n`` orbit through ``x`` attracts: every multiplier of its
     monodromy matrix (variational equations, tangent vectors' errors tested at the
     Lyapunov default) inside the unit circle."""
-    from ..analysis.shooting import floquet_multipliers, monodromy
+    from ..analysis.shooting import floquet_multipliers
 
-    m = monodromy(p, x, n, method=st.method, rtol=st.rtol, atol=st.atol,
-                  tangent_tol=TANGENT_TOL)
+    m = point_system(p, st).monodromy(x, n, tangent_tol=TANGENT_TOL)
     return m.status is Status.OK and bool(np.abs(floquet_multipliers(m.matrix)).max() < 1.0)
 
 
@@ -254,8 +253,8 @@ def _floquet(p, x, n, st):
     """
     from ..analysis.shooting import shoot_periodic_orbit
 
-    orb = shoot_periodic_orbit(p, x, n, tol=100.0 * st.rtol, max_iter=4, damping=False,
-                               method=st.method, rtol=st.rtol, atol=st.atol)
+    orb = shoot_periodic_orbit(point_system(p, st), x, n, tol=100.0 * st.rtol, max_iter=4,
+                               damping=False)
     if not orb.converged or orb.minimal_period != n:
         return {}
     return dict(multipliers=orb.multipliers, floquet_abs_max=orb.abs_max,
@@ -300,12 +299,20 @@ def _describe(res, run, n, rec, r_start, want, st):
             res["samples"][:k] = pts[-k:]
 
 
+def point_system(p, settings):
+    """``p`` (Params or System) as the System a point is analysed with: the solver
+    settings of ``settings`` for those a System leaves None."""
+    system = p if isinstance(p, System) else System(p)
+    return system.resolved(method=settings.method, rtol=settings.rtol, atol=settings.atol)
+
+
 def analyse_point(p, state0, settings, guess=None):
     """Analyse one parameter point.
 
     Parameters
     ----------
-    p : Params
+    p : Params or System
+        A System's own solver settings take precedence over those of ``settings``.
     state0 : ndarray, shape (4,) or None
         Initial state at tau = 0 (rest when None).
     settings : SweepSettings
@@ -342,17 +349,17 @@ def analyse_point(p, state0, settings, guess=None):
     labelled UNSETTLED with its contraction rate and the periods it would need.
     """
     st = settings
+    p = point_system(p, st)
     rule = st.rule
     want = set(st.analyses)
     res = dict(SCALARS)
     res["arcs"] = ""
     res["reason"] = ""
     res["samples"] = np.full((st.n_samples, 4), np.nan)
-    x = np.zeros(4) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
+    x = np.zeros(p.n_state) if state0 is None else np.asarray(state0, dtype=np.float64).copy()
     res["final_state"] = np.full(4, np.nan)
     res["orbit_point"] = np.full(4, np.nan)
     res["multipliers"] = np.full(N_MULTIPLIERS, np.nan) + np.nan * 1j
-    kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
 
     def diverged(status, reason, where):
         res["regime"] = REGIME_CODES[Label.DIVERGED]
@@ -386,8 +393,7 @@ def analyse_point(p, state0, settings, guess=None):
     if guessed:
         g = np.asarray(guess, dtype=np.float64)
         rec = max(st.record_periodic, 4)
-        trial = simulate(p, periods=rec, state0=g, dense=st.dense if need_dense else 0,
-                         **kw)
+        trial = p.simulate(periods=rec, state0=g, dense=st.dense if need_dense else 0)
         nt = 0 if trial.status is not Status.OK else detect_period(
             trial.strobe, tol=rule.period_tol, max_period=min(rule.max_period, rec // 3))
         if nt and 4 * nt <= rec and _attracting(p, trial.final_state, nt, st):
@@ -405,12 +411,11 @@ def analyse_point(p, state0, settings, guess=None):
         if not ready:  # integrate a chunk (a failed trial's points are checked first)
             todo = min(chunk, st.transient_max - done)
             if done + todo > st.transient_max - st.record:  # may end up in the record
-                c = simulate(p, periods=todo, state0=x, dense=st.dense if need_dense else 0,
-                             **kw)
+                c = p.simulate(periods=todo, state0=x, dense=st.dense if need_dense else 0)
                 status, why, pts = c.status, c.reason, c.strobe
                 logged.append(c)
             else:
-                status, why, pts = strobe_only(ROTOR, p.as_array(), todo, x, st.method, st.rtol, st.atol)
+                status, why, pts = p.strobe(todo, x)
             if status is not Status.OK:
                 return diverged(status, why, "transient")
             done += todo
@@ -467,7 +472,7 @@ def analyse_point(p, state0, settings, guess=None):
         rec = run.strobe.shape[0] - 1
     if run is None and not n and logged and \
             sum(c.strobe.shape[0] - 1 for c in logged) >= st.record:
-        run = join_runs(logged, 2.0 * math.pi / p.eta)
+        run = join_runs(logged, p.period)
         rec = run.strobe.shape[0] - 1
         x_start = run.strobe[0]
         done -= rec
@@ -476,8 +481,7 @@ def analyse_point(p, state0, settings, guess=None):
     if run is None:
         rec = max(st.record_periodic, 4 * n) if n else st.record
         x_start = x
-        run = simulate(p, periods=rec, state0=x, dense=st.dense if need_dense else 0,
-                       **kw)
+        run = p.simulate(periods=rec, state0=x, dense=st.dense if need_dense else 0)
         if run.status is not Status.OK:
             return diverged(run.status, run.reason, "record")
     con = None
@@ -502,7 +506,7 @@ def analyse_point(p, state0, settings, guess=None):
     if n == 1:
         res["orbit_point"] = _orbit_point(run.strobe)
     _describe(res, run, n, rec, r_start, want, st)
-    T = 2.0 * math.pi / p.eta
+    T = p.period
 
     # --- evidence of settling, Floquet multipliers of a periodic point ----------------
     if evidence is not None:
@@ -521,10 +525,9 @@ def analyse_point(p, state0, settings, guess=None):
     if not n and "test01" in want:
         k = test01(pts[:, int(np.argmax(np.ptp(pts, axis=0)))])
     if "lyapunov" in want and (not n or st.lyapunov == "always"):
-        ly = lyapunov_spectrum(p, state0=x, n_exponents=1, transient=0,
-                               min_periods=st.lyap_min, max_periods=st.lyap_max,
-                               target_stderr=st.lyap_target, align=20,
-                               decisive=(rule.zero / T, rule.z), **kw)
+        ly = lyapunov_spectrum(p, state0=x, n_exponents=1, averaging=Averaging(
+            transient=0, min_periods=st.lyap_min, max_periods=st.lyap_max,
+            target_stderr=st.lyap_target, align=20, decisive=(rule.zero / T, rule.z)))
         if ly.status is not Status.OK:
             res["regime"] = REGIME_CODES[Label.DIVERGED]
             res["reason"] = f"lyapunov: {ly.status.value}, {ly.reason}"
@@ -539,8 +542,7 @@ def analyse_point(p, state0, settings, guess=None):
         if con is None and tor.non_contracting and not tor.recurrent:
             # a torus whose rotation number lies near a rational covers its curve slowly:
             # look at a record TORUS_EXTEND times as long before deciding
-            status, why, more = strobe_only(ROTOR, p.as_array(), (TORUS_EXTEND - 1) * rec, x, st.method,
-                                            st.rtol, st.atol)
+            status, why, more = p.strobe((TORUS_EXTEND - 1) * rec, x)
             if status is not Status.OK:
                 return diverged(status, why, "torus record")
             res["final_state"] = more[-1].copy()
@@ -581,12 +583,11 @@ def _long_recurrence(p, x, rule, st, need_dense):
     when one is found the record integrated on from the search's end (4 motion periods,
     with events and dense samples as the request needs; None otherwise)."""
     m = LONG_SEARCH * rule.max_period
-    status, why, pts = strobe_only(ROTOR, p.as_array(), 3 * m + 1, x, st.method, st.rtol, st.atol)
+    status, why, pts = p.strobe(3 * m + 1, x)
     if status is not Status.OK:
         return 0, None, status, why
     n = detect_period(pts, tol=rule.period_tol, max_period=m)
     if not n:
         return 0, None, status, why
-    run = simulate(p, periods=4 * n, state0=pts[-1], dense=st.dense if need_dense else 0,
-                   method=st.method, rtol=st.rtol, atol=st.atol)
+    run = p.simulate(periods=4 * n, state0=pts[-1], dense=st.dense if need_dense else 0)
     return n, run, run.status, run.reason

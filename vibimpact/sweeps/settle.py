@@ -33,7 +33,6 @@ from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.period import detect_period
 from ..analysis.settling import Contraction, contraction_rates, settling_periods
 from ..run import Status
-from ..simulation import simulate
 
 #: candidate periods of the shooting
 SHOOT_MAX_N = 8
@@ -128,7 +127,8 @@ def shoot(p, strobe, con: Contraction, settings, need_dense=False):
 
     Parameters
     ----------
-    p : Params
+    p : System
+        With the sweep's solver settings (:func:`vibimpact.sweeps.point.point_system`).
     strobe : ndarray, shape (m, 4)
         The transient's stroboscopic points (the last one is where it stands).
     con : Contraction
@@ -141,16 +141,15 @@ def shoot(p, strobe, con: Contraction, settings, need_dense=False):
 
     st = settings
     n = con.n
-    kw = dict(method=st.method, rtol=st.rtol, atol=st.atol)
     orb = shoot_periodic_orbit(p, _guess(strobe, n), n, tol=10.0 * st.rtol, max_iter=8,
-                               damping=True, **kw)
+                               damping=True)
     if orb.status is not Status.OK or not orb.converged:
         return None
     if orb.minimal_period != n:  # the points contract onto an orbit of a divisor period:
         # the lag-n fit was the first to be linear enough, the orbit decides
         n = orb.minimal_period
         orb = shoot_periodic_orbit(p, orb.state, n, tol=10.0 * st.rtol, max_iter=4,
-                                   damping=True, **kw)
+                                   damping=True)
         if orb.status is not Status.OK or not orb.converged or orb.minimal_period != n:
             return None
     amax = orb.abs_max
@@ -166,8 +165,7 @@ def shoot(p, strobe, con: Contraction, settings, need_dense=False):
     if not dist <= TAIL_FACTOR * tail + 1e-9 * scale:
         return None
     rec = max(st.record_periodic, 4 * n)
-    run = simulate(p, periods=rec, state0=orb.state, dense=st.dense if need_dense else 0,
-                   **kw)
+    run = p.simulate(periods=rec, state0=orb.state, dense=st.dense if need_dense else 0)
     if run.status is not Status.OK:
         return None
     rule = st.rule
