@@ -5,7 +5,6 @@ numpy, xarray, dask and matplotlib are imported inside the commands, so ``--help
 instant.
 """
 import os
-import sys
 
 from ._cli_common import (UsageError, check_checkpoint, check_output, checkpoint_of,
                           finish_checkpointed, image_ext_ok, parse_analyses, parse_sets,
