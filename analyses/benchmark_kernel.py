@@ -229,7 +229,8 @@ def report(s0, n_imp, rows, cross, series, rat):
          f"state0 = [{', '.join(f'{v:.12g}' for v in s0)}] (reached from {list(START)} after "
          f"{START_TRANSIENT} periods); {n_imp} impacts in {WP_PERIODS} periods",
          f"- regime, decided in this run by `classify_params` (at most {LABEL_TRANSIENT} "
-         f"transient periods from state0, {LABEL_PERIODS} recorded): **{REGIME_TEXT}**; eta was the "
+         f"transient periods from state0, {LABEL_PERIODS} recorded): **{REGIME_TEXT}**; "
+         "eta was the "
          "first of the candidates " + ", ".join(f"{e:g}" for e in CANDIDATE_ETAS)
          + " labelled periodic with impacts (" + "; ".join(
              f"{e:g}: {describe(r)}" for e, r in TRIED) + ")", "",

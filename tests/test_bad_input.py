@@ -265,6 +265,33 @@ def _preset(name):
     return vi.presets.get(name)
 
 
+def _system(**kw):
+    import vibimpact as vi
+
+    return vi.System(vi.presets.get("fig8"), **kw)
+
+
+def _analyse(name, *args, system=True, **kw):
+    """Call analyser ``name`` of vibimpact.analysis on fig8 (a System unless told)."""
+    import vibimpact as vi
+    from vibimpact import analysis
+
+    first = _system() if system else vi.presets.get("fig8")
+    return getattr(analysis, name)(first, *args, **kw)
+
+
+def _averaging(**kw):
+    from vibimpact.analysis import Averaging
+
+    return Averaging(**kw)
+
+
+def _steps(**kw):
+    from vibimpact.analysis import Steps
+
+    return Steps(**kw)
+
+
 API_CASES = {
     "Params kh < 0": (lambda: _params(kh=-1.0), "kh"),
     "Params B < 0": (lambda: _params(B=-0.1), "B "),
@@ -295,6 +322,26 @@ API_CASES = {
     "simulate 1e9 periods": (lambda: _simulate(periods=10**9), "periods"),
     "simulate 1e9 transient": (lambda: _simulate(periods=1, transient=10**9), "transient"),
     "simulate periods 0": (lambda: _simulate(periods=0), "periods"),
+    "System rtol < 0": (lambda: _system(rtol=-1e-9), "rtol"),
+    "System unknown method": (lambda: _system(method="euler"), "method"),
+    "System unknown solver setting": (lambda: _system().with_solver(tol=1.0), "solver"),
+    "System unknown parameter": (lambda: _system().param("kq"), "param"),
+    "analyser given Params": (lambda: _analyse("lyapunov_spectrum", system=False), "system"),
+    "shooting given Params": (lambda: _analyse("shoot_periodic_orbit", [0.0] * 4,
+                                               system=False), "system"),
+    "classify_params given Params": (lambda: _analyse("classify_params", system=False),
+                                     "system"),
+    "classify_params unknown setting": (lambda: _analyse("classify_params", periods=10),
+                                        "periods"),
+    "shooting state0 too short": (lambda: _analyse("shoot_periodic_orbit", [0.0]), "state0"),
+    "monodromy rk4": (lambda: _system(method="rk4").monodromy([0.0] * 4), "method"),
+    "continuation unknown parameter": (lambda: _analyse("continue_orbit", [0.0] * 4,
+                                                        param="kq", stop=1.2), "param"),
+    "Averaging block 1": (lambda: _averaging(block=1), "block"),
+    "Averaging max < min": (lambda: _averaging(min_periods=10, max_periods=5),
+                            "max_periods"),
+    "Steps ds 0": (lambda: _steps(ds=0.0), "ds"),
+    "Steps max_points 1": (lambda: _steps(max_points=1), "max_points"),
 }
 
 

@@ -587,7 +587,8 @@ def continue_orbit(system, state0, n=1, *, param="eta", stop, steps=Steps(), dir
     --------
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import Steps, continue_orbit
-    >>> sys = vi.System(vi.DuffingParams(gamma=0.1, omega=0.9))
+    >>> sys = vi.System(vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5,
+    ...                                  omega=0.9))
     >>> br = continue_orbit(sys, [0.0, 0.0], param="omega", stop=(0.9, 1.0),
     ...                     steps=Steps(max_points=5), amplitude=False)
     >>> br.values.size

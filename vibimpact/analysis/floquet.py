@@ -57,8 +57,8 @@ def floquet_lyapunov(system, state0, n=1, *, n_exponents=None, include_phase=Fal
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import floquet_lyapunov
     >>> p = vi.DuffingParams(delta=0.2, alpha=1.0, beta=0.0, gamma=0.0, omega=1.0)
-    >>> res = floquet_lyapunov(vi.System(p), [0.0, 0.0])   # x'' + 0.2 x' + x = 0: -delta/2 twice
-    >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)
+    >>> res = floquet_lyapunov(vi.System(p), [0.0, 0.0])  # x'' + 0.2 x' + x = 0
+    >>> bool(abs(res.exponents - (-0.1)).max() < 1e-8)  # -delta/2 twice
     True
     """
     system = as_system(system).resolved(rtol=1e-10)
