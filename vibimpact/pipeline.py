@@ -48,7 +48,8 @@ def _settings(settings, changes):
     if bad:
         raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
                          f"{', '.join(ANALYSES)}")
-    for name in ("transient_max", "record", "lyap_min", "lyap_max"):
+    _v.count("transient_max", st.transient_max, 0)
+    for name in ("record", "lyap_min", "lyap_max"):
         _v.count(name, getattr(st, name), 1)
     return replace(st, analyses=tuple(a for a in ANALYSES
                                       if a in st.analyses or a == "period"))
