@@ -26,9 +26,11 @@ from typing import Callable
 
 import numpy as np
 
+from . import dispatch as _dispatch
 from . import integrator as _integrator
 from . import tableaux as _tab
 from .driver import integrate as _integrate
+from .driver import workspace as _workspace
 from .lyapunov import benettin as _benettin
 from .lyapunov import qr_growth
 from .recurrence import suffix_lag_residuals
@@ -266,11 +268,12 @@ def counters():
     return np.zeros(N_COUNTERS, dtype=np.int64)
 
 
-def _leading(problem, method, opts):
-    """The arguments every kernel entry point starts with: the one place a kernel call
-    is built."""
-    return (problem.model, problem.terminal, *method.kernel_args(), problem.p,
-            problem.omega), opts
+def _leading(problem, method, options):
+    """The arguments every kernel entry point starts with, packed as the kernel takes
+    them (:func:`.driver.integrate`): ``(model, terminal, p, omega)``, the method's
+    tableau tuple and the option vector.  The one place a kernel call is built."""
+    return ((_dispatch.kernel_model(problem.model), problem.terminal, problem.p,
+             float(problem.omega)), method.kernel_args(), options.vector(method))
 
 
 def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, strobe=None,
@@ -318,12 +321,12 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
         count = counters()
     if log is None:
         log = EventLog(log_capacity(k_end - k_record), n, problem.n_mode)
-    lead, opts = _leading(problem, method, options.vector(method))
+    lead = _leading(problem, method, options)
+    ws = _workspace(n, problem.terminal.size, mode.size)
     status = LOG_FULL
     while status == LOG_FULL:
-        ev_t, ev_which, ev_mode, ev_y = log.arrays()
-        status, n_ev = _integrate(*lead, y, mode, clock, opts, k_end, k_record, strobe,
-                                  ev_t, ev_which, ev_mode, ev_y, 0, dense_m, dense, count)
+        status, n_ev = _integrate(*lead, ws, y, mode, clock, k_end, k_record, strobe,
+                                  log.arrays(), 0, dense_m, dense, count)
         log.keep(n_ev)
     return status, log
 
@@ -335,18 +338,18 @@ def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods
 
     Returns ``(status, done)``.
     """
-    lead, opts = _leading(problem, method, options.vector(method))
-    return _benettin(*lead, y, mode, clock, opts, n_state, bound, n_periods, logs, states,
-                     count)
+    ws = _workspace(y.size, problem.terminal.size, mode.size)
+    return _benettin(*_leading(problem, method, options), ws, y, mode, clock, n_state,
+                     bound, n_periods, logs, states, count)
 
 
 def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, d0, scale,
                    bound, n_periods, logs, count):
     """A reference and a perturbed trajectory over ``n_periods`` periods, renormalised to
     ``d0`` after each (:func:`.lyapunov.two_trajectory`).  Returns ``(status, done)``."""
-    lead, opts = _leading(problem, method, options.vector(method))
-    return _two_trajectory(*lead, y, mode, clock, y2, mode2, clock2, opts, d0, scale, bound,
-                           n_periods, logs, count)
+    ws = _workspace(y.size, problem.terminal.size, mode.size)
+    return _two_trajectory(*_leading(problem, method, options), ws, y, mode, clock, y2,
+                           mode2, clock2, d0, scale, bound, n_periods, logs, count)
 
 
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "benettin",

@@ -1,9 +1,31 @@
 """The integration loop: steps, events, stroboscopic and dense samples (``@njit``).
 
-:func:`integrate` is generic over the model: an integer for a built-in model (cached on
-disk) or a tuple of numba functions for a user model (see :mod:`.dispatch`).
+:func:`integrate` is the entry point (called by :mod:`.boundary` and :mod:`.lyapunov`),
+with scratch arrays from :func:`workspace` that the caller may keep across calls.  The
+loop's pieces, in the order of a step (inlined into it by numba: :data:`.jitopts.PIECE`):
+
+* :func:`_step_size` -- the size of the next step (fixed-step grid and grading, maximum
+  step, the model's cap at a non-smooth force, landing on the period's end);
+* :func:`_attempt` -- one Runge--Kutta step with the error test;
+* :func:`_check_state` -- divergence of the new state;
+* :func:`.events.detect`, then :func:`_switch_now` for an inconsistent mode at the step's
+  start or :func:`_locate` (with :func:`_grazing` and :func:`.events.retake`) for
+  crossings inside it;
+* :func:`_log_observers` -- observer crossings before the event, in time order;
+* :func:`_samples` (:func:`_dense_samples`, :func:`_strobe_sample`) -- samples from the
+  continuous extension;
+* :func:`_next_start` -- the step's end as the next step's start (the mode change at a
+  located event).
+
+Arguments are packed (see :func:`integrate`): the problem ``(model, terminal, p,
+omega)``, the Runge--Kutta method ``(id, A, B, C, E, E3, D, P, order, n_stages)``, the
+event log ``(t, which, mode, state)``, the options as a :data:`.integrator.Settings` and
+the scratch arrays as a :data:`Workspace`.  The model is a built-in model (a
+:func:`.dispatch.builtin` marker, cached on disk) or a tuple of numba functions for a user
+model (see :mod:`.dispatch`).
 """
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -11,14 +33,44 @@ from numba import njit
 from .dispatch import model_rhs, model_step_cap, model_switches, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
 from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
-                         DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_ATOL,
-                         O_BOUND, O_EVTOL, O_FIXED, O_GIN, O_GOUT, O_HFIX, O_HMAX, O_MAXSTEPS,
-                         O_NBOUND, O_NERR, O_RTOL, O_TFAC, OK, STEP_UNDERFLOW, ZENO,
-                         error_norm, interpolate, prepare_dense, rk_step)
-from .tableaux import RK4
+                         DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, OK,
+                         STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
+                         rk_step, settings)
+from .jitopts import LEAF, PIECE
+
+#: scratch arrays of the loop (allocated by :func:`workspace`)
+Workspace = namedtuple("Workspace", (
+    "K", "Kr", "F",                      # stages of the step and of a retaken step;
+                                         # continuous extension
+    "ytmp", "y1", "yev", "yint", "f0", "f1r",  # states and derivatives, shape (n,)
+    "G", "gbuf", "gobs",                 # switching functions: samples over a step
+    "flag", "lo", "hi",                  # detection: kind and bracket of each switch
+    "obs_th", "obs_i",                   # located observer crossings
+    "mode_old",                          # the mode before a transition
+))
+
+#: outcomes of :func:`_switch_now`
+_RETRY_SAME_START = 0   # retry shorter; the switching functions at the start still hold
+_RETRY_NEW_START = 1    # retry shorter; the mode was touched: re-evaluate them
+_SWITCHED = 2           # the mode changed at the step's start
+
+#: consecutive events without time advancing before the run stops as ZENO
+_ZENO_LIMIT = 50
 
 
-@njit(cache=True, error_model="numpy")
+def workspace(n, n_switch, n_mode):
+    """Scratch arrays of :func:`integrate` for a state of ``n`` entries, ``n_switch``
+    switching functions and ``n_mode`` mode entries (plain Python: allocated by the
+    caller, reusable across calls)."""
+    return Workspace(np.zeros((16, n)), np.zeros((16, n)), np.zeros((7, n)),
+                     np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
+                     np.empty(n), np.empty((5, n_switch)), np.empty(n_switch),
+                     np.empty(n_switch), np.zeros(n_switch, dtype=np.int64),
+                     np.zeros(n_switch), np.zeros(n_switch), np.empty(n_switch),
+                     np.empty(n_switch, dtype=np.int64), np.zeros(n_mode, dtype=np.int64))
+
+
+@njit(**PIECE)
 def graded_step(hf, t, order):
     """Fixed-step size graded towards a switching surface ``t`` time units away.
 
@@ -36,8 +88,10 @@ def graded_step(hf, t, order):
                hf * (t / tau) ** (1.5 / (order + 1.0)))
 
 
-@njit(cache=True, error_model="numpy")
-def _log(n_ev, t, which, mode_before, mode_after, y, ev_t, ev_which, ev_mode, ev_y):
+@njit(**PIECE)
+def _log(log, n_ev, t, which, mode_before, mode_after, y):
+    """Write one entry of the event log ``(t, which, mode, state)``; returns the count."""
+    ev_t, ev_which, ev_mode, ev_y = log
     nm = mode_before.size
     ev_t[n_ev] = t
     ev_which[n_ev] = which
@@ -49,24 +103,383 @@ def _log(n_ev, t, which, mode_before, mode_after, y, ev_t, ev_which, ev_mode, ev
     return n_ev + 1
 
 
-@njit(cache=True, error_model="numpy")
-def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
-              n_stages, p, omega, y, mode, ks, opts, k_end, k_record, strobe, ev_t,
-              ev_which, ev_mode, ev_y, n_ev, dense_m, dense, counters):
+@njit(**PIECE)
+def _room(n_ev, n_switch, cap, steps_in_period, max_steps):
+    """OK, or LOG_FULL when the event log may not hold the events of one more step, or
+    MAX_STEPS when the period has taken too many."""
+    if n_ev + n_switch + 2 > cap:
+        return LOG_FULL
+    if steps_in_period > max_steps:
+        return MAX_STEPS
+    return OK
+
+
+@njit(**PIECE)
+def _step_size(problem, cfg, y, mode, f0, k, k_end, s, h, h_cap, t_near, at_event, retry):
+    """Size of the next step from ``(k, s)``: ``h`` (the controller's proposal) within the
+    fixed-step grid (graded towards a surface ``t_near`` away), the maximum step,
+    ``h_cap`` and the model's cap at a non-smooth force (not on a retry: its cap holds),
+    stretched or shortened to land on the period's end.
+
+    Returns ``(h, h_prop, lands)``: the step, the step before landing, whether it lands.
+    """
+    model, terminal, p, omega = problem
+    if cfg.fixed:
+        hf = cfg.h_fixed
+        h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
+        h = min(h, graded_step(hf, t_near, cfg.order))
+    h = min(h, cfg.h_max, h_cap)
+    if cfg.g_out > 0.0 and not retry:
+        h = min(h, model_step_cap(model, y, p, mode, f0, at_event, cfg.rtol, cfg.atol,
+                                  cfg.n_norm, cfg.g_in, cfg.g_out))
+    h_prop = h
+    T = cfg.T
+    if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
+        return T - s, h_prop, True
+    return h, h_prop, False
+
+
+@njit(**PIECE)
+def _attempt(problem, method, cfg, ws, mode, s, y, h, h_prop, lands, counters):
+    """One Runge--Kutta step of size ``h`` from ``(s, y)`` into ``ws.y1`` (``ws.f0``: the
+    derivative at the start), with the error test of the embedded methods.
+
+    Returns ``(accepted, h, h_next)``: an accepted step leaves the derivative at its end
+    in ``ws.f1r`` and proposes ``h_next``; a rejected one returns the shorter step to try.
+    """
+    model, terminal, p, omega = problem
+    mid, A, B, C, E, E3, D, P, order, n_stages = method
+    n = y.size
+    K = ws.K
+    f0 = ws.f0
+    for m in range(n):
+        K[0, m] = f0[m]
+    counters[C_RHS] += rk_step(model, p, mode, A, B, C, n_stages, cfg.fsal, s, y, h, K,
+                               ws.ytmp, ws.y1)
+    h_next = h
+    if cfg.fsal and not cfg.fixed:
+        err = error_norm(mid, E, E3, K, n_stages, h, y, ws.y1, cfg.rtol, cfg.atol,
+                         cfg.n_err, cfg.tfac)
+        if not np.isfinite(err) or err > 1.0:
+            counters[C_REJECTED] += 1
+            fac = 0.2 if not np.isfinite(err) else max(0.2, 0.9 * err ** cfg.expo)
+            return False, h * fac, h_next
+        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** cfg.expo))
+        h_next = h * fac
+        if lands and h_prop > h_next:
+            h_next = h_prop
+    f1r = ws.f1r
+    if cfg.fsal:
+        for m in range(n):
+            f1r[m] = K[n_stages, m]
+    else:
+        model_rhs(model, s + h, ws.y1, p, mode, f1r)
+        counters[C_RHS] += 1
+    return True, h, h_next
+
+
+@njit(**PIECE)
+def _check_state(y1, n_bound, bound):
+    """OK, or DIVERGED_NONFINITE / DIVERGED_BOUND (the first ``n_bound`` entries beyond
+    ``bound``) for a new state."""
+    finite = True
+    big = 0.0
+    for m in range(y1.size):
+        if not np.isfinite(y1[m]):
+            finite = False
+        elif m < n_bound and abs(y1[m]) > big:
+            big = abs(y1[m])
+    if not finite:
+        return DIVERGED_NONFINITE
+    if big > bound:
+        return DIVERGED_BOUND
+    return OK
+
+
+@njit(**PIECE)
+def _first_immediate(flag):
+    """The first switch flagged IMMEDIATE by :func:`.events.detect`, or -1."""
+    for i in range(flag.size):
+        if flag[i] == IMMEDIATE:
+            return i
+    return -1
+
+
+@njit(**PIECE)
+def _switch_now(problem, cfg, ws, log, n_ev, mode, k, k_record, s, y, h, imm, counters):
+    """A terminal switch ``imm`` negative at the step's start and at its first sample.
+
+    Either the state sits on the surface (an event just put it there) and the crossing
+    back is shorter than a quarter step (a shallow contact), or the mode is right and the
+    switch value sits within rounding of zero: both retry a shorter step so the samples
+    resolve the crossing.  Otherwise the mode is inconsistent: it changes at once, is
+    logged, and ``ws.f0`` is re-evaluated.
+
+    Returns ``(outcome, n_ev)``: :data:`_RETRY_SAME_START`, :data:`_RETRY_NEW_START` or
+    :data:`_SWITCHED`.
+    """
+    model, terminal, p, omega = problem
+    T = cfg.T
+    if abs(ws.G[0, imm]) <= cfg.event_tol and h > 1e-6 * T:
+        return _RETRY_SAME_START, n_ev
+    mode_old = ws.mode_old
+    for m in range(mode.size):
+        mode_old[m] = mode[m]
+    model_transition(model, s, y, p, mode, imm)
+    same = True
+    for m in range(mode.size):
+        if mode[m] != mode_old[m]:
+            same = False
+    if same:
+        return _RETRY_NEW_START, n_ev
+    counters[C_EVENTS] += 1
+    if k >= k_record:
+        n_ev = _log(log, n_ev, k * T + s, imm, mode_old, mode, y)
+    model_rhs(model, s, y, p, mode, ws.f0)
+    counters[C_RHS] += 1
+    return _SWITCHED, n_ev
+
+
+@njit(**PIECE)
+def _locate(problem, method, cfg, ws, mode, s, y, h, counters):
+    """Crossings inside an accepted step whose samples bracketed some (after
+    :func:`.events.detect`): the first terminal crossing, and the observer crossings up
+    to it, refined on the continuous extension (prepared here into ``ws.F``); the step
+    is retaken to the terminal event (:func:`.events.retake`, state into ``ws.yev``).
+
+    Returns ``(which, th_end, n_obs)``: the terminal switch (-1: none), the fraction of
+    the step taken, and the observer crossings in ``ws.obs_th``, ``ws.obs_i``.
+    """
+    model, terminal, p, omega = problem
+    mid, A, B, C, E, E3, D, P, order, n_stages = method
+    f0, y1, f1r, F, ytmp, gbuf = ws.f0, ws.y1, ws.f1r, ws.F, ws.ytmp, ws.gbuf
+    flag, lo, hi, obs_th, obs_i = ws.flag, ws.lo, ws.hi, ws.obs_th, ws.obs_i
+    nsw = terminal.size
+    counters[C_RHS] += prepare_dense(model, p, mode, mid, A, C, D, P, n_stages, s, y, h,
+                                     ws.K, y1, ytmp, F)
+    which = np.int64(-1)  # not a literal: the functions it reaches would compile twice
+    n_obs = 0
+    th_term = 2.0
+    for i in range(nsw):
+        if flag[i] == BRACKETED and terminal[i] == 1:
+            th = locate(model, p, mode, i, mid, s, h, y, f0, y1, f1r, F, lo[i], hi[i],
+                        ytmp, gbuf)
+            if th >= 0.0 and th < th_term:
+                th_term = th
+                which = i
+    for i in range(nsw):
+        if flag[i] == BRACKETED and terminal[i] == 0:
+            th = locate(model, p, mode, i, mid, s, h, y, f0, y1, f1r, F, lo[i], hi[i],
+                        ytmp, gbuf)
+            if th >= 0.0 and th <= th_term:
+                obs_th[n_obs] = th
+                obs_i[n_obs] = i
+                n_obs += 1
+    if which < 0 and n_obs > 0:
+        which, th_term, n_obs = _grazing(problem, method, cfg, ws, mode, s, y, h, n_obs,
+                                         th_term)
+    if which < 0:
+        return which, 1.0, n_obs
+    hs, nr = retake(model, p, mode, which, mid, A, B, C, n_stages, cfg.fsal, s, y, f0, h,
+                    y1, f1r, F, th_term, cfg.event_tol, ws.Kr, ytmp, gbuf, ws.yev)
+    counters[C_RHS] += nr
+    return which, hs / h, n_obs
+
+
+@njit(**PIECE)
+def _grazing(problem, method, cfg, ws, mode, s, y, h, n_obs, th_term):
+    """A shallow crossing that begins and ends between the samples (a grazing contact)
+    still shows at an observer point: the peak of R lies beyond the surface.  Locate the
+    entry before that point; drop the observer crossings after it.
+
+    Returns ``(which, th_term, n_obs)``.
+    """
+    model, terminal, p, omega = problem
+    mid = method[0]
+    f0, y1, f1r, F, ytmp, gbuf = ws.f0, ws.y1, ws.f1r, ws.F, ws.ytmp, ws.gbuf
+    obs_th, obs_i, yint, gobs = ws.obs_th, ws.obs_i, ws.yint, ws.gobs
+    which = np.int64(-1)
+    for a in range(n_obs):
+        interpolate(mid, obs_th[a], h, y, f0, y1, f1r, F, yint)
+        model_switches(model, s + obs_th[a] * h, yint, p, mode, gobs)
+        for i in range(terminal.size):
+            # deeper than the event tolerance: a shallower one is at the resolution of
+            # the event location itself (it would flip the mode back and forth: a false
+            # Zeno stop)
+            if terminal[i] == 1 and gobs[i] < -10.0 * cfg.event_tol:
+                th = locate(model, p, mode, i, mid, s, h, y, f0, y1, f1r, F, 0.0,
+                            obs_th[a], ytmp, gbuf)
+                if th >= 0.0 and th < th_term:
+                    th_term = th
+                    which = i
+    if which >= 0:  # drop the observer crossings after the event
+        kept = 0
+        for a in range(n_obs):
+            if obs_th[a] <= th_term:
+                obs_th[kept] = obs_th[a]
+                obs_i[kept] = obs_i[a]
+                kept += 1
+        n_obs = kept
+    return which, th_term, n_obs
+
+
+@njit(**PIECE)
+def _time_to_switch(terminal, G, h):
+    """Time to the nearest terminal surface the step's end approaches (for the graded
+    RK4 steps), from the switching functions at its start and end; 1e300: none."""
+    t_to_switch = 1e300
+    for i in range(terminal.size):
+        if terminal[i] == 1 and G[0, i] > G[4, i] > 0.0:
+            t_to_switch = min(t_to_switch, G[4, i] * h / (G[0, i] - G[4, i]))
+    return t_to_switch
+
+
+@njit(**PIECE)
+def _log_observers(problem, method, cfg, ws, log, n_ev, mode, k, k_record, s, y, h, n_obs,
+                   counters):
+    """Log the observer crossings of the step in time order (those from ``tau = k_record
+    T``); returns the log's count."""
+    model, terminal, p, omega = problem
+    obs_th, obs_i, yint = ws.obs_th, ws.obs_i, ws.yint
+    T = cfg.T
+    for a in range(n_obs):
+        best = a
+        for b in range(a + 1, n_obs):
+            if obs_th[b] < obs_th[best]:
+                best = b
+        th = obs_th[best]
+        i = obs_i[best]
+        obs_th[best] = obs_th[a]
+        obs_i[best] = obs_i[a]
+        t_abs = k * T + s + th * h
+        counters[C_OBSERVED] += 1
+        if t_abs >= k_record * T:
+            interpolate(method[0], th, h, y, ws.f0, ws.y1, ws.f1r, ws.F, yint)
+            n_ev = _log(log, n_ev, t_abs, i, mode, mode, yint)
+    return n_ev
+
+
+@njit(**PIECE)
+def _dense_ready(problem, method, ws, mode, s, y, h, ready, counters):
+    """Prepare the continuous extension of the step unless ``ready``; returns True."""
+    if not ready:
+        model, terminal, p, omega = problem
+        mid, A, B, C, E, E3, D, P, order, n_stages = method
+        counters[C_RHS] += prepare_dense(model, p, mode, mid, A, C, D, P, n_stages, s, y,
+                                         h, ws.K, ws.y1, ws.ytmp, ws.F)
+    return True
+
+
+@njit(**PIECE)
+def _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands,
+                   th_end, y_end, dense_m, dense, ready, counters):
+    """Dense samples at local times ``j T / dense_m`` inside the step ``[s, s_end]``
+    (``j >= dense_m`` belong to the next period: a step may run past the period's end);
+    returns whether the continuous extension is prepared."""
+    n = y.size
+    T = cfg.T
+    dt = T / dense_m
+    j = int(math.floor(s / dt)) + 1
+    while j * dt <= s_end or (lands and j == dense_m):
+        kk = k + j // dense_m
+        idx = (kk - k_record) * dense_m + j % dense_m
+        if kk >= k_record and idx < dense.shape[0]:
+            if lands and j == dense_m:
+                for m in range(n):
+                    dense[idx, m] = y_end[m]
+            else:
+                ready = _dense_ready(problem, method, ws, mode, s, y, h, ready, counters)
+                interpolate(method[0], min((j * dt - s) / h, th_end), h, y, ws.f0, ws.y1,
+                            ws.f1r, ws.F, ws.yint)
+                for m in range(n):
+                    dense[idx, m] = ws.yint[m]
+        if lands and j == dense_m:
+            break
+        j += 1
+    return ready
+
+
+@njit(**PIECE)
+def _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, strobe,
+                   ready, counters):
+    """Stroboscopic sample at the period's end (``s = T``) inside the step, into
+    ``strobe[row]``; returns whether the continuous extension is prepared."""
+    n = y.size
+    if lands:
+        for m in range(n):
+            strobe[row, m] = y_end[m]
+        return ready
+    ready = _dense_ready(problem, method, ws, mode, s, y, h, ready, counters)
+    interpolate(method[0], (cfg.T - s) / h, h, y, ws.f0, ws.y1, ws.f1r, ws.F, ws.yint)
+    for m in range(n):
+        strobe[row, m] = ws.yint[m]
+    return ready
+
+
+@njit(**PIECE)
+def _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands, th_end,
+             y_end, dense_m, dense, strobe, ready, counters):
+    """The dense samples inside the step ``[s, s_end]`` of period ``k`` and, when it
+    reaches the period's end, the stroboscopic sample there."""
+    if dense_m > 0 and k + 1 >= k_record:
+        ready = _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
+                               lands, th_end, y_end, dense_m, dense, ready, counters)
+    row = k + 1 - k_record
+    if (lands or s_end >= cfg.T) and row >= 0 and row < strobe.shape[0]:
+        _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, strobe,
+                       ready, counters)
+
+
+@njit(**PIECE)
+def _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_abs, s, y, y_end, which,
+                g0_ok, counters):
+    """Make the step's end ``y_end`` the next step's start: with the switching functions
+    at the end (``g0_ok``: nothing changes in between) and the derivative there, or, at a
+    located event of switch ``which`` (absolute time ``t_abs``), the mode change, logged,
+    and the derivative in the new mode.  Returns the log's count."""
+    model, terminal, p, omega = problem
+    f0, G = ws.f0, ws.G
+    for m in range(y.size):
+        y[m] = y_end[m]
+    if g0_ok:
+        for i in range(terminal.size):
+            G[0, i] = G[4, i]
+    if which < 0:
+        for m in range(y.size):
+            f0[m] = ws.f1r[m]
+        return n_ev
+    mode_old = ws.mode_old
+    for m in range(mode.size):
+        mode_old[m] = mode[m]
+    model_transition(model, s, y, p, mode, which)
+    counters[C_EVENTS] += 1
+    if t_abs >= k_record * cfg.T:
+        n_ev = _log(log, n_ev, t_abs, which, mode_old, mode, y)
+    model_rhs(model, s, y, p, mode, f0)
+    counters[C_RHS] += 1
+    return n_ev
+
+
+@njit(**LEAF)
+def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, log, n_ev,
+              dense_m, dense, counters):
     """Integrate from ``(k, s) = ks[:2]`` until the start of forcing period ``k_end``.
 
     Parameters
     ----------
-    model : int or tuple
-        A built-in model id (:mod:`.dispatch`) or ``(rhs, switches, transition)``.
-    terminal : int64 array, shape (n_switch,)
-        1 for a terminal (mode-changing) switch, 0 for an observer.
-    method, A, B, C, E, E3, D, P, order, n_stages
+    problem : tuple ``(model, terminal, p, omega)``
+        ``model``: a built-in model (:func:`.dispatch.builtin`) or ``(rhs, switches,
+        transition)``; ``terminal``: int64 array, shape (n_switch,), 1 for a terminal
+        (mode-changing) switch, 0 for an observer; ``p``: float64 parameter vector;
+        ``omega``: forcing frequency, the period is ``T = 2 pi / omega``.
+    method : tuple ``(id, A, B, C, E, E3, D, P, order, n_stages)``
         The Runge--Kutta method as data (:mod:`.tableaux`).
-    p : float64 array
-        Model parameters.
-    omega : float
-        Forcing frequency; the period is ``T = 2 pi / omega``.
+    opts : float64 array
+        ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period, fixed,
+        n_bound, n_err, tfac, g_in, g_out)`` (:mod:`.integrator`, read through
+        :func:`.integrator.settings`).
+    ws : Workspace
+        Scratch arrays (:func:`workspace`), reusable across calls.
     y : float64 array, shape (n,)
         State at ``(k, s)``; overwritten with the final state.
     mode : int64 array
@@ -75,16 +488,14 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
         ``(k, s, h[, steps])``: period index, local time, next step size and, when given,
         the steps taken so far in period ``k`` (kept across LOG_FULL restarts);
         overwritten.
-    opts : float64 array
-        ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period, fixed,
-        n_bound)`` (:mod:`.integrator`).
     k_end, k_record : int
         Stop at ``tau = k_end T``; record samples and events from ``tau = k_record T``.
     strobe : float64 array, shape (k_end - k_record + 1, n)
         Row ``j`` receives the state at ``tau = (k_record + j) T`` (row 0 by the caller
         when the run starts there).
-    ev_t, ev_which, ev_mode, ev_y : arrays, shapes (cap,), (cap,), (cap, 2 n_mode), (cap, n)
-        Event log: absolute time, switch index, mode before and after, state.
+    log : tuple ``(t, which, mode, state)``
+        Event log, shapes (cap,), (cap,), (cap, 2 n_mode), (cap, n): absolute time,
+        switch index, mode before and after, state.
     n_ev : int
         Entries of the log already used.
     dense_m : int
@@ -101,52 +512,13 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     n_ev : int
         Entries of the log used.
     """
-    T = 2.0 * math.pi / omega
-    n = y.size
+    model, terminal, p, omega = problem
+    cfg = settings(opts, method[0], method[8], omega, y.size)
+    T = cfg.T
     nsw = terminal.size
-    nm = mode.size
-    K = np.zeros((16, n))
-    Kr = np.zeros((16, n))
-    F = np.zeros((7, n))
-    ytmp = np.empty(n)
-    y1 = np.empty(n)
-    yev = np.empty(n)
-    yint = np.empty(n)
-    f0 = np.empty(n)
-    f1r = np.empty(n)
-    G = np.empty((5, nsw))
-    gbuf = np.empty(nsw)
-    gobs = np.empty(nsw)
-    flag = np.zeros(nsw, dtype=np.int64)
-    lo = np.zeros(nsw)
-    hi = np.zeros(nsw)
-    obs_th = np.empty(nsw)
-    obs_i = np.empty(nsw, dtype=np.int64)
-    mode_old = mode.copy()
-    # G[0] already holds the switching functions at the step's start (copied from the end
-    # of the step before when nothing changed in between: one evaluation fewer per step)
-    g0_ok = False
-    rtol = opts[O_RTOL]
-    atol = opts[O_ATOL]
-    bound = opts[O_BOUND]
-    evtol = opts[O_EVTOL]
-    fsal = method != RK4
-    fixed = method == RK4 or opts[O_FIXED] > 0.0
-    expo = -1.0 / order
-    cap = ev_t.size
-    n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
-    n_err = n if opts[O_NERR] <= 0.0 else min(n, int(opts[O_NERR]))
-    tfac = opts[O_TFAC]
-    # steps touching a contact's end are sized from the method's constants there
-    g_in = opts[O_GIN]
-    g_out = opts[O_GOUT] if not fixed else 0.0
-    n_norm = n if tfac > 0.0 else n_err
-    at_event = False  # the step starts at a terminal event just located
-    retry = False  # the step is retried shorter from the same state and mode (its cap holds)
-
-    k = int(ks[0])
-    s = ks[1]
-    h = ks[2]
+    cap = log[0].size
+    f0, y1, G = ws.f0, ws.y1, ws.G
+    k, s, h = int(ks[0]), ks[1], ks[2]
     model_rhs(model, s, y, p, mode, f0)
     counters[C_RHS] += 1
     status = OK
@@ -154,176 +526,67 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
     # must not reset the per-period step limit)
     steps_in_period = int(ks[3]) if ks.size > 3 else 0
     zeno = 0
-    t_since_event = 1e300
-    h_cap = 1e300
-    t_to_switch = 1e300
+    t_since_event = h_cap = t_to_switch = 1e300
+    # the state flags start from a comparison, not from the literal False: numba would
+    # compile the functions they are passed to once more for a literal argument
+    at_event = nsw < 0  # the step starts at a terminal event just located
+    retry = at_event  # the step is retried shorter from the same state and mode
+    # G[0] already holds the switching functions at the step's start (copied from the end
+    # of the step before when nothing changed in between: one evaluation fewer per step)
+    g0_ok = at_event
     while k < k_end:
-        if n_ev + nsw + 2 > cap:
-            status = LOG_FULL
+        status = _room(n_ev, nsw, cap, steps_in_period, cfg.max_steps)
+        if status != OK:
             break
-        if steps_in_period > opts[O_MAXSTEPS]:
-            status = MAX_STEPS
-            break
-        if fixed:
-            hf = opts[O_HFIX]
-            h = (math.floor(s / hf + 1e-9) + 1.0) * hf - s
-            h = min(h, graded_step(hf, min(t_since_event, t_to_switch), order))
-        h = min(h, opts[O_HMAX], h_cap)
-        if g_out > 0.0 and not retry:
-            h = min(h, model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm,
-                                      g_in, g_out))
+        h, h_prop, lands = _step_size(problem, cfg, y, mode, f0, k, k_end, s, h, h_cap,
+                                      min(t_since_event, t_to_switch), at_event, retry)
         retry = False
-        h_prop = h
-        lands = False
-        if s + h >= T * (1.0 - 1e-12) and (k == k_end - 1 or s + h <= T * (1.0 + 1e-12)):
-            h = T - s
-            lands = True
         if h < 1e-13 * T and not lands:
             status = STEP_UNDERFLOW
             break
-        for m in range(n):
-            K[0, m] = f0[m]
-        counters[C_RHS] += rk_step(model, p, mode, A, B, C, n_stages, fsal, s, y, h, K, ytmp,
-                                   y1)
-        h_next = h
-        if fsal and not fixed:
-            err = error_norm(method, E, E3, K, n_stages, h, y, y1, rtol, atol, n_err, tfac)
-            if not np.isfinite(err) or err > 1.0:
-                counters[C_REJECTED] += 1
-                fac = 0.2 if not np.isfinite(err) else max(0.2, 0.9 * err ** expo)
-                h = h * fac
-                if h < 1e-13 * T:
-                    status = STEP_UNDERFLOW
-                    break
-                retry = True
-                continue
-            fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** expo))
-            h_next = h * fac
-            if lands and h_prop > h_next:
-                h_next = h_prop
-        if fsal:
-            for m in range(n):
-                f1r[m] = K[n_stages, m]
-        else:
-            model_rhs(model, s + h, y1, p, mode, f1r)
-            counters[C_RHS] += 1
-        finite = True
-        big = 0.0
-        for m in range(n):
-            if not np.isfinite(y1[m]):
-                finite = False
-            elif m < n_bound and abs(y1[m]) > big:
-                big = abs(y1[m])
-        if not finite:
-            status = DIVERGED_NONFINITE
-            break
-        if big > bound:
-            status = DIVERGED_BOUND
+        accepted, h, h_next = _attempt(problem, method, cfg, ws, mode, s, y, h, h_prop,
+                                       lands, counters)
+        if not accepted:
+            if h < 1e-13 * T:
+                status = STEP_UNDERFLOW
+                break
+            retry = True
+            continue
+        status = _check_state(y1, cfg.n_bound, cfg.bound)
+        if status != OK:
             break
         counters[C_STEPS] += 1
         steps_in_period += 1
         at_event = False
 
         # --- events ------------------------------------------------------------------
-        dense_ready = False
+        ready = False  # the continuous extension of the step is prepared
         th_end = 1.0
-        which = -1
-        n_obs = 0
-        event_seen = detect(model, p, mode, terminal, s, h, y, f0, y1, f1r, G, ytmp, flag,
-                            lo, hi, g0_ok)
+        which = np.int64(-1)  # not literals: the functions they reach would compile twice
+        n_obs = np.int64(0)
+        seen = detect(model, p, mode, terminal, s, h, y, f0, y1, ws.f1r, G, ws.ytmp,
+                      ws.flag, ws.lo, ws.hi, g0_ok)
         g0_ok = True
-        if event_seen:
-            imm = -1
-            for i in range(nsw):
-                if flag[i] == IMMEDIATE:
-                    imm = i
-                    break
+        if seen:
+            imm = _first_immediate(ws.flag)
             if imm >= 0:
                 zeno += 1
-                if zeno > 50:
+                if zeno > _ZENO_LIMIT:
                     status = ZENO
                     break
-                if abs(G[0, imm]) <= evtol and h > 1e-6 * T:
-                    # the state sits on the surface (an event just put it there) and the
-                    # switch is negative at the first sample: a crossing back shorter
-                    # than a quarter step (a shallow contact), not an inconsistent mode.
-                    # Retry with a shorter step so the samples resolve it.
+                outcome, n_ev = _switch_now(problem, cfg, ws, log, n_ev, mode, k, k_record,
+                                            s, y, h, imm, counters)
+                g0_ok = outcome == _RETRY_SAME_START
+                if outcome == _SWITCHED:
+                    at_event = True
+                else:
                     h_cap = 0.125 * h
                     retry = True
-                    continue
-                for m in range(nm):
-                    mode_old[m] = mode[m]
-                model_transition(model, s, y, p, mode, imm)
-                g0_ok = False
-                same = True
-                for m in range(nm):
-                    if mode[m] != mode_old[m]:
-                        same = False
-                if same:
-                    # the mode is right at the start: the switch value sits within rounding
-                    # of zero and the crossing back happens before the first sample.
-                    # Retry with a shorter step so the samples resolve it.
-                    h_cap = 0.125 * h
-                    retry = True
-                    continue
-                counters[C_EVENTS] += 1
-                if k >= k_record:
-                    n_ev = _log(n_ev, k * T + s, imm, mode_old, mode, y, ev_t, ev_which,
-                                ev_mode, ev_y)
-                model_rhs(model, s, y, p, mode, f0)
-                counters[C_RHS] += 1
-                at_event = True
                 continue
-            counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s,
-                                             y, h, K, y1, ytmp, F)
-            dense_ready = True
-            th_term = 2.0
-            for i in range(nsw):
-                if flag[i] == BRACKETED and terminal[i] == 1:
-                    th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F, lo[i],
-                                hi[i], ytmp, gbuf)
-                    if th >= 0.0 and th < th_term:
-                        th_term = th
-                        which = i
-            for i in range(nsw):
-                if flag[i] == BRACKETED and terminal[i] == 0:
-                    th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F, lo[i],
-                                hi[i], ytmp, gbuf)
-                    if th >= 0.0 and th <= th_term:
-                        obs_th[n_obs] = th
-                        obs_i[n_obs] = i
-                        n_obs += 1
-            if which < 0 and n_obs > 0:
-                # a shallow crossing that begins and ends between the samples (a grazing
-                # contact) still shows at an observer point: the peak of R lies beyond the
-                # surface.  Locate the entry before that point.
-                for a in range(n_obs):
-                    interpolate(method, obs_th[a], h, y, f0, y1, f1r, F, yint)
-                    model_switches(model, s + obs_th[a] * h, yint, p, mode, gobs)
-                    for i in range(nsw):
-                        # deeper than the event tolerance: a shallower one is at the
-                        # resolution of the event location itself (it would flip the
-                        # mode back and forth: a false Zeno stop)
-                        if terminal[i] == 1 and gobs[i] < -10.0 * evtol:
-                            th = locate(model, p, mode, i, method, s, h, y, f0, y1, f1r, F,
-                                        0.0, obs_th[a], ytmp, gbuf)
-                            if th >= 0.0 and th < th_term:
-                                th_term = th
-                                which = i
-                if which >= 0:  # drop the observer crossings after the event
-                    kept = 0
-                    for a in range(n_obs):
-                        if obs_th[a] <= th_term:
-                            obs_th[kept] = obs_th[a]
-                            obs_i[kept] = obs_i[a]
-                            kept += 1
-                    n_obs = kept
+            which, th_end, n_obs = _locate(problem, method, cfg, ws, mode, s, y, h,
+                                           counters)
+            ready = True
             if which >= 0:
-                hs, nr = retake(model, p, mode, which, method, A, B, C, n_stages,
-                                fsal, s, y, f0, h, y1, f1r, F, th_term, evtol, Kr, ytmp,
-                                gbuf, yev)
-                counters[C_RHS] += nr
-                th_end = hs / h
                 lands = False
         if th_end > 0.0:
             zeno = 0
@@ -331,111 +594,37 @@ def integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
             # an event located at the very start of the step: time does not advance, so
             # it counts towards the Zeno guard like an immediate switch
             zeno += 1
-            if zeno > 50:
+            if zeno > _ZENO_LIMIT:
                 status = ZENO
                 break
         h_cap = 1e300
         # distance in time to the nearest terminal surface (for the graded RK4 steps)
         t_since_event = 0.0 if which >= 0 else t_since_event + h
-        t_to_switch = 1e300
-        if which < 0:
-            for i in range(nsw):
-                if terminal[i] == 1 and G[0, i] > G[4, i] > 0.0:
-                    t_to_switch = min(t_to_switch, G[4, i] * h / (G[0, i] - G[4, i]))
+        t_to_switch = 1e300 if which >= 0 else _time_to_switch(terminal, G, h)
+        n_ev = _log_observers(problem, method, cfg, ws, log, n_ev, mode, k, k_record, s, y,
+                              h, n_obs, counters)
 
-        # --- observer crossings, in time order ------------------------------------------
-        for a in range(n_obs):
-            best = a
-            for b in range(a + 1, n_obs):
-                if obs_th[b] < obs_th[best]:
-                    best = b
-            th = obs_th[best]
-            i = obs_i[best]
-            obs_th[best] = obs_th[a]
-            obs_i[best] = obs_i[a]
-            t_abs = k * T + s + th * h
-            counters[C_OBSERVED] += 1
-            if t_abs >= k_record * T:
-                interpolate(method, th, h, y, f0, y1, f1r, F, yint)
-                n_ev = _log(n_ev, t_abs, i, mode, mode, yint, ev_t, ev_which, ev_mode,
-                            ev_y)
-
-        # --- dense and stroboscopic samples -----------------------------------------------
-        s_abs_end = T if lands else s + th_end * h
-        y_end = y1 if which < 0 else yev
-        if dense_m > 0 and k + 1 >= k_record:
-            # samples at local times j T / dense_m inside this step; j >= dense_m belong to
-            # the next period (a step may run past the period's end)
-            dt = T / dense_m
-            j = int(math.floor(s / dt)) + 1
-            while j * dt <= s_abs_end or (lands and j == dense_m):
-                kk = k + j // dense_m
-                idx = (kk - k_record) * dense_m + j % dense_m
-                if kk >= k_record and idx < dense.shape[0]:
-                    if lands and j == dense_m:
-                        for m in range(n):
-                            dense[idx, m] = y_end[m]
-                    else:
-                        if not dense_ready:
-                            counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D,
-                                                             P, n_stages, s, y, h, K, y1,
-                                                             ytmp, F)
-                            dense_ready = True
-                        interpolate(method, min((j * dt - s) / h, th_end), h, y, f0, y1,
-                                    f1r, F, yint)
-                        for m in range(n):
-                            dense[idx, m] = yint[m]
-                if lands and j == dense_m:
-                    break
-                j += 1
+        # --- samples, the step's end is the next step's start --------------------------
+        s_end = T if lands else s + th_end * h
+        y_end = y1 if which < 0 else ws.yev
+        _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands, th_end,
+                 y_end, dense_m, dense, strobe, ready, counters)
+        t_event = k * T + s + th_end * h
         k_start = k
-        s_start = s
-        if lands or s_abs_end >= T:
+        if lands or s_end >= T:
             k += 1
             steps_in_period = 0
-            if k >= k_record and k - k_record < strobe.shape[0]:
-                row = k - k_record
-                if lands:
-                    for m in range(n):
-                        strobe[row, m] = y_end[m]
-                else:
-                    if not dense_ready:
-                        counters[C_RHS] += prepare_dense(model, p, mode, method, A, C, D, P,
-                                                         n_stages, s, y, h, K, y1, ytmp, F)
-                        dense_ready = True
-                    interpolate(method, (T - s) / h, h, y, f0, y1, f1r, F, yint)
-                    for m in range(n):
-                        strobe[row, m] = yint[m]
-            s = 0.0 if lands else s_abs_end - T
+            s = 0.0 if lands else s_end - T
         else:
-            s = s_abs_end
-        for m in range(n):
-            y[m] = y_end[m]
-        # the step's end is the next step's start: its switching functions are known
-        # unless the mode changes there or the local time wraps round to 0
+            s = s_end
+        # the switching functions at the step's end are the next step's unless the mode
+        # changes there or the local time wraps round to 0
         g0_ok = which < 0 and k == k_start
-        if g0_ok:
-            for i in range(nsw):
-                G[0, i] = G[4, i]
-        if which >= 0:
-            for m in range(nm):
-                mode_old[m] = mode[m]
-            model_transition(model, s, y, p, mode, which)
-            counters[C_EVENTS] += 1
-            t_abs = k_start * T + s_start + th_end * h
-            if t_abs >= k_record * T:
-                n_ev = _log(n_ev, t_abs, which, mode_old, mode, y, ev_t, ev_which, ev_mode,
-                            ev_y)
-            model_rhs(model, s, y, p, mode, f0)
-            counters[C_RHS] += 1
-            at_event = True
-        else:
-            for m in range(n):
-                f0[m] = f1r[m]
+        n_ev = _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_event, s, y, y_end,
+                           which, g0_ok, counters)
+        at_event = which >= 0
         h = h_next
-    ks[0] = k
-    ks[1] = s
-    ks[2] = h
+    ks[0], ks[1], ks[2] = k, s, h
     if ks.size > 3:
         ks[3] = steps_in_period
     return status, n_ev

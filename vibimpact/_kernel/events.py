@@ -157,13 +157,16 @@ def retake(model, p, mode, i, method, A, B, C, n_stages, fsal, s0, y0, f0, h, y1
     for m in range(y0.size):
         Kr[0, m] = f0[m]
     done = -1.0
+    # not the literal False: numba would compile rk_step once more for it
+    no_fsal = np.bool_(False)
     for _ in range(8):
         if hs <= 0.0:
             done = 0.0
             for m in range(y0.size):
                 yev[m] = y0[m]
             break
-        n_rhs += rk_step(model, p, mode, A, B, C, n_stages, False, s0, y0, hs, Kr, ytmp, yev)
+        n_rhs += rk_step(model, p, mode, A, B, C, n_stages, no_fsal, s0, y0, hs, Kr, ytmp,
+                         yev)
         done = hs
         model_switches(model, s0 + hs, yev, p, mode, gbuf)
         g = gbuf[i]

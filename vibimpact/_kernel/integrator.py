@@ -34,6 +34,7 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
    continuous extension.
 """
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -66,6 +67,18 @@ N_OPTS = 13
 # counters layout
 C_STEPS, C_RHS, C_REJECTED, C_EVENTS, C_OBSERVED = range(5)
 N_COUNTERS = 5
+
+#: the option vector read once per call, by name (built by :func:`settings`)
+Settings = namedtuple("Settings", (
+    "T",          # forcing period 2 pi / omega
+    "rtol", "atol", "h_fixed", "h_max", "bound", "event_tol", "max_steps",
+    "fsal",       # the method evaluates f at the step's end (DP5, DOP853)
+    "fixed",      # fixed steps (RK4, or an embedded method with O_FIXED)
+    "expo",       # -1 / order: the step-size controller's exponent
+    "order",
+    "n_bound", "n_err", "tfac", "g_in", "g_out",
+    "n_norm",     # entries the error norm divides by
+))
 
 _SAMPLES = (0.25, 0.5, 0.75)
 
@@ -211,3 +224,20 @@ def interpolate(method, theta, h, y0, f0, y1, f1, F, out):
             out[m] = y0[m] + x * acc
     else:
         hermite(theta, h, y0, f0, y1, f1, out)
+
+
+@njit(**LEAF)
+def settings(opts, method_id, order, omega, n):
+    """The option vector ``opts`` (layout above) as a :data:`Settings` for a method and a
+    state of ``n`` entries."""
+    fixed = method_id == RK4 or opts[O_FIXED] > 0.0
+    tfac = opts[O_TFAC]
+    n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
+    n_err = n if opts[O_NERR] <= 0.0 else min(n, int(opts[O_NERR]))
+    # steps touching a contact's end are sized from the method's constants there
+    g_out = opts[O_GOUT] if not fixed else 0.0
+    n_norm = n if tfac > 0.0 else n_err
+    return Settings(2.0 * math.pi / omega, opts[O_RTOL], opts[O_ATOL], opts[O_HFIX],
+                    opts[O_HMAX], opts[O_BOUND], opts[O_EVTOL], opts[O_MAXSTEPS],
+                    method_id != RK4, fixed, -1.0 / order, order, n_bound, n_err, tfac,
+                    opts[O_GIN], g_out, n_norm)

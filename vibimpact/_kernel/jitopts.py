@@ -14,5 +14,10 @@ ask for the runtime explicitly (:data:`ALLOC`).  A :data:`LEAF` function can cal
 
 #: functions that allocate nothing (models, Runge--Kutta steps, event location)
 LEAF = dict(cache=True, error_model="numpy", _nrt=False)
+#: pieces of a LEAF function, inlined into it by numba before typing (numba compiles a
+#: function called from another as a library of its own, then links and optimises every
+#: callee again inside each caller: one more level of calls costs a compilation of
+#: everything below it)
+PIECE = dict(LEAF, inline="always")
 #: functions that allocate, called from LEAF functions
 ALLOC = dict(cache=True, error_model="numpy", _nrt=True)

@@ -15,17 +15,29 @@ from numba import njit
 
 from .driver import integrate
 from .integrator import DIVERGED_BOUND, OK
+from .jitopts import ALLOC
+
+
+@njit(inline="always", **ALLOC)
+def _period_buffers(n, n_mode):
+    """What one forcing period of :func:`.driver.integrate` needs besides the state and
+    the workspace: a stroboscopic row, an event log (nothing is recorded before the
+    period's end, so it never fills) and a dense row."""
+    log = (np.empty(64), np.empty(64, dtype=np.int64),
+           np.empty((64, 2 * n_mode), dtype=np.int64), np.empty((64, n)))
+    return np.empty((1, n)), log, np.empty((1, n))
 
 
 @njit(cache=True, error_model="numpy")
-def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, omega, y,
-             mode, ks, opts, n_state, bound, n_periods, logs, states, counters):
+def benettin(problem, method, opts, ws, y, mode, ks, n_state, bound, n_periods, logs,
+             states, counters):
     """Integrate ``n_periods`` forcing periods with QR re-orthonormalisation after each.
 
     Parameters
     ----------
-    model : int or tuple
-        A *variational* model (:mod:`.dispatch`).
+    problem, method, opts, ws
+        As in :func:`.driver.integrate`; the model is a *variational* model
+        (:mod:`.dispatch`).
     y : float64 array, shape (n_state (1 + m),)
         State followed by ``m`` orthonormal tangent columns; overwritten.
     ks : float64 array, shape (3,)
@@ -47,18 +59,13 @@ def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, 
     """
     n = n_state
     m = (y.size - n) // n
-    strobe = np.empty((1, y.size))
-    ev_t = np.empty(64)
-    ev_which = np.empty(64, dtype=np.int64)
-    ev_mode = np.empty((64, 2 * mode.size), dtype=np.int64)
-    ev_y = np.empty((64, y.size))
-    dense = np.empty((1, y.size))
+    strobe, log, dense = _period_buffers(y.size, mode.size)
+    none = strobe.shape[0] - 1  # 0, not a literal (one compiled integrate for every caller)
     Q = np.empty((n, m))
     for j in range(n_periods):
         k_next = int(ks[0]) + 1
-        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
-                              n_stages, p, omega, y, mode, ks, opts, k_next, k_next, strobe,
-                              ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        status, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
+                              strobe, log, none, none, dense, counters)
         if status != OK:
             return status, j
         for i in range(n):
@@ -79,34 +86,28 @@ def benettin(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p, 
 
 
 @njit(cache=True, error_model="numpy")
-def two_trajectory(model, terminal, method, A, B, C, E, E3, D, P, order, n_stages, p,
-                   omega, y, mode, ks, y2, mode2, ks2, opts, d0, scale, bound, n_periods,
-                   logs, counters):
+def two_trajectory(problem, method, opts, ws, y, mode, ks, y2, mode2, ks2, d0, scale,
+                   bound, n_periods, logs, counters):
     """Reference ``y`` and perturbed ``y2`` over ``n_periods`` periods, renormalised to ``d0``.
 
-    The separation is measured in the norm ``|(y2 - y) / scale|``.  After each period the
-    perturbed state is put back at distance ``d0`` along the current separation and takes
-    the reference's mode; in the rare case that the two lie on different sides of a
-    switching surface, the driver's first step finds the switching function negative and
-    corrects the mode (an immediate event).  ``logs[j, 0]`` receives ``log(d_j / d0)``.
+    ``problem``, ``method``, ``opts``, ``ws`` as in :func:`.driver.integrate`.  The separation is
+    measured in the norm ``|(y2 - y) / scale|``.  After each period the perturbed state is
+    put back at distance ``d0`` along the current separation and takes the reference's
+    mode; in the rare case that the two lie on different sides of a switching surface,
+    the driver's first step finds the switching function negative and corrects the mode
+    (an immediate event).  ``logs[j, 0]`` receives ``log(d_j / d0)``.
     """
     n = y.size
-    strobe = np.empty((1, n))
-    ev_t = np.empty(64)
-    ev_which = np.empty(64, dtype=np.int64)
-    ev_mode = np.empty((64, 2 * mode.size), dtype=np.int64)
-    ev_y = np.empty((64, n))
-    dense = np.empty((1, n))
+    strobe, log, dense = _period_buffers(n, mode.size)
+    none = strobe.shape[0] - 1  # 0, not a literal (one compiled integrate for every caller)
     for j in range(n_periods):
         k_next = int(ks[0]) + 1
-        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
-                              n_stages, p, omega, y, mode, ks, opts, k_next, k_next, strobe,
-                              ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        status, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
+                              strobe, log, none, none, dense, counters)
         if status != OK:
             return status, j
-        status, _ = integrate(model, terminal, method, A, B, C, E, E3, D, P, order,
-                              n_stages, p, omega, y2, mode2, ks2, opts, k_next, k_next,
-                              strobe, ev_t, ev_which, ev_mode, ev_y, 0, 0, dense, counters)
+        status, _ = integrate(problem, method, opts, ws, y2, mode2, ks2, k_next, k_next,
+                              strobe, log, none, none, dense, counters)
         if status != OK:
             return status, j
         d = 0.0

@@ -97,7 +97,7 @@ def rotor_rhs(s, y, p, mode, out):
 @njit(**ALLOC)
 def rotor_transition(s, y, p, mode, which):
     """Mode change of the rotor plus the saltation map of the tangent vectors."""
-    n = 4
+    n = np.int64(4)  # not a literal: apply_saltation would be compiled for it alone
     x = y[:n].copy()
     fm = np.empty(n)
     rotor.rhs(s, x, p, mode, fm)
