@@ -155,8 +155,8 @@ def _rows_by_point(p, etas, name, values):
     def timed_point(*args, **kw):
         t = time.perf_counter()
         r = inner(*args, **kw)
-        cost.setdefault(int(r["regime"]), []).append(time.perf_counter() - t)
-        no_transient[0] += int(r["regime"]) == 1 and r["transient"] == 0
+        cost.setdefault(int(r.regime), []).append(time.perf_counter() - t)
+        no_transient[0] += int(r.regime) == 1 and r.transient == 0
         return r
 
     with contextlib.ExitStack() as stack:

@@ -72,9 +72,9 @@ def results():
         mono = an.monodromy(s1, shot.state)
         fl = an.floquet_lyapunov(s1, shot.state)
         br = an.continue_orbit(s1, shot.state, stop=1.16, steps=an.Steps(max_points=12))
-        # classify_params is now the sweeps' point pipeline and returns (Regime, dict):
-        # not the old (Regime, Run) of simulate(p, 200, 500) + classify, so this entry
-        # cannot match a reference of the keyword API
+        # classify_params is now the sweeps' point pipeline and returns (Regime, point
+        # result): not the old (Regime, Run) of simulate(p, 200, 500) + classify, so
+        # this entry cannot match a reference of the keyword API
         cp = an.classify_params(s)
     else:
         lyap = an.lyapunov_spectrum(p, max_periods=2000)
@@ -94,7 +94,7 @@ def results():
     for f in ("eta", "params", "values", "states", "multipliers", "stable"):
         if hasattr(br, f):
             out[f"continue_orbit/{f}"] = np.asarray(getattr(br, f))
-    out["classify_params/regime"] = np.array([str(cp)])
+    out["classify_params/regime"] = np.array([str(cp[0] if isinstance(cp, tuple) else cp)])
 
     ds = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both", blocks=4)
     ds2 = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both", blocks=4, workers=2)

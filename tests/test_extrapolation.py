@@ -107,10 +107,11 @@ def test_stability_check_tells_the_saddle_from_the_attractor(saddle_case):
     """Hypothesis: the sweep's stability check (monodromy matrix with the Lyapunov runs'
     tangent tolerance) calls the period-1 saddle not attracting and the period-2 orbit
     attracting, as the shooting's own multipliers do."""
-    from vibimpact.sweeps.point import _attracting
+    from vibimpact.sweeps.point import point_system
+    from vibimpact.sweeps.transient import attracting
 
     p, ds = saddle_case
     x = ds.final_state.values[-1]
-    st = SweepSettings()
-    assert not _attracting(p, shoot_periodic_orbit(vi.System(p), x, 1).state, 1, st)
-    assert _attracting(p, shoot_periodic_orbit(vi.System(p), x, 2).state, 2, st)
+    system = point_system(p, SweepSettings())
+    assert not attracting(system, shoot_periodic_orbit(vi.System(p), x, 1).state, 1)
+    assert attracting(system, shoot_periodic_orbit(vi.System(p), x, 2).state, 2)

@@ -81,5 +81,5 @@ def test_a_guess_on_a_saddle_is_not_accepted():
     assert saddle.converged and saddle.abs_max > 1.02
     st = SweepSettings(analyses=("period",))
     res = analyse_point(q, x, st, guess=saddle.state)
-    assert res["period"] == 2
-    assert res["transient"] > 0
+    assert res.period == 2
+    assert res.transient > 0

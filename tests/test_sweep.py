@@ -47,10 +47,10 @@ def test_one_block_is_plain_continuation():
     x = None
     for k, eta in enumerate(grid):
         r = analyse_point(FIG8.replace(eta=float(eta)), x, SweepSettings())
-        x = r["final_state"]
-        assert ds["regime"].values[k] == r["regime"]
-        assert ds["X_m"].values[k] == r["X_m"]
-        np.testing.assert_array_equal(ds["final_state"].values[k], r["final_state"])
+        x = r.final_state
+        assert ds["regime"].values[k] == r.regime
+        assert ds["X_m"].values[k] == r.X_m
+        np.testing.assert_array_equal(ds["final_state"].values[k], r.final_state)
 
 
 def test_continuation_reaches_impacting_branch_that_rest_start_misses():
@@ -99,7 +99,7 @@ def test_both_directions_have_their_own_dimension_and_order():
     top = analyse_point(FIG8.replace(eta=float(grid[-1])), None,
                         SweepSettings(analyses=("period", "impacts")))
     assert ds["final_state"].sel(direction="down").values[-1].tolist() == \
-        top["final_state"].tolist()
+        top.final_state.tolist()
     iv = vi.intervals(ds)
     assert set(iv["direction"].values) == {"up", "down"}
 

@@ -84,9 +84,10 @@ def classify_params(system, state0=None, *, settings=None, guess=None, **changes
     regime : Regime
         ``impacting`` and ``impacts_per_period`` are None and NaN for a model other than
         the rotor (no retainer).
-    result : dict
-        The point's full result, as a sweep stores it (:data:`~vibimpact.sweeps.point.
-        SCALARS`, ``final_state``, ``reason``, ...).
+    result : PointResult
+        The point's full result, as a sweep stores it
+        (:class:`~vibimpact.sweeps.point.PointResult`: ``period``, ``final_state``,
+        ``reason``, ...).
 
     Notes
     -----
@@ -124,14 +125,14 @@ def classify_params(system, state0=None, *, settings=None, guess=None, **changes
 
 def _regime(res, system):
     """The :class:`Regime` of a point's result."""
-    label = _LABELS.get(int(res["regime"]), Label.UNSETTLED)
-    ipp = float(res["impacts_per_period"])
+    label = _LABELS.get(int(res.regime), Label.UNSETTLED)
+    ipp = float(res.impacts_per_period)
     impacting = None
     if system.model.name != "rotor" or not math.isfinite(ipp):
         ipp = math.nan
     else:
         impacting = bool(ipp > 0.0)
-    conf = float(res["confidence"])
-    return Regime(label, int(res["period"]) if label is Label.PERIODIC else 0, impacting,
-                  ipp, 1.0 if math.isnan(conf) else conf, float(res["lyapunov"]),
-                  float(res["lyapunov_err"]), float(res["k01"]), str(res["reason"]))
+    conf = float(res.confidence)
+    return Regime(label, int(res.period) if label is Label.PERIODIC else 0, impacting,
+                  ipp, 1.0 if math.isnan(conf) else conf, float(res.lyapunov),
+                  float(res.lyapunov_err), float(res.k01), str(res.reason))

@@ -220,7 +220,7 @@ def run_task(task, on_point=None):
             eta = float(task.etas[i])
             s0 = task.seed if task.fixed else x
             guess = None if task.fixed else predicted(branch, eta, settings.predict)
-            res = analyse_point(task.p.replace(eta=eta), s0, settings, guess=guess)
+            res = analyse_point(task.p.replace(eta=eta), s0, settings, guess=guess).as_dict()
             if on_point is not None:
                 on_point(task, i, res)
         out.append((i, res))

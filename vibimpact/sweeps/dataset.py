@@ -59,7 +59,7 @@ VARIABLES = {
 }
 
 
-def _label_text(code, n, ipp, arcs, contact=-1):
+def label_text(code, n, ipp, arcs, contact=-1):
     label = {v: k for k, v in REGIME_CODES.items()}.get(int(code))
     if label is None:
         return "not computed"
@@ -118,7 +118,7 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     labels = np.empty((len(dirs), n), dtype=object)
     for a in range(len(dirs)):
         for j in range(n):
-            labels[a, j] = _label_text(data["regime"][0][a, j], data["period"][0][a, j],
+            labels[a, j] = label_text(data["regime"][0][a, j], data["period"][0][a, j],
                                        data["impacts_per_period"][0][a, j], arcs[a, j],
                                        data["contact"][0][a, j])
     dims = ("direction", "eta")

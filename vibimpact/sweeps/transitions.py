@@ -59,7 +59,7 @@ from ..run import Status
 from .. import _validate as _v
 from ..simulation import simulate
 from ..system import System
-from .dataset import _label_text
+from .dataset import label_text
 from .point import REGIME_CODES, SweepSettings, analyse_point
 
 __all__ = ["TYPES", "transition_types", "format_transitions"]
@@ -180,8 +180,8 @@ def _same_orbit(o1, o2):
 
 
 def _point_label(p, eta, state, settings):
-    res = analyse_point(p.replace(eta=float(eta)), state, settings)
-    lab = _label_text(res["regime"], res["period"], res["impacts_per_period"], res["arcs"],
+    res = analyse_point(p.replace(eta=float(eta)), state, settings).as_dict()
+    lab = label_text(res["regime"], res["period"], res["impacts_per_period"], res["arcs"],
                       res["contact"])
     return lab, (int(res["regime"]), int(res["period"]), int(res["contact"])), res
 
