@@ -157,7 +157,7 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     k_end = transient + periods
     strobe = np.empty((periods + 1, n))
     strobe[0] = y if transient == 0 else np.nan
-    dense_arr = np.empty((periods * dense + 1, n) if dense else (1, n))
+    dense_arr = np.full((periods * dense + 1, n) if dense else (1, n), np.nan)
     if dense and transient == 0:
         dense_arr[0] = y
     counters = _kb.counters()

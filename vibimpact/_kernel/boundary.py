@@ -256,11 +256,12 @@ def log_capacity(periods):
 
 
 def new_clock(problem, options, h0=None, steps=True):
-    """``(k, s, h[, steps])`` at ``tau = 0`` with the first step size trial ``h0``
+    """``(k, s, h[, steps, j])`` at ``tau = 0`` with the first step size trial ``h0``
     (``min(T / 50, max_step)`` by default); ``steps``: the clock carries the steps taken
-    in the current period across calls (a run continued after LOG_FULL)."""
+    in the current period and the next dense sample's index (-1: not yet known) across
+    calls (a run continued after LOG_FULL)."""
     h = min(problem.period / 50.0, options.max_step) if h0 is None else h0
-    return np.array([0.0, 0.0, h, 0.0]) if steps else np.array([0.0, 0.0, h])
+    return np.array([0.0, 0.0, h, 0.0, -1.0]) if steps else np.array([0.0, 0.0, h])
 
 
 def counters():
@@ -290,9 +291,9 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
         State at the clock's time; overwritten with the final state.
     mode : ndarray of int64
         Discrete mode consistent with ``y``; overwritten.
-    clock : ndarray of float64, shape (3,) or (4,)
-        ``(k, s, h[, steps])``: period index, local time, next step size, steps taken in
-        period ``k``; overwritten.
+    clock : ndarray of float64, shape (3,), (4,) or (5,)
+        ``(k, s, h[, steps[, j]])``: period index, local time, next step size, steps
+        taken in period ``k``, next dense sample's index (:func:`new_clock`); overwritten.
     k_end : int
     k_record : int
         Samples and events are recorded from ``tau = k_record T``.

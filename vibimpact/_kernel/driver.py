@@ -371,16 +371,41 @@ def _dense_ready(problem, method, ws, mode, s, y, h, ready, counters):
 
 
 @njit(**PIECE)
+def _sample_time(j, dense_m, dt, T):
+    """Local time of dense sample ``j`` of a period: ``j T / dense_m``, the period's end
+    ``T`` itself for ``j = dense_m`` (the stroboscopic sample's time)."""
+    return T if j == dense_m else j * dt
+
+
+@njit(**PIECE)
+def _first_sample(s, dense_m, T):
+    """Index of the first dense sample after local time ``s`` (samples up to and
+    including ``s`` belong to the steps before) when no index is carried in."""
+    dt = T / dense_m
+    j = max(int(math.floor(s / dt)), 0)
+    while j > 0 and _sample_time(j - 1, dense_m, dt, T) > s:
+        j -= 1
+    while _sample_time(j, dense_m, dt, T) <= s:
+        j += 1
+    return j
+
+
+@njit(**PIECE)
 def _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands,
-                   th_end, y_end, dense_m, dense, ready, counters):
+                   th_end, y_end, dense_m, dense, j, ready, counters):
     """Dense samples at local times ``j T / dense_m`` inside the step ``[s, s_end]``
-    (``j >= dense_m`` belong to the next period: a step may run past the period's end);
-    returns whether the continuous extension is prepared."""
+    (``j >= dense_m`` belong to the next period: a step may run past the period's end),
+    from the index ``j``, the first not yet taken, on; returns whether the continuous
+    extension is prepared and the next index to take.
+
+    The index is carried from step to step (and across the period's end, less
+    ``dense_m``) rather than derived from ``s``: a sample time that equals a step's end up
+    to rounding is then taken by exactly one of the two steps.  The sample at the
+    period's end (``j = dense_m``) is taken where the stroboscopic one is and equals it."""
     n = y.size
     T = cfg.T
     dt = T / dense_m
-    j = int(math.floor(s / dt)) + 1
-    while j * dt <= s_end or (lands and j == dense_m):
+    while _sample_time(j, dense_m, dt, T) <= s_end or (lands and j == dense_m):
         kk = k + j // dense_m
         idx = (kk - k_record) * dense_m + j % dense_m
         if kk >= k_record and idx < dense.shape[0]:
@@ -389,14 +414,14 @@ def _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, 
                     dense[idx, m] = y_end[m]
             else:
                 ready = _dense_ready(problem, method, ws, mode, s, y, h, ready, counters)
-                interpolate(method[0], min((j * dt - s) / h, th_end), h, y, ws.f0, ws.y1,
-                            ws.f1r, ws.F, ws.yint)
+                th = (T - s) / h if j == dense_m else min((j * dt - s) / h, th_end)
+                interpolate(method[0], th, h, y, ws.f0, ws.y1, ws.f1r, ws.F, ws.yint)
                 for m in range(n):
                     dense[idx, m] = ws.yint[m]
-        if lands and j == dense_m:
-            break
         j += 1
-    return ready
+        if lands and j > dense_m:
+            break
+    return ready, j
 
 
 @njit(**PIECE)
@@ -418,16 +443,19 @@ def _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, s
 
 @njit(**PIECE)
 def _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands, th_end,
-             y_end, dense_m, dense, strobe, ready, counters):
-    """The dense samples inside the step ``[s, s_end]`` of period ``k`` and, when it
-    reaches the period's end, the stroboscopic sample there."""
+             y_end, dense_m, dense, j_dense, strobe, ready, counters):
+    """The dense samples inside the step ``[s, s_end]`` of period ``k`` (from index
+    ``j_dense`` on, see :func:`_dense_samples`) and, when it reaches the period's end, the
+    stroboscopic sample there.  Returns the next dense index (of period ``k``)."""
     if dense_m > 0 and k + 1 >= k_record:
-        ready = _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
-                               lands, th_end, y_end, dense_m, dense, ready, counters)
+        ready, j_dense = _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y,
+                                        h, s_end, lands, th_end, y_end, dense_m, dense,
+                                        j_dense, ready, counters)
     row = k + 1 - k_record
     if (lands or s_end >= cfg.T) and row >= 0 and row < strobe.shape[0]:
         _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, strobe,
                        ready, counters)
+    return j_dense
 
 
 @njit(**PIECE)
@@ -484,10 +512,11 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         State at ``(k, s)``; overwritten with the final state.
     mode : int64 array
         Discrete mode, consistent with ``y``; overwritten.
-    ks : float64 array, shape (3,) or (4,)
-        ``(k, s, h[, steps])``: period index, local time, next step size and, when given,
-        the steps taken so far in period ``k`` (kept across LOG_FULL restarts);
-        overwritten.
+    ks : float64 array, shape (3,), (4,) or (5,)
+        ``(k, s, h[, steps[, j]])``: period index, local time, next step size and, when
+        given, the steps taken so far in period ``k`` and the index of the next dense
+        sample of period ``k`` (negative: derived from ``s``), both kept across LOG_FULL
+        restarts; overwritten.
     k_end, k_record : int
         Stop at ``tau = k_end T``; record samples and events from ``tau = k_record T``.
     strobe : float64 array, shape (k_end - k_record + 1, n)
@@ -525,6 +554,14 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
     # carried across calls in ks[3] when the caller provides it (a LOG_FULL restart
     # must not reset the per-period step limit)
     steps_in_period = int(ks[3]) if ks.size > 3 else 0
+    # the next dense sample's index in period k: carried across calls in ks[4] when the
+    # caller provides it (negative: from the local time)
+    j_dense = np.int64(0)
+    if dense_m > 0:
+        if ks.size > 4 and ks[4] >= 0.0:
+            j_dense = np.int64(ks[4])
+        else:
+            j_dense = np.int64(_first_sample(s, dense_m, T))
     zeno = 0
     t_since_event = h_cap = t_to_switch = 1e300
     # the state flags start from a comparison, not from the literal False: numba would
@@ -607,12 +644,19 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         # --- samples, the step's end is the next step's start --------------------------
         s_end = T if lands else s + th_end * h
         y_end = y1 if which < 0 else ws.yev
-        _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands, th_end,
-                 y_end, dense_m, dense, strobe, ready, counters)
+        j_dense = _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
+                           lands, th_end, y_end, dense_m, dense, j_dense, strobe, ready,
+                           counters)
         t_event = k * T + s + th_end * h
         k_start = k
         if lands or s_end >= T:
             k += 1
+            # the dense index carried into the new period; before the recorded periods
+            # it is derived afresh (none of those samples is kept)
+            if k >= k_record:
+                j_dense -= dense_m
+            elif dense_m > 0:
+                j_dense = np.int64(_first_sample(0.0 if lands else s_end - T, dense_m, T))
             steps_in_period = 0
             s = 0.0 if lands else s_end - T
         else:
@@ -627,4 +671,6 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
     ks[0], ks[1], ks[2] = k, s, h
     if ks.size > 3:
         ks[3] = steps_in_period
+    if ks.size > 4:
+        ks[4] = j_dense if dense_m > 0 else -1.0
     return status, n_ev
