@@ -308,3 +308,43 @@ def as_system(system, name="system"):
         return system
     raise ValueError(f"{name} must be a vibimpact.System (e.g. vi.System(params)), got "
                      f"{type(system).__name__}")
+
+
+def to_system(p):
+    """``p`` as a :class:`System` (a parameter set of a built-in model becomes one with
+    the default solver settings)."""
+    return p if isinstance(p, System) else System(p)
+
+
+def with_frequency(p, value):
+    """``p`` (a parameter set or a System) with its forcing frequency set to ``value``
+    (``eta`` of the rotor, ``omega`` of the Duffing oscillator), of the same type."""
+    mdl = p.model if isinstance(p, System) else resolve(p)[0]
+    name = mdl.param_names[mdl.omega_index]
+    if isinstance(p, System):
+        return p.with_param(name, value)
+    return p.replace(**{name: float(value)})
+
+
+def param_dict(p):
+    """``{name: value}`` of the parameters of ``p`` (a parameter set or a System)."""
+    if hasattr(p, "as_dict"):
+        return p.as_dict()
+    s = to_system(p)
+    if hasattr(s.params, "as_dict"):
+        return s.params.as_dict()
+    return {name: float(v) for name, v in zip(s.model.param_names, s.p)}
+
+
+def with_values(p, **changes):
+    """``p`` (a parameter set or a System) with parameters changed by name, of the same
+    type."""
+    if isinstance(p, System):
+        return p.with_params(**changes)
+    return p.replace(**changes)
+
+
+def varied_names(p):
+    """Names of the parameters of ``p``'s model other than the forcing frequency."""
+    mdl = p.model if isinstance(p, System) else resolve(p)[0]
+    return tuple(n for i, n in enumerate(mdl.param_names) if i != mdl.omega_index)

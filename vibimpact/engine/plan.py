@@ -20,9 +20,9 @@ import numpy as np
 
 from ..analysis.classify import DecisionRule, Label
 from ..run import Status
-from ..simulation import simulate
 from ..sweeps.point import REGIME_CODES, SweepSettings, analyse_point
 from ..sweeps.predict import extrapolate_branch
+from ..system import to_system, with_frequency
 
 PERIODIC = REGIME_CODES[Label.PERIODIC]
 
@@ -120,8 +120,8 @@ def seed_states(p, etas, starts, state0, seed_periods):
     x = seeds[0]
     last = max(starts[:-1])
     for i in range(1, last + 1):
-        run = simulate(p.replace(eta=float(etas[i - 1])), periods=1,
-                       transient=seed_periods - 1, state0=x)
+        run = to_system(with_frequency(p, etas[i - 1])).simulate(
+            periods=1, transient=seed_periods - 1, state0=x)
         x = run.final_state if run.status is Status.OK else None
         if i in starts[:-1]:
             seeds[i] = None if x is None else x.copy()
@@ -220,7 +220,8 @@ def run_task(task, on_point=None):
             eta = float(task.etas[i])
             s0 = task.seed if task.fixed else x
             guess = None if task.fixed else predicted(branch, eta, settings.predict)
-            res = analyse_point(task.p.replace(eta=eta), s0, settings, guess=guess).as_dict()
+            res = analyse_point(with_frequency(task.p, eta), s0, settings,
+                                guess=guess).as_dict()
             if on_point is not None:
                 on_point(task, i, res)
         out.append((i, res))

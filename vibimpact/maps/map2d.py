@@ -33,13 +33,14 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Mapping
-from dataclasses import fields
 
 import numpy as np
 
 from .. import _limits
 from .. import _validate as _v
-from ..params import Params
+from ..params import DuffingParams, Params
+from ..system import (System, param_dict, to_system, varied_names, with_frequency,
+                      with_values)
 from ..sweeps.sweep import check_grid, check_request
 
 #: what a map computes by default: the regime, the period, the impacts per period, and
@@ -54,9 +55,10 @@ DEFAULT_TASK_POINTS = 300
 DONE = "row_done"
 
 
-def parameter_names():
-    """Names of the parameters a map can vary (every field of :class:`Params` but eta)."""
-    return tuple(f.name for f in fields(Params) if f.name != "eta")
+def parameter_names(p=None):
+    """Names of the parameters a map can vary: every parameter of ``p``'s model (the
+    rotor's by default) but the forcing frequency."""
+    return varied_names(Params() if p is None else p)
 
 
 def check_vary(p, vary):
@@ -74,9 +76,11 @@ def check_vary(p, vary):
                          "{'kh': [10, 20, 40]}, got "
                          f"{vary!r}"[:200])
     (name, values), = vary.items()
-    names = parameter_names()
-    if name == "eta":
-        raise ValueError("vary: eta is the map's other axis (eta=...); vary one of "
+    names = parameter_names(p)
+    freq = to_system(p).model
+    freq = freq.param_names[freq.omega_index]
+    if name == freq:
+        raise ValueError(f"vary: {freq} is the map's other axis (eta=...); vary one of "
                          f"{', '.join(names)}")
     if name not in names:
         raise ValueError(f"vary: unknown parameter {name!r}; choose one of "
@@ -97,7 +101,7 @@ def check_vary(p, vary):
         raise ValueError(f"vary {name}: values must be strictly increasing")
     for v in (arr[0], arr[-1]):  # the domains are intervals: the ends decide
         try:
-            p.replace(**{name: float(v)})
+            with_values(p, **{name: float(v)})
         except ValueError as exc:
             raise ValueError(f"vary {name}: {exc}") from None
     return name, arr
@@ -125,7 +129,7 @@ def row_arrays(p, etas, direction, points, settings):
 
 def _request(p, name, values, etas, dirs, settings, state0):
     """Everything a map's rows depend on, JSON-able (its checkpoint's fingerprint)."""
-    return dict(kind="map", params=p.as_dict(), vary=name, values=values.tolist(),
+    return dict(kind="map", params=param_dict(p), vary=name, values=values.tolist(),
                 eta=etas.tolist(), directions=list(dirs), settings=settings.as_attrs(),
                 state0=None if state0 is None else state0.tolist())
 
@@ -145,7 +149,7 @@ class _Rows:
         """``points``: ``{position: result}`` or ``[(position, result)]`` of a row."""
         points = dict(points)
         res = [points.get(i) for i in range(self.etas.size)]
-        p = self.p.replace(**{self.name: float(self.values[row])})
+        p = with_values(self.p, **{self.name: float(self.values[row])})
         arrays = row_arrays(p, self.etas, d, res, self.settings)
         for k in self.shapes:
             self.ds[k].values[self.at(d, row)] = arrays[k]  # the dataset's own arrays
@@ -183,8 +187,9 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
                       dict(long_name="sweep direction"))})
     # the row template's own direction ("up") is not the map's: set below for a one-way map
     attrs = {k: v for k, v in base.attrs.items() if k not in (f"param_{name}", "direction")}
-    params = p.as_dict()
-    for k in ("eta", name):
+    params = param_dict(p)
+    mdl = to_system(p).model
+    for k in (mdl.param_names[mdl.omega_index], name):
         params.pop(k, None)
     attrs.update(title="vibimpact parameter map", map_vary=name, sweep_direction=direction,
                  params=json.dumps(params, sort_keys=True), map_rows=int(values.size),
@@ -267,15 +272,17 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     from ..engine.compute import compute
     from ..engine.store import Checkpoint
 
-    if not isinstance(p, Params):
-        raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
+    if not isinstance(p, (Params, DuffingParams, System)):
+        raise ValueError(f"p must be vibimpact.Params, DuffingParams or System, got "
+                         f"{type(p).__name__}")
     name, values = check_vary(p, vary)
     etas = check_grid(eta)
-    settings, state0 = check_request(direction, analyses, settings, state0)
+    settings, state0 = check_request(direction, analyses, settings, state0,
+                                     to_system(p).n_state)
     check_size(etas.size, values.size * (2 if direction == "both" else 1), name)
     workers = _v.count("workers", workers, 1)
     task_points = _v.count("task_points", task_points, 1)
-    p = p.replace(eta=1.0, **{name: float(values[0])})
+    p = with_values(with_frequency(p, 1.0), **{name: float(values[0])})
     dirs = plan.directions(direction)
 
     ds, shapes = _template(p, name, values, etas, dirs, direction, settings, command)
@@ -291,7 +298,7 @@ def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
     done = {k: v for k, v in done.items() if len(v) == etas.size}  # whole rows only
     for (r, d), points in done.items():
         rows.fill(r, d, points)
-    params = [p.replace(**{name: float(v)}) for v in values]
+    params = [with_values(p, **{name: float(v)}) for v in values]
     tasks = plan.plan(params, etas, dirs, settings, state0, done=done)
     executor = executors.Serial() if scheduler is None and workers == 1 else \
         Dask(scheduler, workers, prefix="vibimpact-map")

@@ -14,7 +14,8 @@ import numpy as np
 
 from .. import __version__
 from ..analysis.classify import Label
-from .point import (CONTACT_FLAGS, CONTACT_PERMANENT, N_MULTIPLIERS, REGIME_CODES,
+from ..system import param_dict, to_system
+from .point import (CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES,
                     REGIME_FLAGS, SCALARS)
 
 #: variable -> (dtype, units, long_name)
@@ -102,8 +103,10 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     for key, (dt, units, long) in VARIABLES.items():
         fill = SCALARS[key]
         data[key] = (stack(key, fill, dt), dict(units=units, long_name=long))
-    samples = np.full((len(dirs), n, ns, 4), np.nan)
-    final = np.full((len(dirs), n, 4), np.nan)
+    names = to_system(p).model.state_names
+    d_state = len(names)
+    samples = np.full((len(dirs), n, ns, d_state), np.nan)
+    final = np.full((len(dirs), n, d_state), np.nan)
     arcs = np.full((len(dirs), n), "", dtype=object)
     reason = np.full((len(dirs), n), "", dtype=object)
     for a, d in enumerate(dirs):
@@ -143,10 +146,10 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     ds["final_state"] = (dims + ("state",), final,
                          dict(units="1", long_name="state (X, Y, dX, dY) at the end of "
                               "the point, the next point's initial state"))
-    ds = ds.assign_coords(state=("state", np.array(["X", "Y", "dX", "dY"], dtype=object)))
+    ds = ds.assign_coords(state=("state", np.array(names, dtype=object)))
     # --- issue 8: Floquet multipliers, complex split into real and imaginary parts ---
     if "floquet" in settings.analyses:
-        mu = np.full((len(dirs), n, N_MULTIPLIERS), np.nan + 0j)
+        mu = np.full((len(dirs), n, d_state), np.nan + 0j)
         for a, d in enumerate(dirs):
             order = np.arange(n) if d == "up" else np.arange(n)[::-1]
             for i, r in enumerate(results[d]):
@@ -160,8 +163,9 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction
-    params = p.as_dict()
-    params.pop("eta", None)
+    model = to_system(p).model
+    params = param_dict(p)
+    params.pop(model.param_names[model.omega_index], None)
     ds.attrs.update(
         title="vibimpact frequency sweep",
         Conventions="CF-1.8",

@@ -25,7 +25,8 @@ import numpy as np
 
 from .. import _limits
 from .. import _validate as _v
-from ..params import Params
+from ..params import DuffingParams, Params
+from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
 from .point import ANALYSES, SweepSettings
 
@@ -78,11 +79,12 @@ def continued_state(p, eta, *, eta_start=1.0, step=0.02, transient=200, state0=N
     return x
 
 
-def check_request(direction, analyses, settings, state0):
+def check_request(direction, analyses, settings, state0, n_state=4):
     """Validated ``(settings, state0)`` of a sweep or map request.
 
     ``settings`` (default :class:`SweepSettings`) gets ``analyses`` (in canonical order,
-    "period" always included); ``state0`` becomes a float64 array of 4 or stays None.
+    "period" always included); ``state0`` becomes a float64 array of ``n_state`` or
+    stays None.
 
     Raises
     ------
@@ -103,10 +105,7 @@ def check_request(direction, analyses, settings, state0):
         raise ValueError("settings must be a SweepSettings")
     settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
     if state0 is not None:
-        s = np.array(state0, dtype=np.float64).reshape(-1)
-        if s.size != 4 or not np.all(np.isfinite(s)):
-            raise ValueError(f"state0 must be 4 finite numbers, got {state0!r}")
-        state0 = s
+        state0 = _v.state("state0", state0, n_state)
     return settings, state0
 
 
@@ -117,15 +116,19 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
 
     Parameters
     ----------
-    p : Params
-        All other parameters (its ``eta`` is ignored).
+    p : Params, DuffingParams or System
+        All other parameters (its forcing frequency is ignored); a :class:`System` of
+        any model (a user model too), whose solver settings, where set, override
+        ``settings``'.
     eta : array_like, shape (n,)
-        Strictly increasing grid; ``direction`` decides the order it is swept in.
+        Strictly increasing grid of the forcing frequency (``eta`` of the rotor, the
+        model's frequency parameter otherwise); ``direction`` decides the order it is
+        swept in.
     direction : {"up", "down", "both"}
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01")``;
         only these are computed ("period" always runs, it ends the transients).
-    state0 : array_like, shape (4,), optional
+    state0 : array_like, shape (d,), optional
         State at the first point of each direction (rest by default).
     continuation : bool
         True: each point starts from the previous point's final state.  False: every
@@ -166,10 +169,12 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
     from ..engine.store import Checkpoint
     from .dataset import to_dataset
 
-    if not isinstance(p, Params):
-        raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
+    if not isinstance(p, (Params, DuffingParams, System)):
+        raise ValueError(f"p must be vibimpact.Params, DuffingParams or System, got "
+                         f"{type(p).__name__}")
     etas = check_grid(eta)
-    settings, state0 = check_request(direction, analyses, settings, state0)
+    settings, state0 = check_request(direction, analyses, settings, state0,
+                                     to_system(p).n_state)
     blocks = _v.count("blocks", blocks, 1)
     workers = _v.count("workers", workers, 1)
     seed_periods = _v.count("seed_periods", seed_periods, 1)
@@ -178,7 +183,7 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
     done = {}
     store = None
     if checkpoint:
-        request = dict(params=p.replace(eta=1.0).as_dict(), eta=etas.tolist(),
+        request = dict(params=param_dict(with_frequency(p, 1.0)), eta=etas.tolist(),
                        directions=dirs, settings=settings.as_attrs(),
                        state0=None if state0 is None else state0.tolist(),
                        continuation=continuation, blocks=blocks, seed_periods=seed_periods)
