@@ -1,5 +1,10 @@
 """Which files a rotor speed passes through on its way from the command line to the kernel.
 
+Two counts: the files that *handle eta as a number* (parse, validate, set or read it: it
+is a bare number, text or grid array among a function's arguments), and the files it
+is merely *carried* through inside the objects that hold it (parameter sets, systems,
+tasks, kernel problems), which is every layer between the command line and the kernel.
+
 Runs ``vibimpact classify`` in this process (one worker, so every call is seen) with a
 profiler hook.  At every call into the kernel's boundary (``_kernel/boundary.py``) it
 walks the call stack back to the command line and keeps the files of the frames that
@@ -21,6 +26,17 @@ import numpy as np
 ETA_TEXT = "1.23456:1.23556:0.001"
 ETAS = (1.23456, 1.23556)
 PKG = pathlib.Path(__file__).resolve().parents[1] / "vibimpact"
+
+
+def _bare(value):
+    """``eta`` as a number, text, grid array, or the text of a command line."""
+    if isinstance(value, (tuple, list)):
+        return any(isinstance(v, (str, float)) and _has_eta(v) for v in value[:64])
+    if isinstance(value, (bool, dict)) or dataclasses.is_dataclass(value):
+        return False
+    if isinstance(value, (float, np.floating, str, np.ndarray)):
+        return _has_eta(value)
+    return False
 
 
 def _has_eta(value, depth=0):
@@ -48,19 +64,19 @@ def _has_eta(value, depth=0):
     return False
 
 
-def _frame_has_eta(frame):
+def _frame_has_eta(frame, test=_has_eta):
     code = frame.f_code
     names = code.co_varnames[:code.co_argcount + code.co_kwonlyargcount]
-    return any(_has_eta(frame.f_locals.get(n)) for n in names)
+    return any(test(frame.f_locals.get(n)) for n in names)
 
 
-def _path(frame):
+def _path(frame, test=_has_eta):
     """Files (relative to the package) of the frames holding ``eta`` from the command
     line down to ``frame``, in call order, each once."""
     files = []
     while frame is not None:
         fname = frame.f_code.co_filename
-        if fname.startswith(str(PKG)) and _frame_has_eta(frame):
+        if fname.startswith(str(PKG)) and _frame_has_eta(frame, test):
             rel = str(pathlib.Path(fname).relative_to(PKG))
             if rel not in files:
                 files.append(rel)
@@ -68,10 +84,11 @@ def _path(frame):
     return files[::-1] + ["_kernel/driver.py"]
 
 
-def trace(argv=None):
+def trace(argv=None, bare=False):
     """``(longest, union)``: the longest path of ``eta`` from the command line to a kernel
     call and the union of the files of all paths, in order of first appearance (file
-    names relative to ``vibimpact/``)."""
+    names relative to ``vibimpact/``); with ``bare``, only the files that handle it as a
+    number (:func:`_bare`)."""
     from vibimpact.cli import main
 
     boundary = str(PKG / "_kernel" / "boundary.py")
@@ -80,18 +97,21 @@ def trace(argv=None):
     def hook(frame, event, arg):
         if event == "call" and frame.f_code.co_filename == boundary and \
                 frame.f_code.co_name in ("integrate", "benettin", "two_trajectory"):
-            p = _path(frame)
+            p = _path(frame, _bare if bare else _has_eta)
             if p not in paths:
                 paths.append(p)
 
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "c.nc")
         args = argv or ["classify", "--eta", ETA_TEXT, "--workers", "1", "-o", out]
+        saved = sys.argv
+        sys.argv = ["vibimpact"] + args  # as the console script runs it: main() reads argv
         sys.setprofile(hook)
         try:
-            rc = main(args)
+            rc = main()
         finally:
             sys.setprofile(None)
+            sys.argv = saved
     if rc not in (0, None):
         raise RuntimeError(f"vibimpact classify failed with exit code {rc}")
     if not paths:
@@ -102,13 +122,18 @@ def trace(argv=None):
     return max(paths, key=len), union
 
 
+def measure():
+    """``{"handled": [...], "carried": [...]}``: the longest path (files) of each kind."""
+    return {"handled": trace(bare=True)[0], "carried": trace()[0]}
+
+
 def main():
-    longest, union = trace()
-    print("longest path of eta from the command line to the kernel:")
-    for k, f in enumerate(longest, 1):
-        print(f"  {k}. vibimpact/{f}")
-    print(f"eta passes through at most {len(longest)} files on its way to the kernel; "
-          f"{len(union)} files on all its ways: {', '.join(union)}")
+    for kind, bare in (("handled as a number", True), ("carried", False)):
+        longest, union = trace(bare=bare)
+        print(f"eta {kind}, the longest path from the command line to the kernel:")
+        for k, f in enumerate(longest, 1):
+            print(f"  {k}. vibimpact/{f}")
+        print(f"  {len(longest)} files on this path; on all paths: {', '.join(union)}")
 
 
 if __name__ == "__main__":
