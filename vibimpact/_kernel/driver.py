@@ -391,6 +391,44 @@ def _first_sample(s, dense_m, T):
 
 
 @njit(**PIECE)
+def _resume(ks, s, dense_m, T):
+    """The steps taken in the current period and the next dense sample's index there,
+    carried across calls in ``ks[3]`` and ``ks[4]`` when the caller provides them (a
+    LOG_FULL restart must not reset the per-period step limit nor re-derive the index);
+    otherwise 0 and the index derived from the local time ``s``."""
+    steps_in_period = int(ks[3]) if ks.size > 3 else 0
+    j_dense = np.int64(0)
+    if dense_m > 0:
+        if ks.size > 4 and ks[4] >= 0.0:
+            j_dense = np.int64(ks[4])
+        else:
+            j_dense = np.int64(_first_sample(s, dense_m, T))
+    return steps_in_period, j_dense
+
+
+@njit(**PIECE)
+def _suspend(ks, k, s, h, steps_in_period, j_dense, dense_m):
+    """Write the clock ``(k, s, h[, steps[, j]])`` back for the next call."""
+    ks[0], ks[1], ks[2] = k, s, h
+    if ks.size > 3:
+        ks[3] = steps_in_period
+    if ks.size > 4:
+        ks[4] = j_dense if dense_m > 0 else -1.0
+
+
+@njit(**PIECE)
+def _next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T):
+    """The dense index carried into the new period ``k`` (less ``dense_m``); before the
+    recorded periods it is derived afresh from the new local time (none of those samples
+    is kept)."""
+    if k >= k_record:
+        return j_dense - dense_m
+    if dense_m > 0:
+        return np.int64(_first_sample(0.0 if lands else s_end - T, dense_m, T))
+    return j_dense
+
+
+@njit(**PIECE)
 def _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands,
                    th_end, y_end, dense_m, dense, j, ready, counters):
     """Dense samples at local times ``j T / dense_m`` inside the step ``[s, s_end]``
@@ -551,17 +589,7 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
     model_rhs(model, s, y, p, mode, f0)
     counters[C_RHS] += 1
     status = OK
-    # carried across calls in ks[3] when the caller provides it (a LOG_FULL restart
-    # must not reset the per-period step limit)
-    steps_in_period = int(ks[3]) if ks.size > 3 else 0
-    # the next dense sample's index in period k: carried across calls in ks[4] when the
-    # caller provides it (negative: from the local time)
-    j_dense = np.int64(0)
-    if dense_m > 0:
-        if ks.size > 4 and ks[4] >= 0.0:
-            j_dense = np.int64(ks[4])
-        else:
-            j_dense = np.int64(_first_sample(s, dense_m, T))
+    steps_in_period, j_dense = _resume(ks, s, dense_m, T)
     zeno = 0
     t_since_event = h_cap = t_to_switch = 1e300
     # the state flags start from a comparison, not from the literal False: numba would
@@ -651,12 +679,7 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         k_start = k
         if lands or s_end >= T:
             k += 1
-            # the dense index carried into the new period; before the recorded periods
-            # it is derived afresh (none of those samples is kept)
-            if k >= k_record:
-                j_dense -= dense_m
-            elif dense_m > 0:
-                j_dense = np.int64(_first_sample(0.0 if lands else s_end - T, dense_m, T))
+            j_dense = _next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T)
             steps_in_period = 0
             s = 0.0 if lands else s_end - T
         else:
@@ -668,9 +691,5 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
                            which, g0_ok, counters)
         at_event = which >= 0
         h = h_next
-    ks[0], ks[1], ks[2] = k, s, h
-    if ks.size > 3:
-        ks[3] = steps_in_period
-    if ks.size > 4:
-        ks[4] = j_dense if dense_m > 0 else -1.0
+    _suspend(ks, k, s, h, steps_in_period, j_dense, dense_m)
     return status, n_ev
