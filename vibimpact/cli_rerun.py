@@ -90,48 +90,11 @@ def _redirect(args, new, overwrite):
     return args
 
 
-def _differences(a, b):
-    """[(name, why)] for every data variable or coordinate that differs; and the count."""
-    import numpy as np
-
-    names_a = set(a.data_vars) | set(a.coords)
-    names_b = set(b.data_vars) | set(b.coords)
-    out = [(n, "only in the original") for n in sorted(names_a - names_b)]
-    out += [(n, "only in the rerun") for n in sorted(names_b - names_a)]
-    for name in sorted(names_a & names_b):
-        x, y = a[name], b[name]
-        if x.dims != y.dims or x.shape != y.shape:
-            out.append((name, f"shape {dict(x.sizes)} vs {dict(y.sizes)}"))
-            continue
-        x, y = x.values, y.values
-        if x.dtype.kind in "OUS" or y.dtype.kind in "OUS":
-            xs, ys = x.astype(str), y.astype(str)
-            if x.dtype.kind not in "OUS" or y.dtype.kind not in "OUS":
-                out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
-            elif not np.array_equal(xs, ys):
-                out.append((name, f"{int(np.sum(xs != ys))} of {xs.size} values differ"))
-            continue
-        if x.dtype != y.dtype:
-            out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
-            continue
-        if x.dtype.kind in "fc":
-            nx, ny = np.isnan(x), np.isnan(y)
-            same = (nx & ny) | ((~nx & ~ny) & (
-                x.view(f"u{x.dtype.itemsize}") == y.view(f"u{y.dtype.itemsize}")
-                if x.dtype.kind == "f" else x == y))
-        else:
-            same = x == y
-        same = np.asarray(same)
-        if not same.all():
-            out.append((name, f"{int(same.size - same.sum())} of {same.size} values differ"))
-    return out, len(names_a | names_b)
-
-
 def _cmd_rerun(args):
     import shutil
     import tempfile
 
-    from . import __version__
+    from . import __version__, io
 
     path = os.fspath(args.file)
     keep = args.output is not None
@@ -175,7 +138,7 @@ def _cmd_rerun(args):
                 elif os.path.exists(leftover):
                     os.unlink(leftover)
 
-    diffs, total = _differences(old, fresh)
+    diffs, total = io.differences(old, fresh)
     if not diffs:
         print(f"identical: {total} variables" + (f"; wrote {new}" if keep else ""))
         return 0

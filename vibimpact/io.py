@@ -209,3 +209,46 @@ def read_netcdf(path):
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()
 
+
+def differences(a, b):
+    """Compare two datasets bit for bit (NaN equal to NaN).
+
+    Returns
+    -------
+    (list of (str, str), int)
+        ``(name, why)`` for every data variable or coordinate that differs (missing on
+        one side, another shape or dtype, values that differ), and how many names were
+        compared.
+    """
+
+    names_a = set(a.data_vars) | set(a.coords)
+    names_b = set(b.data_vars) | set(b.coords)
+    out = [(n, "only in the original") for n in sorted(names_a - names_b)]
+    out += [(n, "only in the rerun") for n in sorted(names_b - names_a)]
+    for name in sorted(names_a & names_b):
+        x, y = a[name], b[name]
+        if x.dims != y.dims or x.shape != y.shape:
+            out.append((name, f"shape {dict(x.sizes)} vs {dict(y.sizes)}"))
+            continue
+        x, y = x.values, y.values
+        if x.dtype.kind in "OUS" or y.dtype.kind in "OUS":
+            xs, ys = x.astype(str), y.astype(str)
+            if x.dtype.kind not in "OUS" or y.dtype.kind not in "OUS":
+                out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
+            elif not np.array_equal(xs, ys):
+                out.append((name, f"{int(np.sum(xs != ys))} of {xs.size} values differ"))
+            continue
+        if x.dtype != y.dtype:
+            out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
+            continue
+        if x.dtype.kind in "fc":
+            nx, ny = np.isnan(x), np.isnan(y)
+            same = (nx & ny) | ((~nx & ~ny) & (
+                x.view(f"u{x.dtype.itemsize}") == y.view(f"u{y.dtype.itemsize}")
+                if x.dtype.kind == "f" else x == y))
+        else:
+            same = x == y
+        same = np.asarray(same)
+        if not same.all():
+            out.append((name, f"{int(same.size - same.sum())} of {same.size} values differ"))
+    return out, len(names_a | names_b)
