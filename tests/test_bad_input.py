@@ -453,7 +453,7 @@ def test_rerun_bifurcation_data(tmp_path, monkeypatch, capfd):
 def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd):
     """Garbage and truncated point files in a checkpoint are set aside as *.corrupt and
     recomputed (one warning line); the resumed file equals the uninterrupted one."""
-    from vibimpact.cli_rerun import _differences
+    from vibimpact.io import differences as _differences
     from vibimpact.io import read_netcdf
 
     monkeypatch.chdir(classified)
