@@ -16,7 +16,9 @@ dataclasses.
   :func:`benettin` and :func:`two_trajectory` -- the Lyapunov loops;
   :func:`qr_growth` (QR growth factors of a product of Jacobians) and
   :func:`suffix_lag_residuals` (recurrence residuals of stroboscopic points) are the
-  kernel's array routines, re-exported.
+  kernel's array routines, re-exported;
+* :mod:`.linalg` -- small dense linear algebra with the same bits on every processor
+  (``dot``, ``matmul``, ``lstsq``, ``solve``, ``eigvals``), re-exported.
 """
 from __future__ import annotations
 
@@ -34,6 +36,7 @@ from .driver import workspace as _workspace
 from .lyapunov import benettin as _benettin
 from .lyapunov import qr_growth
 from .recurrence import suffix_lag_residuals
+from .linalg import dot, eigvals, lstsq, matmul, solve
 from .lyapunov import two_trajectory as _two_trajectory
 
 #: method names, in the order the kernel numbers them
@@ -355,4 +358,4 @@ def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, 
 
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]

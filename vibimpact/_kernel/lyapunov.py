@@ -16,6 +16,7 @@ from numba import njit
 from .driver import integrate
 from .integrator import DIVERGED_BOUND, OK
 from .jitopts import ALLOC
+from .linalg import matmul, qr
 
 
 @njit(inline="always", **ALLOC)
@@ -75,7 +76,7 @@ def benettin(problem, method, opts, ws, y, mode, ks, n_state, bound, n_periods, 
         for c in range(m):
             for i in range(n):
                 Q[i, c] = y[n + c * n + i]
-        q, r = np.linalg.qr(Q)
+        q, r = qr(Q)
         for c in range(m):
             rc = r[c, c]
             logs[j, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf
@@ -143,7 +144,7 @@ def qr_growth(J, logs):
     d = J.shape[1]
     Q = np.eye(d)
     for k in range(N):
-        q, r = np.linalg.qr(J[k] @ Q)
+        q, r = qr(matmul(J[k], Q))
         for c in range(d):
             rc = r[c, c]
             logs[k, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf

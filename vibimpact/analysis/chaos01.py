@@ -34,6 +34,7 @@ import numbers
 import numpy as np
 
 from .. import _validate as _v
+from .._kernel.boundary import matmul
 
 __all__ = ["test01", "mean_square_displacement", "C_RANGE", "MIN_LENGTH"]
 
@@ -184,7 +185,7 @@ def test01(series, c=None, n_c=100, n_cut=None, seed=0, *, constant_tol=1e-12):
     dn = n - n.mean()
     dD = D - D.mean(axis=1, keepdims=True)
     norm = np.sqrt(np.sum(dn ** 2) * np.sum(dD ** 2, axis=1))
-    cov = dD @ dn
+    cov = matmul(np.ascontiguousarray(dD), dn[:, None])[:, 0]
     tiny = norm <= 1e-300 + 1e-12 * np.abs(D).max(axis=1) * np.sqrt(np.sum(dn ** 2))
     K_c = np.where(tiny, 0.0, cov / np.where(tiny, 1.0, norm))
     return float(np.median(K_c))

@@ -41,6 +41,7 @@ import numpy as np
 from ..run import Status
 from .. import _validate as _v
 from ..system import as_system
+from .._kernel.boundary import dot, solve
 from .shooting import (PeriodicOrbit, critical_multiplier, floquet_multipliers,
                        shoot_periodic_orbit)
 
@@ -499,9 +500,11 @@ class _Arclength:
         A = np.vstack([Jg, t_prev[None, :]])
         rhs = np.zeros(self.d + 1)
         rhs[-1] = 1.0
-        t = np.linalg.solve(A, rhs)
-        t /= np.linalg.norm(t)
-        return t if t @ t_prev >= 0.0 else -t
+        t, ok = solve(A, rhs)
+        if not ok:
+            raise np.linalg.LinAlgError("singular matrix")
+        t /= math.sqrt(dot(t, t))
+        return t if dot(t, t_prev) >= 0.0 else -t
 
     def correct(self, u_pred, t):
         """Newton on ``G = 0``, ``t . (u - u_pred) = 0`` from ``u_pred``: ``(ok, u,
@@ -516,12 +519,11 @@ class _Arclength:
             if mm is None:
                 break
             G = mm.end - mm.start
-            r = np.append(G, t @ (u - u_pred))
+            r = np.append(G, dot(t, u - u_pred))
             if np.abs(G).max() <= tol * max(1.0, np.abs(u[:-1]).max()) and it > 0:
                 return True, u, mm, J, it
-            try:
-                du = np.linalg.solve(np.vstack([J, t[None, :]]), -r)
-            except np.linalg.LinAlgError:
+            du, ok = solve(np.vstack([J, t[None, :]]), -r)
+            if not ok:
                 break
             u = u + du
             if not np.all(np.isfinite(u)):

@@ -21,6 +21,8 @@ References
 """
 import numpy as np
 
+from .._kernel.boundary import lstsq, matmul
+
 __all__ = ["extrapolate_limit"]
 
 
@@ -77,12 +79,13 @@ def extrapolate_limit(seq, order=None):
         raise ValueError(f"order must be an integer in 1 .. {m - 2}, got {order!r}")
     x = x[-(k + 2):]
     u = np.diff(x, axis=0)                       # (k + 1, d)
-    c, _, rank, _ = np.linalg.lstsq(u[:k].T, -u[k], rcond=None)
+    c, rank = lstsq(np.ascontiguousarray(u[:k].T), -u[k][:, None], -1.0)
+    c = c[:, 0]
     if rank < k:
         return np.full(d, np.nan)
     c = np.append(c, 1.0)
     s = c.sum()
     if not np.isfinite(s) or abs(s) < 1e-12 * np.abs(c).sum():
         return np.full(d, np.nan)
-    out = (c / s) @ x[:k + 1]
+    out = matmul((c / s)[None, :], np.ascontiguousarray(x[:k + 1]))[0]
     return out if np.all(np.isfinite(out)) else np.full(d, np.nan)

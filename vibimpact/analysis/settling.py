@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
+from .._kernel.boundary import dot, eigvals, lstsq, matmul
 
 #: the set's size shrinks significantly when its log-slope per period lies ``Z`` standard
 #: errors below ``-SPREAD_FLOOR``
@@ -104,20 +105,18 @@ class Contraction:
 def _fit(sub, scale, n):
     """Linear map of the steps of ``sub`` (the last ``MAX_STEPS``) -> Contraction."""
     u = np.diff(sub, axis=0)[-MAX_STEPS:]
-    u0, u1 = u[:-1], u[1:]
-    try:  # minimum-norm least squares: steps spanning fewer modes than dimensions are fine
-        a = np.linalg.lstsq(u0, u1, rcond=1e-10)[0]
-    except np.linalg.LinAlgError:
-        return None
-    r = u1 - u0 @ a
-    den = float(np.einsum("ij,ij->", u1, u1))
+    u0, u1 = np.ascontiguousarray(u[:-1]), np.ascontiguousarray(u[1:])
+    # minimum-norm least squares: steps spanning fewer modes than dimensions are fine
+    a = lstsq(u0, u1, 1e-10)[0]
+    r = u1 - matmul(u0, a)
+    den = dot(u1.ravel(), u1.ravel())
     if not den > 0.0 or not np.all(np.isfinite(a)):
         return None
-    res = math.sqrt(float(np.einsum("ij,ij->", r, r)) / den)
-    rho = float(np.abs(np.linalg.eigvals(a)).max())
+    res = math.sqrt(dot(r.ravel(), r.ravel()) / den)
+    rho = float(np.abs(eigvals(a)).max())
     if not rho > 0.0:
         return None
-    return Contraction(n, math.log(rho) / n, res, float(np.sqrt(u[-1] @ u[-1])), scale)
+    return Contraction(n, math.log(rho) / n, res, math.sqrt(dot(u1[-1], u1[-1])), scale)
 
 
 def contraction_rates(points, lags):
@@ -295,9 +294,9 @@ def torus_evidence(points):
         t = (np.arange(4) + 0.5) * q
         tc = t - t.mean()
         y = np.log(spreads)
-        slope = float(tc @ (y - y.mean())) / float(tc @ tc)
+        slope = dot(tc, y - y.mean()) / dot(tc, tc)
         res = y - y.mean() - slope * tc
-        se = math.sqrt(float(res @ res) / 2.0 / float(tc @ tc))
+        se = math.sqrt(dot(res, res) / 2.0 / dot(tc, tc))
     else:
         slope, se = 0.0, 0.0
     a, b = z[: m // 2], z[m // 2:]

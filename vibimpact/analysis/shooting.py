@@ -43,6 +43,7 @@ import numpy as np
 from ..run import Status
 from .. import _validate as _v
 from ..system import Monodromy, as_system
+from .._kernel.boundary import eigvals, solve
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
@@ -153,7 +154,7 @@ def floquet_multipliers(M):
         raise ValueError(f"M must be a square matrix, got shape {A.shape}")
     if not np.all(np.isfinite(A)):
         raise ValueError("M must be finite")
-    mu = np.linalg.eigvals(A).astype(complex)
+    mu = eigvals(np.ascontiguousarray(A))
     order = np.lexsort((-mu.imag, -mu.real, -np.round(np.abs(mu), 12)))
     return mu[order]
 
@@ -331,9 +332,8 @@ def shoot_periodic_orbit(system, state0, n=1, *, tol=1e-9, max_iter=20, damping=
         if it >= max_iter:
             break
         A = m.matrix - np.eye(d)
-        try:
-            dx = np.linalg.solve(A, -F)
-        except np.linalg.LinAlgError:
+        dx, ok = solve(A, -F)
+        if not ok:
             break
         if not np.all(np.isfinite(dx)):
             break

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._kernel.boundary import matmul
+
 __all__ = ["extrapolate_branch"]
 
 
@@ -57,4 +59,4 @@ def extrapolate_branch(params, states, at):
         for i in range(e.size):
             if i != j:
                 w[j] *= (at - e[i]) / (e[j] - e[i])
-    return w @ x
+    return matmul(w[None, :], np.ascontiguousarray(x))[0]
