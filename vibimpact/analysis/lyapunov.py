@@ -102,8 +102,8 @@ def _run_blocks(step, m, T, avg, watch=None):
         done += got
         if status != _kb.OK:
             break
-        if watch is not None and watch(done):
-            break
+        if watch is not None and done > skip and watch(done):
+            break  # (not during the alignment: a result always averages one block)
         if done - skip >= avg.min_periods:
             lam, err, _ = _estimate(logs[skip:done], T, block)
             if err[0] <= avg.target_stderr:
