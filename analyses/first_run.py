@@ -7,17 +7,29 @@ package's own ``__pycache__`` is not used when ``NUMBA_CACHE_DIR`` is set, see
 the cold run wrote: nothing is compiled.  Each run is a fresh ``python -m vibimpact``
 subprocess, timed from its start to its exit (interpreter start-up and imports included).
 
-Run as ``python analyses/first_run.py [--repeat N]``; :func:`measure` returns the times
-as a dict for reports.
+Run as ``python analyses/first_run.py [--repeat N] [--no-report]``: it prints the times
+and replaces the section ``first_run`` of ``reports/performance.md`` (the target, 10 s for
+the cold ``classify``, is judged there); :func:`measure` returns the times as a dict.
 """
 from __future__ import annotations
 
 import argparse
+import datetime
 import os
+import platform
 import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
+
+from _report import write_section
+
+ROOT = Path(__file__).resolve().parents[1]
+REPORT = ROOT / "reports" / "performance.md"
+SECTION = "first_run"
+#: the acceptance target of the cold first ``classify`` (seconds, this 2-core machine)
+TARGET_COLD_S = 10.0
 
 #: the commands timed: name -> arguments after ``vibimpact`` ({out}: a file in the
 #: temporary directory)
@@ -71,10 +83,62 @@ def measure(commands=None, repeat=1):
     return out
 
 
+def _help_compiles():
+    """Files ``vibimpact --help`` writes into an empty numba cache (0: nothing compiled)."""
+    with tempfile.TemporaryDirectory(prefix="vibimpact-first-run-") as tmp:
+        cache = os.path.join(tmp, "numba-cache")
+        os.mkdir(cache)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "vibimpact", "--help"], env=env, check=True,
+                       stdout=subprocess.DEVNULL)
+        return time.perf_counter() - t0, sum(len(f) for _, _, f in os.walk(cache))
+
+
+def _cpu():
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def report(res, help_s, help_files, repeat):
+    """The section text for ``reports/performance.md``."""
+    import numba
+
+    now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    cold = res["classify"]["cold_s"]
+    L = ["## First run (cold numba cache)", "",
+         f"Written by `python analyses/first_run.py` on {now}; {os.cpu_count()} CPUs "
+         f"({_cpu()}), Python {platform.python_version()}, numba {numba.__version__}, "
+         f"load average {os.getloadavg()[0]:.2f} at the end.  Each command runs as a fresh "
+         "`python -m vibimpact` process, timed from start to exit (interpreter start-up, "
+         "imports and writing the file included).  *Cold*: `NUMBA_CACHE_DIR` is a new empty "
+         "directory, so every kernel function the command uses is compiled; *warm*: the "
+         f"same command again with the cache the cold run wrote.  Best of {repeat}.", "",
+         "| command | cold [s] | warm [s] | compilation (cold - warm) [s] |",
+         "| --- | ---: | ---: | ---: |"]
+    for r in res.values():
+        L.append(f"| `{r['command']}` | {r['cold_s']:.1f} | {r['warm_s']:.1f} | "
+                 f"{r['cold_s'] - r['warm_s']:.1f} |")
+    L += ["",
+          f"- cold `classify` on the default grid: {cold:.1f} s against the target of "
+          f"{TARGET_COLD_S:.0f} s: " + ("met" if cold <= TARGET_COLD_S else "**not met**"),
+          f"- `vibimpact --help` with an empty cache: {help_s:.2f} s, {help_files} files "
+          "written to the cache (" + ("nothing compiled" if help_files == 0
+                                      else "**it compiles**") + ")"]
+    return "\n".join(L)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=1,
                     help="cold/warm pairs per command (the smallest times are shown)")
+    ap.add_argument("--no-report", action="store_true",
+                    help="print the times only; leave reports/performance.md as it is")
     ap.add_argument("commands", nargs="*", metavar="COMMAND",
                     help=f"commands to time, of {', '.join(COMMANDS)} (default: all)")
     args = ap.parse_args(argv)
@@ -85,6 +149,12 @@ def main(argv=None):
     for name, r in res.items():
         print(f"{name:9s} cold {r['cold_s']:6.1f} s   warm {r['warm_s']:5.1f} s   "
               f"({r['command']})")
+    if not args.no_report:
+        if set(res) != set(COMMANDS):
+            ap.error("the report needs every command; use --no-report with a subset")
+        help_s, help_files = _help_compiles()
+        write_section(REPORT, SECTION, report(res, help_s, help_files, args.repeat))
+        print(f"wrote section {SECTION} of {REPORT.relative_to(ROOT)}")
     return 0
 
 

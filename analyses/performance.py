@@ -6,7 +6,8 @@ fresh process one after the other (never two at once: they time the machine), an
 replaces its own section of the report:
 
 =========================  ==========================================================
-``benchmark_kernel.py``    throughput, accuracy orders, start-up (first and cached runs)
+``benchmark_kernel.py``    throughput, accuracy orders
+``first_run.py``           the cold (empty numba cache) and warm first run of the CLI
 ``benchmark_sweep.py``     the main job warm, serial and on 2 workers
 ``profile_sweep.py``       where the main job's time goes; the transient extrapolation
 ``work_precision.py``      error against run time vs SciPy; overhead against the RHS floor
@@ -21,7 +22,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-SCRIPTS = ("benchmark_kernel.py", "benchmark_sweep.py", "profile_sweep.py",
+SCRIPTS = ("benchmark_kernel.py", "first_run.py", "benchmark_sweep.py", "profile_sweep.py",
            "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py")
 
 

@@ -25,16 +25,12 @@ Every number in the section is measured by this script in the same run (issue 6,
     ['rhs_evals']``) against a bare compiled loop calling ``vibimpact._kernel.rotor.rhs``
     as many times on states sampled along the same trajectory (with their modes); and the
     RHS evaluations per forcing period each method needs at a fixed error.
-(5) Start-up: first-run JIT compile time (fresh ``NUMBA_CACHE_DIR``, in a subprocess),
-    the same run with the cache filled, ``vibimpact --help`` (and whether it writes
-    anything to the cache), and the first run of a tiny ``classify`` grid.
+The first (cold) run of the command line is measured by ``analyses/first_run.py``.
 """
 import datetime
 import os
 import platform
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -92,7 +88,7 @@ STYLE = {"ours rk4": ("o", "-", "C0"), "ours dp5": ("s", "-", "C1"),
          "ours dop853": ("D", "-", "C2"), "SciPy RK45": ("v", "--", "C3"),
          "SciPy DOP853": ("^", "--", "C4"), "SciPy LSODA": ("x", "--", "C5"),
          LSODA_NB: ("P", ":", "C6")}
-TARGET_RATIO, TARGET_OVERHEAD, TARGET_FIRST_RUN = 300.0, 1.3, 15.0
+TARGET_RATIO, TARGET_OVERHEAD = 300.0, 1.3
 #: (trajectory, method, tol) of the baseline runs that failed (reported, not plotted)
 FAILED = []
 
@@ -251,55 +247,6 @@ def overhead(p, s0):
     return rows, contact_share
 
 
-# ---------------------------------------------------------------- (5) start-up
-def _timed(cmd, env, cwd):
-    t0 = time.perf_counter()
-    r = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
-    dt = time.perf_counter() - t0
-    if r.returncode != 0:
-        print(r.stdout[-2000:], r.stderr[-2000:])
-    return dt, r.returncode
-
-
-def _n_files(d):
-    return sum(len(f) for _, _, f in os.walk(d))
-
-
-def startup():
-    """Rows (what, cache state, seconds, rc, files in cache after)."""
-    py = sys.executable
-    sim = [py, "-c", "import vibimpact as vi; vi.simulate(vi.presets.get('fig8'), periods=1)"]
-    hlp = [py, "-m", "vibimpact.cli", "--help"]
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ)
-        cache1 = os.path.join(tmp, "cache_sim")
-        os.makedirs(cache1)
-        env["NUMBA_CACHE_DIR"] = cache1
-        dt, rc = _timed(hlp, env, tmp)
-        rows.append(("`vibimpact --help`", "fresh (empty) cache", dt, rc, _n_files(cache1)))
-        dt, rc = _timed(sim, env, tmp)
-        rows.append(("`simulate(fig8, periods=1)`", "fresh (empty) cache: first run", dt, rc,
-                     _n_files(cache1)))
-        dt, rc = _timed(sim, env, tmp)
-        rows.append(("`simulate(fig8, periods=1)`", "cache filled by the run above", dt, rc,
-                     _n_files(cache1)))
-        dt, rc = _timed(hlp, env, tmp)
-        rows.append(("`vibimpact --help`", "filled cache", dt, rc, _n_files(cache1)))
-        cache2 = os.path.join(tmp, "cache_classify")
-        os.makedirs(cache2)
-        env["NUMBA_CACHE_DIR"] = cache2
-        cls = [py, "-m", "vibimpact.cli", "classify", "--eta", "1.0:1.02:0.01", "-o",
-               os.path.join(tmp, "tiny.nc"), "--no-progress", "--overwrite"]
-        dt, rc = _timed(cls, env, tmp)
-        rows.append(("`vibimpact classify --eta 1.0:1.02:0.01` (3 points, all analysers)",
-                     "fresh (empty) cache: first run", dt, rc, _n_files(cache2)))
-        dt, rc = _timed(cls, env, tmp)
-        rows.append(("`vibimpact classify --eta 1.0:1.02:0.01` (3 points, all analysers)",
-                     "cache filled by the run above", dt, rc, _n_files(cache2)))
-    return rows
-
-
 # ---------------------------------------------------------------- plot and report
 def plot(results, path):
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
@@ -338,9 +285,9 @@ def numbalsoda_note():
             "no event location, ours do)")
 
 
-def report(results, ov, st, load, elapsed):
+def report(results, ov, load, elapsed):
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
-    L = ["# Work-precision, overhead and start-up (issue 6)", "",
+    L = ["# Work-precision and overhead (issue 6)", "",
          "Written by `python analyses/work_precision.py`; every number below is measured by "
          "that script in one run (nothing typed in by hand).", "",
          f"- date: {now}; script wall time {elapsed:.0f} s",
@@ -468,26 +415,6 @@ def report(results, ov, st, load, elapsed):
                      f"{t:.4f} | {ns_in:.0f} | {ns_bare:.0f} | {q:.2f} | "
                      f"{'yes' if q <= TARGET_OVERHEAD else '**no**'} | {ns_c:.0f} | "
                      f"{ns_in / ns_c:.2f} |")
-    L += ["", "## (5) Start-up", "",
-          "Each command in a fresh subprocess with `NUMBA_CACHE_DIR` set to a new temporary "
-          "directory (so the first run compiles everything it needs, the second loads it); "
-          "wall time of the whole process including interpreter start and imports. "
-          f"Target: first full run <= {TARGET_FIRST_RUN:.0f} s including compilation.", "",
-          "| command | numba cache | wall time [s] | exit code | files in cache after |",
-          "| --- | --- | ---: | ---: | ---: |"]
-    for what, cache, dt, rc, nf in st:
-        L.append(f"| {what} | {cache} | {dt:.2f} | {rc} | {nf} |")
-    first_sim = st[1][2]
-    first_cls = st[4][2]
-    help_fresh_files = st[0][4]
-    L += ["",
-          f"- first `simulate` run {first_sim:.1f} s: target {TARGET_FIRST_RUN:.0f} s "
-          f"{'met' if first_sim <= TARGET_FIRST_RUN else '**not met**'}",
-          f"- first `classify` run (tiny grid, all analysers) {first_cls:.1f} s: target "
-          f"{TARGET_FIRST_RUN:.0f} s {'met' if first_cls <= TARGET_FIRST_RUN else '**not met**'}"
-          " (the full fig8 grid adds the integration time of 301 points to this)",
-          f"- `vibimpact --help` with an empty cache wrote {help_fresh_files} files to it: "
-          f"{'no compilation triggered' if help_fresh_files == 0 else '**it compiles**'}", ""]
     write_section(REPORT, SECTION, "\n".join(L))
 
 
@@ -521,13 +448,8 @@ def main():
         for m, desc, n, t, a, b, q, *_ in ov[label][0]:
             print(f"   overhead {m:7s} {a:.0f} ns/eval vs bare {b:.0f} ns/eval: {q:.2f}x")
     plot(results, FIGURE)
-    t0 = time.perf_counter()
-    st = startup()
-    for row in st:
-        print(f"   {row[0]} [{row[1]}]: {row[2]:.2f} s (rc {row[3]}, {row[4]} cache files)")
-    print(f"start-up {time.perf_counter() - t0:.1f} s")
     load1 = os.getloadavg()[0]
-    report(results, ov, st, (load0, load1), time.perf_counter() - t_start)
+    report(results, ov, (load0, load1), time.perf_counter() - t_start)
     print(f"wrote {REPORT.relative_to(ROOT)} (section {SECTION}) and "
           f"{FIGURE.relative_to(ROOT)} in {time.perf_counter() - t_start:.0f} s")
 

@@ -85,3 +85,26 @@ def test_performance_report_has_the_low_damping_timing():
     sec = _section((REPORTS / "performance.md").read_text(), "low-damping")
     assert sec is not None
     assert f"| shipped defaults | {params.DEFAULT_B:g} | {params.DEFAULT_EC:g} |" in sec
+
+
+def test_performance_report_judges_the_cold_first_run_by_its_own_numbers():
+    """Hypothesis: the performance report carries the first-run section written by
+    analyses/first_run.py, timing the default classify grid and simulate cold and warm,
+    and its verdict on the 10 s target is the one its cold classify time implies."""
+    import first_run
+
+    sec = _section((REPORTS / "performance.md").read_text(), first_run.SECTION)
+    assert sec is not None
+    rows = {m.group(1): (float(m.group(2)), float(m.group(3)))
+            for m in re.finditer(r"^\| `(vibimpact [^`]+)` \| ([\d.]+) \| ([\d.]+) \|", sec,
+                                 re.M)}
+    commands = {"vibimpact " + " ".join(a.replace("{out}", "OUT") for a in args)
+                for args in first_run.COMMANDS.values()}
+    assert set(rows) == commands
+    cold, warm = next(v for k, v in rows.items() if " classify " in k)
+    assert cold >= warm > 0.0
+    met = cold <= first_run.TARGET_COLD_S
+    verdict = re.search(r"- cold `classify` on the default grid: ([\d.]+) s .*: (.*)$", sec,
+                        re.M)
+    assert float(verdict.group(1)) == pytest.approx(cold, abs=0.051)
+    assert verdict.group(2) == ("met" if met else "**not met**")
