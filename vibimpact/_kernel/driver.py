@@ -12,8 +12,8 @@ loop's pieces, in the order of a step (inlined into it by numba: :data:`.jitopts
   start or :func:`_locate` (with :func:`_grazing` and :func:`.events.retake`) for
   crossings inside it;
 * :func:`_log_observers` -- observer crossings before the event, in time order;
-* :func:`_samples` (:func:`_dense_samples`, :func:`_strobe_sample`) -- samples from the
-  continuous extension;
+* :func:`.sampling.samples` -- dense and stroboscopic samples from the continuous
+  extension (:mod:`.sampling`);
 * :func:`_next_start` -- the step's end as the next step's start (the mode change at a
   located event).
 
@@ -37,6 +37,7 @@ from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
                          rk_step, settings)
 from .jitopts import LEAF, PIECE
+from .sampling import next_period_sample, resume, samples, suspend
 
 #: scratch arrays of the loop (allocated by :func:`workspace`)
 Workspace = namedtuple("Workspace", (
@@ -360,143 +361,6 @@ def _log_observers(problem, method, cfg, ws, log, n_ev, mode, k, k_record, s, y,
 
 
 @njit(**PIECE)
-def _dense_ready(problem, method, ws, mode, s, y, h, ready, counters):
-    """Prepare the continuous extension of the step unless ``ready``; returns True."""
-    if not ready:
-        model, terminal, p, omega = problem
-        mid, A, B, C, E, E3, D, P, order, n_stages = method
-        counters[C_RHS] += prepare_dense(model, p, mode, mid, A, C, D, P, n_stages, s, y,
-                                         h, ws.K, ws.y1, ws.ytmp, ws.F)
-    return True
-
-
-@njit(**PIECE)
-def _sample_time(j, dense_m, dt, T):
-    """Local time of dense sample ``j`` of a period: ``j T / dense_m``, the period's end
-    ``T`` itself for ``j = dense_m`` (the stroboscopic sample's time)."""
-    return T if j == dense_m else j * dt
-
-
-@njit(**PIECE)
-def _first_sample(s, dense_m, T):
-    """Index of the first dense sample after local time ``s`` (samples up to and
-    including ``s`` belong to the steps before) when no index is carried in."""
-    dt = T / dense_m
-    j = max(int(math.floor(s / dt)), 0)
-    while j > 0 and _sample_time(j - 1, dense_m, dt, T) > s:
-        j -= 1
-    while _sample_time(j, dense_m, dt, T) <= s:
-        j += 1
-    return j
-
-
-@njit(**PIECE)
-def _resume(ks, s, dense_m, T):
-    """The steps taken in the current period and the next dense sample's index there,
-    carried across calls in ``ks[3]`` and ``ks[4]`` when the caller provides them (a
-    LOG_FULL restart must not reset the per-period step limit nor re-derive the index);
-    otherwise 0 and the index derived from the local time ``s``."""
-    steps_in_period = int(ks[3]) if ks.size > 3 else 0
-    j_dense = np.int64(0)
-    if dense_m > 0:
-        if ks.size > 4 and ks[4] >= 0.0:
-            j_dense = np.int64(ks[4])
-        else:
-            j_dense = np.int64(_first_sample(s, dense_m, T))
-    return steps_in_period, j_dense
-
-
-@njit(**PIECE)
-def _suspend(ks, k, s, h, steps_in_period, j_dense, dense_m):
-    """Write the clock ``(k, s, h[, steps[, j]])`` back for the next call."""
-    ks[0], ks[1], ks[2] = k, s, h
-    if ks.size > 3:
-        ks[3] = steps_in_period
-    if ks.size > 4:
-        ks[4] = j_dense if dense_m > 0 else -1.0
-
-
-@njit(**PIECE)
-def _next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T):
-    """The dense index carried into the new period ``k`` (less ``dense_m``); before the
-    recorded periods it is derived afresh from the new local time (none of those samples
-    is kept)."""
-    if k >= k_record:
-        return j_dense - dense_m
-    if dense_m > 0:
-        return np.int64(_first_sample(0.0 if lands else s_end - T, dense_m, T))
-    return j_dense
-
-
-@njit(**PIECE)
-def _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands,
-                   th_end, y_end, dense_m, dense, j, ready, counters):
-    """Dense samples at local times ``j T / dense_m`` inside the step ``[s, s_end]``
-    (``j >= dense_m`` belong to the next period: a step may run past the period's end),
-    from the index ``j``, the first not yet taken, on; returns whether the continuous
-    extension is prepared and the next index to take.
-
-    The index is carried from step to step (and across the period's end, less
-    ``dense_m``) rather than derived from ``s``: a sample time that equals a step's end up
-    to rounding is then taken by exactly one of the two steps.  The sample at the
-    period's end (``j = dense_m``) is taken where the stroboscopic one is and equals it."""
-    n = y.size
-    T = cfg.T
-    dt = T / dense_m
-    while _sample_time(j, dense_m, dt, T) <= s_end or (lands and j == dense_m):
-        kk = k + j // dense_m
-        idx = (kk - k_record) * dense_m + j % dense_m
-        if kk >= k_record and idx < dense.shape[0]:
-            if lands and j == dense_m:
-                for m in range(n):
-                    dense[idx, m] = y_end[m]
-            else:
-                ready = _dense_ready(problem, method, ws, mode, s, y, h, ready, counters)
-                th = (T - s) / h if j == dense_m else min((j * dt - s) / h, th_end)
-                interpolate(method[0], th, h, y, ws.f0, ws.y1, ws.f1r, ws.F, ws.yint)
-                for m in range(n):
-                    dense[idx, m] = ws.yint[m]
-        j += 1
-        if lands and j > dense_m:
-            break
-    return ready, j
-
-
-@njit(**PIECE)
-def _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, strobe,
-                   ready, counters):
-    """Stroboscopic sample at the period's end (``s = T``) inside the step, into
-    ``strobe[row]``; returns whether the continuous extension is prepared."""
-    n = y.size
-    if lands:
-        for m in range(n):
-            strobe[row, m] = y_end[m]
-        return ready
-    ready = _dense_ready(problem, method, ws, mode, s, y, h, ready, counters)
-    interpolate(method[0], (cfg.T - s) / h, h, y, ws.f0, ws.y1, ws.f1r, ws.F, ws.yint)
-    for m in range(n):
-        strobe[row, m] = ws.yint[m]
-    return ready
-
-
-@njit(**PIECE)
-def _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end, lands, th_end,
-             y_end, dense_m, dense, j_dense, strobe, ready, counters):
-    """The dense samples inside the step ``[s, s_end]`` of period ``k`` (from index
-    ``j_dense`` on, see :func:`_dense_samples`) and, when it reaches the period's end, the
-    stroboscopic sample there.  Returns the next dense index (of period ``k``)."""
-    if dense_m > 0 and k + 1 >= k_record:
-        ready, j_dense = _dense_samples(problem, method, cfg, ws, mode, k, k_record, s, y,
-                                        h, s_end, lands, th_end, y_end, dense_m, dense,
-                                        j_dense, ready, counters)
-    row = k + 1 - k_record
-    if (lands or s_end >= cfg.T) and row >= 0 and row < strobe.shape[0]:
-        _strobe_sample(problem, method, cfg, ws, mode, s, y, h, lands, y_end, row, strobe,
-                       ready, counters)
-    return j_dense
-
-
-@njit(**PIECE)
 def _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_abs, s, y, y_end, which,
                 g0_ok, counters):
     """Make the step's end ``y_end`` the next step's start: with the switching functions
@@ -589,7 +453,7 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
     model_rhs(model, s, y, p, mode, f0)
     counters[C_RHS] += 1
     status = OK
-    steps_in_period, j_dense = _resume(ks, s, dense_m, T)
+    steps_in_period, j_dense = resume(ks, s, dense_m, T)
     zeno = 0
     t_since_event = h_cap = t_to_switch = 1e300
     # the state flags start from a comparison, not from the literal False: numba would
@@ -672,14 +536,14 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         # --- samples, the step's end is the next step's start --------------------------
         s_end = T if lands else s + th_end * h
         y_end = y1 if which < 0 else ws.yev
-        j_dense = _samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
+        j_dense = samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
                            lands, th_end, y_end, dense_m, dense, j_dense, strobe, ready,
                            counters)
         t_event = k * T + s + th_end * h
         k_start = k
         if lands or s_end >= T:
             k += 1
-            j_dense = _next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T)
+            j_dense = next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T)
             steps_in_period = 0
             s = 0.0 if lands else s_end - T
         else:
@@ -691,5 +555,5 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
                            which, g0_ok, counters)
         at_event = which >= 0
         h = h_next
-    _suspend(ks, k, s, h, steps_in_period, j_dense, dense_m)
+    suspend(ks, k, s, h, steps_in_period, j_dense, dense_m)
     return status, n_ev
