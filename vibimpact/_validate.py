@@ -37,6 +37,17 @@ def positive(name, value, allow_none=False):
     return v
 
 
+def finite(name, value):
+    """``value`` as a finite ``float`` (anything ``float()`` takes)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
 def real_positive(name, value):
     """``value`` as a finite ``float > 0``; only real numbers (no strings) accepted."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
