@@ -108,3 +108,30 @@ def test_performance_report_judges_the_cold_first_run_by_its_own_numbers():
                         re.M)
     assert float(verdict.group(1)) == pytest.approx(cold, abs=0.051)
     assert verdict.group(2) == ("met" if met else "**not met**")
+
+
+def test_every_package_name_the_readme_cites_exists():
+    """Hypothesis: each dotted name `vibimpact.x.y` in the README resolves to a module or
+    an attribute of one (a module or name moved by a refactoring fails here)."""
+    import importlib
+
+    names = sorted(set(re.findall(r"`(vibimpact(?:\.[A-Za-z_]\w*)+)",
+                                  (ROOT / "README.md").read_text())))
+    assert names
+    broken = []
+    for name in names:
+        parts = name.split(".")
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            try:
+                for attr in parts[i:]:
+                    obj = getattr(obj, attr)
+            except AttributeError:
+                broken.append(name)
+            break
+        else:
+            broken.append(name)
+    assert broken == []
