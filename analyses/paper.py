@@ -530,7 +530,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
 
 
 def main(argv=None):
-    from vibimpact._cli_common import _parse_sets
+    from vibimpact._cli_common import parse_sets
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--step", type=float, default=0.005)
@@ -540,7 +540,7 @@ def main(argv=None):
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a parameter of every preset (e.g. B=0.05)")
     args = ap.parse_args(argv)
-    overrides = _parse_sets(args.set)
+    overrides = parse_sets(args.set)
     t0 = time.perf_counter()
     data, cost = sweeps(args.step, args.cache, args.fresh, args.workers, overrides)
     types = transitions(data, args.step, args.cache, args.fresh, args.workers, overrides)

@@ -190,9 +190,9 @@ def floquet(ds8):
 
 def _floquet_cost():
     """CPU time of the Floquet step inside a serial 301-point fig8 sweep."""
-    import vibimpact.sweeps.point as pt
+    import vibimpact.sweeps.measure as pt
 
-    orig, acc = pt._floquet, [0.0]
+    orig, acc = pt.floquet, [0.0]
 
     def timed(*a):
         t = time.process_time()
@@ -200,13 +200,13 @@ def _floquet_cost():
         acc[0] += time.process_time() - t
         return out
 
-    pt._floquet = timed
+    pt.floquet = timed
     try:
         t = time.process_time()
         ds = vi.sweep(vi.presets.get("fig8"), parse_range("0.9:1.5:0.002"), workers=1)
         total = time.process_time() - t
     finally:
-        pt._floquet = orig
+        pt.floquet = orig
     n = int((ds["stable"].values >= 0).sum())
     return (f"In the default 301-point fig8 classify (serial, all analyses), the Floquet "
             f"step ran at {n} periodic points and took {acc[0]:.2f} s of {total:.2f} s CPU "
