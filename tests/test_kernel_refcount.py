@@ -13,7 +13,10 @@ def _calls(f, *args, **change):
     """The LLVM IR of ``f`` for these arguments, compiled afresh with ``f``'s own options
     (and ``change``): numba gives no IR for a function loaded from its disk cache, so
     ``f`` itself cannot be inspected once the cache is warm."""
-    opts = {k: v for k, v in f.targetoptions.items() if k != "nopython"}
+    # with a wrapper for Python (the INNER functions have none; it is not part of the
+    # function's own body, whose IR is inspected)
+    opts = {k: v for k, v in f.targetoptions.items()
+            if k not in ("nopython", "no_cpython_wrapper", "no_cfunc_wrapper")}
     fresh = numba.njit(**dict(opts, **change))(f.py_func)
     fresh(*args)
     ir = fresh.inspect_llvm(fresh.signatures[-1])

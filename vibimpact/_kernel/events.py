@@ -8,7 +8,7 @@ from numba import njit
 
 from .dispatch import model_switches
 from .integrator import hermite, interpolate, rk_step
-from .jitopts import LEAF
+from .jitopts import INNER, LEAF
 
 NO_EVENT = 0
 BRACKETED = 1
@@ -18,7 +18,7 @@ IMMEDIATE = 2
 THETAS = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def detect(model, p, mode, terminal, s0, h, y0, f0, y1, f1, G, ytmp, flag, lo, hi, g0_known):
     """Sample every switching function over the step and bracket its first crossing.
 
@@ -67,14 +67,14 @@ def detect(model, p, mode, terminal, s0, h, y0, f0, y1, f1, G, ytmp, flag, lo, h
     return any_event
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _g_at(model, p, mode, i, method, theta, s0, h, y0, f0, y1, f1, F, ytmp, gbuf):
     interpolate(method, theta, h, y0, f0, y1, f1, F, ytmp)
     model_switches(model, s0 + theta * h, ytmp, p, mode, gbuf)
     return gbuf[i]
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def locate(model, p, mode, i, method, s0, h, y0, f0, y1, f1, F, ta, tb, ytmp, gbuf):
     """Refine the crossing of switch ``i`` in ``[ta, tb]`` on the continuous extension.
 
@@ -137,7 +137,7 @@ def locate(model, p, mode, i, method, s0, h, y0, f0, y1, f1, F, ta, tb, ytmp, gb
     return tb
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def retake(model, p, mode, i, method, A, B, C, n_stages, fsal, s0, y0, f0, h, y1,
            f1, F, theta, event_tol, Kr, ytmp, gbuf, yev):
     """Retake the step from ``s0`` to the event and correct its time by Newton iterations.

@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit
 
 from .dispatch import model_rhs
-from .jitopts import LEAF
+from .jitopts import INNER, LEAF
 from .tableaux import DOP853, DP5, RK4
 
 # status codes (mirrored in vibimpact.run.Status)
@@ -83,7 +83,7 @@ Settings = namedtuple("Settings", (
 _SAMPLES = (0.25, 0.5, 0.75)
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def rk_step(model, p, mode, A, B, C, n_stages, fsal, s0, y0, h, K, ytmp, y1):
     """One explicit Runge--Kutta step.
 
@@ -110,7 +110,7 @@ def rk_step(model, p, mode, A, B, C, n_stages, fsal, s0, y0, h, K, ytmp, y1):
     return n_stages - 1
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol, n_err, tfac):
     """Scaled error norm of an embedded pair (<= 1 means the step is accepted).
 
@@ -149,7 +149,7 @@ def error_norm(method, E, E3, K, n_stages, h, y0, y1, rtol, atol, n_err, tfac):
     return abs(h) * e5 / math.sqrt(den * n)
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s0, y0, h, K, y1, ytmp, F):
     """Coefficients of the continuous extension of the last step into ``F``.
 
@@ -189,7 +189,7 @@ def prepare_dense(model, p, mode, method, A, C, D, P, n_stages, s0, y0, h, K, y1
     return 0
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def hermite(theta, h, y0, f0, y1, f1, out):
     """Cubic Hermite interpolant between two states with their derivatives."""
     t2 = theta * theta
@@ -202,7 +202,7 @@ def hermite(theta, h, y0, f0, y1, f1, out):
         out[m] = a * y0[m] + h * b * f0[m] + c * y1[m] + h * d * f1[m]
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def interpolate(method, theta, h, y0, f0, y1, f1, F, out):
     """State at ``s0 + theta h`` from the method's continuous extension."""
     n = y0.size
@@ -226,7 +226,7 @@ def interpolate(method, theta, h, y0, f0, y1, f1, F, out):
         hermite(theta, h, y0, f0, y1, f1, out)
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def settings(opts, method_id, order, omega, n):
     """The option vector ``opts`` (layout above) as a :data:`Settings` for a method and a
     state of ``n`` entries."""

@@ -39,7 +39,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .jitopts import LEAF
+from .jitopts import INNER, LEAF
 
 PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps")
 I_B, I_K3, I_KH, I_BH, I_BT, I_F, I_RR, I_EC, I_G, I_ETA, I_EPS = range(11)
@@ -55,7 +55,7 @@ SW_FRICTION = 1
 SW_EXTREMUM = 2
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _geometry(y, p):
     """Radius, unit normal, unit tangent, radial speed, tangential contact speed."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
@@ -71,7 +71,7 @@ def _geometry(y, p):
     return R, nx, ny, Rd, vt
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _normal_force(R, Rd, p):
     """Hertz force ``F_r = kh (R-1)^{3/2} (1 + Bh R')`` and its partials dF/dR, dF/dR'."""
     d = R - 1.0
@@ -83,7 +83,7 @@ def _normal_force(R, Rd, p):
     return Fr, 1.5 * p[I_KH] * sq * damp, p[I_KH] * d * sq * p[I_BH]
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _external(s, y, p):
     """Forcing, weight and magnetic-support force (everything outside the contact)."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
@@ -96,7 +96,7 @@ def _external(s, y, p):
     return ax, ay
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _stick_force(s, y, p, R, nx, ny, Rd, vt):
     """Total tangential force that holds ``dv_t/dtau = 0`` (Filippov sliding)."""
     eta = p[I_ETA]
@@ -112,7 +112,7 @@ def rhs(s, y, p, mode, out):
     rhs_mode(s, y, p, mode[0], mode[1], out)
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def rhs_mode(s, y, p, contact, friction, out):
     """:func:`rhs` with the two mode entries as scalars (for callers without a mode
     array, such as a C callback of an external integrator)."""
@@ -137,7 +137,7 @@ def rhs_mode(s, y, p, contact, friction, out):
     out[3] = ay
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def jac_rows(s, y, p, mode):
     """Rows 2 and 3 of the analytic Jacobian ``d rhs / d y`` in the given mode.
 
@@ -244,7 +244,7 @@ HERTZ_SAFETY = 0.25
 EXIT_APPROACH = 0.75
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _hertz_step(gamma, c, w):
     """Step whose singular velocity error ``gamma c h^{5/2}`` has the scaled norm
     :data:`HERTZ_SAFETY` (``w``: norm of a unit velocity error along the contact's
@@ -255,7 +255,7 @@ def _hertz_step(gamma, c, w):
     return (HERTZ_SAFETY / e) ** 0.4
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     """Largest step from state ``y`` in contact that the Hertz singularity allows.
 
@@ -350,7 +350,7 @@ def switches(s, y, p, mode, g):
     g[2] = Rd
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def _friction_state(s, y, p):
     """Filippov choice of the friction state at a point in contact.
 

@@ -25,10 +25,10 @@ import numpy as np
 from numba import njit
 
 from . import duffing, rotor
-from .jitopts import ALLOC, LEAF
+from .jitopts import INNER, INNER_ALLOC
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def tangent_product(J, y, n, out):
     """``out[n + c n + i] = sum_j J[i, j] y[n + c n + j]`` for every tangent column ``c``."""
     m = (y.size - n) // n
@@ -41,7 +41,7 @@ def tangent_product(J, y, n, out):
             out[base + i] = acc
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def apply_saltation(y, n, fm, fp, grad, g_s):
     """Map every tangent column by ``S = I + (fp - fm) grad^T / (grad . fm + g_s)``.
 
@@ -66,7 +66,7 @@ def apply_saltation(y, n, fm, fp, grad, g_s):
             y[base + i] += (fp[i] - fm[i]) * coef
 
 
-@njit(**LEAF)
+@njit(**INNER)
 def fd_step(v):
     """Central-difference step for a variable of size ``v``."""
     return 1e-6 * max(1.0, abs(v))
@@ -74,7 +74,7 @@ def fd_step(v):
 
 # --- the rotor -------------------------------------------------------------------------
 
-@njit(**LEAF)
+@njit(**INNER)
 def rotor_rhs(s, y, p, mode, out):
     """Rotor state and tangent vectors (``y.size = 4 (1 + m)``)."""
     rotor.rhs(s, y, p, mode, out)
@@ -94,7 +94,7 @@ def rotor_rhs(s, y, p, mode, out):
         out[b + 3] = j30 * v0 + j31 * v1 + j32 * v2 + j33 * v3
 
 
-@njit(**ALLOC)
+@njit(**INNER_ALLOC)
 def rotor_transition(s, y, p, mode, which):
     """Mode change of the rotor plus the saltation map of the tangent vectors."""
     n = np.int64(4)  # not a literal: apply_saltation would be compiled for it alone
@@ -130,7 +130,7 @@ def rotor_transition(s, y, p, mode, which):
 
 # --- the Duffing oscillator (smooth: no terminal switches) ------------------------------
 
-@njit(**LEAF)
+@njit(**INNER)
 def duffing_rhs(s, y, p, mode, out):
     """Duffing state and tangent vectors (``y.size = 2 (1 + m)``)."""
     duffing.rhs(s, y, p, mode, out)
