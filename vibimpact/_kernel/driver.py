@@ -37,6 +37,7 @@ from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
                          STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
                          rk_step, settings)
 from .jitopts import LEAF, PIECE
+from .renormalise import renormalise
 from .sampling import next_period_sample, resume, samples, suspend
 
 #: scratch arrays of the loop (allocated by :func:`workspace`)
@@ -390,9 +391,29 @@ def _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_abs, s, y, y_end,
     return n_ev
 
 
+@njit(**PIECE)
+def _enter(model, p, mode, ks, y, f0, dense_m, T, nsw, counters):
+    """The start of :func:`integrate`'s loop (of each period of a Benettin run).
+
+    Returns the clock ``(k, s, h, steps in period, next dense sample)`` from ``ks`` and
+    the state flags' initial value False; the derivative at the start goes into ``f0``.
+    The flags (``at_event``: the step starts at a terminal event just located;
+    ``retry``: the step is retried shorter from the same state and mode; ``g0_ok``:
+    ``G[0]`` already holds the switching functions at the step's start, copied from the
+    end of the step before when nothing changed in between) start from a comparison, not
+    from the literal False: numba compiles the functions they are passed to once more
+    for a literal argument.
+    """
+    k, s, h = int(ks[0]), ks[1], ks[2]
+    model_rhs(model, s, y, p, mode, f0)
+    counters[C_RHS] += 1
+    steps_in_period, j_dense = resume(ks, s, dense_m, T)
+    return k, s, h, steps_in_period, j_dense, nsw < 0
+
+
 @njit(**LEAF)
 def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, log, n_ev,
-              dense_m, dense, counters):
+              dense_m, dense, counters, renorm):
     """Integrate from ``(k, s) = ks[:2]`` until the start of forcing period ``k_end``.
 
     Parameters
@@ -434,6 +455,13 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         ``((k_end - k_record) dense_m + 1, n)``.
     counters : int64 array, shape (5,)
         Accumulates steps, RHS evaluations, rejected steps, events, observed crossings.
+    renorm : tuple ``(n_state, bound, logs, states)``
+        A Benettin run when ``logs`` (float64, shape (N, m)) has rows: the model is a
+        variational model with ``m`` tangent columns, and ``N`` periods are integrated one
+        at a time (``k_end``, ``k_record``, ``n_ev`` and ``dense_m`` are ignored; ``s``
+        must be 0), each ended by :func:`.renormalise.renormalise` (its ``log |R_ii|``
+        into ``logs``, the state into ``states``, shape (N, n_state), checked against
+        ``bound``).  ``logs`` of shape (0, 0): a plain run.
 
     Returns
     -------
@@ -442,6 +470,8 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         empty the log and call again.
     n_ev : int
         Entries of the log used.
+    done : int
+        Periods renormalised (a Benettin run; 0 otherwise).
     """
     model, terminal, p, omega = problem
     cfg = settings(opts, method[0], method[8], omega, y.size)
@@ -449,111 +479,115 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
     nsw = terminal.size
     cap = log[0].size
     f0, y1, G = ws.f0, ws.y1, ws.G
-    k, s, h = int(ks[0]), ks[1], ks[2]
-    model_rhs(model, s, y, p, mode, f0)
-    counters[C_RHS] += 1
-    status = OK
-    steps_in_period, j_dense = resume(ks, s, dense_m, T)
-    zeno = 0
-    t_since_event = h_cap = t_to_switch = 1e300
-    # the state flags start from a comparison, not from the literal False: numba would
-    # compile the functions they are passed to once more for a literal argument
-    at_event = nsw < 0  # the step starts at a terminal event just located
-    retry = at_event  # the step is retried shorter from the same state and mode
-    # G[0] already holds the switching functions at the step's start (copied from the end
-    # of the step before when nothing changed in between: one evaluation fewer per step)
-    g0_ok = at_event
-    while k < k_end:
-        status = _room(n_ev, nsw, cap, steps_in_period, cfg.max_steps)
-        if status != OK:
-            break
-        h, h_prop, lands = _step_size(problem, cfg, y, mode, f0, k, k_end, s, h, h_cap,
-                                      min(t_since_event, t_to_switch), at_event, retry)
-        retry = False
-        if h < 1e-13 * T and not lands:
-            status = STEP_UNDERFLOW
-            break
-        accepted, h, h_next = _attempt(problem, method, cfg, ws, mode, s, y, h, h_prop,
-                                       lands, counters)
-        if not accepted:
-            if h < 1e-13 * T:
+    n_periods = renorm[2].shape[0]
+    done = n_periods - n_periods  # 0, not a literal (see the state flags below)
+    while True:  # one pass for a plain run, one per period for a Benettin run
+        if n_periods > 0:
+            k_end = int(ks[0]) + 1
+            k_record = k_end
+            n_ev = done - done
+        k, s, h, steps_in_period, j_dense, at_event = _enter(model, p, mode, ks, y, f0,
+                                                             dense_m, T, nsw, counters)
+        status, zeno = OK, 0
+        t_since_event = h_cap = t_to_switch = 1e300
+        retry = g0_ok = at_event  # (see _enter)
+        while k < k_end:
+            status = _room(n_ev, nsw, cap, steps_in_period, cfg.max_steps)
+            if status != OK:
+                break
+            h, h_prop, lands = _step_size(problem, cfg, y, mode, f0, k, k_end, s, h, h_cap,
+                                          min(t_since_event, t_to_switch), at_event, retry)
+            retry = False
+            if h < 1e-13 * T and not lands:
                 status = STEP_UNDERFLOW
                 break
-            retry = True
-            continue
-        status = _check_state(y1, cfg.n_bound, cfg.bound)
-        if status != OK:
-            break
-        counters[C_STEPS] += 1
-        steps_in_period += 1
-        at_event = False
+            accepted, h, h_next = _attempt(problem, method, cfg, ws, mode, s, y, h, h_prop,
+                                           lands, counters)
+            if not accepted:
+                if h < 1e-13 * T:
+                    status = STEP_UNDERFLOW
+                    break
+                retry = True
+                continue
+            status = _check_state(y1, cfg.n_bound, cfg.bound)
+            if status != OK:
+                break
+            counters[C_STEPS] += 1
+            steps_in_period += 1
+            at_event = False
 
-        # --- events ------------------------------------------------------------------
-        ready = False  # the continuous extension of the step is prepared
-        th_end = 1.0
-        which = np.int64(-1)  # not literals: the functions they reach would compile twice
-        n_obs = np.int64(0)
-        seen = detect(model, p, mode, terminal, s, h, y, f0, y1, ws.f1r, G, ws.ytmp,
-                      ws.flag, ws.lo, ws.hi, g0_ok)
-        g0_ok = True
-        if seen:
-            imm = _first_immediate(ws.flag)
-            if imm >= 0:
+            # --- events ------------------------------------------------------------------
+            ready = False  # the continuous extension of the step is prepared
+            th_end = 1.0
+            which = np.int64(-1)  # not literals: the functions they reach would compile twice
+            n_obs = np.int64(0)
+            seen = detect(model, p, mode, terminal, s, h, y, f0, y1, ws.f1r, G, ws.ytmp,
+                          ws.flag, ws.lo, ws.hi, g0_ok)
+            g0_ok = True
+            if seen:
+                imm = _first_immediate(ws.flag)
+                if imm >= 0:
+                    zeno += 1
+                    if zeno > _ZENO_LIMIT:
+                        status = ZENO
+                        break
+                    outcome, n_ev = _switch_now(problem, cfg, ws, log, n_ev, mode, k, k_record,
+                                                s, y, h, imm, counters)
+                    g0_ok = outcome == _RETRY_SAME_START
+                    if outcome == _SWITCHED:
+                        at_event = True
+                    else:
+                        h_cap = 0.125 * h
+                        retry = True
+                    continue
+                which, th_end, n_obs = _locate(problem, method, cfg, ws, mode, s, y, h,
+                                               counters)
+                ready = True
+                if which >= 0:
+                    lands = False
+            if th_end > 0.0:
+                zeno = 0
+            else:
+                # an event located at the very start of the step: time does not advance, so
+                # it counts towards the Zeno guard like an immediate switch
                 zeno += 1
                 if zeno > _ZENO_LIMIT:
                     status = ZENO
                     break
-                outcome, n_ev = _switch_now(problem, cfg, ws, log, n_ev, mode, k, k_record,
-                                            s, y, h, imm, counters)
-                g0_ok = outcome == _RETRY_SAME_START
-                if outcome == _SWITCHED:
-                    at_event = True
-                else:
-                    h_cap = 0.125 * h
-                    retry = True
-                continue
-            which, th_end, n_obs = _locate(problem, method, cfg, ws, mode, s, y, h,
-                                           counters)
-            ready = True
-            if which >= 0:
-                lands = False
-        if th_end > 0.0:
-            zeno = 0
-        else:
-            # an event located at the very start of the step: time does not advance, so
-            # it counts towards the Zeno guard like an immediate switch
-            zeno += 1
-            if zeno > _ZENO_LIMIT:
-                status = ZENO
-                break
-        h_cap = 1e300
-        # distance in time to the nearest terminal surface (for the graded RK4 steps)
-        t_since_event = 0.0 if which >= 0 else t_since_event + h
-        t_to_switch = 1e300 if which >= 0 else _time_to_switch(terminal, G, h)
-        n_ev = _log_observers(problem, method, cfg, ws, log, n_ev, mode, k, k_record, s, y,
-                              h, n_obs, counters)
+            h_cap = 1e300
+            # distance in time to the nearest terminal surface (for the graded RK4 steps)
+            t_since_event = 0.0 if which >= 0 else t_since_event + h
+            t_to_switch = 1e300 if which >= 0 else _time_to_switch(terminal, G, h)
+            n_ev = _log_observers(problem, method, cfg, ws, log, n_ev, mode, k, k_record, s, y,
+                                  h, n_obs, counters)
 
-        # --- samples, the step's end is the next step's start --------------------------
-        s_end = T if lands else s + th_end * h
-        y_end = y1 if which < 0 else ws.yev
-        j_dense = samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
-                           lands, th_end, y_end, dense_m, dense, j_dense, strobe, ready,
-                           counters)
-        t_event = k * T + s + th_end * h
-        k_start = k
-        if lands or s_end >= T:
-            k += 1
-            j_dense = next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T)
-            steps_in_period = 0
-            s = 0.0 if lands else s_end - T
-        else:
-            s = s_end
-        # the switching functions at the step's end are the next step's unless the mode
-        # changes there or the local time wraps round to 0
-        g0_ok = which < 0 and k == k_start
-        n_ev = _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_event, s, y, y_end,
-                           which, g0_ok, counters)
-        at_event = which >= 0
-        h = h_next
-    suspend(ks, k, s, h, steps_in_period, j_dense, dense_m)
-    return status, n_ev
+            # --- samples, the step's end is the next step's start --------------------------
+            s_end = T if lands else s + th_end * h
+            y_end = y1 if which < 0 else ws.yev
+            j_dense = samples(problem, method, cfg, ws, mode, k, k_record, s, y, h, s_end,
+                               lands, th_end, y_end, dense_m, dense, j_dense, strobe, ready,
+                               counters)
+            t_event = k * T + s + th_end * h
+            k_start = k
+            if lands or s_end >= T:
+                k += 1
+                j_dense = next_period_sample(j_dense, k, k_record, lands, s_end, dense_m, T)
+                steps_in_period = 0
+                s = 0.0 if lands else s_end - T
+            else:
+                s = s_end
+            # the switching functions at the step's end are the next step's unless the mode
+            # changes there or the local time wraps round to 0
+            g0_ok = which < 0 and k == k_start
+            n_ev = _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_event, s, y, y_end,
+                               which, g0_ok, counters)
+            at_event = which >= 0
+            h = h_next
+        suspend(ks, k, s, h, steps_in_period, j_dense, dense_m)
+        if n_periods == 0 or status != OK:
+            break
+        status = renormalise(y, renorm[0], renorm[1], renorm[2], renorm[3], done)
+        done += 1
+        if status != OK or done == n_periods:
+            break
+    return status, n_ev, done

@@ -1,9 +1,11 @@
 """Lyapunov-exponent loops over forcing periods (``@njit``).
 
-:func:`benettin` integrates the variational model (:mod:`.variational`) one forcing period
-at a time and re-orthonormalises the tangent vectors by a QR factorisation after each
-(Benettin, Galgani, Giorgilli & Strelcyn 1980, Meccanica 15, 9-30; Shimada & Nagashima
-1979, Prog. Theor. Phys. 61, 1605).  :func:`two_trajectory` follows a reference and a
+The Benettin loop (the variational model one forcing period at a time, its tangent
+vectors re-orthonormalised by QR after each: Benettin, Galgani, Giorgilli & Strelcyn
+1980, Meccanica 15, 9-30; Shimada & Nagashima 1979, Prog. Theor. Phys. 61, 1605) is a
+mode of :func:`.driver.integrate` itself (its ``renorm`` argument, with
+:func:`.renormalise.renormalise`): a separate loop calling the integrator would compile
+the whole integrator once more inside it.  :func:`two_trajectory` follows a reference and a
 perturbed trajectory and renormalises their separation after each period (Benettin,
 Galgani & Strelcyn 1976, Phys. Rev. A 14, 2338).  Both write one row of logarithmic growth
 factors per period; the caller turns them into exponents and error bars.
@@ -30,63 +32,6 @@ def _period_buffers(n, n_mode):
 
 
 @njit(cache=True, error_model="numpy")
-def benettin(problem, method, opts, ws, y, mode, ks, n_state, bound, n_periods, logs,
-             states, counters):
-    """Integrate ``n_periods`` forcing periods with QR re-orthonormalisation after each.
-
-    Parameters
-    ----------
-    problem, method, opts, ws
-        As in :func:`.driver.integrate`; the model is a *variational* model
-        (:mod:`.dispatch`).
-    y : float64 array, shape (n_state (1 + m),)
-        State followed by ``m`` orthonormal tangent columns; overwritten.
-    ks : float64 array, shape (3,)
-        ``(k, s, h)`` as in :func:`.driver.integrate`; ``s`` must be 0.
-    bound : float
-        Divergence bound on the model state (the tangent part is unbounded).
-    logs : float64 array, shape (n_periods, m)
-        Row ``j`` receives ``log |R_ii|`` of period ``j``.
-    states : float64 array, shape (n_periods, n_state)
-        Row ``j`` receives the state at the end of period ``j`` (the stroboscopic point),
-        from which the caller tells a periodic orbit (its points repeat); the tangent
-        vectors and ``logs`` do not depend on it.
-
-    Returns
-    -------
-    status : int
-    done : int
-        Periods completed (rows of ``logs`` written).
-    """
-    n = n_state
-    m = (y.size - n) // n
-    strobe, log, dense = _period_buffers(y.size, mode.size)
-    none = strobe.shape[0] - 1  # 0, not a literal (one compiled integrate for every caller)
-    Q = np.empty((n, m))
-    for j in range(n_periods):
-        k_next = int(ks[0]) + 1
-        status, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
-                              strobe, log, none, none, dense, counters)
-        if status != OK:
-            return status, j
-        for i in range(n):
-            if abs(y[i]) > bound:
-                return DIVERGED_BOUND, j
-            states[j, i] = y[i]
-        for c in range(m):
-            for i in range(n):
-                Q[i, c] = y[n + c * n + i]
-        q, r = qr(Q)
-        for c in range(m):
-            rc = r[c, c]
-            logs[j, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf
-            sg = 1.0 if rc >= 0.0 else -1.0
-            for i in range(n):
-                y[n + c * n + i] = sg * q[i, c]
-    return OK, n_periods
-
-
-@njit(cache=True, error_model="numpy")
 def two_trajectory(problem, method, opts, ws, y, mode, ks, y2, mode2, ks2, d0, scale,
                    bound, n_periods, logs, counters):
     """Reference ``y`` and perturbed ``y2`` over ``n_periods`` periods, renormalised to ``d0``.
@@ -101,14 +46,15 @@ def two_trajectory(problem, method, opts, ws, y, mode, ks, y2, mode2, ks2, d0, s
     n = y.size
     strobe, log, dense = _period_buffers(n, mode.size)
     none = strobe.shape[0] - 1  # 0, not a literal (one compiled integrate for every caller)
+    plain = (none, 0.0, np.empty((0, 0)), np.empty((0, 0)))  # no renormalisation
     for j in range(n_periods):
         k_next = int(ks[0]) + 1
-        status, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
-                              strobe, log, none, none, dense, counters)
+        status, _, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
+                                 strobe, log, none, none, dense, counters, plain)
         if status != OK:
             return status, j
-        status, _ = integrate(problem, method, opts, ws, y2, mode2, ks2, k_next, k_next,
-                              strobe, log, none, none, dense, counters)
+        status, _, _ = integrate(problem, method, opts, ws, y2, mode2, ks2, k_next, k_next,
+                                 strobe, log, none, none, dense, counters, plain)
         if status != OK:
             return status, j
         d = 0.0

@@ -189,3 +189,4 @@ def user_transition(rhs, switches, transition, n, n_switch, s, y, p, mode, which
     fp = np.empty(n)
     rhs(s, x, p, mode, fp)
     apply_saltation(y, n, fm, fp, grad, g_s)
+
