@@ -33,7 +33,6 @@ from . import integrator as _integrator
 from . import tableaux as _tab
 from .driver import integrate as _integrate
 from .driver import workspace as _workspace
-from .lyapunov import benettin as _benettin
 from .lyapunov import qr_growth
 from .recurrence import suffix_lag_residuals
 from .linalg import dot, eigvals, lstsq, matmul, solve
@@ -45,6 +44,9 @@ METHODS = tuple(_tab.METHOD_IDS)
 OK = _integrator.OK
 LOG_FULL = _integrator.LOG_FULL
 N_COUNTERS = _integrator.N_COUNTERS
+
+#: the ``renorm`` argument of a plain (not Benettin) run of :func:`.driver.integrate`
+_PLAIN = (0, 0.0, np.empty((0, 0)), np.empty((0, 0)))
 
 _EMPTY1 = np.zeros(1)
 _EMPTY2 = np.zeros((1, 1))
@@ -329,8 +331,8 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
     ws = _workspace(n, problem.terminal.size, mode.size)
     status = LOG_FULL
     while status == LOG_FULL:
-        status, n_ev = _integrate(*lead, ws, y, mode, clock, k_end, k_record, strobe,
-                                  log.arrays(), 0, dense_m, dense, count)
+        status, n_ev, _ = _integrate(*lead, ws, y, mode, clock, k_end, k_record, strobe,
+                                     log.arrays(), 0, dense_m, dense, count, _PLAIN)
         log.keep(n_ev)
     return status, log
 
@@ -338,13 +340,30 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
 def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods, logs,
              states, count):
     """``n_periods`` periods of the variational model ``problem`` with QR
-    re-orthonormalisation after each (:func:`.lyapunov.benettin`).
+    re-orthonormalisation after each (the ``renorm`` mode of :func:`.driver.integrate`).
 
-    Returns ``(status, done)``.
+    ``logs`` (shape (>= n_periods, m)) receives ``log |R_ii|`` per period and ``states``
+    (shape (>= n_periods, n_state)) the state at each period's end; ``clock`` must be at
+    a period's start.  Returns ``(status, done)``.
     """
-    ws = _workspace(y.size, problem.terminal.size, mode.size)
-    return _benettin(*_leading(problem, method, options), ws, y, mode, clock, n_state,
-                     bound, n_periods, logs, states, count)
+    n = y.size
+    if n_periods <= 0:
+        return OK, 0
+    ws = _workspace(n, problem.terminal.size, mode.size)
+    # nothing is recorded before a period's end: the log never fills
+    log = EventLog(64, n, problem.n_mode)
+    renorm = (int(n_state), float(bound), _rows(logs, n_periods), _rows(states, n_periods))
+    status, _, done = _integrate(*_leading(problem, method, options), ws, y, mode, clock, 0,
+                                 0, np.empty((1, n)), log.arrays(), 0, 0, np.empty((1, n)),
+                                 count, renorm)
+    return status, done
+
+
+def _rows(a, n):
+    """The first ``n`` rows of a C-contiguous float64 array, as a view (written to)."""
+    if a.dtype != np.float64 or a.ndim != 2 or not a.flags.c_contiguous:
+        raise ValueError("benettin's logs and states must be C-contiguous float64 arrays")
+    return a[:n]
 
 
 def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, d0, scale,
@@ -356,6 +375,27 @@ def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, 
                            mode2, clock2, d0, scale, bound, n_periods, logs, count)
 
 
+def compile_array_routines():
+    """Compile (or load from numba's disk cache) the array routines the analyses call --
+    :func:`dot`, :func:`matmul`, :func:`lstsq`, :func:`solve`, :func:`eigvals`,
+    :func:`suffix_lag_residuals` -- for the argument types the analyses call them with
+    (C-contiguous float64 arrays, a float, an int)."""
+    a, v = np.eye(2), np.ones(2)
+    dot(v, v)
+    matmul(a, a)
+    lstsq(a, a, 1e-10)
+    solve(a, v)
+    eigvals(a)
+    suffix_lag_residuals(np.zeros((3, 2)), 1, np.empty((3, 1)), np.empty((3, 2)),
+                         np.empty((3, 2)), np.empty(3))
+
+
+def array_routines_compiled():
+    """True when this process has every routine of :func:`compile_array_routines`."""
+    return all(f.signatures for f in (dot, matmul, lstsq, solve, eigvals,
+                                      suffix_lag_residuals))
+
+
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "compile_array_routines", "array_routines_compiled", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]

@@ -23,6 +23,7 @@ from ..run import Status
 from ..sweeps.point import REGIME_CODES, SweepSettings, analyse_point
 from ..sweeps.predict import extrapolate_branch
 from ..system import to_system, with_frequency
+from . import warmup
 
 PERIODIC = REGIME_CODES[Label.PERIODIC]
 
@@ -157,6 +158,7 @@ def plan(rows, etas, dirs, settings, state0, *, blocks=1, continuation=True,
         In row, direction, block order; blocks whose points are all in ``done`` are left
         out (and need no seed).
     """
+    warmup.start()  # the points' array routines compile on another core meanwhile
     done = done or {}
     n = etas.size
     starts = block_starts(n, blocks)

@@ -1,0 +1,42 @@
+"""Compiling, in a second process, what a request's points will need.
+
+A sweep or map first compiles the integrator in the process that plans it (its seeding
+pass integrates); the points then call a few array routines (least squares, eigenvalues,
+the recurrence residuals of period detection: :func:`vibimpact._kernel.boundary.
+compile_array_routines`) that the integrator does not use.  :func:`start` compiles those
+in a forked helper process, on another core, while the planning process compiles the
+integrator, so that the workers load them from numba's disk cache instead of compiling
+them after the seeding: a cold first run is shorter by their compilation time, a warm one
+is not changed (the helper loads them from the cache and exits).  Nothing a run computes
+depends on it.
+"""
+from __future__ import annotations
+
+import sys
+import threading
+
+_started = False
+
+
+def start():
+    """Start the helper once per process; Linux only (fork), and only while this process
+    runs no other thread (a fork then could copy a lock another thread holds)."""
+    global _started
+    from .._kernel import boundary as _kb
+
+    if (_started or not sys.platform.startswith("linux") or threading.active_count() > 1
+            or _kb.array_routines_compiled()):
+        return
+    import multiprocessing as mp
+
+    _started = True
+    mp.get_context("fork").Process(target=_compile, name="vibimpact-warm-up",
+                                   daemon=True).start()
+
+
+def _compile():
+    from .._kernel import boundary as _kb
+    from .executors import worker_setup
+
+    worker_setup()
+    _kb.compile_array_routines()
