@@ -67,6 +67,20 @@ def matmul(a, b):
 
 
 @njit(**ALLOC)
+def _reflect(v, k, bk, a, j0):
+    """Apply the Householder reflector ``I - bk v_k v_k^T`` (``v_k = v[k:, k]``) to the
+    columns ``j0:`` of ``a`` (rows ``k:``), in place."""
+    m = a.shape[0]
+    for j in range(j0, a.shape[1]):
+        s = 0.0
+        for i in range(k, m):
+            s += v[i, k] * a[i, j]
+        s *= bk
+        for i in range(k, m):
+            a[i, j] -= s * v[i, k]
+
+
+@njit(**ALLOC)
 def qr(a):
     """Reduced Householder QR of an ``(m, n)`` array, ``m >= n``: ``(q (m, n), r (n, n))``."""
     m, n = a.shape
@@ -90,26 +104,13 @@ def qr(a):
         if vv == 0.0:
             continue
         beta[k] = 2.0 / vv
-        for j in range(k, n):
-            s = 0.0
-            for i in range(k, m):
-                s += v[i, k] * r[i, j]
-            s *= beta[k]
-            for i in range(k, m):
-                r[i, j] -= s * v[i, k]
+        _reflect(v, k, beta[k], r, k)
     q = np.zeros((m, n))
     for i in range(n):
         q[i, i] = 1.0
     for k in range(n - 1, -1, -1):
-        if beta[k] == 0.0:
-            continue
-        for j in range(n):
-            s = 0.0
-            for i in range(k, m):
-                s += v[i, k] * q[i, j]
-            s *= beta[k]
-            for i in range(k, m):
-                q[i, j] -= s * v[i, k]
+        if beta[k] != 0.0:
+            _reflect(v, k, beta[k], q, 0)
     out = np.zeros((n, n))
     for i in range(n):
         for j in range(i, n):
