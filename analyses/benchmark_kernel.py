@@ -5,7 +5,7 @@ Run as ``python analyses/benchmark_kernel.py``; writes ``reports/performance.md`
 is measured by this script on the machine it states; nothing is copied in by hand.
 
 The trajectory: the first fig8 speed of ``CANDIDATE_ETAS`` whose attractor, reached from
-``START``, the classifier (:func:`vibimpact.analysis.classify_params`) labels periodic with
+``START``, the classifier (:func:`vibimpact.classify_params`) labels periodic with
 impacts at the current parameters (B and Ec change with calibrations, and with them which
 speeds are periodic); the label, period, impacts and exponent found are written into the
 report.
@@ -37,7 +37,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import vibimpact as vi  # noqa: E402
-from vibimpact.analysis import Label, classify_params  # noqa: E402
+from vibimpact.analysis import Label  # noqa: E402
+from vibimpact.points import classify_params  # noqa: E402
 from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -32,7 +32,7 @@ from vibimpact.engine import plan
 from vibimpact.engine.store import Checkpoint
 from vibimpact.maps.map2d import DONE
 from vibimpact.sweeps import parse_range
-from vibimpact.sweeps.point import REGIME_CODES, SweepSettings, analyse_point
+from vibimpact.points.point import REGIME_CODES, SweepSettings, analyse_point
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"

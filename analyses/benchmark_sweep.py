@@ -23,7 +23,7 @@ from _report import write_section
 import vibimpact as vi
 from vibimpact.params import DEFAULT_B, DEFAULT_EC
 from vibimpact.sweeps import format_intervals, parse_range
-from vibimpact.sweeps.point import REGIME_CODES
+from vibimpact.points.point import REGIME_CODES
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORT = ROOT / "reports" / "performance.md"
@@ -56,7 +56,7 @@ def counts_of(ds):
 def low_damping_section():
     """Time classify at the shipped defaults and at B = 0.005 against the previous
     defaults, same run, 2 workers."""
-    from vibimpact.sweeps.point import SweepSettings
+    from vibimpact.points.point import SweepSettings
 
     base = vi.presets.get("fig8")
     cases = [("previous defaults (reference)", base.replace(**PREVIOUS)),

@@ -75,7 +75,7 @@ def results():
         # classify_params is now the sweeps' point pipeline and returns (Regime, point
         # result): not the old (Regime, Run) of simulate(p, 200, 500) + classify, so
         # this entry cannot match a reference of the keyword API
-        cp = an.classify_params(s)
+        cp = vi.classify_params(s)
     else:
         lyap = an.lyapunov_spectrum(p, max_periods=2000)
         largest = an.largest_lyapunov(p, max_periods=2000)

@@ -23,8 +23,8 @@ from _report import write_section
 import vibimpact as vi
 from vibimpact.analysis import Label
 from vibimpact.sweeps import SweepSettings
-from vibimpact.sweeps.point import REGIME_CODES
-from vibimpact.sweeps.transient import CHUNK_AFTER_JUMP
+from vibimpact.points.point import REGIME_CODES
+from vibimpact.points.transient import CHUNK_AFTER_JUMP
 
 from benchmark_kernel import (CANDIDATE_ETAS, describe, is_impacting_periodic,  # noqa: E402
                               pick_orbit)

@@ -190,7 +190,7 @@ def floquet(ds8):
 
 def _floquet_cost():
     """CPU time of the Floquet step inside a serial 301-point fig8 sweep."""
-    import vibimpact.sweeps.measure as pt
+    import vibimpact.points.measure as pt
 
     orig, acc = pt.floquet, [0.0]
 

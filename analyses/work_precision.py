@@ -9,7 +9,7 @@ Every number in the section is measured by this script in the same run (issue 6,
     fig11 at eta = 1.02, all on the branch continued up from eta = 1.0 in steps of 0.02
     with 200 transient periods each, as ``tests/conftest.py::continued_state``).  Every
     trajectory's regime is decided in the run by the classifier
-    (:func:`vibimpact.analysis.classify_params`, see ``benchmark_kernel.label_orbit``) and
+    (:func:`vibimpact.classify_params`, see ``benchmark_kernel.label_orbit``) and
     written into the report; the fig8 speeds are the first of ``CASES``' candidate lists
     that the classifier labels periodic with impacts, and chaotic, at the current B and Ec
     (which change with calibrations):

@@ -7,7 +7,8 @@ import pytest
 
 import vibimpact as vi
 from conftest import preset
-from vibimpact.analysis import Label, Regime, classify, classify_params
+from vibimpact.analysis import Label, Regime, classify
+from vibimpact.points import classify_params
 from vibimpact.analysis.classify import decide
 
 

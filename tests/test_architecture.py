@@ -135,7 +135,7 @@ ANALYSERS = [
     ("vibimpact.analysis", "monodromy"),
     ("vibimpact.analysis", "continue_orbit"),
     ("vibimpact.analysis", "locate_bifurcation"),
-    ("vibimpact.analysis", "classify_params"),
+    ("vibimpact.points", "classify_params"),
     ("vibimpact.analysis", "strobe_map_jacobian"),
 ]
 
@@ -151,3 +151,37 @@ def test_analysers_take_a_system_and_at_most_8_further_parameters(module, name):
     assert params[0].name == "system", (name, params[0].name)
     further = [p for p in params[1:] if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
     assert len(further) <= 8, (name, [p.name for p in further])
+
+
+#: the package's layers, top to bottom: a module may import its own layer and those below
+LAYERS = (("sweeps", "maps", "plotting"), ("engine",), ("points",), ("analysis",),
+          ("system",), ("simulation",), ("_kernel",))
+
+
+def _layer(dotted):
+    parts = dotted.split(".")
+    top = parts[1] if len(parts) > 1 else ""
+    for i, names in enumerate(LAYERS):
+        if top in names:
+            return i
+    return None
+
+
+def test_packages_import_no_layer_above_their_own():
+    """Hypothesis: sweeps and maps stand on the engine, the engine on the point pipeline,
+    the point pipeline on the analysers, they on System, System on simulate, simulate on
+    the kernel; no module imports from a layer above its own (so no two packages import
+    each other)."""
+    bad = []
+    for path in _modules():
+        own = _layer(_module_name(path))
+        if own is None:
+            continue
+        for mod, name in _imports(path):
+            if not mod.startswith("vibimpact"):
+                continue
+            sub = f"{mod}.{name}" if name else mod
+            other = _layer(sub if name and _is_module(sub) else mod)
+            if other is not None and other < own:
+                bad.append(f"{path.relative_to(PKG)}: {mod}")
+    assert not bad, bad

@@ -272,12 +272,13 @@ def _system(**kw):
 
 
 def _analyse(name, *args, system=True, **kw):
-    """Call analyser ``name`` of vibimpact.analysis on fig8 (a System unless told)."""
+    """Call analyser ``name`` of vibimpact.analysis (or vibimpact.points) on fig8 (a
+    System unless told)."""
     import vibimpact as vi
-    from vibimpact import analysis
+    from vibimpact import analysis, points
 
     first = _system() if system else vi.presets.get("fig8")
-    return getattr(analysis, name)(first, *args, **kw)
+    return getattr(analysis if hasattr(analysis, name) else points, name)(first, *args, **kw)
 
 
 def _averaging(**kw):

@@ -51,7 +51,7 @@ def test_duffing_map_and_classification_agree_with_the_sweep():
     of the same rows a sweep gives (the row at gamma = 0.35 equals a one-block sweep), it
     shows the period doubling between gamma = 0.30 (P1) and 0.35 (P2) at omega = 1.33,
     and classify_params labels that point as the map does."""
-    from vibimpact.analysis import classify_params
+    from vibimpact.points import classify_params
 
     system = vi.System(vi.DuffingParams())
     etas = np.array([1.32, 1.33, 1.34])

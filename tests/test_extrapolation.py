@@ -107,8 +107,8 @@ def test_stability_check_tells_the_saddle_from_the_attractor(saddle_case):
     """Hypothesis: the sweep's stability check (monodromy matrix with the Lyapunov runs'
     tangent tolerance) calls the period-1 saddle not attracting and the period-2 orbit
     attracting, as the shooting's own multipliers do."""
-    from vibimpact.sweeps.point import point_system
-    from vibimpact.sweeps.transient import attracting
+    from vibimpact.points.point import point_system
+    from vibimpact.points.transient import attracting
 
     p, ds = saddle_case
     x = ds.final_state.values[-1]

@@ -15,7 +15,7 @@ import pytest
 import vibimpact as vi
 from vibimpact.analysis import shoot_periodic_orbit
 from vibimpact.analysis.settling import contraction_rate
-from vibimpact.sweeps.point import REGIME_CODES, SweepSettings
+from vibimpact.points.point import REGIME_CODES, SweepSettings
 from vibimpact.analysis.classify import Label
 
 ETA = np.round(np.arange(1.30, 1.50 + 1e-9, 0.01), 6)  # 21 speeds above resonance
@@ -175,7 +175,7 @@ def test_points_that_repeat_only_because_they_move_slowly_have_not_settled():
     (1e-6 of their scale) repeat to it, yet at |mu| = 0.999 the geometric tail of those
     steps, step mu / (1 - mu), is 1000 times longer: not settled.  At |mu| = 0.5 the same
     steps leave a tail within the tolerance: settled."""
-    from vibimpact.sweeps.settle import unsettled_repeat
+    from vibimpact.points.settle import unsettled_repeat
 
     k = np.arange(150)[:, None]
     limit = np.array([[0.8, -0.1, 0.3, 0.9]])

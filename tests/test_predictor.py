@@ -6,7 +6,7 @@ import pytest
 import vibimpact as vi
 from vibimpact.analysis import shoot_periodic_orbit
 from vibimpact.sweeps import SweepSettings, analyse_point
-from vibimpact.sweeps.predict import extrapolate_branch
+from vibimpact.points.predict import extrapolate_branch
 
 FIG8 = vi.presets.get("fig8")
 

@@ -31,14 +31,15 @@ _EXPORTS = {
     "analysis": ("analysis", None),
     "sweep": ("sweeps.sweep", "sweep"),
     "intervals": ("sweeps.dataset", "intervals"),
-    "SweepSettings": ("sweeps.point", "SweepSettings"),
+    "SweepSettings": ("points.point", "SweepSettings"),
+    "classify_params": ("points.pipeline", "classify_params"),
     "transition_types": ("sweeps.transitions", "transition_types"),
     "map2d": ("maps.map2d", "map2d"),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System",
-           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings",
+           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
            "map2d", "__version__"]
 

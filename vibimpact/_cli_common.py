@@ -80,7 +80,7 @@ def check_output(path, overwrite, what):
 
 
 def parse_analyses(text):
-    from .sweeps.point import ANALYSES
+    from .points.point import ANALYSES
 
     names = [a.strip() for a in str(text).split(",") if a.strip()]
     if not names:

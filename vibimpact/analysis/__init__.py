@@ -19,8 +19,6 @@
 :func:`test01`              Gottwald--Melbourne 0-1 test for chaos
 :func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED,
                             UNSETTLED)
-:func:`classify_params`     one parameter point through the sweeps' point pipeline
-                            (:mod:`vibimpact.pipeline`), classified
 :func:`extrapolate_limit`   limit of a converging map iteration (minimal polynomial
                             extrapolation)
 :func:`monodromy`           Jacobian of the n-fold stroboscopic map (variational eqs.)
@@ -52,7 +50,7 @@ from .continuation import Bifurcation, Branch, Steps, continue_orbit, locate_bif
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
-    "Label", "LyapunovResult", "Regime", "classify", "classify_params", "contact_arcs",
+    "Label", "LyapunovResult", "Regime", "classify", "contact_arcs",
     "detect_period", "extrapolate_limit", "impact_count", "impact_map", "impact_statistics",
     "largest_lyapunov", "lyapunov_from_jacobians", "lyapunov_from_series",
     "lyapunov_spectrum", "poincare_section", "strobe_map_jacobian", "test01",
@@ -62,12 +60,3 @@ __all__ = [
     "contraction_rate", "torus_evidence", "Averaging", "Steps",
 ]
 
-
-def __getattr__(name):
-    # classify_params runs the sweeps' point pipeline, which sits above this package:
-    # imported on first use, so that importing vibimpact.analysis does not import it
-    if name == "classify_params":
-        from ..pipeline import classify_params
-        globals()[name] = classify_params
-        return classify_params
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

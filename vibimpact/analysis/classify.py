@@ -58,7 +58,7 @@ class DecisionRule:
 
     1. a non-finite or diverged run is DIVERGED;
     2. a period ``n`` found by the period test (or by Newton shooting confirmed by
-       integration, :mod:`vibimpact.sweeps.settle`) is PERIODIC with that ``n``;
+       integration, :mod:`vibimpact.points.settle`) is PERIODIC with that ``n``;
        confidence 1, lowered to 0.5 if a significantly positive exponent contradicts it;
     3. with an exponent ``lambda`` (per forcing period ``lambda T``, error ``sigma T``):
        significantly positive -> CHAOTIC; significantly negative -> UNSETTLED (an

@@ -22,14 +22,13 @@ Which executor runs a plan never changes a number.
 """
 from __future__ import annotations
 
-import os
 import queue as _queue
-import signal
 import sys
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
 from . import plan
+from .children import worker_setup
 
 
 class Serial:
@@ -39,21 +38,6 @@ class Serial:
         for job in make_jobs(None):
             for task, results in zip(job, plan.run_job(job, on_point)):
                 on_task(task, results)
-
-
-def worker_setup():
-    """Set-up of a worker or manager process: Ctrl-C is the parent's to handle, SIGTERM
-    ends it (no handler inherited by fork), and it dies with the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if sys.platform.startswith("linux"):
-        try:  # PR_SET_PDEATHSIG: SIGKILL this process when the parent process dies
-            import ctypes
-            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
-        except (OSError, AttributeError):
-            pass
-        if os.getppid() == 1:  # the parent died before the line above
-            os._exit(1)
 
 
 def run_job_streaming(job, points):

@@ -20,8 +20,8 @@ import numpy as np
 
 from ..analysis.classify import DecisionRule, Label
 from ..run import Status
-from ..sweeps.point import REGIME_CODES, SweepSettings, analyse_point
-from ..sweeps.predict import extrapolate_branch
+from ..points.point import REGIME_CODES, SweepSettings, analyse_point
+from ..points.predict import extrapolate_branch
 from ..system import to_system, with_frequency
 from . import warmup
 

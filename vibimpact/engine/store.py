@@ -10,7 +10,7 @@ Layout
 ``<direction>_<row>_<start>-<stop>.npz``
     An *entry*: finished points ``start .. stop - 1`` (sweep order) of the stream
     ``(row, direction)``, each point the result dict of
-    :func:`vibimpact.sweeps.point.analyse_point` (stacked field by field), with the
+    :func:`vibimpact.points.point.analyse_point` (stacked field by field), with the
     request's fingerprint and its own indices (row, direction, positions, grid indices).
     A sweep saves every point as its own entry the moment it is finished; a map saves one
     entry per row.

@@ -36,7 +36,7 @@ def start():
 
 def _compile():
     from .._kernel import boundary as _kb
-    from .executors import worker_setup
+    from .children import worker_setup
 
     worker_setup()
     _kb.compile_array_routines()

@@ -1,7 +1,7 @@
 """Frequency sweeps: per-point analysis, continuation in blocks (run by
 :mod:`vibimpact.engine`), datasets and the labelled interval map."""
 from .dataset import format_intervals, intervals, to_dataset
-from .point import ANALYSES, SweepSettings, analyse_point
+from ..points.point import ANALYSES, SweepSettings, analyse_point
 from .sweep import DIRECTIONS, continued_state, parse_range, sweep
 
 __all__ = ["ANALYSES", "DIRECTIONS", "SweepSettings", "analyse_point", "continued_state", "format_intervals",

@@ -15,7 +15,7 @@ import numpy as np
 from .. import __version__
 from ..analysis.classify import Label
 from ..system import param_dict, to_system
-from .point import (CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES,
+from ..points.point import (CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES,
                     REGIME_FLAGS, SCALARS)
 
 #: variable -> (dtype, units, long_name)

@@ -28,7 +28,7 @@ from .. import _validate as _v
 from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
-from .point import ANALYSES, SweepSettings
+from ..points.point import ANALYSES, SweepSettings
 
 DIRECTIONS = ("up", "down", "both")
 

@@ -60,7 +60,7 @@ from .. import _validate as _v
 from ..simulation import simulate
 from ..system import System
 from .dataset import label_text
-from .point import REGIME_CODES, SweepSettings, analyse_point
+from ..points.point import REGIME_CODES, SweepSettings, analyse_point
 
 __all__ = ["TYPES", "transition_types", "format_transitions"]
 

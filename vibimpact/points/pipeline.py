@@ -1,24 +1,24 @@
 """One parameter point, classified: the sweeps' point pipeline for any :class:`System`.
 
-:func:`classify_params` runs :func:`vibimpact.sweeps.point.analyse_point`, the pipeline
+:func:`classify_params` runs :func:`vibimpact.points.point.analyse_point`, the pipeline
 every sweep and map point goes through (transient ended early on a converged orbit,
 extrapolation jumps, shooting on slowly settling transients, the record, the Lyapunov
 exponent and the 0-1 test only where no period is found, the torus test), and returns
 its :class:`~vibimpact.analysis.Regime`.  So a point classified alone gets the label a
 sweep gives it from the same state.
 
-It sits above :mod:`vibimpact.analysis` and :mod:`vibimpact.sweeps` (it uses both);
-:mod:`vibimpact.analysis` re-exports :func:`classify_params` on first use.
+It uses :mod:`vibimpact.analysis` and the point pipeline beside it; it is exported as
+``vibimpact.classify_params`` and ``vibimpact.points.classify_params``.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import fields, replace
 
-from . import _validate as _v
-from .analysis.classify import Label, Regime
-from .sweeps.point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
-from .system import as_system
+from .. import _validate as _v
+from ..analysis.classify import Label, Regime
+from ..system import as_system
+from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
 
 __all__ = ["classify_params", "CLASSIFY_ANALYSES", "CLASSIFY_SETTINGS"]
 
@@ -74,7 +74,7 @@ def classify_params(system, state0=None, *, settings=None, guess=None, **changes
         periodic orbit).
     guess : ndarray, optional
         A predicted point of a period-1 orbit (see
-        :func:`vibimpact.sweeps.point.analyse_point`).
+        :func:`vibimpact.points.point.analyse_point`).
     **changes
         Fields of :class:`~vibimpact.SweepSettings` to change (``transient_max=500``,
         ``record=300``, ``lyapunov="always"``, ``lyap_target=1e-3``, ``rule=...``).
@@ -86,7 +86,7 @@ def classify_params(system, state0=None, *, settings=None, guess=None, **changes
         the rotor (no retainer).
     result : PointResult
         The point's full result, as a sweep stores it
-        (:class:`~vibimpact.sweeps.point.PointResult`: ``period``, ``final_state``,
+        (:class:`~vibimpact.points.point.PointResult`: ``period``, ``final_state``,
         ``reason``, ...).
 
     Notes
@@ -110,7 +110,7 @@ def classify_params(system, state0=None, *, settings=None, guess=None, **changes
     Examples
     --------
     >>> import vibimpact as vi
-    >>> from vibimpact.analysis import classify_params
+    >>> from vibimpact.points import classify_params
     >>> lin = vi.System(vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2,
     ...                                  omega=1.3))
     >>> str(classify_params(lin)[0])

@@ -4,9 +4,9 @@
 as soon as the stroboscopic points repeat (a converged periodic orbit), jumps ahead by
 extrapolation where they close in geometrically, tries a continuation's predicted orbit
 first, and shoots for the attractor where they contract too slowly to settle within the
-budget (:mod:`vibimpact.sweeps.settle`).  It returns a :class:`Settled`: the record (one
+budget (:mod:`vibimpact.points.settle`).  It returns a :class:`Settled`: the record (one
 run on the attractor, with events and dense samples as the request needs) and the
-evidence that decided it.  :mod:`vibimpact.sweeps.measure` turns that into the point's
+evidence that decided it.  :mod:`vibimpact.points.measure` turns that into the point's
 results.
 """
 from __future__ import annotations
@@ -292,7 +292,7 @@ def settle(system, x, settings, guess=None):
     settings : SweepSettings
     guess : ndarray, shape (d,), optional
         A predicted point of a period-1 orbit; see
-        :func:`vibimpact.sweeps.point.analyse_point`.
+        :func:`vibimpact.points.point.analyse_point`.
 
     Returns
     -------

@@ -128,7 +128,7 @@ def shoot(p, strobe, con: Contraction, settings, need_dense=False):
     Parameters
     ----------
     p : System
-        With the sweep's solver settings (:func:`vibimpact.sweeps.point.point_system`).
+        With the sweep's solver settings (:func:`vibimpact.points.point.point_system`).
     strobe : ndarray, shape (m, 4)
         The transient's stroboscopic points (the last one is where it stands).
     con : Contraction

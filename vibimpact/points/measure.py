@@ -1,7 +1,7 @@
 """The second half of a point's pipeline: measure what the request asks on the record.
 
-:func:`measure` takes the record :func:`vibimpact.sweeps.transient.settle` left and fills a
-:class:`~vibimpact.sweeps.point.PointResult`: period, impacts and contact arcs, response
+:func:`measure` takes the record :func:`vibimpact.points.transient.settle` left and fills a
+:class:`~vibimpact.points.point.PointResult`: period, impacts and contact arcs, response
 maxima and Poincaré samples (:func:`describe`), Floquet multipliers of a periodic point,
 the settling evidence, and only where no period was found the chaos tests (0-1 test,
 largest Lyapunov exponent), the torus test and a longer recurrence search; then the
@@ -38,7 +38,7 @@ def orbit_point(strobe):
     their neighbourhood.  The record's points approach the orbit geometrically (after a
     transient ended at the period test's tolerance, about 1e-7 of the orbit's size
     remains); the limit removes that residue, which the continuation's predictor would
-    amplify (:mod:`vibimpact.sweeps.predict`)."""
+    amplify (:mod:`vibimpact.points.predict`)."""
     z = strobe[-6:]
     last = z[-1]
     xs = extrapolate_limit(z) if z.shape[0] >= 3 else last
@@ -205,13 +205,13 @@ def _torus(res, system, settled, pts, x, lam, err, k, settings):
 
 
 def measure(system, settled, settings, res):
-    """Fill ``res`` (a :class:`~vibimpact.sweeps.point.PointResult`) from the record.
+    """Fill ``res`` (a :class:`~vibimpact.points.point.PointResult`) from the record.
 
     Parameters
     ----------
     system : System
     settled : Settled
-        From :func:`vibimpact.sweeps.transient.settle` (without failure).
+        From :func:`vibimpact.points.transient.settle` (without failure).
     settings : SweepSettings
     res : PointResult
 

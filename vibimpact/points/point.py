@@ -3,8 +3,8 @@
 :func:`analyse_point` is a pure function of ``(system, state0, settings)``: the same
 input gives the same numbers in any process, which makes parallel sweeps and resumed
 sweeps bit-identical to serial, uninterrupted ones.  It is two steps:
-:func:`vibimpact.sweeps.transient.settle` (the transient, ended early, and the record) and
-:func:`vibimpact.sweeps.measure.measure` (the analyses the request asks for), and it
+:func:`vibimpact.points.transient.settle` (the transient, ended early, and the record) and
+:func:`vibimpact.points.measure.measure` (the analyses the request asks for), and it
 returns a typed :class:`PointResult`.
 """
 from __future__ import annotations
@@ -59,12 +59,12 @@ class SweepSettings:
         unit circle (otherwise the transient resumes from before the jump, without
         further jumps); 0 turns this off.
     shoot : int
-        Newton-shooting attempts at most per point (:mod:`vibimpact.sweeps.settle`):
+        Newton-shooting attempts at most per point (:mod:`vibimpact.points.settle`):
         where the transient's stroboscopic points contract too slowly to settle within
         ``transient_max``, the orbit they approach is sought by shooting and accepted on
         evidence, confirmed by integrating from it; 0 turns this off.
     predict : int
-        Continuation's predictor (:mod:`vibimpact.sweeps.predict`): after this many
+        Continuation's predictor (:mod:`vibimpact.points.predict`): after this many
         consecutive period-1 points, a point is first tried from the polynomial
         extrapolation of their states (``guess`` of :func:`analyse_point`); 0 turns this
         off.  The default, 4 (a cubic), lands close enough for the first record to be
@@ -240,7 +240,7 @@ def analyse_point(p, state0, settings, guess=None):
     settings : SweepSettings
     guess : ndarray, shape (4,), optional
         A predicted point of a period-1 orbit (a continuation's predictor,
-        :func:`vibimpact.sweeps.predict.extrapolate_branch`).  The record is integrated
+        :func:`vibimpact.points.predict.extrapolate_branch`).  The record is integrated
         from it first; when its stroboscopic points already repeat (period 1 or 2, to the
         rule's tolerance, over the whole record) and the orbit attracts (Floquet
         multipliers inside the unit circle), that run is the record and the transient is
@@ -262,7 +262,7 @@ def analyse_point(p, state0, settings, guess=None):
     the points neither repeat nor allow an extrapolation jump, their contraction rate
     (:func:`vibimpact.analysis.settling.contraction_rate`) says how many periods they
     still need; when that exceeds what is left of ``transient_max``, the attractor is
-    sought by Newton shooting instead (:mod:`vibimpact.sweeps.settle`) and accepted only
+    sought by Newton shooting instead (:mod:`vibimpact.points.settle`) and accepted only
     on evidence, confirmed by integrating from it.  A motion that no evidence decides is
     labelled UNSETTLED with its contraction rate and the periods it would need.
     """
