@@ -16,9 +16,12 @@ Cases (all with ``vibimpact.simulate``, DOP853, default tolerances unless stated
   switches into stick), steps per period must stay bounded (< 5000).
 * **grazing**: fig8 at eta = 0.9 from rest, Ec chosen by bisection so that the steady orbit's
   maximum radius is 1 -+ 1e-4, 1e-5 and 1e-6 (measured on dense output, 20000 samples per
-  period, refined by a parabola through the three largest samples); no impact below, one
-  impact per period above (the steady orbit is period 1), at default settings and with a
-  smaller ``max_step``.
+  period, refined by a parabola through the three largest samples, after
+  ``GRAZE_TRANSIENT`` periods: at the low default damping the transient decays as
+  ``exp(-B tau / 2)`` and must have fallen far below 1e-6); no impact below, one impact per
+  period above (the steady orbit is period 1), at default settings and with a smaller
+  ``max_step``.  The bisection's bracket is checked: an Ec range that does not contain the
+  grazing point stops the script instead of reporting a meaningless Ec.
 * **1e5 periods** of free conservative motion with impacts (kh = 120, B = Bh = BT = f = Ec =
   G = 0, start (0, 0, 1.5, 0.5), rtol 1e-14, atol 1e-16), in 10 chunks of 1e4 periods, each
   continuing the last state: energy drift < 1e-7 relative, CPU time of the last chunk within
@@ -144,17 +147,33 @@ def case_friction():
             "" if stick else "no stick phase at this eta")
 
 
+#: periods from rest before the orbit counts as steady: the transient's factor
+#: exp(-B GRAZE_TRANSIENT pi / eta) at the presets' B is below 1e-8
+GRAZE_TRANSIENT = 400
+
+
 def graze_rmax(p, Ec):
-    """Max radius of the steady orbit (one period after 150 from rest), dense + parabola."""
-    run = vi.simulate(p.replace(Ec=Ec), periods=1, transient=150, dense=20000)
+    """Max radius of the steady orbit (one period after GRAZE_TRANSIENT from rest), dense
+    output refined by a parabola."""
+    run = vi.simulate(p.replace(Ec=Ec), periods=1, transient=GRAZE_TRANSIENT, dense=20000)
     R = np.hypot(run.dense[:, 0], run.dense[:, 1])
     i = int(np.argmax(R[1:-1])) + 1
     a, b, c = R[i - 1], R[i], R[i + 1]
     return b - (a - c) ** 2 / (8.0 * (a - 2.0 * b + c))
 
 
-def graze_ec(p, target, lo=0.17, hi=0.20, iters=45):
-    glo = graze_rmax(p, lo) - target
+def graze_ec(p, target, lo=0.05, hi=0.20, iters=45, scan=31):
+    """The smallest Ec where the steady orbit's maximum radius reaches ``target``: the first
+    sign change of ``max radius - target`` on ``scan`` values of Ec over ``[lo, hi]``,
+    refined by bisection (above grazing the maximum radius is not monotonic in Ec: a
+    bisection over the whole range can land on a jump of it)."""
+    grid = np.linspace(lo, hi, scan)
+    g = [graze_rmax(p, e) - target for e in grid]
+    cell = next((i for i in range(scan - 1) if (g[i] < 0) != (g[i + 1] < 0)), None)
+    if cell is None:
+        raise SystemExit(f"stress.py: the grazing radius {target} is not reached for Ec in "
+                         f"[{lo}, {hi}]")
+    lo, hi, glo = grid[cell], grid[cell + 1], g[cell]
     for _ in range(iters):
         mid = 0.5 * (lo + hi)
         g = graze_rmax(p, mid) - target
@@ -167,7 +186,7 @@ def graze_ec(p, target, lo=0.17, hi=0.20, iters=45):
 
 def case_grazing():
     base = vi.presets.get("fig8").replace(eta=0.9)
-    per, tr = 50, 150
+    per, tr = 50, GRAZE_TRANSIENT
     cases = [(d, None) for d in (-1e-4, -1e-5, -1e-6, 1e-6, 1e-5, 1e-4, 1e-3)]
     cases += [(1e-4, 50), (1e-5, 200)]     # the workaround: a smaller max_step (T / n)
     found = {}
