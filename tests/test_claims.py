@@ -45,7 +45,7 @@ def test_exact_reproduction_scores_one_and_agrees():
 
 
 def test_one_step_off_agrees_two_steps_do_not():
-    """An end one sweep step off still agrees (SPEC §3); two steps off do not, and the
+    """An end one sweep step off still agrees; two steps off do not, and the
     Jaccard index is the exact ratio of shared to united grid points."""
     one = C.detect_one(chaos_between(1.215, 1.29), CHAOS)
     assert one.agree

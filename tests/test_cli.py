@@ -261,3 +261,40 @@ def test_plot_xy_reads_only_the_dataset(tmp_path):
     imp = [ln for ln in ax.get_lines() if ln.get_label().startswith("impacts")][0]
     np.testing.assert_allclose(np.hypot(imp.get_xdata(), imp.get_ydata()), 1.0)
     assert [f.name for f in tmp_path.iterdir()] == ["p.png"]
+
+
+def test_version_prints_the_package_version_without_numba(tmp_path):
+    """`vibimpact --version` prints 'vibimpact <__version__>' and exits 0 without
+    importing numba (it is as light as --help)."""
+    import vibimpact
+
+    code = ("import sys\nfrom vibimpact.cli import main\n"
+            "try:\n    main(['--version'])\nexcept SystemExit as e:\n    code = e.code\n"
+            "assert 'numba' not in sys.modules\nsys.exit(code)\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == f"vibimpact {vibimpact.__version__}"
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_verbose_reports_through_logging_and_quiet_by_default(where, tmp_path):
+    """-v (before or after the command name) sends INFO records of the 'vibimpact' logger
+    to stderr (the executor and the number of points); -vv adds DEBUG records; without
+    it no log line is printed and the output file is the same."""
+    sweep = ["classify", "--eta", "1.0,1.02", "--analyses", "period", "--workers", "1",
+             "--no-progress"]
+    runs = {}
+    for flag in ("", "-v", "-vv"):
+        args = [*sweep, "-o", f"c{flag}.nc"]
+        if flag:
+            args = [flag, *args] if where == "before" else [*args, flag]
+        runs[flag] = cli(*args, cwd=tmp_path)
+        assert runs[flag].returncode == 0, runs[flag].stderr
+    assert "vibimpact: INFO" not in runs[""].stderr
+    assert "vibimpact: INFO: 2 tasks (2 points to compute) on serial" in runs["-v"].stderr
+    assert "DEBUG" not in runs["-v"].stderr
+    assert "vibimpact: DEBUG:" in runs["-vv"].stderr
+    from vibimpact.io import differences, read_netcdf
+
+    assert differences(read_netcdf(tmp_path / "c.nc"), read_netcdf(tmp_path / "c-v.nc"))[0] == []

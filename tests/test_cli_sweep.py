@@ -145,6 +145,22 @@ def test_classify_file_is_the_api_sweep_lossless(classified):
     assert list(back["label"].values) == list(mem["label"].values)
 
 
+def test_eta_list_sweeps_exactly_the_listed_values(tmp_path):
+    """--eta V1,V2 (as --vary takes lists) sweeps exactly those values: the file's eta
+    coordinate is the list and its labels equal the API sweep over the same list."""
+    import vibimpact as vi
+    from vibimpact.io import read_netcdf
+
+    r = cli("classify", "--eta", "1.0,1.03", "--analyses", "period,impacts", "--workers",
+            "1", "--no-progress", "-o", "c.nc", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    ds = read_netcdf(tmp_path / "c.nc")
+    assert ds["eta"].values.tolist() == [1.0, 1.03]
+    mem = vi.sweep(vi.presets.get("fig8"), [1.0, 1.03], analyses=("period", "impacts"),
+                   workers=1)
+    assert list(ds["label"].values) == list(mem["label"].values)
+
+
 BAD_ETA = ["1:0.5:0.1", "a:b:c", "1:2:0", "1:2:-0.1", "1.0:1.1", "0:1:0.1", "1:nan:0.1"]
 
 

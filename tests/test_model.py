@@ -46,7 +46,7 @@ def test_unknown_parameter_and_preset_are_named():
 
 
 def test_presets_match_spec_table():
-    """Every preset of SPEC section 2 exists with its kh, G, Bh, BT, f, Rr and k3."""
+    """Every preset (one per figure of the paper) exists with its kh, G, Bh, BT, f, Rr and k3."""
     expect = {"fig4": (10, 0, 0, 0, 0, 0), "fig5": (10, 0.3, 0, 0, 0, 0),
               "fig6": (40, 0.3, 0, 0, 0, 0), "fig7": (80, 0.3, 0, 0, 0, 0),
               "fig8": (120, 0.3, 0, 0, 0, 0), "fig9": (120, 0.3, 0.05, 0, 0, 0),

@@ -177,9 +177,16 @@ def test_blow_up_is_labelled_diverged_not_stored_as_data():
 
 
 def test_eta_range_includes_stop_on_the_grid():
-    """START:STOP:STEP includes STOP when it lies on the grid (SPEC section 5)."""
+    """START:STOP:STEP includes STOP when it lies on the grid."""
     assert parse_range("0.9:1.5:0.002").size == 301
     assert parse_range("1:1.05:0.02").tolist() == [1.0, 1.02, 1.04]
+
+
+def test_eta_list_is_taken_as_written():
+    """A comma-separated list (as --vary takes) gives exactly those values, unrounded, and
+    a single number gives a one-point grid."""
+    assert parse_range("1.0,1.1,1.25").tolist() == [1.0, 1.1, 1.25]
+    assert parse_range("1.0000000000001").tolist() == [1.0000000000001]
 
 
 @pytest.mark.parametrize("kwargs, name", [

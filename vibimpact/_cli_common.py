@@ -9,12 +9,45 @@ class UsageError(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line on stderr (exit status 2)."""
+    """An ArgumentParser whose errors are one line on stderr (exit status 2).
+
+    Every parser (the main one and each command's) takes ``-v/--verbose``, so that it can
+    stand before or after the command name; repeated, it counts (see :func:`set_verbosity`).
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # SUPPRESS: a command's parser must not reset a count the main parser has set
+        self.add_argument("-v", "--verbose", action="count", default=argparse.SUPPRESS,
+                          help="report what the run does on stderr (-v: its steps, "
+                               "-vv: debugging detail), through Python's logging")
 
     def error(self, message):
         """Print ``vibimpact: error: MESSAGE`` and exit with status 2."""
         message = " ".join(str(message).split())
         self.exit(2, f"vibimpact: error: {message} (see '{self.prog} --help')\n")
+
+
+def set_verbosity(count):
+    """Send the package's log records (logger ``vibimpact``) to stderr.
+
+    Parameters
+    ----------
+    count : int
+        0: nothing is configured (warnings go to Python's last-resort handler); 1: INFO;
+        2 or more: DEBUG.
+    """
+    import logging
+
+    if not count:
+        return
+    log = logging.getLogger("vibimpact")
+    if not any(getattr(h, "_vibimpact_cli", False) for h in log.handlers):
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("vibimpact: %(levelname)s: %(message)s"))
+        handler._vibimpact_cli = True
+        log.addHandler(handler)
+    log.setLevel(logging.INFO if count == 1 else logging.DEBUG)
 
 
 def positive_int(minimum):

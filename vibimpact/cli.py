@@ -47,7 +47,7 @@ written).
 
 
 from ._cli_common import (check_output, number, parse_sets, Parser, positive_int,
-                          UsageError)
+                          set_verbosity, UsageError)
 
 
 def _cmd_presets(args):
@@ -139,6 +139,9 @@ def build_parser():
     parser = Parser(prog="vibimpact", formatter_class=fmt, epilog=_MAIN_EPILOG,
                      description="Bifurcation and chaos analysis of a vibro-impact rotor on "
                                  "magnetic bearings\n(Pust & Kozanek, eq. 5).")
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"vibimpact {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     sub.required = True
 
@@ -209,6 +212,7 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
+    set_verbosity(getattr(args, "verbose", 0))
     try:
         return args.func(args)
     except UsageError as exc:

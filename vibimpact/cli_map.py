@@ -67,13 +67,7 @@ def parse_vary(text, preset_params):
         raise UsageError(f"--vary: unknown parameter {name!r}; choose one of "
                           f"{', '.join(parameter_names())}")
     try:
-        if ":" in spec:
-            values = parse_range(spec, name=name, positive=False)
-        else:
-            try:
-                values = [float(x) for x in spec.split(",")]
-            except ValueError:
-                raise ValueError(f"{name} values must be numbers, got {spec!r}") from None
+        values = parse_range(spec, name=name, positive=False)
         check_vary(preset_params, {name: values})
     except ValueError as exc:
         msg = str(exc)
@@ -246,8 +240,9 @@ def add_parser(sub, fmt):
                        description="Sweep eta with continuation for every value of one "
                                    "other parameter and classify\nevery point; rows run "
                                    "as tasks on local processes or a Dask cluster.")
-    m.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP",
-                   help=f"grid of the forcing frequency ratio (default: {DEFAULT_ETA})")
+    m.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP|V1,V2,...",
+                   help="grid of the forcing frequency ratio: a range or a list of "
+                        f"increasing values (default: {DEFAULT_ETA})")
     m.add_argument("--vary", action="append", default=[], required=True,
                    metavar="NAME=START:STOP:STEP",
                    help="the other axis: a parameter and its values, e.g. kh=10:120:10 or "

@@ -257,9 +257,10 @@ def _cmd_plot(args):
 
 
 def _add_sweep_options(s, direction):
-    s.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP",
-                   help="grid of the forcing frequency ratio; STOP is included when it "
-                        f"lies on the grid (default: {DEFAULT_ETA})")
+    s.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP|V1,V2,...",
+                   help="grid of the forcing frequency ratio: a range (STOP is included "
+                        "when it lies on the grid) or a list of increasing values, e.g. "
+                        f"1.0,1.1,1.25 (default: {DEFAULT_ETA})")
     s.add_argument("--preset", default=DEFAULT_PRESET, help="parameter set (default: "
                    f"{DEFAULT_PRESET}); see 'vibimpact presets'")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],

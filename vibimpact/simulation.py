@@ -2,6 +2,8 @@
 :func:`strobe_only`, its unvalidated stroboscopic-only form for the loops of sweeps)."""
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from . import _limits
@@ -9,6 +11,8 @@ from . import _validate as _v
 from ._kernel import boundary as _kb
 from .models import ROTOR, resolve
 from .run import IMPACT_DTYPE, Run, Status, impacts_from_events, status_of
+
+_logger = logging.getLogger(__name__)
 
 METHODS = _kb.METHODS
 
@@ -186,6 +190,8 @@ def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-
     else:
         dense_out = None
         t_dense = None
+    _logger.debug("simulate %s: %d periods after %d, status %s, %d steps, %d events",
+                  mdl.name, periods, transient, st.value, int(counters[0]), int(counters[3]))
     return Run(
         params=p, model=mdl.name, strobe=strobe,
         t_strobe=(transient + np.arange(rows)) * T, impacts=impacts, events=events,

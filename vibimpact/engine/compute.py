@@ -2,7 +2,12 @@
 and counted by the progress callback, in the process that asked for the results."""
 from __future__ import annotations
 
+import logging
+import time
+
 from .progress import nothing
+
+log = logging.getLogger(__name__)
 
 
 def _runs(points):
@@ -58,4 +63,15 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
             progress(len(new))
         on_task(task, results)
 
+    todo = sum(getattr(t, "todo", 0) for t in tasks)
+    log.info("%d tasks (%d points to compute) on %s", len(tasks), todo, executor_name(executor))
+    t0 = time.perf_counter()
     executor.run(make_jobs, on_point if stream else None, finished)
+    log.info("%d tasks done in %.1f s", len(tasks), time.perf_counter() - t0)
+
+
+def executor_name(executor):
+    """``"serial"``, ``"2 local processes"``, ... for the log."""
+    workers = getattr(executor, "workers", None)
+    kind = type(executor).__name__.lower()
+    return kind if workers is None else f"{workers} {kind}"

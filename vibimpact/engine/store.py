@@ -37,6 +37,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import logging
 import os
 import re
 import shutil
@@ -44,6 +45,8 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+
+log = logging.getLogger(__name__)
 
 REQUEST = "request.json"
 LAST_RESUME = "last_resume.json"
@@ -292,6 +295,8 @@ class Checkpoint:
             full = sum(1 for v in done.values() if len(v) == self.n)
             _atomic_write(self.path / LAST_RESUME, json.dumps(
                 {"points": npts, "streams": full, "damaged": damaged}).encode())
+            log.info("checkpoint %s: %d points loaded, %d damaged entries set aside",
+                     self.path, npts, len(damaged))
         return done
 
 

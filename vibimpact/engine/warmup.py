@@ -12,8 +12,11 @@ depends on it.
 """
 from __future__ import annotations
 
+import logging
 import sys
 import threading
+
+log = logging.getLogger(__name__)
 
 _started = False
 
@@ -30,6 +33,7 @@ def start():
     import multiprocessing as mp
 
     _started = True
+    log.debug("compiling the array routines in a warm-up process")
     mp.get_context("fork").Process(target=_compile, name="vibimpact-warm-up",
                                    daemon=True).start()
 

@@ -209,7 +209,10 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
 
 
 def parse_range(text, name="eta", positive=True):
-    """``"START:STOP:STEP"`` -> grid including STOP when it lies on the grid.
+    """``"START:STOP:STEP"`` or ``"V1,V2,..."`` -> a strictly increasing grid.
+
+    A range includes STOP when it lies on the grid (its values are rounded to 12 decimals,
+    so that ``0.9 + k * 0.002`` prints as typed); a list is taken as written.
 
     Parameters
     ----------
@@ -217,7 +220,12 @@ def parse_range(text, name="eta", positive=True):
     name : str
         The quantity, named in error messages.
     positive : bool
-        Refuse ``START <= 0`` (a forcing frequency).
+        Refuse values ``<= 0`` (a forcing frequency).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n,)``, float64.
 
     Raises
     ------
@@ -225,9 +233,12 @@ def parse_range(text, name="eta", positive=True):
         Naming ``name``, for anything else, and for a grid of more than
         :data:`vibimpact._limits.MAX_POINTS` points (with the estimated time).
     """
-    parts = str(text).split(":")
+    text = str(text)
+    if ":" not in text:
+        return _parse_list(text, name, positive)
+    parts = text.split(":")
     if len(parts) != 3:
-        raise ValueError(f"{name} must be START:STOP:STEP, got {text!r}")
+        raise ValueError(f"{name} must be START:STOP:STEP or V1,V2,..., got {text!r}")
     try:
         a, b, h = (float(x) for x in parts)
     except ValueError:
@@ -247,3 +258,21 @@ def parse_range(text, name="eta", positive=True):
     count = int(math.floor((b - a) / h + 1e-9)) + 1
     _limits.check_points(count, name=name)
     return np.round(a + h * np.arange(count), 12)
+
+
+def _parse_list(text, name, positive):
+    """``"V1,V2,..."`` -> strictly increasing float64 values (ValueError naming ``name``)."""
+    items = text.split(",")
+    _limits.check_points(len(items), name=name)
+    try:
+        values = np.array([float(x) for x in items], dtype=np.float64)
+    except ValueError:
+        raise ValueError(f"{name} must be START:STOP:STEP or a list of numbers V1,V2,..., "
+                         f"got {text!r}") from None
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} values must be finite, got {text!r}")
+    if positive and np.any(values <= 0.0):
+        raise ValueError(f"{name} values must be > 0, got {text!r}")
+    if np.any(np.diff(values) <= 0.0):
+        raise ValueError(f"{name} values must be strictly increasing, got {text!r}")
+    return values
