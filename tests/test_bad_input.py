@@ -105,6 +105,18 @@ def _checkpoint(request_text):
     return make
 
 
+def _directory(name):
+    def make(d):
+        (Path(d) / name).mkdir()
+    return make
+
+
+def _damaged_store(d):
+    store = Path(d) / "m.zarr"
+    store.mkdir()
+    (store / "zarr.json").write_text("{ not json")
+
+
 def _checkpoint_file(d):
     (Path(d) / "c.nc.partial").write_text("not a directory")
 
@@ -193,6 +205,8 @@ CLI_CASES = {
     "rerun foreign command": (["rerun", "bad.nc"], "not a vibimpact", _foreign_command),
     "rerun missing file": (["rerun", "missing.nc"], "no such file", None),
     "rerun onto itself": (["rerun", "bad.nc", "-o", "bad.nc"], "differ", _foreign_command),
+    "rerun a directory": (["rerun", "dir.nc"], "is a directory", _directory("dir.nc")),
+    "rerun damaged Zarr store": (["rerun", "m.zarr"], "cannot read", _damaged_store),
     # damaged checkpoints
     "resume garbage request.json": ([*ONE, "-o", "c.nc", "--resume"], "request.json",
                                     _checkpoint("\x00garbage{")),
@@ -455,6 +469,25 @@ def test_rerun_bifurcation_data(tmp_path, monkeypatch, capfd):
     assert rc == 0, err
     assert out.startswith("identical: ")
     assert listing(tmp_path) == ["b.nc", "b.png"]
+
+
+@pytest.mark.parametrize("out", ["m.zarr", "m.nc"])
+def test_rerun_map_store_and_netcdf(out, tmp_path, monkeypatch, capfd):
+    """A map, as a Zarr store or a NetCDF file, reruns identical (exit 0) with no image
+    redrawn and no temporary store left; -o keeps the rerun output in the same format."""
+    monkeypatch.chdir(tmp_path)
+    rc, _, err = run_cli(["map", "--eta", "1.0:1.02:0.02", "--vary", "kh=60,120",
+                          "--workers", "1", "--no-progress", "-o", out, "--plot", "m.png"],
+                         capfd)
+    assert rc == 0, err
+    rc, text, err = run_cli(["rerun", out], capfd)
+    assert rc == 0, err
+    assert text.startswith("identical: ") and int(text.split()[1]) >= 10
+    assert listing(tmp_path) == sorted([out, "m.png"])
+    again = "again" + out[1:]
+    rc, text, err = run_cli(["rerun", out, "-o", again], capfd)
+    assert rc == 0, err
+    assert (tmp_path / again).exists() and text.strip().endswith(f"wrote {again}")
 
 
 # --- damaged checkpoint points ----------------------------------------------------------------

@@ -298,3 +298,17 @@ def test_verbose_reports_through_logging_and_quiet_by_default(where, tmp_path):
     from vibimpact.io import differences, read_netcdf
 
     assert differences(read_netcdf(tmp_path / "c.nc"), read_netcdf(tmp_path / "c-v.nc"))[0] == []
+
+
+@pytest.mark.parametrize("expr", ["vi.maps.open_map", "vi.plotting.plot_xy",
+                                  "vi.io.read_netcdf", "vi.sweeps.parse_range",
+                                  "vi.analysis.detect_period"])
+def test_subpackages_are_attributes_of_a_fresh_import(expr, tmp_path):
+    """A fresh `import vibimpact as vi` reaches the user-facing subpackages as attributes
+    (as the README shows vi.maps.open_map) without importing them first, and the bare
+    import still loads no numba."""
+    code = ("import sys\nimport vibimpact as vi\nassert 'numba' not in sys.modules\n"
+            f"assert callable({expr})\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr

@@ -35,13 +35,19 @@ _EXPORTS = {
     "classify_params": ("points.pipeline", "classify_params"),
     "transition_types": ("sweeps.transitions", "transition_types"),
     "map2d": ("maps.map2d", "map2d"),
+    # subpackages a user reaches as attributes (vi.maps.open_map(...)) without importing
+    # them first
+    "maps": ("maps", None),
+    "plotting": ("plotting", None),
+    "sweeps": ("sweeps", None),
+    "io": ("io", None),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System",
            "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "__version__"]
+           "map2d", "maps", "plotting", "sweeps", "io", "__version__"]
 
 
 def _load(name):

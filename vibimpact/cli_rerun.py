@@ -1,7 +1,8 @@
 """``vibimpact rerun``: redo the command recorded in an output file and compare the data.
 
-Every file written by ``simulate``, ``classify`` and ``bifurcation`` (its ``.nc``) stores
-the command line in the global attribute ``command``.  ``rerun`` parses it with today's
+Every file written by ``simulate``, ``classify``, ``bifurcation`` (its ``.nc``) and ``map``
+(a Zarr store or a NetCDF file) stores the command line in the global attribute
+``command``.  ``rerun`` parses it with today's
 parser, runs it in this process with the output redirected to a new file, and compares
 every data variable and coordinate of the two files bit for bit (NaN equal to NaN, string
 variables as text).  Attributes are not compared: they hold the wall time and the output
@@ -15,31 +16,48 @@ import sys
 
 from ._cli_common import check_output, UsageError
 
-RERUNNABLE = ("simulate", "classify", "bifurcation")
+RERUNNABLE = ("simulate", "classify", "bifurcation", "map")
 
 _RERUN_EPILOG = """\
 examples:
   vibimpact rerun fig8.nc                 # recompute into a temporary file, compare
   vibimpact rerun run.nc -o again.nc      # keep the recomputed file
+  vibimpact rerun map.zarr                # a map (Zarr store or .nc) as well
 
 The recorded command runs again exactly (same parameters, grid, solver settings, blocks),
 its output redirected: simulate's --plot image is not redrawn (its dense samples are
-kept), classify writes no interval table, bifurcation draws no image.
+kept), classify writes no interval table, bifurcation draws no image, map draws no
+--plot image and runs on local processes even when it was run on a --scheduler (the
+results do not depend on where they were computed).
 
 exit status: 0 identical ('identical: N variables'), 1 different (the differing variables
 are listed), 2 bad input (missing, foreign or damaged file, no recorded command).
 """
 
 
+def _is_store(path):
+    """A Zarr store (a directory with its ``zarr.json``), as ``map`` writes."""
+    return os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))
+
+
 def _read(path, what):
     from . import io
 
-    if not os.path.isfile(path):
-        raise UsageError(f"{what} {path!r}: no such file")
+    if _is_store(path):
+        from .maps.store import open_map
+
+        reader, kind = open_map, "a Zarr store"
+    elif os.path.isdir(path):
+        raise UsageError(f"{what} {path!r} is a directory, not a NetCDF file or a Zarr "
+                          "store")
+    elif not os.path.isfile(path):
+        raise UsageError(f"{what} {path!r}: no such file or directory")
+    else:
+        reader, kind = io.read_netcdf, "NetCDF"
     try:
-        return io.read_netcdf(path)
+        return reader(path)
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise UsageError(f"cannot read {path!r} as NetCDF: {type(exc).__name__}: "
+        raise UsageError(f"cannot read {path!r} as {kind}: {type(exc).__name__}: "
                           f"{exc}") from None
 
 
@@ -79,11 +97,14 @@ def _redirect(args, new, overwrite):
             args.dense = 64  # what --plot implied for the recorded file
         args.plot = None
         args.output = new
-    elif args.command == "classify":
+    elif args.command in ("classify", "map"):
         args.output = new
         args.resume = False
         args.keep_checkpoint = False
         args.no_progress = True
+        if args.command == "map":
+            args.plot = None
+            args.scheduler = None
     else:  # bifurcation: the data file only, no image
         args.data_only = new
         args.no_progress = True
@@ -102,14 +123,16 @@ def _cmd_rerun(args):
         new = os.fspath(args.output)
         if os.path.abspath(new) == os.path.abspath(path):
             raise UsageError("-o must differ from the file being rerun")
-        check_output(new, args.overwrite, "output file")
+        if not _is_store(new):  # an existing store: the map command checks --overwrite
+            check_output(new, args.overwrite, "output file")
     old = _read(path, "file")
     parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
     if not keep:
         directory = os.path.dirname(os.path.abspath(path))
         try:
             fd, new = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".rerun-",
-                                       suffix=".nc", dir=directory)
+                                       suffix=".zarr" if _is_store(path) else ".nc",
+                                       dir=directory)
         except OSError as exc:
             raise UsageError(f"cannot create a temporary file next to {path!r} "
                               f"({exc.strerror or exc}); give -o NEW.nc") from None
@@ -154,10 +177,11 @@ def add_parser(sub, fmt, build_parser):
     line parser again, to read the recorded command with."""
     r = sub.add_parser("rerun", help="redo the command recorded in an output file and "
                        "compare bit for bit", formatter_class=fmt, epilog=_RERUN_EPILOG,
-                       description="Run the command recorded in a simulate, classify or "
-                                   "bifurcation NetCDF file again and compare\nevery data "
-                                   "variable and coordinate with the file, bit for bit.")
-    r.add_argument("file", metavar="OUT.nc", help="NetCDF file written by vibimpact")
+                       description="Run the command recorded in a simulate, classify, "
+                                   "bifurcation or map output again and compare\nevery "
+                                   "data variable and coordinate with it, bit for bit.")
+    r.add_argument("file", metavar="OUT.nc|OUT.zarr",
+                   help="NetCDF file or map Zarr store written by vibimpact")
     r.add_argument("-o", "--output", metavar="NEW.nc", default=None,
                    help="keep the recomputed file here (default: a temporary file next "
                         "to OUT.nc, removed afterwards)")
