@@ -377,6 +377,27 @@ def test_api_raises_value_error_naming_the_parameter(case):
     assert needle in str(info.value), str(info.value)
 
 
+def _run_to(name):
+    """Call ``name`` with a Run where it expects an array or a dataset."""
+    import vibimpact as vi
+    from vibimpact.plotting import plot_xy
+
+    run = vi.simulate(vi.presets.get("fig8").replace(eta=1.2), periods=3)
+    call = {"classify": vi.analysis.classify, "intervals": vi.intervals, "plot_xy": plot_xy}
+    return call[name](run)
+
+
+@pytest.mark.parametrize("name, needle", [("classify", "points"), ("intervals", "ds"),
+                                          ("plot_xy", "run_to_dataset")])
+def test_a_run_where_an_array_or_dataset_is_expected_is_a_clear_type_error(name, needle):
+    """A Run handed to classify (points), intervals (a sweep dataset) or plot_xy (a run
+    dataset) raises a TypeError that names the argument and says what to pass, not a raw
+    error from deep inside."""
+    with pytest.raises(TypeError) as info:
+        _run_to(name)
+    assert needle in str(info.value) and "Run" in str(info.value), str(info.value)
+
+
 def test_simulate_periods_message_has_the_estimate():
     """A run of 10^9 periods is refused at once with the estimated time (the measured cost
     per period of vibimpact._limits)."""

@@ -247,7 +247,14 @@ def classify(points, *, lyapunov=None, lyapunov_err=None, period=1.0, k01=None,
     """
     if diverged:
         return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
-    pts = np.asarray(points, dtype=np.float64)
+    if hasattr(points, "strobe"):  # a Run (or anything holding stroboscopic samples)
+        raise TypeError(f"points must be an array of stroboscopic samples, got "
+                        f"{type(points).__name__}; pass its .strobe")
+    try:
+        pts = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"points must be an array of stroboscopic samples, got "
+                        f"{type(points).__name__}") from None
     if pts.ndim == 1:
         pts = pts[:, None]
     if pts.ndim != 2 or pts.shape[0] < 2:

@@ -94,6 +94,13 @@ def plot_xy(ds, path=None, ax=None):
     >>> from vibimpact.plotting import plot_xy
     >>> ax = plot_xy(read_netcdf("run.nc"), "xy.png")  # doctest: +SKIP
     """
+    import xarray as xr
+
+    if not isinstance(ds, xr.Dataset):
+        hint = ("; vibimpact.io.run_to_dataset(run) makes one from a Run"
+                if hasattr(ds, "strobe") else "")
+        raise TypeError(f"ds must be an xarray.Dataset of a run, got {type(ds).__name__}"
+                        + hint)
     if ax is None:
         from matplotlib.figure import Figure
 

@@ -201,6 +201,9 @@ def intervals(ds, direction=None):
     """
     import xarray as xr
 
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"ds must be the xarray.Dataset of a sweep (vibimpact.sweep), got "
+                        f"{type(ds).__name__}")
     if "label" not in ds or "eta" not in ds.dims:
         raise ValueError("ds must be a sweep dataset (variables label, regime; dim eta)")
     if "direction" in ds.dims:
