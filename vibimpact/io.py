@@ -138,6 +138,33 @@ def run_to_dataset(run, command=None, *, state0=None, attrs=None):
     return ds
 
 
+def for_file(ds, call):
+    """``(dataset, encoding)`` to write ``ds`` as a file: a shallow copy (the data are
+    shared, ``ds`` is not changed) whose global attributes carry the CF and provenance
+    attributes of :func:`vibimpact.provenance.file_attrs`, and the encoding that writes no
+    ``_FillValue`` on any coordinate (CF: coordinates have no missing values).
+
+    Every writer of the package (:func:`write_netcdf`, :func:`vibimpact.maps.write_map`)
+    goes through this function.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    call : str
+        The writing function, named in ``history`` when ``ds`` records no ``command``.
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+    """
+    from .provenance import file_attrs
+
+    out = ds.copy(deep=False)
+    out.attrs = file_attrs(ds.attrs, call)
+    encoding = {name: {"_FillValue": None} for name in out.coords}
+    return out, encoding
+
+
 def _umask():
     mask = os.umask(0o022)
     os.umask(mask)
@@ -149,6 +176,9 @@ def write_netcdf(ds, path, overwrite=False):
 
     The file is written to a temporary file in the target directory and renamed into
     place, so a reader never sees a partial file and a failed write leaves nothing behind.
+    It carries the CF global attributes (``Conventions``, ``history``, ``date_created``)
+    and the provenance of :mod:`vibimpact.provenance`, and no ``_FillValue`` on its
+    coordinates (:func:`for_file`); ``ds`` itself is not changed.
 
     Parameters
     ----------
@@ -172,11 +202,14 @@ def write_netcdf(ds, path, overwrite=False):
         raise ValueError(f"output file {path!r} exists (pass overwrite=True to replace it)")
     if not os.path.isdir(directory):
         raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
+    import netCDF4  # noqa: F401 -- imported before the provenance records its version
+
+    out, encoding = for_file(ds, "vibimpact.io.write_netcdf")
     fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
                                dir=directory)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4")
+        out.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=encoding)
         os.chmod(tmp, 0o666 & ~_umask())
         if overwrite:
             os.replace(tmp, path)
@@ -212,6 +245,11 @@ def read_netcdf(path):
 
 def differences(a, b):
     """Compare two datasets bit for bit (NaN equal to NaN).
+
+    Only data variables and coordinates are compared, never attributes: those of a file
+    include the time stamps ``date_created`` and ``history`` and the wall time
+    (:data:`vibimpact.provenance.VOLATILE`), which differ between two runs of the same
+    command.
 
     Returns
     -------

@@ -340,5 +340,7 @@ def partial_map(path):
             rows.fill(r, d, points)
             flags[rows.at(d, r)] = 1
     ds[DONE] = (ds["regime"].dims[:-1], flags,
-                dict(long_name="row completely saved", flag_values="0 1"))
+                dict(long_name="row completely saved",
+                     flag_values=np.array([0, 1], dtype=np.int8),
+                     flag_meanings="not_saved saved"))
     return ds

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -49,6 +50,11 @@ def _chunks(ds):
 def write_map(ds, path, overwrite=False):
     """Write a map dataset atomically as Zarr (``*.zarr``) or NetCDF (``*.nc``).
 
+    Both carry the CF global attributes and the provenance of
+    :func:`vibimpact.io.for_file` (``ds`` itself is not changed) and no ``_FillValue`` on
+    the coordinates.  A Zarr store is written whole, from the finished map, with
+    consolidated metadata, so that ``xarray.open_zarr(path)`` opens it without a warning.
+
     Raises
     ------
     ValueError
@@ -73,15 +79,21 @@ def write_map(ds, path, overwrite=False):
         if not (os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))):
             raise ValueError(f"output {path!r} exists and is not a Zarr store; not "
                              "replacing it")
+    import zarr  # noqa: F401 -- imported before the provenance records its version
+
+    out, encoding = vio.for_file(ds, "vibimpact.maps.write_map")  # a shallow copy
+    for name in list(out.variables):  # xarray writes str objects as variable-length
+        out[name].encoding = {}
+    for name, chunks in _chunks(out).items():
+        encoding.setdefault(name, {}).update(chunks)
     tmp = tempfile.mkdtemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
                            dir=directory)
     old = None
     try:
-        out = ds.copy()
-        for name in list(out.variables):  # xarray writes str objects as variable-length
-            out[name].encoding = {}
-        out.to_zarr(tmp, mode="w", consolidated=False, zarr_format=3,
-                    encoding=_chunks(out))
+        with warnings.catch_warnings():  # consolidated metadata is a zarr-python
+            # extension of format 3, and what lets xarray.open_zarr(path) open it quietly
+            warnings.filterwarnings("ignore", message="Consolidated metadata is currently")
+            out.to_zarr(tmp, mode="w", consolidated=True, zarr_format=3, encoding=encoding)
         if os.path.lexists(path):
             old = tempfile.mkdtemp(prefix="." + os.path.basename(path) + ".", suffix=".old",
                                    dir=directory)
@@ -109,6 +121,18 @@ def _as_objects(ds):
     return ds
 
 
+def _consolidated(path):
+    """Whether the Zarr store ``path`` has consolidated metadata (stores written before
+    :func:`write_map` consolidated them have none)."""
+    import json
+
+    try:
+        with open(os.path.join(path, "zarr.json"), encoding="utf-8") as fh:
+            return bool(json.load(fh).get("consolidated_metadata"))
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
 def open_map(path):
     """Read a map written by :func:`write_map` (fully loaded, file closed).
 
@@ -134,7 +158,7 @@ def open_map(path):
 
         return partial_map(path)
     if os.path.isdir(path):
-        with xr.open_zarr(path, consolidated=False, chunks=None) as ds:
+        with xr.open_zarr(path, consolidated=_consolidated(path), chunks=None) as ds:
             ds = ds.load()
     else:
         ds = vio.read_netcdf(path)

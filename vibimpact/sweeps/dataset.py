@@ -15,8 +15,8 @@ import numpy as np
 from .. import __version__
 from ..analysis.classify import Label
 from ..system import param_dict, to_system
-from ..points.point import (CONTACT_FLAGS, CONTACT_PERMANENT, REGIME_CODES,
-                    REGIME_FLAGS, SCALARS)
+from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
+                             CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
 
 #: variable -> (dtype, units, long_name)
 VARIABLES = {
@@ -58,6 +58,38 @@ VARIABLES = {
     "orbit_distance": ("f8", "1", "distance of the transient's last point from the orbit "
                        "found by shooting, relative to the motion's size"),
 }
+
+
+def _flags(fill, codes, meanings):
+    """``(values, meanings)`` of a flag variable: ``codes`` with their words, then the
+    fill value of a point not computed ("not_computed") when it is no code.  The fill
+    comes last, so that the codes keep the positions in ``flag_meanings`` they had
+    before it was declared."""
+    words = meanings.split()
+    if len(words) != len(codes):
+        raise ValueError(f"flag meanings {meanings!r} do not match the codes {codes}")
+    if fill not in codes:
+        codes, words = tuple(codes) + (fill,), words + ["not_computed"]
+    return tuple(codes), " ".join(words)
+
+
+#: flag variable -> (flag_values, flag_meanings): every value a dataset can hold, the
+#: fill value of a point not computed included (CF flags)
+FLAGS = {
+    "regime": _flags(SCALARS["regime"], tuple(sorted(REGIME_CODES.values())), REGIME_FLAGS),
+    "contact": _flags(SCALARS["contact"], (CONTACT_NONE, CONTACT_IMPACTING,
+                                           CONTACT_PERMANENT), CONTACT_FLAGS),
+    "impacts_constant": _flags(SCALARS["impacts_constant"], (0, 1),
+                               "varying_or_not_computed constant"),
+    "stable": _flags(SCALARS["stable"], (0, 1), "unstable stable"),
+}
+
+
+def flag_attrs(name, dtype):
+    """The CF attributes ``flag_values`` (of ``dtype``, the variable's) and
+    ``flag_meanings`` of the flag variable ``name`` (:data:`FLAGS`)."""
+    values, meanings = FLAGS[name]
+    return dict(flag_values=np.array(values, dtype=dtype), flag_meanings=meanings)
 
 
 def label_text(code, n, ipp, arcs, contact=-1):
@@ -131,11 +163,8 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
                                           "eta = omega sqrt(m/k)")),
                 "direction": ("direction", np.array(dirs, dtype=object),
                               dict(long_name="sweep direction"))})
-    ds["regime"].attrs.update(flag_values=np.array(sorted(REGIME_CODES.values()),
-                                                   dtype="i1"),
-                              flag_meanings=REGIME_FLAGS)
-    ds["contact"].attrs.update(flag_values=np.array([0, 1, 2], dtype="i1"),
-                               flag_meanings=CONTACT_FLAGS)
+    for name in FLAGS:
+        ds[name].attrs.update(flag_attrs(name, ds[name].dtype))
     ds["label"] = (dims, labels, dict(long_name="regime in words"))
     ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the retainer, in words"))
     ds["reason"] = (dims, reason, dict(long_name="classifier's decision branch"))
@@ -243,8 +272,7 @@ def intervals(ds, direction=None):
          "end": ("interval", np.array(cols["end"]), dict(units="1", long_name="last eta")),
          "label": ("interval", np.array(cols["label"], dtype=object)),
          "regime": ("interval", np.array(cols["regime"], dtype="i1"),
-                    dict(flag_values=np.array(sorted(REGIME_CODES.values()), dtype="i1"),
-                         flag_meanings=REGIME_FLAGS)),
+                    flag_attrs("regime", "i1")),
          "period": ("interval", np.array(cols["period"], dtype="i4")),
          "impacts": ("interval", np.array(cols["impacts"])),
          "arcs": ("interval", np.array(cols["arcs"], dtype=object)),

@@ -1,0 +1,149 @@
+"""Provenance and CF global attributes of every file vibimpact writes.
+
+Every writer (:func:`vibimpact.io.write_netcdf`, :func:`vibimpact.maps.write_map`) passes
+the dataset's global attributes through :func:`file_attrs`, which adds
+
+* the CF attributes ``Conventions`` (:data:`CONVENTIONS`), ``history`` (one line per
+  write: the ISO-8601 UTC time and the command line or call that wrote the file, appended
+  to an existing history) and ``date_created`` (ISO-8601 UTC; kept when the dataset
+  already has one, e.g. a file read and written again);
+* the provenance the bit-identity promise depends on (:func:`provenance`): the package
+  version and, when the package runs from a git checkout, its commit; the versions of the
+  numerical and I/O dependencies imported by this process; the Python version, the
+  platform and the CPU model.
+
+The attributes in :data:`VOLATILE` (the time stamps, the wall time) differ between two
+writes of the same data; data comparisons (:func:`vibimpact.io.differences`, ``vibimpact
+rerun``, resumed runs) compare variables only, never these.
+
+Only the standard library is imported here.  The git commit and the CPU model are looked
+up once per process (``git`` absent, not a checkout, or any failure: no commit recorded).
+"""
+from __future__ import annotations
+
+import datetime
+import functools
+import os
+import platform
+import shlex
+import subprocess
+import sys
+
+#: the CF version the files follow
+CONVENTIONS = "CF-1.8"
+#: distributions whose version is recorded, when this process has imported them
+DEPENDENCIES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "zarr", "dask")
+#: global attributes that change from one write of the same data to the next
+VOLATILE = ("date_created", "history", "wall_time_s")
+
+
+def utc_now():
+    """The current UTC time as ISO-8601 text, to the second: ``2025-01-31T12:00:00Z``."""
+    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    return now.isoformat().replace("+00:00", "Z")
+
+
+@functools.lru_cache(maxsize=None)
+def git_commit():
+    """``(commit, dirty)`` of the package's git checkout, or ``(None, None)``.
+
+    ``git rev-parse HEAD`` runs only when the directory above the package holds a
+    ``.git`` (an editable install from a clone); an installed package (site-packages) has
+    none.  ``dirty`` is 1 when tracked files differ from the commit.  Any failure (no
+    ``git`` executable, a refused repository, a time-out) gives ``(None, None)``.
+    """
+    pkg = os.path.dirname(os.path.abspath(__file__))
+    if not os.path.exists(os.path.join(os.path.dirname(pkg), ".git")):
+        return None, None
+    env = dict(os.environ, GIT_OPTIONAL_LOCKS="0", LC_ALL="C")  # never take index.lock
+    try:
+        head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=pkg, env=env, timeout=10,
+                              capture_output=True, text=True)
+        commit = head.stdout.strip()
+        if head.returncode != 0 or len(commit) not in (40, 64) or \
+                any(c not in "0123456789abcdef" for c in commit):
+            return None, None
+        diff = subprocess.run(["git", "diff", "--quiet", "HEAD", "--"], cwd=pkg, env=env,
+                              timeout=10, capture_output=True)
+        dirty = {0: 0, 1: 1}.get(diff.returncode)
+    except (OSError, subprocess.SubprocessError, ValueError):
+        return None, None
+    return commit, dirty
+
+
+@functools.lru_cache(maxsize=None)
+def cpu_model():
+    """The CPU model: ``model name`` of ``/proc/cpuinfo`` on Linux, otherwise
+    :func:`platform.processor`, otherwise the machine type (``"unknown"`` if none)."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                key, sep, value = line.partition(":")
+                if sep and key.strip() == "model name" and value.strip():
+                    return " ".join(value.split())
+    except OSError:
+        pass
+    return platform.processor() or platform.machine() or "unknown"
+
+
+def dependency_versions():
+    """``{name: version}`` of the :data:`DEPENDENCIES` this process has imported."""
+    out = {}
+    for name in DEPENDENCIES:
+        mod = sys.modules.get(name)
+        version = getattr(mod, "__version__", None) if mod is not None else None
+        if version is not None:
+            out[name] = str(version)
+    return out
+
+
+def provenance():
+    """The provenance attributes: ``vibimpact_version``, ``vibimpact_git_commit`` and
+    ``vibimpact_git_dirty`` (only from a git checkout), ``<dependency>_version`` for each
+    imported dependency, ``python_version``, ``platform`` and ``cpu_model``."""
+    from . import __version__
+
+    out = {"vibimpact_version": __version__}
+    commit, dirty = git_commit()
+    if commit is not None:
+        out["vibimpact_git_commit"] = commit
+        if dirty is not None:
+            out["vibimpact_git_dirty"] = dirty
+    out.update({f"{name}_version": v for name, v in dependency_versions().items()})
+    out.update(python_version=platform.python_version(), platform=platform.platform(),
+               cpu_model=cpu_model())
+    return out
+
+
+def file_attrs(attrs, call):
+    """The global attributes of a file about to be written: ``attrs`` plus the CF and
+    provenance attributes (a new dict; ``attrs`` is not changed).
+
+    Parameters
+    ----------
+    attrs : Mapping
+        The dataset's own global attributes.
+    call : str
+        The writing function, e.g. ``"vibimpact.io.write_netcdf"``: named in ``history``
+        when the dataset records no ``command`` (an API call rather than the CLI).
+    """
+    from . import __version__
+
+    stamp = utc_now()
+    out = dict(attrs)
+    command = str(out.get("command") or "").strip()
+    if not command:
+        argv = shlex.join(sys.argv) if any(sys.argv) else "python"
+        command = f"{call}() called from {argv}"
+    line = f"{stamp} {command}"
+    old = str(out.get("history") or "").rstrip("\n")
+    out["Conventions"] = CONVENTIONS
+    out["history"] = f"{old}\n{line}" if old else line
+    out.setdefault("date_created", stamp)
+    out.setdefault("source", f"vibimpact {__version__}")
+    out.update(provenance())
+    return out
+
+
+__all__ = ["CONVENTIONS", "DEPENDENCIES", "VOLATILE", "cpu_model", "dependency_versions",
+           "file_attrs", "git_commit", "provenance", "utc_now"]
