@@ -7,11 +7,22 @@ the dimensionless time ``tau``; their units are therefore ``"1"``.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numbers
 import os
 import tempfile
 
 import numpy as np
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Mapping
+    from typing import Any
+
+    import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from .run import Run
 
 #: model name -> state variable names (a user model gets x0, x1, ...)
 _STATE_NAMES = {"rotor": ("X", "Y", "dX", "dY"), "duffing": ("x", "dx")}
@@ -58,7 +69,8 @@ def _params_dict(params):
     return {f"p{i}": float(v) for i, v in enumerate(vec)}
 
 
-def run_to_dataset(run, command=None, *, state0=None, attrs=None):
+def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | None = None,
+                   attrs: Mapping[str, Any] | None = None) -> xr.Dataset:
     """A :class:`~vibimpact.Run` as an ``xarray.Dataset``.
 
     Parameters
@@ -138,7 +150,7 @@ def run_to_dataset(run, command=None, *, state0=None, attrs=None):
     return ds
 
 
-def for_file(ds, call):
+def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file: a shallow copy (the data are
     shared, ``ds`` is not changed) whose global attributes carry the CF and provenance
     attributes of :func:`vibimpact.provenance.file_attrs`, and the encoding that writes no
@@ -171,7 +183,8 @@ def _umask():
     return mask
 
 
-def write_netcdf(ds, path, overwrite=False):
+def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str],
+                 overwrite: bool = False) -> None:
     """Write a dataset to NetCDF-4 atomically.
 
     The file is written to a temporary file in the target directory and renamed into
@@ -226,7 +239,7 @@ def write_netcdf(ds, path, overwrite=False):
             os.unlink(tmp)
 
 
-def read_netcdf(path):
+def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
     """Open a file written by :func:`write_netcdf` (fully loaded, file closed).
 
     Parameters

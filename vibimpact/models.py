@@ -6,6 +6,8 @@ A model is its right-hand side, Jacobian, switching surfaces and mode transition
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import dataclass
 from typing import Callable
 
@@ -16,6 +18,11 @@ from ._kernel import dispatch as _dispatch
 from ._kernel import rotor as _rotor
 from ._kernel.boundary import Problem
 from .params import DuffingParams, Params
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Sequence
+
+    from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True)
@@ -56,7 +63,7 @@ class Model:
     init_mode: Callable
     bound: float = 1e3
 
-    def problem(self, p, variational=False):
+    def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
         kmodel = self.variational_kernel_model if variational else self.kernel_model
@@ -77,8 +84,10 @@ class Model:
                 int(self.terminal.size))
 
     @classmethod
-    def from_functions(cls, name, rhs, jac, switches, transition, init_mode, terminal,
-                       state_names, param_names, omega_index, n_mode=1, bound=1e3):
+    def from_functions(cls, name: str, rhs: Callable, jac: Callable, switches: Callable,
+                       transition: Callable, init_mode: Callable, terminal: Callable,
+                       state_names: Sequence[str], param_names: Sequence[str],
+                       omega_index: int, n_mode: int = 1, bound: float = 1e3) -> Model:
         """A user model from numba functions (compiled on first use, not cached on disk).
 
         Parameters

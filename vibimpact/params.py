@@ -134,8 +134,10 @@ class Params(_ParamsMixin):
         return 2.0 * math.pi / self.eta
 
     @classmethod
-    def from_dimensional(cls, m, k, k2, b, kh, bh, bt, f, R1, e, rh, g=9.81, *, omega=None,
-                         eps=0.0):
+    def from_dimensional(cls, m: float, k: float, k2: float, b: float, kh: float, bh: float,
+                         bt: float, f: float, R1: float, e: float, rh: float,
+                         g: float = 9.81, *, omega: float | None = None,
+                         eps: float = 0.0) -> Params:
         """Dimensionless parameters from physical data by eq. (6) of the paper (SI units).
 
         Parameters

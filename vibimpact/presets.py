@@ -12,6 +12,8 @@ Where the paper is silent about a figure's contact dampings, the presets switch 
 with dampings accumulating; the calibration scores every such reading, and this one
 reproduces the most claims (reading (a) of ``reports/calibration.md``).
 """
+from __future__ import annotations
+
 from .params import DEFAULT_B, DEFAULT_EC, Params
 
 _TABLE = {
@@ -38,12 +40,12 @@ DEFAULT = "fig8"
 DEFAULT_ETA = 1.0
 
 
-def names():
+def names() -> list[str]:
     """Names of all presets, in figure order."""
     return list(_TABLE)
 
 
-def describe(name):
+def describe(name: str) -> str:
     """One line on what the paper shows for a preset."""
     return _row(name)[6]
 
@@ -54,7 +56,7 @@ def _row(name):
     return _TABLE[name]
 
 
-def get(name=DEFAULT):
+def get(name: str = DEFAULT) -> Params:
     """The :class:`~vibimpact.Params` of a preset.
 
     ``B`` and ``Ec`` are our defaults, not values from the paper (see the module docstring).

@@ -2,6 +2,8 @@
 :func:`strobe_only`, its unvalidated stroboscopic-only form for the loops of sweeps)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import logging
 
 import numpy as np
@@ -11,6 +13,12 @@ from . import _validate as _v
 from ._kernel import boundary as _kb
 from .models import ROTOR, resolve
 from .run import IMPACT_DTYPE, Run, Status, impacts_from_events, status_of
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from .models import Model
+    from .params import DuffingParams, Params
 
 _logger = logging.getLogger(__name__)
 
@@ -74,10 +82,13 @@ def strobe_only(model, p, periods, state0, method, rtol, atol):
     return st, reason, strobe
 
 
-def simulate(p, periods=100, transient=0, state0=None, method="dop853", rtol=1e-9,
-             atol=1e-12, *, steps_per_period=STEPS_PER_PERIOD, adaptive=True, dense=0,
-             max_step=None, bound=None, event_tol=EVENT_TOL,
-             max_steps_per_period=MAX_STEPS_PER_PERIOD, model=None):
+def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
+             transient: int = 0, state0: ArrayLike | None = None, method: str = "dop853",
+             rtol: float = 1e-9, atol: float = 1e-12, *,
+             steps_per_period: int = STEPS_PER_PERIOD, adaptive: bool = True,
+             dense: int = 0, max_step: float | None = None, bound: float | None = None,
+             event_tol: float = EVENT_TOL, max_steps_per_period: int = MAX_STEPS_PER_PERIOD,
+             model: Model | str | None = None) -> Run:
     """Integrate the model and sample it stroboscopically.
 
     Parameters

@@ -15,6 +15,8 @@ default ``System`` runs every analysis as it was designed and tested.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import dataclass, field, replace
 
@@ -24,6 +26,14 @@ from . import _validate as _v
 from ._kernel import boundary as _kb
 from .models import DUFFING, ROTOR, Model, resolve
 from .run import Status, status_of
+
+if TYPE_CHECKING:  # names of the annotations only
+    from typing import Any
+
+    from numpy.typing import ArrayLike
+
+    from ._kernel.boundary import Method, Options
+    from .run import Run
 
 #: solver settings a System carries (None: the analysis' default)
 SOLVER_FIELDS = ("method", "rtol", "atol", "max_step", "event_tol")
@@ -132,7 +142,7 @@ class System:
         """The model as :func:`vibimpact.simulate` takes it (None for a built-in one)."""
         return None if self.builtin else self.model
 
-    def param(self, name):
+    def param(self, name: str | int) -> float:
         """The value of parameter ``name`` (a field name, or an index of a user model's
         vector); ``ValueError`` naming ``param`` otherwise."""
         return float(self.p[self._index(name)])
@@ -148,7 +158,7 @@ class System:
         return int(name)
 
     # --- new systems from this one --------------------------------------------------------
-    def with_params(self, **changes):
+    def with_params(self, **changes) -> System:
         """The same system with some parameters changed (by name)."""
         if not changes:
             return self
@@ -159,7 +169,7 @@ class System:
             vec[self._index(name)] = float(value)
         return replace(self, params=vec)
 
-    def with_param(self, name, value):
+    def with_param(self, name: str | int, value: float) -> System:
         """The same system with one parameter (name, or index of a user vector) set."""
         i = self._index(name)
         if hasattr(self.params, "replace"):
@@ -169,7 +179,7 @@ class System:
         vec[i] = float(value)
         return replace(self, params=vec)
 
-    def with_solver(self, **settings):
+    def with_solver(self, **settings) -> System:
         """The same system with other solver settings (``method``, ``rtol``, ...)."""
         unknown = set(settings) - set(SOLVER_FIELDS)
         if unknown:
@@ -177,7 +187,7 @@ class System:
                              f"{', '.join(sorted(unknown))}")
         return replace(self, **settings)
 
-    def solver(self, **defaults):
+    def solver(self, **defaults) -> dict[str, Any]:
         """The solver settings, each ``None`` replaced by the caller's default (then by
         :func:`vibimpact.simulate`'s)."""
         base = dict(method="dop853", rtol=1e-9, atol=1e-12, max_step=None, event_tol=1e-12)
@@ -186,7 +196,8 @@ class System:
                 for k in SOLVER_FIELDS}
 
     # --- runs ---------------------------------------------------------------------------
-    def simulate(self, periods=100, transient=0, state0=None, *, dense=0, **solver):
+    def simulate(self, periods: int = 100, transient: int = 0,
+                 state0: ArrayLike | None = None, *, dense: int = 0, **solver) -> Run:
         """:func:`vibimpact.simulate` of this system (``solver`` overrides its settings).
 
         Returns
@@ -199,7 +210,8 @@ class System:
         return simulate(self.params, periods, transient, state0, dense=dense,
                         model=self.user_model, **kw)
 
-    def strobe(self, periods, state0, **defaults):
+    def strobe(self, periods: int, state0: ArrayLike,
+               **defaults) -> tuple[Status, str, np.ndarray]:
         """Stroboscopic points only, unvalidated (the loops of sweeps).
 
         Returns
@@ -214,7 +226,8 @@ class System:
         return strobe_only(self.model, self.p, periods, state0, kw["method"], kw["rtol"],
                            kw["atol"])
 
-    def monodromy(self, state0, n=1, *, tangent_tol=1.0):
+    def monodromy(self, state0: ArrayLike, n: int = 1, *,
+                  tangent_tol: float = 1.0) -> Monodromy:
         """Jacobian of the ``n``-fold stroboscopic map by the variational equations.
 
         The state and ``d`` tangent vectors (the columns of the identity) are integrated
@@ -262,7 +275,8 @@ class System:
         M = y[d:].reshape(d, d).T.copy()  # column c is the tangent vector started at e_c
         return Monodromy(M, x0, y[:d].copy(), n, n * T)
 
-    def variational(self, tangent_tol=None, **defaults):
+    def variational(self, tangent_tol: float | None = None,
+                    **defaults) -> tuple[Method, Options]:
         """Method and kernel options of the variational equations (and of the
         two-trajectory runs, ``tangent_tol`` None): adaptive methods only, the bound on
         the model state only, the tangent entries' local errors tested at ``tangent_tol``
@@ -294,7 +308,7 @@ class System:
                                     tangent_factor=0.0 if math.isinf(f) else f)
         return _kb.Method.named(kw["method"]), options
 
-    def resolved(self, **defaults):
+    def resolved(self, **defaults) -> System:
         """The same system with every solver setting fixed: the caller's ``defaults``
         (then :func:`vibimpact.simulate`'s) for those left None, so that the analyses it
         is passed on to use the caller's defaults, not their own."""

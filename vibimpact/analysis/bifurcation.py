@@ -23,6 +23,8 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import dataclass
 
@@ -32,6 +34,14 @@ from ..run import Status
 from .. import _validate as _v
 from ..system import as_system
 from .shooting import PeriodicOrbit, critical_multiplier, shoot_periodic_orbit
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Mapping
+    from typing import Any
+
+    from numpy.typing import ArrayLike
+
+    from ..system import System
 
 __all__ = ["Bifurcation", "locate_bifurcation", "orbit_signature", "grazing_gap",
            "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER"]
@@ -235,8 +245,10 @@ def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
                           f"-> {mh}; {at}", False)
 
 
-def locate_bifurcation(system, state0, n=1, *, param, start, stop, tol=1e-6, step=None,
-                       shoot_kw=None):
+def locate_bifurcation(system: System, state0: ArrayLike, n: int = 1, *, param: str,
+                       start: float, stop: float, tol: float = 1e-6,
+                       step: float | None = None,
+                       shoot_kw: Mapping[str, Any] | None = None) -> Bifurcation:
     """The first value between ``start`` and ``stop`` where a stable period-``n`` orbit
     stops persisting, bracketed to ``tol``, and the kind of bifurcation.
 

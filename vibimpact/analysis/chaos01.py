@@ -29,12 +29,17 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numbers
 
 import numpy as np
 
 from .. import _validate as _v
 from .._kernel.boundary import matmul
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
 
 __all__ = ["test01", "mean_square_displacement", "C_RANGE", "MIN_LENGTH"]
 
@@ -105,7 +110,9 @@ def mean_square_displacement(x, c, n_cut):
     return (upper + lower - 2.0 * cross) / (N - n)[None, :]
 
 
-def test01(series, c=None, n_c=100, n_cut=None, seed=0, *, constant_tol=1e-12):
+def test01(series: ArrayLike, c: ArrayLike | None = None, n_c: int = 100,
+           n_cut: int | None = None, seed: int = 0, *,
+           constant_tol: float = 1e-12) -> float:
     """Gottwald--Melbourne 0-1 test for chaos: ``K`` near 0 regular, near 1 chaotic.
 
     Parameters

@@ -7,6 +7,8 @@ vibimpact (sweeps, interval maps, the CLI) calls :func:`classify`.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import enum
 import math
 from dataclasses import dataclass
@@ -15,6 +17,9 @@ import numpy as np
 
 from .chaos01 import test01
 from .period import detect_period
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
 
 
 class Label(str, enum.Enum):
@@ -210,8 +215,10 @@ def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE, torus=None):
     return Label.UNSETTLED, 0, 0.0, "no period found and no other test available"
 
 
-def classify(points, *, lyapunov=None, lyapunov_err=None, period=1.0, k01=None,
-             impacts_per_period=None, diverged=False, rule=DEFAULT_RULE):
+def classify(points: ArrayLike, *, lyapunov: float | None = None,
+             lyapunov_err: float | None = None, period: float = 1.0,
+             k01: float | None = None, impacts_per_period: float | None = None,
+             diverged: bool = False, rule: DecisionRule = DEFAULT_RULE) -> Regime:
     """Classify a motion from its stroboscopic (Poincaré) points.
 
     Array-level: works on points from any system.

@@ -27,6 +27,8 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import dataclass
 
@@ -39,6 +41,11 @@ from .._kernel.boundary import dot, solve
 from .bifurcation import (CONTINUATION_SOLVER, KIND_BY_MULTIPLIER, Bifurcation,
                           locate_bifurcation, orbit_signature, grazing_gap)
 from .shooting import critical_multiplier, floquet_multipliers, shoot_periodic_orbit
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..system import System
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
            "orbit_signature", "grazing_gap", "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER"]
@@ -213,8 +220,9 @@ def _window(stop, lam0):
     return tuple(sorted((_v.finite("stop", stop[0]), _v.finite("stop", stop[1]))))
 
 
-def continue_orbit(system, state0, n=1, *, param="eta", stop, steps=Steps(), direction=1,
-                   amplitude=True):
+def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str = "eta",
+                   stop: float, steps: Steps = Steps(), direction: int = 1,
+                   amplitude: bool = True) -> Branch:
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 
     Unknowns ``u = (x, lambda)``; equations ``G(u) = P^n(x; lambda) - x = 0`` and the

@@ -163,7 +163,7 @@ class Averaging:
                     from None
             fix("decisive", (band, z))
 
-    def replace(self, **changes):
+    def replace(self, **changes) -> Averaging:
         """A copy with some fields changed."""
         from dataclasses import replace
         return replace(self, **changes)

@@ -19,14 +19,21 @@ References
    networks by extrapolation methods", *IEEE Trans. Circuits Syst.* 27 (1980) 161-175.
 .. [3] A. Sidi, *Vector Extrapolation Methods with Applications*, SIAM (2017), ch. 1-2.
 """
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .._kernel.boundary import lstsq, matmul
 
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
 __all__ = ["extrapolate_limit"]
 
 
-def extrapolate_limit(seq, order=None):
+def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
     """Limit of a converging vector sequence by minimal polynomial extrapolation (MPE).
 
     Parameters

@@ -6,6 +6,8 @@ estimate splits a complex pair of multipliers.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..run import Status
@@ -14,11 +16,17 @@ from ..system import as_system
 from .exponents import KIND_FLOW, KIND_FLOW_PHASE, LyapunovResult
 from .shooting import floquet_exponents, floquet_multipliers, shoot_periodic_orbit
 
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..system import System
+
 __all__ = ["floquet_lyapunov"]
 
 
-def floquet_lyapunov(system, state0, n=1, *, n_exponents=None, include_phase=False, tol=1e-9,
-                     max_iter=20):
+def floquet_lyapunov(system: System, state0: ArrayLike, n: int = 1, *,
+                     n_exponents: int | None = None, include_phase: bool = False,
+                     tol: float = 1e-9, max_iter: int = 20) -> LyapunovResult:
     """Lyapunov exponents of a periodic orbit: its Floquet exponents ``ln|mu| / (n T)``.
 
     The period-``n`` orbit through (near) ``state0`` is found by Newton shooting

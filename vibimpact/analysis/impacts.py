@@ -16,12 +16,19 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numbers
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from .. import _validate as _v
+
+if TYPE_CHECKING:  # names of the annotations only
+    from typing import Any
+
+    from numpy.typing import ArrayLike
 
 __all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "ImpactStatistics",
            "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS", "HALF_TOLERANCE",
@@ -66,7 +73,7 @@ class ImpactCount:
     period: int
 
 
-def impact_count(impact_period, n_periods, period=1):
+def impact_count(impact_period: ArrayLike, n_periods: int, period: int = 1) -> ImpactCount:
     """Count impacts in consecutive windows of ``period`` forcing periods.
 
     Parameters
@@ -142,7 +149,7 @@ class ContactArcs:
     largest_gap: float
     summary: str
 
-    def to_text(self):
+    def to_text(self) -> str:
         """E.g. ``"2 small arcs (84..97°, 120..131°)"``; ``"none"`` without contacts."""
         deg = [(f"{s:.0f}".replace("-0", "0"), f"{e:.0f}".replace("-0", "0"))
                for s, e in zip(self.start, self.end)]   # "-0" only: no zero padding
@@ -178,7 +185,7 @@ def summarize_arcs(theta, width, largest_gap):
     return "1 arc" if k == 1 else f"{k} arcs"
 
 
-def contact_arcs(angles, gap=10.0):
+def contact_arcs(angles: ArrayLike, gap: float = 10.0) -> ContactArcs:
     """Group contact angles into arcs of the retainer circle and describe them.
 
     Angles are sorted on the circle and split wherever the circular gap between neighbours
@@ -257,12 +264,12 @@ class ImpactStatistics:
     max_penetration: float
     mean_duration: float
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
         """The statistics as a plain ``{name: value}`` dict."""
         return asdict(self)
 
 
-def impact_statistics(impacts):
+def impact_statistics(impacts: np.ndarray) -> ImpactStatistics:
     """Count, impact speeds, penetration and duration of contacts.
 
     Parameters

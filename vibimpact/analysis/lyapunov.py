@@ -36,6 +36,8 @@ confirms a stable orbit; :func:`floquet_lyapunov` gives them for a point of an o
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import replace
 
@@ -49,6 +51,11 @@ from .exponents import KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, Averaging, Lyapu
 from .floquet import floquet_lyapunov
 from .period import detect_period
 from .shooting import shoot_periodic_orbit
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..system import System
 
 __all__ = ["lyapunov_spectrum", "largest_lyapunov", "lyapunov_from_jacobians",
            "lyapunov_from_series", "strobe_map_jacobian", "floquet_lyapunov",
@@ -157,9 +164,11 @@ def _period_watch(states, shoot, tol, max_period, window, attempts=3):
     return watch
 
 
-def lyapunov_spectrum(system, state0=None, *, n_exponents=None, averaging=Averaging(),
-                      include_phase=False, tangent_tol=TANGENT_TOL, floquet=True,
-                      floquet_tol=1e-5, floquet_max_period=16):
+def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
+                      n_exponents: int | None = None, averaging: Averaging = Averaging(),
+                      include_phase: bool = False, tangent_tol: float = TANGENT_TOL,
+                      floquet: bool = True, floquet_tol: float = 1e-5,
+                      floquet_max_period: int = 16) -> LyapunovResult:
     """Lyapunov spectrum by variational equations with saltation matrices (Benettin/QR).
 
     The tangent vectors follow ``v' = J v`` with the model's analytic Jacobian inside each
@@ -310,7 +319,8 @@ def _with_phase(res):
                           lam[idx])
 
 
-def largest_lyapunov(system, state0=None, *, d0=1e-7, averaging=Averaging(align=20)):
+def largest_lyapunov(system: System, state0: ArrayLike | None = None, *, d0: float = 1e-7,
+                     averaging: Averaging = Averaging(align=20)) -> LyapunovResult:
     """Largest Lyapunov exponent from two nearby trajectories (renormalised separation).
 
     A perturbed copy starts ``d0`` away from the reference; after each forcing period the
@@ -372,7 +382,8 @@ def largest_lyapunov(system, state0=None, *, d0=1e-7, averaging=Averaging(align=
                    KIND_FLOW)
 
 
-def lyapunov_from_jacobians(jacobians, dt=1.0, *, block=None, discard=0):
+def lyapunov_from_jacobians(jacobians: ArrayLike, dt: float = 1.0, *,
+                            block: int | None = None, discard: int = 0) -> LyapunovResult:
     """Lyapunov spectrum of a map from the Jacobians along an orbit (QR method).
 
     Parameters
@@ -414,7 +425,7 @@ def lyapunov_from_jacobians(jacobians, dt=1.0, *, block=None, discard=0):
                    "map, per unit dt (dt = 1: per iteration)")
 
 
-def lyapunov_from_series(series, period=1.0, **kwargs):
+def lyapunov_from_series(series: ArrayLike, period: float = 1.0, **kwargs) -> float:
     """Largest exponent of a scalar time series by Rosenstein's method (nolds), a cross-check.
 
     Parameters
@@ -455,7 +466,8 @@ def lyapunov_from_series(series, period=1.0, **kwargs):
     return float(nolds.lyap_r(x, **kwargs)) / period
 
 
-def strobe_map_jacobian(system, state0, *, n=1, eps=1e-6):
+def strobe_map_jacobian(system: System, state0: ArrayLike, *, n: int = 1,
+                        eps: float = 1e-6) -> np.ndarray:
     """Jacobian of the ``n``-fold stroboscopic map at ``state0`` by central differences.
 
     At a period-``n`` fixed point this is the monodromy matrix; its eigenvalues are the

@@ -23,9 +23,16 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .. import _validate as _v
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..run import Run
 
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]
@@ -38,7 +45,8 @@ SCALE_FLOOR = 1e-12
 DIVISOR_MARGIN = 1e3
 
 
-def detect_period(points, tol=1e-6, max_period=64, min_repeats=3, *, scale=None):
+def detect_period(points: ArrayLike, tol: float = 1e-6, max_period: int = 64,
+                  min_repeats: int = 3, *, scale: float | None = None) -> int:
     """Smallest period of a sequence of Poincare points, or 0 if it has none.
 
     ``n`` is accepted when ``max_j |points[k + n, j] - points[k, j]| <= tol * scale`` for
@@ -193,7 +201,7 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     return 0
 
 
-def poincare_section(run):
+def poincare_section(run: Run) -> np.ndarray:
     """Stroboscopic Poincare samples of a run, ``x(tau_k)`` at ``tau_k = 2 pi k / eta``.
 
     Parameters
@@ -213,7 +221,7 @@ def poincare_section(run):
     return strobe
 
 
-def impact_map(run):
+def impact_map(run: Run) -> np.ndarray:
     """States at every contact entry: the impact (Poincare) map of the rotor.
 
     Rows are the events of ``run.events`` with ``which == 0`` (switch 0: the contact

@@ -30,6 +30,8 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import dataclass
 
@@ -37,6 +39,9 @@ import numpy as np
 
 from .. import _validate as _v
 from .._kernel.boundary import dot, eigvals, lstsq, matmul
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
 
 #: the set's size shrinks significantly when its log-slope per period lies ``Z`` standard
 #: errors below ``-SPREAD_FLOOR``
@@ -147,7 +152,7 @@ def contraction_rates(points, lags):
     return out
 
 
-def contraction_rate(points, n=1):
+def contraction_rate(points: ArrayLike, n: int = 1) -> Contraction | None:
     """Contraction rate of every ``n``-th stroboscopic point, per forcing period.
 
     The steps ``u_j = z_{j+1} - z_j`` of ``z_j = x_{jn}`` are fitted by a linear map,
@@ -258,7 +263,7 @@ class TorusEvidence:
         return self.non_contracting and self.recurrent
 
 
-def torus_evidence(points):
+def torus_evidence(points: ArrayLike) -> TorusEvidence:
     """Evidence of an invariant torus in stroboscopic points.
 
     A quasi-periodic motion's Poincaré points lie on a closed curve (two frequencies) or

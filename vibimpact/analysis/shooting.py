@@ -35,6 +35,8 @@ References
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import dataclass
 
@@ -44,6 +46,11 @@ from ..run import Status
 from .. import _validate as _v
 from ..system import Monodromy, as_system
 from .._kernel.boundary import eigvals, solve
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..system import System
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",
@@ -119,7 +126,7 @@ class PeriodicOrbit:
         return critical_multiplier(self.multipliers)
 
 
-def floquet_multipliers(M):
+def floquet_multipliers(M: ArrayLike) -> np.ndarray:
     """Eigenvalues of a monodromy matrix, by decreasing modulus.
 
     Parameters
@@ -159,7 +166,7 @@ def floquet_multipliers(M):
     return mu[order]
 
 
-def floquet_exponents(multipliers, period):
+def floquet_exponents(multipliers: ArrayLike, period: float) -> np.ndarray:
     """``ln|mu| / period``, descending: Lyapunov exponents of a periodic orbit.
 
     Parameters
@@ -194,7 +201,8 @@ def critical_multiplier(multipliers, tol_imag=1e-6):
     return "-1" if top.real < 0.0 else "+1"
 
 
-def monodromy(system, state0, n=1, *, tangent_tol=1.0):
+def monodromy(system: System, state0: ArrayLike, n: int = 1, *,
+              tangent_tol: float = 1.0) -> Monodromy:
     """Jacobian of the ``n``-fold stroboscopic map by the variational equations:
     :meth:`vibimpact.System.monodromy`.
 
@@ -255,7 +263,9 @@ def _minimal_period(strobe, n, tol):
     return n
 
 
-def shoot_periodic_orbit(system, state0, n=1, *, tol=1e-9, max_iter=20, damping=True):
+def shoot_periodic_orbit(system: System, state0: ArrayLike, n: int = 1, *,
+                         tol: float = 1e-9, max_iter: int = 20,
+                         damping: bool = True) -> PeriodicOrbit:
     """A period-``n`` orbit by Newton shooting on the stroboscopic map, with its Floquet
     multipliers.
 

@@ -30,6 +30,8 @@ the map so far.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 import sys
 from collections.abc import Mapping
@@ -43,6 +45,16 @@ from ..system import (System, param_dict, to_system, varied_names, with_frequenc
                       with_values)
 from ..sweeps.sweep import check_grid, check_request
 
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+    from collections.abc import Callable, Sequence
+    from typing import Any
+
+    import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from ..points.point import SweepSettings
+
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
 MAP_ANALYSES = ("period", "impacts", "lyapunov")
@@ -55,7 +67,7 @@ DEFAULT_TASK_POINTS = 300
 DONE = "row_done"
 
 
-def parameter_names(p=None):
+def parameter_names(p: Params | DuffingParams | System | None = None) -> list[str]:
     """Names of the parameters a map can vary: every parameter of ``p``'s model (the
     rotor's by default) but the forcing frequency."""
     return varied_names(Params() if p is None else p)
@@ -202,9 +214,13 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
     return ds, shapes
 
 
-def map2d(p, eta, vary, direction="up", analyses=MAP_ANALYSES, *, settings=None,
-          state0=None, scheduler=None, workers=1, task_points=DEFAULT_TASK_POINTS,
-          store=None, resume=False, progress=False, command=None):
+def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str, ArrayLike],
+          direction: str = "up", analyses: Sequence[str] = MAP_ANALYSES, *,
+          settings: SweepSettings | None = None, state0: ArrayLike | None = None,
+          scheduler: Any = None, workers: int = 1, task_points: int = DEFAULT_TASK_POINTS,
+          store: str | os.PathLike[str] | None = None, resume: bool = False,
+          progress: bool | Callable[[int], object] = False,
+          command: str | None = None) -> xr.Dataset:
     """Regime map over eta and one other parameter, rows computed on Dask.
 
     Parameters

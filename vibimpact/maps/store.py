@@ -9,12 +9,17 @@ runs.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import os
 import shutil
 import tempfile
 import warnings
 
 import numpy as np
+
+if TYPE_CHECKING:  # names of the annotations only
+    import xarray as xr
 
 #: output formats by file extension
 FORMATS = {".zarr": "zarr", ".nc": "netcdf"}
@@ -47,7 +52,8 @@ def _chunks(ds):
     return enc
 
 
-def write_map(ds, path, overwrite=False):
+def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
+              overwrite: bool = False) -> None:
     """Write a map dataset atomically as Zarr (``*.zarr``) or NetCDF (``*.nc``).
 
     Both carry the CF global attributes and the provenance of
@@ -133,7 +139,7 @@ def _consolidated(path):
         return False
 
 
-def open_map(path):
+def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
     """Read a map written by :func:`write_map` (fully loaded, file closed).
 
     Parameters

@@ -1,12 +1,22 @@
 """Bifurcation diagram: the Poincaré (stroboscopic) points of a sweep against eta."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ._sweep import DIRECTION_COLORS, check_sweep, directions, new_figure, title
 
+if TYPE_CHECKING:  # names of the annotations only
+    import os
 
-def plot_bifurcation(ds, ax=None, path=None):
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+
+def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
+                     path: str | os.PathLike[str] | None = None) -> Figure:
     """Draw the Poincaré points X and Y of a sweep against eta (two panels).
 
     Parameters

@@ -1,10 +1,19 @@
 """Response curves and the regime map of a sweep."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, check_sweep, directions, grid_step,
                      new_figure, title)
+
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: regime code -> band colour of :func:`plot_intervals` (periodic: by period, below)
 REGIME_COLORS = {0: "0.85", 2: "tab:orange", 3: "tab:red", 4: "0.15", 5: "tab:purple"}
@@ -20,7 +29,8 @@ def _save(fig, path):
     return fig
 
 
-def plot_response(ds, ax=None, path=None, bands=True):
+def plot_response(ds: xr.Dataset, ax: Axes | None = None,
+                  path: str | os.PathLike[str] | None = None, bands: bool = True) -> Figure:
     """Response amplitudes X_m and Y_m against eta, chaotic points marked.
 
     Parameters
@@ -141,7 +151,8 @@ def _short(label, regime, period):
     return {2: "QP", 3: "C", 4: "D", 5: "U"}.get(regime, "")
 
 
-def plot_intervals(ds, ax=None, path=None):
+def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
+                   path: str | os.PathLike[str] | None = None) -> Figure:
     """The regime map: coloured bands along eta, one row per sweep direction.
 
     Parameters

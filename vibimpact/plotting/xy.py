@@ -1,13 +1,20 @@
 """Orbit of the rotor centre in the clearance plane, with the retainer and the impacts."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import os
 import tempfile
 
 import numpy as np
 
+if TYPE_CHECKING:  # names of the annotations only
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
-def save_figure(fig, path, dpi=150):
+
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> None:
     """Save a figure atomically (temporary file in the same directory, then rename).
 
     Parameters
@@ -62,7 +69,8 @@ def _title(ds):
     return ", ".join(parts)
 
 
-def plot_xy(ds, path=None, ax=None):
+def plot_xy(ds: xr.Dataset, path: str | os.PathLike[str] | None = None,
+            ax: Axes | None = None) -> Axes:
     """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
 
     Parameters

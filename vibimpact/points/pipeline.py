@@ -12,6 +12,8 @@ It uses :mod:`vibimpact.analysis` and the point pipeline beside it; it is export
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 from dataclasses import fields, replace
 
@@ -19,6 +21,12 @@ from .. import _validate as _v
 from ..analysis.classify import Label, Regime
 from ..system import as_system
 from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..system import System
+    from .point import PointResult
 
 __all__ = ["classify_params", "CLASSIFY_ANALYSES", "CLASSIFY_SETTINGS"]
 
@@ -55,7 +63,9 @@ def _settings(settings, changes):
                                       if a in st.analyses or a == "period"))
 
 
-def classify_params(system, state0=None, *, settings=None, guess=None, **changes):
+def classify_params(system: System, state0: ArrayLike | None = None, *,
+                    settings: SweepSettings | None = None, guess: ArrayLike | None = None,
+                    **changes) -> tuple[Regime, PointResult]:
     """Classify one parameter point by the sweeps' point pipeline.
 
     Parameters

@@ -9,6 +9,8 @@ returns a typed :class:`PointResult`.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
@@ -20,6 +22,14 @@ from .codes import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERM
 from .measure import measure
 from .settle import MAX_SHOTS
 from .transient import settle
+
+if TYPE_CHECKING:  # names of the annotations only
+    from typing import Any
+
+    from numpy.typing import ArrayLike
+
+    from ..params import DuffingParams, Params
+    from ..run import Status
 
 __all__ = ["ANALYSES", "SweepSettings", "PointResult", "SCALARS", "analyse_point",
            "point_system", "REGIME_CODES", "REGIME_FLAGS", "CONTACT_FLAGS",
@@ -112,7 +122,7 @@ class SweepSettings:
     rtol: float = 1e-8
     atol: float = 1e-11
 
-    def as_attrs(self):
+    def as_attrs(self) -> dict[str, Any]:
         """Flat dict for dataset attributes."""
         d = asdict(self)
         rule = d.pop("rule")
@@ -193,25 +203,25 @@ class PointResult:
         default_factory=lambda: _nan(N_MULTIPLIERS) + np.nan * 1j)
 
     @classmethod
-    def empty(cls, n_state, n_samples):
+    def empty(cls, n_state: int, n_samples: int) -> PointResult:
         """Nothing computed yet, for a model of ``n_state`` variables."""
         return cls(samples=np.full((n_samples, n_state), np.nan), final_state=_nan(n_state),
                    orbit_point=_nan(n_state),
                    multipliers=_nan(n_state) + np.nan * 1j)
 
-    def update(self, **values):
+    def update(self, **values) -> None:
         """Set several fields."""
         for k, v in values.items():
             setattr(self, k, v)
 
-    def diverged(self, status, reason, where):
+    def diverged(self, status: Status, reason: str, where: str) -> PointResult:
         """Mark the point diverged: the integration stopped ``where``."""
         self.regime = REGIME_CODES[Label.DIVERGED]
         self.confidence = 1.0
         self.reason = f"{where}: {status.value}, {reason}"
         return self
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
         """``{field: value}``: what checkpoints and datasets store."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
@@ -228,7 +238,8 @@ def point_system(p, settings):
     return system.resolved(method=settings.method, rtol=settings.rtol, atol=settings.atol)
 
 
-def analyse_point(p, state0, settings, guess=None):
+def analyse_point(p: Params | DuffingParams | System, state0: ArrayLike | None,
+                  settings: SweepSettings, guess: ArrayLike | None = None) -> PointResult:
     """Analyse one parameter point.
 
     Parameters

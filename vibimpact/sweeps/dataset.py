@@ -7,6 +7,8 @@ and any NetCDF tool.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 import sys
 
@@ -17,6 +19,15 @@ from ..analysis.classify import Label
 from ..system import param_dict, to_system
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
                              CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Mapping, Sequence
+
+    import xarray as xr
+
+    from ..params import DuffingParams, Params
+    from ..points.point import PointResult, SweepSettings
+    from ..system import System
 
 #: variable -> (dtype, units, long_name)
 VARIABLES = {
@@ -114,8 +125,10 @@ def label_text(code, n, ipp, arcs, contact=-1):
     return f"{text}, {arcs}" if arcs else text
 
 
-def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blocks,
-               command=None):
+def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Sequence[str],
+               results: Mapping[str, Sequence[PointResult | None]], settings: SweepSettings,
+               *, direction: str, continuation: bool, blocks: int,
+               command: str | None = None) -> xr.Dataset:
     """Assemble per-point results into a Dataset (dims ``eta`` [, ``direction``])."""
     import xarray as xr
 
@@ -209,7 +222,7 @@ def to_dataset(p, etas, dirs, results, settings, *, direction, continuation, blo
     return ds
 
 
-def intervals(ds, direction=None):
+def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
     """The labelled frequency-interval map of a sweep.
 
     Consecutive grid points with the same label (kind of motion, period, impacts per
@@ -283,7 +296,7 @@ def intervals(ds, direction=None):
     return out
 
 
-def format_intervals(iv):
+def format_intervals(iv: xr.Dataset) -> str:
     """The interval map as an aligned text table."""
     lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
     for k in range(iv.sizes["interval"]):

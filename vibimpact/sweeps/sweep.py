@@ -19,6 +19,8 @@ saved at once in the checkpoint (:mod:`vibimpact.engine.store`).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 
 import numpy as np
@@ -29,6 +31,13 @@ from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
+
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+    from collections.abc import Callable, Sequence
+
+    import xarray as xr
+    from numpy.typing import ArrayLike
 
 DIRECTIONS = ("up", "down", "both")
 
@@ -53,7 +62,9 @@ def check_grid(eta):
     return arr
 
 
-def continued_state(p, eta, *, eta_start=1.0, step=0.02, transient=200, state0=None):
+def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
+                    eta_start: float = 1.0, step: float = 0.02, transient: int = 200,
+                    state0: ArrayLike | None = None) -> np.ndarray:
     """State on the branch reached by sweeping ``eta`` up from ``eta_start``.
 
     ``transient`` forcing periods at every grid point ``eta_start, eta_start + step, ...``
@@ -109,9 +120,13 @@ def check_request(direction, analyses, settings, state0, n_state=4):
     return settings, state0
 
 
-def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuation=True,
-          settings=None, blocks=16, workers=1, seed_periods=10, checkpoint=None,
-          resume=False, progress=False, command=None):
+def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "up",
+          analyses: Sequence[str] = ANALYSES, *, state0: ArrayLike | None = None,
+          continuation: bool = True, settings: SweepSettings | None = None,
+          blocks: int = 16, workers: int = 1, seed_periods: int = 10,
+          checkpoint: str | os.PathLike[str] | None = None, resume: bool = False,
+          progress: bool | Callable[[int], object] = False,
+          command: str | None = None) -> xr.Dataset:
     """Sweep the forcing frequency ``eta`` and classify the motion at every point.
 
     Parameters
@@ -208,7 +223,7 @@ def sweep(p, eta, direction="up", analyses=ANALYSES, *, state0=None, continuatio
                       continuation=continuation, blocks=blocks, command=command)
 
 
-def parse_range(text, name="eta", positive=True):
+def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarray:
     """``"START:STOP:STEP"`` or ``"V1,V2,..."`` -> a strictly increasing grid.
 
     A range includes STOP when it lies on the grid (its values are rounded to 12 decimals,

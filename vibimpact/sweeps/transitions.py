@@ -46,6 +46,8 @@ Math. Phys. 74, 189.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 
 import numpy as np
@@ -61,6 +63,13 @@ from ..simulation import simulate
 from ..system import System
 from .dataset import label_text
 from ..points.point import REGIME_CODES, SweepSettings, analyse_point
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Callable
+
+    import xarray as xr
+
+    from ..params import DuffingParams
 
 __all__ = ["TYPES", "transition_types", "format_transitions"]
 
@@ -377,8 +386,10 @@ def _classify(p, a, b, settings, tol, refine, cache):
     return out
 
 
-def transition_types(ds, p=None, *, refine=True, tol=1e-4, direction=None, settings=None,
-                     progress=False):
+def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None = None, *,
+                     refine: bool = True, tol: float = 1e-4, direction: str | None = None,
+                     settings: SweepSettings | None = None,
+                     progress: bool | Callable[[int], object] = False) -> xr.Dataset:
     """The type of every boundary of the sweep's interval map, refined by bisection.
 
     Parameters
