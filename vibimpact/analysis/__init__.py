@@ -1,33 +1,36 @@
 """Analysers: verbs over arrays (Poincaré points, impact logs, Jacobians, time series).
 
-==========================  ==========================================================
-:func:`poincare_section`    stroboscopic samples of a run, shape (m, n)
-:func:`impact_map`          the state at each contact entry, shape (k, n)
-:func:`detect_period`       smallest ``n`` with ``x[k+n] = x[k]``; 0 if none
-:func:`impact_count`        contacts per forcing period and per motion period
-:func:`contact_arcs`        contact angles grouped into arcs on the retainer circle
-:func:`impact_statistics`   impact speeds, penetrations, contact durations
-:func:`lyapunov_spectrum`   variational equations + saltation matrices (Benettin/QR)
-:class:`Averaging`          how long the Lyapunov estimates integrate and average
-:func:`largest_lyapunov`    two-trajectory estimate (independent check)
+===============================  ==========================================================
+:func:`poincare_section`         stroboscopic samples of a run, shape (m, n)
+:func:`impact_map`               the state at each contact entry, shape (k, n)
+:func:`detect_period`            smallest ``n`` with ``x[k+n] = x[k]``; 0 if none
+:func:`impact_count`             contacts per forcing period and per motion period
+:func:`contact_arcs`             contact angles grouped into arcs on the retainer circle
+:func:`impact_statistics`        impact speeds, penetrations, contact durations
+:func:`lyapunov_spectrum`        variational equations + saltation matrices (Benettin/QR)
+:class:`Averaging`               how long the Lyapunov estimates integrate and average
+:func:`largest_lyapunov`         two-trajectory estimate (independent check)
 :func:`lyapunov_from_jacobians`  QR method for any map
 :func:`lyapunov_from_series`     nolds (Rosenstein) on a series, a cross-check only
-:func:`floquet_lyapunov`    exact exponents ln|mu|/T of a periodic orbit (shooting)
-:func:`strobe_map_jacobian` finite-difference Jacobian of the stroboscopic map
-:func:`contraction_rate`    how fast stroboscopic points settle (linear map of the steps)
-:func:`torus_evidence`      non-contracting, recurring Poincaré points (quasi-periodicity)
-:func:`test01`              Gottwald--Melbourne 0-1 test for chaos
-:func:`classify`            -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC, DIVERGED,
-                            UNSETTLED)
-:func:`extrapolate_limit`   limit of a converging map iteration (minimal polynomial
-                            extrapolation)
-:func:`monodromy`           Jacobian of the n-fold stroboscopic map (variational eqs.)
-:func:`shoot_periodic_orbit` period-n orbit by Newton shooting, with Floquet multipliers
-:func:`floquet_multipliers` eigenvalues of a monodromy matrix, by decreasing modulus
-:func:`locate_bifurcation`  where and how a stable orbit stops persisting in a parameter
-:func:`continue_orbit`      pseudo-arclength continuation of a periodic orbit
-:class:`Steps`              its step controls
-==========================  ==========================================================
+:func:`floquet_lyapunov`         exact exponents ln|mu|/T of a periodic orbit (shooting)
+:func:`strobe_map_jacobian`      finite-difference Jacobian of the stroboscopic map
+:func:`contraction_rate`         how fast stroboscopic points settle (linear map of the
+                                 steps)
+:func:`torus_evidence`           non-contracting, recurring Poincaré points
+                                 (quasi-periodicity)
+:func:`test01`                   Gottwald--Melbourne 0-1 test for chaos
+:func:`classify`                 -> :class:`Regime` (PERIODIC n, QUASIPERIODIC, CHAOTIC,
+                                 DIVERGED, UNSETTLED)
+:func:`extrapolate_limit`        limit of a converging map iteration (minimal polynomial
+                                 extrapolation)
+:func:`monodromy`                Jacobian of the n-fold stroboscopic map (variational eqs.)
+:func:`shoot_periodic_orbit`     period-n orbit by Newton shooting, with Floquet multipliers
+:func:`floquet_multipliers`      eigenvalues of a monodromy matrix, by decreasing modulus
+:func:`locate_bifurcation`       where and how a stable orbit stops persisting in a
+                                 parameter
+:func:`continue_orbit`           pseudo-arclength continuation of a periodic orbit
+:class:`Steps`                   its step controls
+===============================  ==========================================================
 
 Every analyser of a model's trajectories (Lyapunov exponents, shooting, monodromy,
 continuation, classification of a parameter point) takes a :class:`vibimpact.System`
