@@ -256,7 +256,16 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
         return ds.load()
 
 
-def differences(a, b):
+#: dtype kinds of text: objects (str), unicode, bytes, NumPy's StringDType (Zarr)
+_TEXT = "OUST"
+
+
+def _as_text(x):
+    """An array of text as an array of ``str`` (StringDType through objects)."""
+    return x.astype(object).astype(str) if x.dtype.kind == "T" else x.astype(str)
+
+
+def differences(a: xr.Dataset, b: xr.Dataset) -> tuple[list[tuple[str, str]], int]:
     """Compare two datasets bit for bit (NaN equal to NaN).
 
     Only data variables and coordinates are compared, never attributes: those of a file
@@ -282,9 +291,9 @@ def differences(a, b):
             out.append((name, f"shape {dict(x.sizes)} vs {dict(y.sizes)}"))
             continue
         x, y = x.values, y.values
-        if x.dtype.kind in "OUS" or y.dtype.kind in "OUS":
-            xs, ys = x.astype(str), y.astype(str)
-            if x.dtype.kind not in "OUS" or y.dtype.kind not in "OUS":
+        if x.dtype.kind in _TEXT or y.dtype.kind in _TEXT:
+            xs, ys = _as_text(x), _as_text(y)
+            if x.dtype.kind not in _TEXT or y.dtype.kind not in _TEXT:
                 out.append((name, f"dtype {x.dtype} vs {y.dtype}"))
             elif not np.array_equal(xs, ys):
                 out.append((name, f"{int(np.sum(xs != ys))} of {xs.size} values differ"))

@@ -28,6 +28,8 @@ import platform
 import shlex
 import subprocess
 import sys
+from collections.abc import Mapping
+from typing import Any
 
 #: the CF version the files follow
 CONVENTIONS = "CF-1.8"
@@ -37,14 +39,14 @@ DEPENDENCIES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "zar
 VOLATILE = ("date_created", "history", "wall_time_s")
 
 
-def utc_now():
+def utc_now() -> str:
     """The current UTC time as ISO-8601 text, to the second: ``2025-01-31T12:00:00Z``."""
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     return now.isoformat().replace("+00:00", "Z")
 
 
 @functools.lru_cache(maxsize=None)
-def git_commit():
+def git_commit() -> tuple[str | None, int | None]:
     """``(commit, dirty)`` of the package's git checkout, or ``(None, None)``.
 
     ``git rev-parse HEAD`` runs only when the directory above the package holds a
@@ -72,7 +74,7 @@ def git_commit():
 
 
 @functools.lru_cache(maxsize=None)
-def cpu_model():
+def cpu_model() -> str:
     """The CPU model: ``model name`` of ``/proc/cpuinfo`` on Linux, otherwise
     :func:`platform.processor`, otherwise the machine type (``"unknown"`` if none)."""
     try:
@@ -86,7 +88,7 @@ def cpu_model():
     return platform.processor() or platform.machine() or "unknown"
 
 
-def dependency_versions():
+def dependency_versions() -> dict[str, str]:
     """``{name: version}`` of the :data:`DEPENDENCIES` this process has imported."""
     out = {}
     for name in DEPENDENCIES:
@@ -97,7 +99,7 @@ def dependency_versions():
     return out
 
 
-def provenance():
+def provenance() -> dict[str, str | int]:
     """The provenance attributes: ``vibimpact_version``, ``vibimpact_git_commit`` and
     ``vibimpact_git_dirty`` (only from a git checkout), ``<dependency>_version`` for each
     imported dependency, ``python_version``, ``platform`` and ``cpu_model``."""
@@ -115,7 +117,7 @@ def provenance():
     return out
 
 
-def file_attrs(attrs, call):
+def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     """The global attributes of a file about to be written: ``attrs`` plus the CF and
     provenance attributes (a new dict; ``attrs`` is not changed).
 
