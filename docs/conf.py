@@ -58,7 +58,8 @@ sphinx_gallery_conf = {
     "gallery_dirs": "auto_examples",
     "filename_pattern": r"/plot_",
     "within_subsection_order": "FileNameSortKey",
-    "image_scrapers": ("matplotlib", "vibimpact_docs.figure_scraper"),
+    # ours first: it leaves pyplot figures to the matplotlib scraper (which closes them)
+    "image_scrapers": ("vibimpact_docs.figure_scraper", "matplotlib"),
     "reset_modules": ("matplotlib",),
     "download_all_examples": False,
     "remove_config_comments": True,

@@ -219,7 +219,9 @@ def figure_scraper(block, block_vars, gallery_conf):
             if hasattr(fig, "get_figure"):
                 fig = fig.get_figure(root=True)
             if getattr(fig.canvas, "manager", None) is not None:
-                continue  # a pyplot figure: the matplotlib scraper saves it
+                # a pyplot figure: the matplotlib scraper (after this one) saves it
+                fig._vibimpact_scraped = True
+                continue
             if getattr(fig, "_vibimpact_scraped", False) or any(fig is f for f in figs):
                 continue
             figs.append(fig)

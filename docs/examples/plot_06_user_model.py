@@ -107,5 +107,5 @@ orbit = shoot_periodic_orbit(system, run.final_state, 1)
 print("converged:", orbit.converged, " |mu|:", np.abs(orbit.multipliers).round(4))
 
 w = np.round(np.arange(0.8, 1.3 + 1e-9, 0.02), 6)
-ds = vi.sweep(system, w, direction="up", analyses=("period", "lyapunov"))
+ds = vi.sweep(system, w, direction="up", analyses=("period",))
 print(vi.intervals(ds).to_dataframe()[["start", "end", "label"]].to_string())
