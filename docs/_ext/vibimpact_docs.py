@@ -27,7 +27,8 @@ GENERATED = DOCS / "_generated"
 
 # -- Markdown (of the reports) to reStructuredText, inline only ----------------------------
 
-_INLINE = re.compile(r"(`[^`]+`)|(\*\*[^*]+\*\*)|(\[([^\]]+)\]\(([^)]+)\))")
+_INLINE = re.compile(r"(`[^`]+`)|(\*\*[^*]+\*\*)|(\[([^\]]+)\]\(([^)]+)\))|"
+                     r"(?<![\w*])(\*[^*\s][^*]*\*)(?![\w*])")
 
 
 def _escape(text):
@@ -47,6 +48,8 @@ def md_inline(text):
             out.append(f"``{m.group(1)[1:-1]}``")
         elif m.group(2):
             out.append(f"**{_escape(m.group(2)[2:-2])}**")
+        elif m.group(6):
+            out.append(f"*{_escape(m.group(6)[1:-1])}*")
         else:
             label, target = m.group(4), m.group(5)
             if target.startswith(("http://", "https://")):

@@ -36,8 +36,9 @@ ax.legend()
 # Where a rotor orbit loses stability
 # -----------------------------------
 # The impacting period-1 orbit of ``fig8`` (two impacts at the bottom), found by a short
-# continuation from rest, followed up in η.  Its largest Floquet multiplier leaves the
-# unit circle where the sweep of the previous example turns chaotic.
+# continuation from rest, followed up in η.  Where its largest Floquet multiplier
+# leaves the unit circle the orbit loses stability: compare with the intervals of the
+# sweep in :ref:`the sweep example <sphx_glr_auto_examples_plot_02_sweep_intervals.py>`.
 rotor = vi.presets.get("fig8")
 state = None
 for eta in np.arange(1.0, 1.15, 0.02):
