@@ -282,8 +282,8 @@ def _parse_list(text, name, positive):
     try:
         values = np.array([float(x) for x in items], dtype=np.float64)
     except ValueError:
-        raise ValueError(f"{name} must be START:STOP:STEP or a list of numbers V1,V2,..., "
-                         f"got {text!r}") from None
+        raise ValueError(f"{name} values must be numbers (START:STOP:STEP or a list "
+                         f"V1,V2,...), got {text!r}") from None
     if not np.all(np.isfinite(values)):
         raise ValueError(f"{name} values must be finite, got {text!r}")
     if positive and np.any(values <= 0.0):
