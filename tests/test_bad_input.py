@@ -492,6 +492,26 @@ def test_rerun_bifurcation_data(tmp_path, monkeypatch, capfd):
     assert listing(tmp_path) == ["b.nc", "b.png"]
 
 
+@pytest.mark.parametrize("flag", ["-v", "-vv", "--verbose"])
+def test_rerun_of_a_command_with_verbose_before_its_name(flag, tmp_path, monkeypatch,
+                                                          capfd):
+    """Hypothesis: a file written by `vibimpact -v simulate ...` (-v before the command
+    name, as the README shows) records that command line, and rerun took the word after
+    'vibimpact' for the command, refusing the file as 'not a vibimpact ... command'."""
+    from vibimpact._cli_common import set_verbosity
+
+    monkeypatch.chdir(tmp_path)
+    try:
+        rc, _, err = run_cli([flag, *SIM, "-o", "r.nc"], capfd)
+        assert rc == 0, err
+        rc, out, err = run_cli(["rerun", "r.nc"], capfd)
+    finally:
+        set_verbosity(0)
+    assert rc == 0, err
+    assert out.startswith("identical: ")
+    assert listing(tmp_path) == ["r.nc"]
+
+
 @pytest.mark.parametrize("out", ["m.zarr", "m.nc"])
 def test_rerun_map_store_and_netcdf(out, tmp_path, monkeypatch, capfd):
     """A map, as a Zarr store or a NetCDF file, reruns identical (exit 0) with no image

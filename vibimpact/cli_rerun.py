@@ -73,8 +73,9 @@ def _recorded_args(path, command, build_parser):
     except ValueError as exc:
         raise UsageError(f"{path!r}: cannot parse the recorded command {command!r}: "
                           f"{exc}") from None
-    if len(argv) < 2 or os.path.basename(argv[0]) != "vibimpact" or \
-            argv[1] not in RERUNNABLE:
+    # the command is the first word after the options of the main parser (-v, -vv)
+    name = next((a for a in argv[1:] if not a.startswith("-")), None)
+    if not argv or os.path.basename(argv[0]) != "vibimpact" or name not in RERUNNABLE:
         raise UsageError(f"{path!r}: the recorded command {command!r} is not a vibimpact "
                           f"{', '.join(RERUNNABLE)} command")
     err = _stdio.StringIO()
