@@ -300,6 +300,49 @@ def test_verbose_reports_through_logging_and_quiet_by_default(where, tmp_path):
     assert differences(read_netcdf(tmp_path / "c.nc"), read_netcdf(tmp_path / "c-v.nc"))[0] == []
 
 
+@pytest.mark.parametrize("argv, count", [
+    (["-v", "classify", "-v"], 2), (["-v", "-v", "classify"], 2), (["classify", "-vv"], 2),
+    (["--verbose", "classify", "-vv"], 3), (["classify"], 0), (["-v", "rerun", "x.nc"], 1)])
+def test_verbose_counts_before_and_after_the_command(argv, count):
+    """Hypothesis: argparse copies a command parser's own namespace over the main one, so
+    `-v classify -v` would count 1 (INFO) instead of 2 (DEBUG); every -v counts wherever
+    it stands."""
+    from vibimpact._cli_common import verbosity
+    from vibimpact.cli import build_parser
+
+    args = [*argv, "--eta", "1.0"] if "classify" in argv else argv
+    assert verbosity(build_parser().parse_args(args)) == count
+
+
+def test_verbosity_does_not_outlive_an_in_process_run(tmp_path, monkeypatch, capsys):
+    """Hypothesis: main(['-v', ...]) leaves the logger's level and stderr handler behind,
+    so a later main() without -v in the same process still logs, and the handler keeps
+    writing to the stderr of the first call instead of the current one."""
+    import contextlib
+    import io
+
+    from vibimpact._cli_common import set_verbosity
+    from vibimpact.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    run = ["classify", "--eta", "1.0", "--analyses", "period", "--workers", "1",
+           "--no-progress", "-o"]
+    try:
+        assert main(["-v", *run, "a.nc"]) == 0
+        assert "vibimpact: INFO:" in capsys.readouterr().err
+        assert main([*run, "b.nc"]) == 0
+        assert "vibimpact: INFO:" not in capsys.readouterr().err
+        assert main(["-v", *run, "c.nc"]) == 0
+        capsys.readouterr()
+        redirected = io.StringIO()
+        with contextlib.redirect_stderr(redirected):
+            assert main(["-v", *run, "d.nc"]) == 0
+        assert "vibimpact: INFO:" in redirected.getvalue()
+        assert "vibimpact: INFO:" not in capsys.readouterr().err
+    finally:
+        set_verbosity(0)
+
+
 @pytest.mark.parametrize("expr", ["vi.maps.open_map", "vi.plotting.plot_xy",
                                   "vi.io.read_netcdf", "vi.sweeps.parse_range",
                                   "vi.analysis.detect_period"])

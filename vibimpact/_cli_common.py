@@ -13,12 +13,20 @@ class Parser(argparse.ArgumentParser):
 
     Every parser (the main one and each command's) takes ``-v/--verbose``, so that it can
     stand before or after the command name; repeated, it counts (see :func:`set_verbosity`).
+
+    Parameters
+    ----------
+    verbose_dest : str
+        The attribute the count goes to.  argparse gives a command's parser a namespace
+        of its own and copies it over the main one, so the main parser counts in another
+        attribute (``verbose_before``) and :func:`verbosity` adds the two.
     """
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args, verbose_dest="verbose", **kwargs):
         super().__init__(*args, **kwargs)
         # SUPPRESS: a command's parser must not reset a count the main parser has set
         self.add_argument("-v", "--verbose", action="count", default=argparse.SUPPRESS,
+                          dest=verbose_dest,
                           help="report what the run does on stderr (-v: its steps, "
                                "-vv: debugging detail), through Python's logging")
 
@@ -28,24 +36,45 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"vibimpact: error: {message} (see '{self.prog} --help')\n")
 
 
+def verbosity(args):
+    """The number of ``-v`` in parsed arguments: before and after the command name."""
+    return getattr(args, "verbose", 0) + getattr(args, "verbose_before", 0)
+
+
 def set_verbosity(count):
     """Send the package's log records (logger ``vibimpact``) to stderr.
 
     Parameters
     ----------
     count : int
-        0: nothing is configured (warnings go to Python's last-resort handler); 1: INFO;
-        2 or more: DEBUG.
+        0: nothing is configured (warnings go to Python's last-resort handler), and the
+        handler and level an earlier call in this process set are taken back; 1: INFO;
+        2 or more: DEBUG.  The records go to ``sys.stderr`` as it is when each is
+        written (a redirected stderr included).
     """
     import logging
 
-    if not count:
-        return
+    class _Stderr(logging.StreamHandler):
+        _vibimpact_cli = True
+
+        def __init__(self):
+            logging.Handler.__init__(self)
+
+        @property
+        def stream(self):  # looked up at each record, never a stale stream
+            return sys.stderr
+
     log = logging.getLogger("vibimpact")
-    if not any(getattr(h, "_vibimpact_cli", False) for h in log.handlers):
-        handler = logging.StreamHandler(sys.stderr)
+    ours = [h for h in log.handlers if getattr(h, "_vibimpact_cli", False)]
+    if not count:
+        for handler in ours:
+            log.removeHandler(handler)
+        if ours:
+            log.setLevel(logging.NOTSET)
+        return
+    if not ours:
+        handler = _Stderr()
         handler.setFormatter(logging.Formatter("vibimpact: %(levelname)s: %(message)s"))
-        handler._vibimpact_cli = True
         log.addHandler(handler)
     log.setLevel(logging.INFO if count == 1 else logging.DEBUG)
 

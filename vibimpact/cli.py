@@ -47,7 +47,7 @@ written).
 
 
 from ._cli_common import (check_output, number, parse_sets, Parser, positive_int,
-                          set_verbosity, UsageError)
+                          set_verbosity, UsageError, verbosity)
 
 
 def _cmd_presets(args):
@@ -137,6 +137,7 @@ def build_parser():
     """
     fmt = argparse.RawDescriptionHelpFormatter
     parser = Parser(prog="vibimpact", formatter_class=fmt, epilog=_MAIN_EPILOG,
+                     verbose_dest="verbose_before",
                      description="Bifurcation and chaos analysis of a vibro-impact rotor on "
                                  "magnetic bearings\n(Pust & Kozanek, eq. 5).")
     from . import __version__
@@ -212,7 +213,7 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
-    set_verbosity(getattr(args, "verbose", 0))
+    set_verbosity(verbosity(args))
     try:
         return args.func(args)
     except UsageError as exc:
