@@ -382,8 +382,16 @@ def _run_to(name):
     import vibimpact as vi
     from vibimpact.plotting import plot_xy
 
+    from vibimpact.plotting.map2d import plot_map
+
     run = vi.simulate(vi.presets.get("fig8").replace(eta=1.2), periods=3)
-    call = {"classify": vi.analysis.classify, "intervals": vi.intervals, "plot_xy": plot_xy}
+    call = {"classify": vi.analysis.classify, "intervals": vi.intervals, "plot_xy": plot_xy,
+            "classify diverged": lambda r: vi.analysis.classify(r, diverged=True),
+            "plot_response": vi.plotting.plot_response,
+            "plot_bifurcation": vi.plotting.plot_bifurcation,
+            "plot_intervals": vi.plotting.plot_intervals, "plot_map": plot_map,
+            "write_netcdf": lambda r: vi.io.write_netcdf(r, "never.nc"),
+            "format_intervals": vi.sweeps.format_intervals}
     return call[name](run)
 
 
@@ -396,6 +404,23 @@ def test_a_run_where_an_array_or_dataset_is_expected_is_a_clear_type_error(name,
     with pytest.raises(TypeError) as info:
         _run_to(name)
     assert needle in str(info.value) and "Run" in str(info.value), str(info.value)
+
+
+@pytest.mark.parametrize("name, needle", [
+    ("classify diverged", "points"), ("plot_response", "ds"), ("plot_bifurcation", "ds"),
+    ("plot_intervals", "ds"), ("plot_map", "ds"), ("write_netcdf", "run_to_dataset"),
+    ("format_intervals", "iv")])
+def test_a_run_given_to_the_other_dataset_functions_is_a_clear_type_error(
+        name, needle, tmp_path, monkeypatch):
+    """Hypothesis: the Run check covered only classify, intervals and plot_xy; the sibling
+    functions (classify with diverged=True, which returned DIVERGED before looking at
+    points, the sweep and map figures, write_netcdf, format_intervals) still failed with
+    a raw AttributeError from inside (or none at all), and write_netcdf left no file."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(TypeError) as info:
+        _run_to(name)
+    assert needle in str(info.value) and "Run" in str(info.value), str(info.value)
+    assert listing(tmp_path) == []
 
 
 def test_simulate_periods_message_has_the_estimate():

@@ -202,11 +202,19 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str],
 
     Raises
     ------
+    TypeError
+        When ``ds`` is not a Dataset (a Run: see :func:`run_to_dataset`).
     ValueError
         When ``path`` exists and not ``overwrite``, or its directory does not exist.
     OSError
         When the file cannot be written (the temporary file is removed).
     """
+    import xarray as xr
+
+    if not isinstance(ds, xr.Dataset):
+        hint = ("; run_to_dataset(run) makes one from a Run" if hasattr(ds, "strobe")
+                else "")
+        raise TypeError(f"ds must be an xarray.Dataset, got {type(ds).__name__}{hint}")
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
     if os.path.isdir(path):

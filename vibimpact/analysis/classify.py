@@ -252,11 +252,11 @@ def classify(points: ArrayLike, *, lyapunov: float | None = None,
     >>> str(classify(np.tile([[0.0], [1.0], [2.0]], (30, 1))))
     'P3'
     """
-    if diverged:
-        return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
     if hasattr(points, "strobe"):  # a Run (or anything holding stroboscopic samples)
         raise TypeError(f"points must be an array of stroboscopic samples, got "
                         f"{type(points).__name__}; pass its .strobe")
+    if diverged:
+        return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
     try:
         pts = np.asarray(points, dtype=np.float64)
     except (TypeError, ValueError):

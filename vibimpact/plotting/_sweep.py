@@ -13,8 +13,20 @@ REGIME_NAMES = {0: "not computed", 1: "periodic", 2: "quasi-periodic", 3: "chaot
                 4: "diverged", 5: "unsettled"}
 
 
+def check_dataset(ds, what):
+    """Raise TypeError unless ``ds`` is an xarray Dataset (``what``: "a sweep", "a map")."""
+    import xarray as xr
+
+    if not isinstance(ds, xr.Dataset):
+        hint = ("; a Run is one simulation, not a sweep" if hasattr(ds, "strobe") else "")
+        raise TypeError(f"ds must be the xarray.Dataset of {what}, got "
+                        f"{type(ds).__name__}{hint}")
+
+
 def check_sweep(ds, *names):
-    """Raise ValueError unless ``ds`` is a sweep dataset holding ``names``."""
+    """Raise TypeError unless ``ds`` is a Dataset, ValueError unless it is a sweep dataset
+    holding ``names``."""
+    check_dataset(ds, "a sweep (vibimpact.sweep)")
     if "eta" not in ds.dims:
         raise ValueError("not a sweep dataset (no dimension eta); use a file from "
                          "'vibimpact classify' or 'vibimpact bifurcation'")

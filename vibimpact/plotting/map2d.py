@@ -152,6 +152,9 @@ def plot_map(ds, direction=None, path=None):
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
 
+    from ._sweep import check_dataset
+
+    check_dataset(ds, "a map (vibimpact.map2d)")
     for v in ("regime", "period", "label", "impacts_per_period", "lyapunov"):
         if v not in ds:
             raise ValueError(f"the map dataset has no {v}")

@@ -297,7 +297,22 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
 
 
 def format_intervals(iv: xr.Dataset) -> str:
-    """The interval map as an aligned text table."""
+    """The interval map as an aligned text table.
+
+    Parameters
+    ----------
+    iv : xarray.Dataset
+        The intervals of :func:`intervals`.
+
+    Returns
+    -------
+    str
+    """
+    import xarray as xr
+
+    if not isinstance(iv, xr.Dataset):
+        raise TypeError(f"iv must be the xarray.Dataset of intervals(ds), got "
+                        f"{type(iv).__name__}")
     lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
     for k in range(iv.sizes["interval"]):
         lines.append(f"{str(iv['direction'].values[k]):<9} {iv['start'].values[k]:8.4f} "
