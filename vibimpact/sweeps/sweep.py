@@ -272,7 +272,14 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
         _limits.check_points(approx, name=name)
     count = int(math.floor((b - a) / h + 1e-9)) + 1
     _limits.check_points(count, name=name)
-    return np.round(a + h * np.arange(count), 12)
+    grid = np.round(a + h * np.arange(count), 12)
+    if positive and grid[0] <= 0.0:
+        raise ValueError(f"{name} START must be >= 1e-12 (the grid is rounded to 12 "
+                         f"decimals), got {text!r}")
+    if np.any(np.diff(grid) <= 0.0):  # a STEP below the rounding repeats values
+        raise ValueError(f"{name} STEP must be >= 1e-12 (the grid is rounded to 12 "
+                         f"decimals), got {text!r}")
+    return grid
 
 
 def _parse_list(text, name, positive):
