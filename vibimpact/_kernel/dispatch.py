@@ -6,8 +6,7 @@ types by its *family*: the rotor and its variational equations are one type, the
 oscillator and its variational equations another.  The calls below branch at compile time
 on the family (a rotor run compiles no Duffing code) and at run time on the model id
 within it (a classify run integrates the rotor and its variational equations with one
-compiled loop).  The signatures hold no function objects, so numba caches them on disk.
-A plain integer id is accepted too (every built-in model's code compiled behind it).  For a
+compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
 user model ``model`` is a tuple ``(rhs, switches, transition)`` of numba functions, called
 directly (compiled per process: numba cannot cache functions passed as arguments).
 
@@ -118,7 +117,7 @@ def model_id(typingctx, model):
 
 
 def _family(model):
-    """A built-in model's family at compile time (None: a user model or an integer)."""
+    """A built-in model's family at compile time (None: a user model)."""
     return model.family if isinstance(model, ModelFamily) else None
 
 
@@ -155,18 +154,6 @@ def _ol_rhs(model, s, y, p, mode, out):
             else:
                 variational.duffing_rhs(s, y, p, mode, out)
         return impl_duffing
-    if isinstance(model, types.Integer):
-        def impl(model, s, y, p, mode, out):
-            if model == ROTOR:
-                rotor.rhs(s, y, p, mode, out)
-            elif model == DUFFING:
-                duffing.rhs(s, y, p, mode, out)
-            elif model == ROTOR_VAR:
-                variational.rotor_rhs(s, y, p, mode, out)
-            else:
-                variational.duffing_rhs(s, y, p, mode, out)
-        return impl
-
     if len(model.types) == 6:
         def impl_var(model, s, y, p, mode, out):
             variational.user_rhs(model[0], model[3], model[4], s, y, p, mode, out)
@@ -187,14 +174,6 @@ def _ol_switches(model, s, y, p, mode, g):
         def impl_duffing(model, s, y, p, mode, g):
             duffing.switches(s, y, p, mode, g)
         return impl_duffing
-    if isinstance(model, types.Integer):
-        def impl(model, s, y, p, mode, g):
-            if model == ROTOR or model == ROTOR_VAR:
-                rotor.switches(s, y, p, mode, g)
-            else:
-                duffing.switches(s, y, p, mode, g)
-        return impl
-
     def impl_user(model, s, y, p, mode, g):
         _user_call(model[1], s, y, p, mode, g)
     return impl_user
@@ -213,16 +192,6 @@ def _ol_transition(model, s, y, p, mode, which):
         def impl_duffing(model, s, y, p, mode, which):
             duffing.transition(s, y, p, mode, which)
         return impl_duffing
-    if isinstance(model, types.Integer):
-        def impl(model, s, y, p, mode, which):
-            if model == ROTOR:
-                rotor.transition(s, y, p, mode, which)
-            elif model == ROTOR_VAR:
-                variational.rotor_transition(s, y, p, mode, which)
-            else:
-                duffing.transition(s, y, p, mode, which)
-        return impl
-
     if len(model.types) == 6:
         def impl_var(model, s, y, p, mode, which):
             variational.user_transition(model[0], model[1], model[2], model[4], model[5], s,
@@ -241,14 +210,6 @@ def _ol_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_ou
             return rotor.step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in,
                                   g_out)
         return impl_rotor
-    if isinstance(model, types.Integer):
-        def impl(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
-            if model == ROTOR or model == ROTOR_VAR:
-                return rotor.step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in,
-                                      g_out)
-            return 1e300
-        return impl
-
     def impl_user(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
         return 1e300
     return impl_user
