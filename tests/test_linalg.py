@@ -8,6 +8,7 @@ and numpy SIMD paths the process is given.
 """
 import json
 import os
+import platform
 import subprocess
 import sys
 
@@ -95,21 +96,24 @@ print(json.dumps({k: np.asarray(ds[k].values, dtype=float).tobytes().hex()
 """
 
 #: the processor-dependent paths pinned to two different choices
-_ENVIRONMENTS = [
-    {"OPENBLAS_CORETYPE": "Haswell"},
-    {"OPENBLAS_CORETYPE": "Prescott",
-     "NPY_DISABLE_CPU_FEATURES": "AVX512F AVX512CD AVX512_SKX AVX512_CLX AVX512_CNL "
-                                 "AVX512_ICL AVX512_SPR AVX2 FMA3"},
-]
+#: two settings of the BLAS (and numpy's SIMD paths) per processor family: OpenBLAS
+#: core names are those of the machine; elsewhere, two thread counts change its blocking
+_ENVIRONMENTS = {
+    "x86_64": [
+        {"OPENBLAS_CORETYPE": "Haswell"},
+        {"OPENBLAS_CORETYPE": "Prescott",
+         "NPY_DISABLE_CPU_FEATURES": "AVX512F AVX512CD AVX512_SKX AVX512_CLX AVX512_CNL "
+                                     "AVX512_ICL AVX512_SPR AVX2 FMA3"}],
+    "aarch64": [{"OPENBLAS_CORETYPE": "NEOVERSEN1"}, {"OPENBLAS_CORETYPE": "ARMV8"}],
+}.get(platform.machine(), [{"OPENBLAS_NUM_THREADS": "1"}, {"OPENBLAS_NUM_THREADS": "2"}])
 
 
-@pytest.mark.skipif(sys.platform != "linux" or os.uname().machine != "x86_64",
-                    reason="OpenBLAS core names are those of x86-64")
 def test_a_sweep_gives_the_same_bits_whichever_blas_kernels_run():
     """Hypothesis: a fig11 sweep through the settling extrapolation, shooting and the
     Lyapunov QR gives bit-identical results with OpenBLAS forced to its Haswell and to its
-    Prescott kernels (and numpy's AVX paths off): nothing the results depend on goes
-    through processor-selected BLAS code."""
+    Prescott kernels (and numpy's AVX paths off; on other processors, two kernels or
+    thread counts of theirs): nothing the results depend on goes through
+    processor-selected BLAS code."""
     outs = []
     for extra in _ENVIRONMENTS:
         env = dict(os.environ, **extra)

@@ -3,8 +3,6 @@ import os
 import subprocess
 import sys
 
-import pytest
-
 _SCRIPT = """
 import multiprocessing as mp, os, sys
 from vibimpact.engine import warmup
@@ -20,17 +18,21 @@ print(len(helpers), helpers[0].exitcode if helpers else None, len(again),
 """
 
 
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the helper forks")
 def test_the_helper_fills_an_empty_cache_with_the_array_routines(tmp_path):
     """Hypothesis: in a fresh process with an empty numba cache, warmup.start() runs one
     helper process that exits cleanly after writing the six array routines (dot, matmul,
     lstsq, solve, eigvals, suffix_lag_residuals) to the cache, without compiling them in
-    the calling process; a second start() starts nothing."""
+    the calling process; a second start() starts nothing.  Where there is no fork (not
+    Linux) start() starts nothing and writes nothing."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
     out = subprocess.run([sys.executable, "-c", _SCRIPT], env=env, capture_output=True,
                          text=True, check=True).stdout.split()
-    assert out == ["1", "0", "0", "False"]
     names = {f.split("-")[0] for _, _, files in os.walk(tmp_path) for f in files
              if f.endswith(".nbi")}
+    if not sys.platform.startswith("linux"):
+        assert out == ["0", "None", "0", "False"]
+        assert not names
+        return
+    assert out == ["1", "0", "0", "False"]
     for routine in ("dot", "matmul", "lstsq", "solve", "eigvals", "suffix_lag_residuals"):
         assert any(n.endswith("." + routine) for n in names), (routine, sorted(names))

@@ -449,13 +449,18 @@ def lyapunov_from_series(series: ArrayLike, period: float = 1.0, **kwargs) -> fl
     Raises
     ------
     ImportError
-        When nolds cannot be imported (it is fragile on some Python versions).
+        When nolds cannot be imported: it comes with the ``crosscheck`` extra
+        (``pip install "vibimpact[crosscheck]"``).
     """
     x = np.asarray(series, dtype=np.float64).reshape(-1)
     if x.size < 50 or not np.all(np.isfinite(x)):
         raise ValueError("series must be at least 50 finite numbers")
     period = _v.positive("period", period)
-    import nolds  # lazy: fragile import, needed only for this cross-check
+    try:
+        import nolds  # lazy: fragile import, needed only for this cross-check
+    except ImportError as exc:
+        raise ImportError("lyapunov_from_series needs nolds: pip install "
+                          f"'vibimpact[crosscheck]' ({exc})") from exc
     # one sample per forcing period is already a "lag": nolds' autocorrelation rule picks
     # a lag of hundreds of samples on Poincaré data, which destroys the estimate
     kwargs.setdefault("lag", 1)
