@@ -17,6 +17,7 @@ from ._kernel import duffing as _duffing
 from ._kernel import dispatch as _dispatch
 from ._kernel import rotor as _rotor
 from ._kernel.boundary import Problem
+from ._kernel.precompiled import routine as _precompiled
 from .params import DuffingParams, Params
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -116,7 +117,7 @@ ROTOR = Model(name="rotor", state_names=("X", "Y", "dX", "dY"), param_names=_rot
               omega_index=_rotor.I_ETA, n_mode=_rotor.N_MODE, terminal=_rotor.TERMINAL,
               kernel_model=_dispatch.ROTOR, rhs=_rotor.rhs, jac=_rotor.jac,
               switches=_rotor.switches, transition=_rotor.transition,
-              init_mode=_rotor.init_mode, bound=1e3)
+              init_mode=_precompiled("rotor_init_mode", _rotor.init_mode), bound=1e3)
 
 DUFFING = Model(name="duffing", state_names=("x", "dx"), param_names=_duffing.PARAM_NAMES,
                 omega_index=4, n_mode=_duffing.N_MODE, terminal=_duffing.TERMINAL,

@@ -29,14 +29,26 @@ from typing import Callable
 import numpy as np
 
 from . import dispatch as _dispatch
+from . import driver as _driver
 from . import integrator as _integrator
+from . import linalg as _linalg
+from . import recurrence as _recurrence
 from . import tableaux as _tab
-from .driver import integrate as _integrate
 from .driver import workspace as _workspace
 from .lyapunov import qr_growth
-from .recurrence import suffix_lag_residuals
-from .linalg import dot, eigvals, lstsq, matmul, solve
 from .lyapunov import two_trajectory as _two_trajectory
+from . import precompiled as _precompiled
+from .precompiled import routine as _routine
+
+#: the kernel functions called from Python: precompiled at install time where possible,
+#: numba's JIT-compiled functions otherwise (:mod:`.precompiled`)
+_integrate = _routine("integrate", _driver.integrate)
+dot = _routine("dot", _linalg.dot)
+matmul = _routine("matmul", _linalg.matmul)
+lstsq = _routine("lstsq", _linalg.lstsq)
+solve = _routine("solve", _linalg.solve)
+eigvals = _routine("eigvals", _linalg.eigvals)
+suffix_lag_residuals = _routine("suffix_lag_residuals", _recurrence.suffix_lag_residuals)
 
 #: method names, in the order the kernel numbers them
 METHODS = tuple(_tab.METHOD_IDS)
@@ -327,14 +339,25 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
         count = counters()
     if log is None:
         log = EventLog(log_capacity(k_end - k_record), n, problem.n_mode)
-    lead = _leading(problem, method, options)
     ws = _workspace(n, problem.terminal.size, mode.size)
     status = LOG_FULL
     while status == LOG_FULL:
-        status, n_ev, _ = _integrate(*lead, ws, y, mode, clock, k_end, k_record, strobe,
-                                     log.arrays(), 0, dense_m, dense, count, _PLAIN)
+        status, n_ev, _ = _integrate(*integrate_args(
+            problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
+            log.arrays(), dense_m, dense, count))
         log.keep(n_ev)
     return status, log
+
+
+def integrate_args(problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
+                   log_arrays, dense_m, dense, count, renorm=_PLAIN):
+    """The argument tuple of the kernel's integration loop (:func:`.driver.integrate`),
+    for :func:`integrate`, :func:`benettin` and the install-time build of the precompiled
+    loop (:mod:`.aot_build`): ``ws`` a :func:`.driver.workspace`, ``log_arrays`` an
+    :meth:`EventLog.arrays`, ``renorm`` ``(n_state, bound, logs, states)`` of a
+    Benettin run (none by default)."""
+    return (*_leading(problem, method, options), ws, y, mode, clock, k_end, k_record,
+            strobe, log_arrays, 0, dense_m, dense, count, renorm)
 
 
 def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods, logs,
@@ -353,9 +376,9 @@ def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods
     # nothing is recorded before a period's end: the log never fills
     log = EventLog(64, n, problem.n_mode)
     renorm = (int(n_state), float(bound), _rows(logs, n_periods), _rows(states, n_periods))
-    status, _, done = _integrate(*_leading(problem, method, options), ws, y, mode, clock, 0,
-                                 0, np.empty((1, n)), log.arrays(), 0, 0, np.empty((1, n)),
-                                 count, renorm)
+    status, _, done = _integrate(*integrate_args(
+        problem, method, options, ws, y, mode, clock, 0, 0, np.empty((1, n)), log.arrays(),
+        0, np.empty((1, n)), count, renorm))
     return status, done
 
 
@@ -391,11 +414,13 @@ def compile_array_routines():
 
 
 def array_routines_compiled():
-    """True when this process has every routine of :func:`compile_array_routines`."""
-    return all(f.signatures for f in (dot, matmul, lstsq, solve, eigvals,
-                                      suffix_lag_residuals))
+    """True when this process has every routine of :func:`compile_array_routines`,
+    precompiled or compiled."""
+    return all(_precompiled.available(f.name) or f.jit.signatures
+               for f in (dot, matmul, lstsq, solve, eigvals, suffix_lag_residuals))
 
 
-__all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "benettin",
+__all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_args",
+           "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
            "counters", "log_capacity", "compile_array_routines", "array_routines_compiled", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]

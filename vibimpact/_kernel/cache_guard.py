@@ -17,6 +17,7 @@ left alone (numba then uses a cache of its own elsewhere, which this guard does 
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from pathlib import Path
@@ -36,6 +37,12 @@ def sources_digest(src_dir=HERE):
         h.update(f.name.encode())
         h.update(f.read_bytes())
     return h.hexdigest()
+
+
+@functools.lru_cache(maxsize=1)
+def current_digest():
+    """:func:`sources_digest` of the installed kernel, computed once per process."""
+    return sources_digest(HERE)
 
 
 def cache_dirs(src_dir=HERE, environ=os.environ):
@@ -58,7 +65,7 @@ def drop_stale_cache(src_dir=HERE, dirs=None):
     int
         Number of cache files deleted.
     """
-    digest = sources_digest(src_dir)
+    digest = current_digest() if Path(src_dir) == HERE else sources_digest(src_dir)
     dropped = 0
     for d in (cache_dirs(src_dir) if dirs is None else dirs):
         d = Path(d)
