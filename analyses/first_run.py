@@ -6,6 +6,10 @@ package's own ``__pycache__`` is not used when ``NUMBA_CACHE_DIR`` is set, see
 ``vibimpact/_kernel/cache_guard.py``).  The *warm* run repeats the command with the cache
 the cold run wrote: nothing is compiled.  Each run is a fresh ``python -m vibimpact``
 subprocess, timed from its start to its exit (interpreter start-up and imports included).
+Every pair runs twice: with the precompiled kernel the install built (the default,
+``vibimpact._kernel.precompiled``) and JIT only (``VIBIMPACT_PRECOMPILED=0``, what an
+install without a C compiler gets); the report also gives the install-time build's
+duration and the numba cache files each cold run wrote (0: it compiled nothing).
 
 Run as ``python analyses/first_run.py [--repeat N] [--no-report]``: it prints the times
 and replaces the section ``first_run`` of ``reports/performance.md`` (the target, 10 s for
