@@ -20,6 +20,7 @@ import pytest
 from vibimpact.cli import main
 
 SIM = ["simulate", "--eta", "1.2", "--periods", "5", "--transient", "5"]
+FROM = ["simulate", "--from", "s.nc", "--eta", "1.25", "--periods", "5", "--transient", "5"]
 ONE = ["classify", "--eta", "1.0:1.0:0.01", "--no-progress", "--workers", "1"]
 
 
@@ -62,6 +63,10 @@ def _tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.
 
 def _garbage(d, name="bad.nc"):
     (Path(d) / name).write_bytes(b"this is not a NetCDF file\n" * 20)
+
+
+def _garbage_as(name):
+    return lambda d: _garbage(d, name)
 
 
 def _empty(d, name="bad.nc"):
@@ -132,6 +137,43 @@ def _unwritable_target():
     if hasattr(os, "geteuid") and os.geteuid() == 0:
         return "/sys/vibimpact_test_out.nc"
     return "ro/out.nc"
+
+
+def _sweep_ds(direction):
+    """A small fig8 sweep (eta 1.1, 1.25; period only), computed once per direction."""
+    import vibimpact as vi
+
+    if direction not in _SWEEPS:
+        _SWEEPS[direction] = vi.sweep(vi.presets.get("fig8"), [1.1, 1.25],
+                                      direction=direction, analyses=("period",),
+                                      workers=1, progress=False)
+    return _SWEEPS[direction].copy(deep=True)
+
+
+_SWEEPS = {}
+
+
+def _sweep_file(direction="up", regime=None, **attrs):
+    """``s.nc``: the small sweep, the point at 1.25 set to ``regime`` (its final_state
+    NaN, as the sweep leaves a point not computed or diverged), ``attrs`` added."""
+    def make(d):
+        from vibimpact.io import write_netcdf
+
+        ds = _sweep_ds(direction)
+        if regime is not None:
+            ds["regime"].values[..., 1] = regime
+            ds["final_state"].values[..., 1, :] = np.nan
+        ds.attrs.update(attrs)
+        write_netcdf(ds, Path(d) / "s.nc")
+    return make
+
+
+def _run_file(d):
+    """``r.nc``: a simulate run, not a sweep."""
+    import vibimpact as vi
+
+    vi.io.write_netcdf(vi.simulate(vi.presets.get("fig8").replace(eta=1.25), periods=3),
+                       Path(d) / "r.nc")
 
 
 # --- CLI: id -> (argv, needle, setup) ----------------------------------------------------
@@ -223,6 +265,41 @@ CLI_CASES = {
                                     _checkpoint("[1, 2, 3]")),
     "checkpoint is a file": ([*ONE, "-o", "c.nc", "--resume"], "not a directory",
                              _checkpoint_file),
+    # simulate --from SWEEP.nc (coexisting attractors): the file, the point, conflicts
+    "from: missing file": ([*FROM, "-o", "x.nc"], "no such file", None),
+    "from: garbage": ([*FROM, "-o", "x.nc"], "cannot read", _garbage_as("s.nc")),
+    "from: a run, not a sweep": (["simulate", "--from", "r.nc", "--eta", "1.25", "-o",
+                                  "x.nc"], "not a sweep dataset", _run_file),
+    "from: foreign NetCDF": ([*FROM, "-o", "x.nc"], "not a sweep dataset",
+                             lambda d: _foreign(d, "s.nc")),
+    "from: a map": ([*FROM, "-o", "x.nc"], "parameter map",
+                    _sweep_file(map_vary="kh")),
+    "from: eta off the grid": ([*FROM[:3], "--eta", "1.26", "-o", "x.nc"],
+                               "not on the sweep's grid (2 points from 1.1 to 1.25); "
+                               "nearest grid values: 1.25", _sweep_file()),
+    "from: eta between grid values": ([*FROM[:3], "--eta", "1.2", "-o", "x.nc"],
+                                      "nearest grid values: 1.1 and 1.25", _sweep_file()),
+    "from: no eta on a grid of two": ([*FROM[:3], "-o", "x.nc"], "eta: give one of the "
+                                      "sweep's 2 grid values", _sweep_file()),
+    "from: direction the file lacks": ([*FROM, "--direction", "down", "-o", "x.nc"],
+                                       "direction 'down' is not in the sweep (it has up)",
+                                       _sweep_file()),
+    "from: both directions, none given": ([*FROM, "-o", "x.nc"], "direction: the sweep "
+                                          "has up and down", _sweep_file("both")),
+    "from: point not computed": ([*FROM, "-o", "x.nc"], "did not compute eta = 1.25 (up)",
+                                 _sweep_file(regime=0)),
+    "from: point diverged": ([*FROM, "-o", "x.nc"], "diverged at eta = 1.25 (up)",
+                             _sweep_file(regime=4)),
+    "from: with --preset": ([*FROM, "--preset", "fig10", "-o", "x.nc"],
+                            "--preset cannot be combined with --from", _sweep_file()),
+    "from: with --state0": ([*FROM, "--state0", "0", "0", "0", "0", "-o", "x.nc"],
+                            "--state0 cannot be combined with --from", _sweep_file()),
+    "from: --set unknown name": ([*FROM, "--set", "kq=1", "-o", "x.nc"], "kq",
+                                 _sweep_file()),
+    "from: --set out of domain": ([*FROM, "--set", "BT=-1", "-o", "x.nc"], "BT",
+                                  _sweep_file()),
+    "direction without --from": ([*SIM, "--direction", "up", "-o", "x.nc"],
+                                 "--direction needs --from", None),
 }
 
 
@@ -404,12 +481,11 @@ def _run_to(name):
     return call[name](run)
 
 
-@pytest.mark.parametrize("name, needle", [("classify", "points"), ("intervals", "ds"),
-                                          ("plot_xy", "run_to_dataset")])
+@pytest.mark.parametrize("name, needle", [("classify", "points"), ("intervals", "ds")])
 def test_a_run_where_an_array_or_dataset_is_expected_is_a_clear_type_error(name, needle):
-    """A Run handed to classify (points), intervals (a sweep dataset) or plot_xy (a run
-    dataset) raises a TypeError that names the argument and says what to pass, not a raw
-    error from deep inside."""
+    """A Run handed to classify (points) or intervals (a sweep dataset) raises a
+    TypeError that names the argument and says what to pass, not a raw error from deep
+    inside (plot_xy and write_netcdf take a Run: tests/test_sweep_start.py)."""
     with pytest.raises(TypeError) as info:
         _run_to(name)
     assert needle in str(info.value) and "Run" in str(info.value), str(info.value)
@@ -417,14 +493,13 @@ def test_a_run_where_an_array_or_dataset_is_expected_is_a_clear_type_error(name,
 
 @pytest.mark.parametrize("name, needle", [
     ("classify diverged", "points"), ("plot_response", "ds"), ("plot_bifurcation", "ds"),
-    ("plot_intervals", "ds"), ("plot_map", "ds"), ("write_netcdf", "run_to_dataset"),
-    ("format_intervals", "iv")])
+    ("plot_intervals", "ds"), ("plot_map", "ds"), ("format_intervals", "iv")])
 def test_a_run_given_to_the_other_dataset_functions_is_a_clear_type_error(
         name, needle, tmp_path, monkeypatch):
-    """Hypothesis: the Run check covered only classify, intervals and plot_xy; the sibling
-    functions (classify with diverged=True, which returned DIVERGED before looking at
-    points, the sweep and map figures, write_netcdf, format_intervals) still failed with
-    a raw AttributeError from inside (or none at all), and write_netcdf left no file."""
+    """Hypothesis: the Run check covered only classify and intervals; the sibling
+    functions that expect a sweep (classify with diverged=True, which returned DIVERGED
+    before looking at points, the sweep and map figures, format_intervals) still failed
+    with a raw AttributeError from inside (or none at all), and left no file."""
     monkeypatch.chdir(tmp_path)
     with pytest.raises(TypeError) as info:
         _run_to(name)

@@ -30,9 +30,21 @@ preset uses our documented defaults for them.
 """
 
 _SIMULATE_EPILOG = """\
-example:
+examples:
   vibimpact simulate --preset fig8 --eta 1.25 --set BT=0.05 --periods 50 \\
       --transient 300 -o run.nc --plot xy.png
+  vibimpact classify --eta 1.1:1.3:0.01 --direction both -o sweep.nc
+  vibimpact simulate --from sweep.nc --eta 1.25 --direction up -o chaos.nc --plot chaos.png
+  vibimpact simulate --from sweep.nc --eta 1.25 --direction up --set BT=0.01 -o near.nc
+
+--from SWEEP.nc starts the run where the sweep left the motion at that grid value of
+eta and direction (its final_state there), on the attractor the sweep followed: from
+rest the rotor may settle on another one (fig8 at eta 1.25: the sweep up from 1.1 is
+chaotic, the run from rest impactless).  --eta must be a grid value of the sweep (the
+error names the nearest ones); --direction is needed when the sweep has both.  The run
+uses the sweep's parameters; --set changes named ones explicitly (the file keeps both);
+--preset and --state0 cannot be given with --from.  The file records the start (state0
+and start_* attributes), so 'vibimpact rerun' needs no sweep file.
 
 The NetCDF file holds the stroboscopic samples (strobe), one record per impact
 (impact_*), the dense trajectory when asked for (--dense, or --plot, which keeps 64
@@ -87,12 +99,22 @@ def _cmd_simulate(args):
         if ext not in FigureCanvasBase.get_supported_filetypes():
             raise UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
-    try:
-        base = presets.get(args.preset)
-        eta = base.eta if args.eta is None else args.eta
-        params = base.replace(eta=eta, **parse_sets(args.set))
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    attrs, note = {"preset": args.preset or "fig8"}, ""
+    state0 = args.state0
+    if args.from_sweep is not None:
+        from .cli_start import start_of
+
+        params, state0, start_attrs, note = start_of(args)
+        attrs = start_attrs
+    elif args.direction is not None:
+        raise UsageError("--direction needs --from (the sweep's direction to start from)")
+    else:
+        try:
+            base = presets.get(attrs["preset"])
+            eta = base.eta if args.eta is None else args.eta
+            params = base.replace(eta=eta, **parse_sets(args.set))
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
 
     from . import io
@@ -101,16 +123,13 @@ def _cmd_simulate(args):
     start = time.perf_counter()
     try:
         run = simulate(params, periods=args.periods, transient=args.transient,
-                       state0=args.state0, method=args.method, rtol=args.rtol,
+                       state0=state0, method=args.method, rtol=args.rtol,
                        atol=args.atol, dense=dense)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     elapsed = time.perf_counter() - start
     command = shlex.join(["vibimpact"] + list(args.argv))
-    ds = io.run_to_dataset(run, command=command, state0=args.state0 or [0.0, 0.0, 0.0, 0.0],
-                           attrs={"preset": args.preset, "periods": args.periods,
-                                  "transient": args.transient, "dense": dense,
-                                  "wall_time_s": round(elapsed, 3)})
+    ds = run.to_dataset(command, attrs={**attrs, "wall_time_s": round(elapsed, 3)})
     try:
         io.write_netcdf(ds, out, overwrite=args.overwrite)
         if args.plot is not None:
@@ -121,10 +140,11 @@ def _cmd_simulate(args):
         raise UsageError(str(exc)) from None
     if not run.ok:
         print(f"vibimpact: warning: run {run.status.value.upper()}: {run.reason}; "
-              f"wrote the {len(run.strobe)} samples computed", file=sys.stderr)
-    print(f"wrote {out}: {len(run.strobe)} stroboscopic samples, {len(run.impacts)} impacts, "
+              f"wrote the {count(len(run.strobe), 'sample')} computed", file=sys.stderr)
+    print(f"wrote {out}: {count(len(run.strobe), 'stroboscopic sample')}, "
+          f"{count(len(run.impacts), 'impact')}, "
           f"status {run.status.value} ({elapsed:.1f} s)"
-          + (f"; plot {args.plot}" if args.plot else ""))
+          + (f"; plot {args.plot}" if args.plot else "") + (f"; {note}" if note else ""))
     return 0
 
 
@@ -157,12 +177,18 @@ def build_parser():
                                    "the run (stroboscopic\nsamples, impacts, parameters) "
                                    "to a NetCDF file.", epilog=_SIMULATE_EPILOG,
                        formatter_class=fmt)
-    s.add_argument("--preset", default="fig8", help="parameter set (default: fig8); "
+    s.add_argument("--preset", default=None, help="parameter set (default: fig8); "
                    "see 'vibimpact presets'")
     s.add_argument("--eta", type=number, default=None,
                    help="forcing (rotor speed) frequency ratio, > 0 (default: the preset's, 1.0)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
+    s.add_argument("--from", dest="from_sweep", metavar="SWEEP.nc", default=None,
+                   help="start from the state a sweep ('vibimpact classify' or "
+                        "'bifurcation' file) had at --eta, with its parameters (see below)")
+    s.add_argument("--direction", choices=("up", "down"), default=None,
+                   help="with --from: the sweep direction to start from (needed when the "
+                        "sweep has both)")
     s.add_argument("--periods", type=positive_int(1), default=200,
                    help="forcing periods recorded (default: 200)")
     s.add_argument("--transient", type=positive_int(0), default=500,

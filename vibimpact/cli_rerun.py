@@ -28,7 +28,9 @@ The recorded command runs again exactly (same parameters, grid, solver settings,
 its output redirected: simulate's --plot image is not redrawn (its dense samples are
 kept), classify writes no interval table, bifurcation draws no image, map draws no
 --plot image and runs on local processes even when it was run on a --scheduler (the
-results do not depend on where they were computed).
+results do not depend on where they were computed).  A 'simulate --from SWEEP.nc' run
+starts again from the state and parameters its file records (state0, start_*), without
+reading the sweep's file: that may have moved, changed or gone since.
 
 exit status: 0 identical ('identical: N variables'), 1 different (the differing variables
 are listed), 2 bad input (missing, foreign or damaged file, no recorded command).
@@ -128,6 +130,10 @@ def _cmd_rerun(args):
             check_output(new, args.overwrite, "output file")
     old = _read(path, "file")
     parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
+    if getattr(parsed, "from_sweep", None) is not None:  # simulate --from: start recorded
+        from .cli_start import recorded_start
+
+        parsed.recorded_start = recorded_start(old, path)
     if not keep:
         directory = os.path.dirname(os.path.abspath(path))
         try:

@@ -80,7 +80,8 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     command : str, optional
         The command line (or call) that made the run, stored as the ``command`` attribute.
     state0 : array_like, optional
-        The initial state at ``tau = 0``, stored as the variable ``state0``.
+        The initial state at ``tau = 0``, stored as the variable ``state0``; the one the
+        run records (:attr:`Run.state0 <vibimpact.Run.state0>`) by default.
     attrs : dict, optional
         Further global attributes (values converted to str, int or float).
 
@@ -90,9 +91,11 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
         Variables ``strobe`` (``sample``, ``state``) with coordinate ``t_strobe``;
         ``impact_<field>`` on dimension ``impact`` for each field of
         :data:`vibimpact.run.IMPACT_DTYPE`; ``trajectory`` (``time``, ``state``) when the
-        run kept dense output.  Global attributes: ``model``, ``status``, ``reason``,
-        ``param_<name>``, ``solver_<key>``, ``counter_<name>``, ``vibimpact_version``,
-        ``command``.
+        run kept dense output; ``state0`` when the initial state is known.  Global
+        attributes: ``model``, ``status``, ``reason``, ``param_<name>``,
+        ``solver_<key>``, ``counter_<name>``, ``periods``, ``transient``, ``dense``,
+        ``vibimpact_version``, ``command``.  :meth:`vibimpact.Run.to_dataset` and
+        ``vibimpact simulate -o`` both make it here.
 
     Examples
     --------
@@ -131,6 +134,7 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
                                    {"units": "1", "long_name": "evenly sampled trajectory"})
         coords["time"] = ("time", np.asarray(run.t_dense, dtype=np.float64),
                           {"units": "1", "long_name": _TAU})
+    state0 = run.state0 if state0 is None else state0
     if state0 is not None:
         data_vars["state0"] = ("state", np.asarray(state0, dtype=np.float64).reshape(n),
                                {"units": "1", "long_name": "initial state at tau = 0"})
@@ -145,9 +149,46 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     glob.update({f"param_{k}": v for k, v in _params_dict(run.params).items()})
     glob.update({f"solver_{k}": v for k, v in (run.solver or {}).items()})
     glob.update({f"counter_{k}": v for k, v in (run.counters or {}).items()})
+    if run.periods is not None:
+        glob.update(periods=run.periods, transient=run.transient,
+                    dense=run.dense_per_period)
     glob.update(attrs or {})
     ds.attrs.update({k: _attr_value(v) for k, v in glob.items()})
     return ds
+
+
+def as_run_dataset(value: xr.Dataset | Run, name: str = "ds") -> xr.Dataset:
+    """The dataset of a run: a Dataset as it is, a :class:`~vibimpact.Run` through
+    :meth:`~vibimpact.Run.to_dataset`.
+
+    Every function that expects the dataset of a run (:func:`write_netcdf`,
+    :func:`vibimpact.plotting.plot_xy`) takes a Run through this function.
+
+    Parameters
+    ----------
+    value : xarray.Dataset or Run
+    name : str
+        The argument's name, for the error.
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    TypeError
+        When ``value`` is neither.
+    """
+    import xarray as xr
+
+    from .run import Run
+
+    if isinstance(value, Run):
+        return value.to_dataset()
+    if not isinstance(value, xr.Dataset):
+        raise TypeError(f"{name} must be an xarray.Dataset or a vibimpact.Run, got "
+                        f"{type(value).__name__}")
+    return value
 
 
 def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, Any]]:
@@ -183,7 +224,7 @@ def _umask():
     return mask
 
 
-def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str],
+def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
                  overwrite: bool = False) -> None:
     """Write a dataset to NetCDF-4 atomically.
 
@@ -195,7 +236,8 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str],
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    ds : xarray.Dataset or Run
+        A Run is written as its dataset (:meth:`vibimpact.Run.to_dataset`).
     path : str or os.PathLike
     overwrite : bool
         Replace an existing file.
@@ -203,18 +245,13 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str],
     Raises
     ------
     TypeError
-        When ``ds`` is not a Dataset (a Run: see :func:`run_to_dataset`).
+        When ``ds`` is neither a Dataset nor a Run.
     ValueError
         When ``path`` exists and not ``overwrite``, or its directory does not exist.
     OSError
         When the file cannot be written (the temporary file is removed).
     """
-    import xarray as xr
-
-    if not isinstance(ds, xr.Dataset):
-        hint = ("; run_to_dataset(run) makes one from a Run" if hasattr(ds, "strobe")
-                else "")
-        raise TypeError(f"ds must be an xarray.Dataset, got {type(ds).__name__}{hint}")
+    ds = as_run_dataset(ds)
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
     if os.path.isdir(path):

@@ -1,10 +1,18 @@
 """The result of a simulation: :class:`Run`, its :class:`Status`, and the impact log."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import enum
 from dataclasses import dataclass, field
 
 import numpy as np
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Mapping
+    from typing import Any
+
+    import xarray as xr
 
 from ._kernel import integrator as _k
 from ._kernel import rotor as _rotor
@@ -81,6 +89,15 @@ class Run:
         State at the last stroboscopic time (the last row of ``strobe``).
     solver : dict
         ``method``, ``rtol``, ``atol``, ``steps_per_period``, ``max_step``, ``event_tol``.
+    state0 : ndarray, shape (n,) or None
+        The initial state at ``tau = 0`` the run started from (None: not recorded).
+    periods : int or None
+        Forcing periods asked for after the transient (``len(strobe) - 1`` when the run
+        reached its end; None: not recorded).
+    transient : int
+        Forcing periods integrated first and discarded.
+    dense_per_period : int
+        Dense samples kept per forcing period (0: none).
     """
 
     params: object
@@ -96,11 +113,50 @@ class Run:
     counters: dict
     final_state: np.ndarray
     solver: dict = field(default_factory=dict)
+    state0: np.ndarray | None = None
+    periods: int | None = None
+    transient: int = 0
+    dense_per_period: int = 0
 
     @property
     def ok(self):
         """True when the run reached its end."""
         return self.status is Status.OK
+
+    def to_dataset(self, command: str | None = None, *,
+                   attrs: Mapping[str, Any] | None = None) -> xr.Dataset:
+        """The run as an ``xarray.Dataset``: the dataset ``vibimpact simulate -o`` writes.
+
+        The same function makes both (:func:`vibimpact.io.run_to_dataset`), so the data
+        variables and coordinates of ``run.to_dataset()`` are those of the file that
+        ``vibimpact simulate`` writes for the same run, and its global attributes are
+        the file's less the command line's own (``command``, ``preset``, the wall time,
+        the ``start_*`` provenance of ``--from``) and the CF and provenance attributes
+        every writer adds (:func:`vibimpact.io.write_netcdf`).
+
+        Parameters
+        ----------
+        command : str, optional
+            The command line (or call) that made the run, stored as ``command``.
+        attrs : dict, optional
+            Further global attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+            See :func:`vibimpact.io.run_to_dataset`.
+
+        Examples
+        --------
+        >>> import vibimpact as vi
+        >>> run = vi.simulate(vi.presets.get("fig8").replace(eta=1.25), periods=5)
+        >>> ds = run.to_dataset()
+        >>> ds["strobe"].shape, ds["state0"].values.tolist()
+        ((6, 4), [0.0, 0.0, 0.0, 0.0])
+        """
+        from .io import run_to_dataset  # io stands above the Run it writes
+
+        return run_to_dataset(self, command, attrs=attrs)
 
 
 def impacts_from_events(t, which, mode_before, state, t0, period):
@@ -199,4 +255,6 @@ def join_runs(runs, period):
                t_strobe=np.arange(strobe.shape[0]) * period, impacts=impacts,
                events=events, dense=dense, t_dense=t_dense, status=Status.OK, reason="",
                counters=counters, final_state=runs[-1].final_state.copy(),
-               solver=dict(first.solver))
+               solver=dict(first.solver), state0=first.state0,
+               periods=strobe.shape[0] - 1, transient=first.transient,
+               dense_per_period=first.dense_per_period)

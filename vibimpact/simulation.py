@@ -160,6 +160,7 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
     bound = _v.positive("bound", bound, allow_none=True)
     n = len(mdl.state_names)
     y = _v.state("state0", state0, n)
+    y0 = y.copy()  # the kernel advances y in place
 
     problem = mdl.problem(pvec)
     T = problem.period
@@ -214,4 +215,5 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
                     atol=atol, steps_per_period=steps_per_period,
                     max_step=float(options.max_step), event_tol=event_tol,
                     bound=float(options.bound)),
+        state0=y0, periods=periods, transient=transient, dense_per_period=dense,
     )

@@ -13,6 +13,8 @@ if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..run import Run
+
 
 def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> None:
     """Save a figure atomically (temporary file in the same directory, then rename).
@@ -69,14 +71,15 @@ def _title(ds):
     return ", ".join(parts)
 
 
-def plot_xy(ds: xr.Dataset, path: str | os.PathLike[str] | None = None,
+def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
             ax: Axes | None = None) -> Axes:
     """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        Made by :func:`vibimpact.io.run_to_dataset` (rotor model): uses ``trajectory`` if
+    ds : xarray.Dataset or Run
+        The dataset of a run (rotor model), as :meth:`vibimpact.Run.to_dataset` makes it
+        and ``vibimpact simulate`` writes it, or the Run itself: uses ``trajectory`` if
         present, else ``strobe``, and ``impact_theta``.
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
@@ -101,14 +104,11 @@ def plot_xy(ds: xr.Dataset, path: str | os.PathLike[str] | None = None,
     >>> from vibimpact.io import read_netcdf
     >>> from vibimpact.plotting import plot_xy
     >>> ax = plot_xy(read_netcdf("run.nc"), "xy.png")  # doctest: +SKIP
+    >>> ax = plot_xy(run)  # a vibimpact.Run  # doctest: +SKIP
     """
-    import xarray as xr
+    from ..io import as_run_dataset
 
-    if not isinstance(ds, xr.Dataset):
-        hint = ("; vibimpact.io.run_to_dataset(run) makes one from a Run"
-                if hasattr(ds, "strobe") else "")
-        raise TypeError(f"ds must be an xarray.Dataset of a run, got {type(ds).__name__}"
-                        + hint)
+    ds = as_run_dataset(ds)
     if ax is None:
         from matplotlib.figure import Figure
 

@@ -222,6 +222,36 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     return ds
 
 
+def sweep_params(ds: xr.Dataset, eta: float | None = None) -> Params:
+    """The rotor parameters a sweep dataset records (its ``params`` attribute).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`vibimpact.sweep` or ``vibimpact classify``.
+    eta : float, optional
+        The rotor speed to set (the attribute leaves it out); the default of
+        :class:`~vibimpact.Params` otherwise.
+
+    Returns
+    -------
+    Params
+
+    Raises
+    ------
+    ValueError
+        When the attribute is missing or holds no rotor parameters.
+    """
+    from ..params import Params
+
+    try:
+        params = json.loads(ds.attrs["params"])
+        return Params(**params) if eta is None else Params(**params, eta=eta)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ValueError(f"ds has no usable 'params' attribute ({type(exc).__name__}: "
+                         f"{exc})") from None
+
+
 def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
     """The labelled frequency-interval map of a sweep.
 

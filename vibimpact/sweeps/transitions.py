@@ -61,7 +61,7 @@ from ..run import Status
 from .. import _validate as _v
 from ..simulation import simulate
 from ..system import System
-from .dataset import label_text
+from .dataset import label_text, sweep_params
 from ..points.point import REGIME_CODES, SweepSettings, analyse_point
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -91,10 +91,9 @@ def _params_of(ds, p):
             raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
         return p
     try:
-        return Params(**json.loads(ds.attrs["params"]))
-    except (KeyError, TypeError, ValueError) as exc:
-        raise ValueError("p: not given and the dataset has no usable 'params' attribute "
-                         f"({exc})") from None
+        return sweep_params(ds)
+    except ValueError as exc:
+        raise ValueError(f"p: not given and {exc}") from None
 
 
 def _settings_of(ds):

@@ -1,0 +1,111 @@
+"""``vibimpact simulate --from SWEEP.nc``: where a run starts when it starts from a sweep.
+
+A sweep with continuation follows one attractor through eta; from rest a run at the same
+eta may land on another one that coexists with it (fig8 at eta = 1.25: the sweep up from
+1.1 is chaotic, the run from rest impactless).  ``--from`` starts the run from the sweep's
+state at that grid value and direction (:func:`vibimpact.sweeps.sweep_start`), with the
+sweep's parameters; ``--set`` changes named ones explicitly; ``--preset`` and ``--state0``
+are refused with it.
+
+The file written records the start: the state as the ``state0`` variable, the sweep's
+point, label, parameters and command as ``start_*`` attributes
+(:meth:`vibimpact.sweeps.SweepStart.attrs`).  ``vibimpact rerun`` starts from that record
+(:func:`recorded_start`) and never reads the sweep's file, which may have moved, changed
+or gone since.  Only the standard library is imported at module level.
+"""
+import os
+
+from ._cli_common import parse_sets, UsageError
+
+
+def _message(exc, path):
+    """An API error about ``ds`` reworded for the file ``path``."""
+    text = str(exc)
+    if text.startswith("ds "):
+        text = "the file " + text[3:]
+    return f"--from {path!r}: {text}"
+
+
+def _read_sweep(path):
+    from . import io
+
+    if os.path.isdir(path):
+        raise UsageError(f"--from {path!r} is a directory, not a sweep's NetCDF file")
+    if not os.path.isfile(path):
+        raise UsageError(f"--from {path!r}: no such file")
+    try:
+        return io.read_netcdf(path)
+    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
+        raise UsageError(f"--from {path!r}: cannot read it as NetCDF: "
+                          f"{type(exc).__name__}: {exc}") from None
+
+
+def start_of(args):
+    """The parameters, initial state and file attributes of ``simulate --from``.
+
+    Reads the sweep named by ``args.from_sweep`` at ``args.eta`` and ``args.direction``,
+    or takes ``args.recorded_start`` (set by ``vibimpact rerun`` from the file being
+    rerun) without reading any sweep.
+
+    Returns
+    -------
+    params : Params
+        The sweep's parameters at the grid value of eta, ``--set`` applied.
+    state0 : ndarray
+        The sweep's ``final_state`` there.
+    attrs : dict
+        ``preset`` (the sweep's) and the start's provenance (``start_*``).
+    note : str
+        A sentence for the summary line.
+
+    Raises
+    ------
+    UsageError
+        For ``--preset`` or ``--state0`` with ``--from``, and for everything
+        :func:`vibimpact.sweeps.sweep_start` refuses, naming the file.
+    """
+    from .sweeps.start import sweep_start
+
+    path = os.fspath(args.from_sweep)
+    for given, option in ((args.preset, "--preset"), (args.state0, "--state0")):
+        if given is not None:
+            raise UsageError(f"{option} cannot be combined with --from: the run starts "
+                             "from the sweep's state with the sweep's parameters (change "
+                             "a parameter explicitly with --set NAME=VALUE)")
+    sets = parse_sets(args.set)
+    recorded = getattr(args, "recorded_start", None)
+    if recorded is not None:
+        start, preset = recorded
+    else:
+        ds = _read_sweep(path)
+        try:
+            start = sweep_start(ds, args.eta, args.direction, source=path)
+        except (TypeError, ValueError) as exc:
+            raise UsageError(_message(exc, path)) from None
+        preset = str(ds.attrs.get("preset", ""))
+    try:
+        params = start.params.replace(**sets)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    changed = ", ".join(f"{k}={v:g}" for k, v in sets.items())
+    note = (f"started from {path} at eta = {start.eta:.12g} ({start.direction}), where the "
+            f"sweep found '{start.label}'"
+            + (f"; parameters changed from the sweep's: {changed}" if changed else ""))
+    return params, start.state, {"preset": preset, **start.attrs()}, note
+
+
+def recorded_start(ds, path):
+    """The start recorded in the run file ``ds`` (read from ``path``) that ``vibimpact
+    rerun`` hands to ``simulate --from`` as ``args.recorded_start``: ``(SweepStart,
+    preset)``; UsageError when the file records none."""
+    from .sweeps.start import SweepStart
+
+    try:
+        start = SweepStart.from_run_dataset(ds)
+    except ValueError as exc:
+        raise UsageError(f"{path!r} was written by 'simulate --from' but "
+                         f"{str(exc).replace('ds ', 'it ', 1)}") from None
+    return start, str(ds.attrs.get("preset", ""))
+
+
+__all__ = ["recorded_start", "start_of"]
