@@ -140,9 +140,8 @@ def _cmd_simulate(args):
         raise UsageError(str(exc)) from None
     if not run.ok:
         print(f"vibimpact: warning: run {run.status.value.upper()}: {run.reason}; "
-              f"wrote the {count(len(run.strobe), 'sample')} computed", file=sys.stderr)
-    print(f"wrote {out}: {count(len(run.strobe), 'stroboscopic sample')}, "
-          f"{count(len(run.impacts), 'impact')}, "
+              f"wrote the {len(run.strobe)} samples computed", file=sys.stderr)
+    print(f"wrote {out}: {len(run.strobe)} stroboscopic samples, {len(run.impacts)} impacts, "
           f"status {run.status.value} ({elapsed:.1f} s)"
           + (f"; plot {args.plot}" if args.plot else "") + (f"; {note}" if note else ""))
     return 0
