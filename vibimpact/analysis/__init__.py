@@ -30,6 +30,7 @@
                                  parameter
 :func:`continue_orbit`           pseudo-arclength continuation of a periodic orbit
 :class:`Steps`                   its step controls
+:func:`refine_stability_change`  narrow where a branch changes stability, by bisection
 ===============================  ==========================================================
 
 Every analyser of a model's trajectories (Lyapunov exponents, shooting, monodromy,
@@ -49,7 +50,8 @@ from .settling import Contraction, TorusEvidence, contraction_rate, torus_eviden
 from .period import detect_period, impact_map, poincare_section
 from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
                        monodromy, shoot_periodic_orbit)
-from .continuation import Bifurcation, Branch, Steps, continue_orbit, locate_bifurcation
+from .continuation import (Bifurcation, Branch, Steps, continue_orbit, locate_bifurcation,
+                           refine_stability_change)
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -60,6 +62,6 @@ __all__ = [
     "Bifurcation", "Branch", "Monodromy", "PeriodicOrbit", "continue_orbit",
     "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
     "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
-    "contraction_rate", "torus_evidence", "Averaging", "Steps",
+    "contraction_rate", "torus_evidence", "Averaging", "Steps", "refine_stability_change",
 ]
 

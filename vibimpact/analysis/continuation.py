@@ -48,7 +48,11 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..system import System
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
-           "orbit_signature", "grazing_gap", "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER"]
+           "refine_stability_change", "orbit_signature", "grazing_gap",
+           "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER", "FOLD_TURNING"]
+
+#: the kind of a turning point of a branch (the parameter reverses)
+FOLD_TURNING = "fold (turning point)"
 
 @dataclass(frozen=True)
 class Branch:
@@ -75,6 +79,10 @@ class Branch:
         ("fold (turning point)").
     status : str
         Why the continuation stopped.
+    brackets : tuple of (float, float)
+        For each of ``bifurcations``, the parameter interval it lies in: the two branch
+        points around a stability change (narrowed to the ``refine`` tolerance of
+        :func:`continue_orbit` when it was given), ``(value, value)`` at a turning point.
     """
 
     param: object
@@ -86,6 +94,7 @@ class Branch:
     n: int
     bifurcations: tuple = ()
     status: str = ""
+    brackets: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -222,7 +231,7 @@ def _window(stop, lam0):
 
 def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str = "eta",
                    stop: float, steps: Steps = Steps(), direction: int = 1,
-                   amplitude: bool = True) -> Branch:
+                   amplitude: bool = True, refine: float | None = None) -> Branch:
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 
     Unknowns ``u = (x, lambda)``; equations ``G(u) = P^n(x; lambda) - x = 0`` and the
@@ -255,6 +264,13 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         Initial direction in the parameter.
     amplitude : bool
         Compute the response amplitudes of every orbit (one dense run each).
+    refine : float, optional
+        Narrow the interval of every stability change (not at a turning point) to this
+        width by bisection: Newton shooting at the midpoint from the state interpolated
+        between the two ends, the side kept by whether ``|mu|max < 1`` there
+        (:func:`refine_stability_change`).  Without it the value is interpolated between
+        the two branch points, which can be off by up to a step where the multipliers
+        move non-smoothly (at grazing).
 
     Returns
     -------
@@ -285,6 +301,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
                          f"{type(steps).__name__}")
     if direction not in (1, -1):
         raise ValueError(f"direction must be 1 or -1, got {direction!r}")
+    if refine is not None:
+        refine = _v.positive("refine", refine)
     orb = shoot_periodic_orbit(system, state0, n, tol=steps.newton_tol)
     if not orb.converged:
         raise ValueError(f"state0: shooting failed at the start ({orb.reason})")
@@ -332,8 +350,104 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     if amplitude:
         amps = [_amplitude(system.with_param(param, q[0]), q[1], n, names) for q in points]
         amp = {k: np.array([a[k] for a in amps]) for k in names}
-    return Branch(param, vals, np.array([q[1] for q in points]), mults, stab, amp, n,
-                  _branch_events(vals, stab, mults), status)
+    states = np.array([q[1] for q in points])
+    events = _branch_events(vals, stab, mults)
+    brackets = []
+    for k, (i, kind, value) in enumerate(events):
+        if kind == FOLD_TURNING:
+            brackets.append((value, value))
+            continue
+        lo_hi = (float(vals[i - 1]), float(vals[i]))
+        if refine is not None:
+            try:
+                value, kind, lo_hi = refine_stability_change(
+                    system, param, n, (vals[i - 1], vals[i]), (states[i - 1], states[i]),
+                    tol=refine, newton_tol=steps.newton_tol)
+            except ValueError:  # an end not shot again: the interpolated value stays
+                pass
+            events[k] = (i, kind, value)
+        brackets.append(lo_hi)
+    return Branch(param, vals, states, mults, stab, amp, n, tuple(events), status,
+                  tuple(brackets))
+
+
+def _crossing(lo, hi, mu_lo, mu_hi):
+    """Where ``|mu|max - 1`` crosses zero between ``lo`` and ``hi``, by linear
+    interpolation of its values ``mu_lo``, ``mu_hi`` (multipliers) at the two ends."""
+    g0 = float(np.abs(mu_lo).max()) - 1.0
+    g1 = float(np.abs(mu_hi).max()) - 1.0
+    w = g0 / (g0 - g1) if g0 != g1 else 0.5
+    return float(lo + w * (hi - lo))
+
+
+def refine_stability_change(system: System, param: str, n: int, values: tuple,
+                            states: tuple, *, tol: float = 1e-6,
+                            newton_tol: float = 1e-9) -> tuple:
+    """Narrow the parameter interval in which a period-``n`` orbit changes stability.
+
+    Bisection: the orbit is shot (:func:`shoot_periodic_orbit`) at the midpoint from the
+    state interpolated linearly between the two ends; the end with the same stability
+    (``|mu|max < 1``) as the midpoint's orbit moves there.  It stops when the interval
+    is at most ``tol`` wide, or keeps the last interval when Newton fails at a midpoint,
+    lands more than a quarter of the orbit's size away from the guess (another orbit)
+    or on a lower period.  The interval must not contain a turning point (there are two
+    orbits at the midpoint).
+
+    Parameters
+    ----------
+    system : System
+        Model, parameters and solver settings (defaults :data:`CONTINUATION_SOLVER`).
+    param : str or int
+    n : int
+    values : (float, float)
+        The parameter at the two ends: two neighbouring points of a
+        :class:`Branch` of different stability.
+    states : (array_like, array_like)
+        The orbit's stroboscopic point at each end.
+    tol : float
+        Width of the final interval.
+    newton_tol : float
+        Newton's tolerance of the shootings.
+
+    Returns
+    -------
+    (float, str, (float, float))
+        The value (``|mu|max - 1`` interpolated linearly in the final interval), the kind
+        (:data:`KIND_BY_MULTIPLIER` of the unstable end's multipliers, ``"?"`` if none
+        fits) and the final interval ``(lo, hi)`` with ``lo`` at the first end's side.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument; ``values`` when both ends have the same stability.
+    """
+    system = as_system(system).resolved(**CONTINUATION_SOLVER)
+    tol = _v.positive("tol", tol)
+    n = _v.count("n", n, 1)
+    lo, hi = (float(_v.finite("values", v)) for v in values)
+    xs = [_v.state("states", x, system.n_state) for x in states]
+    mus = [shoot_periodic_orbit(system.with_param(param, v), x, n, tol=newton_tol)
+           for v, x in zip((lo, hi), xs)]
+    stable = [bool(m.abs_max < 1.0) for m in mus]
+    if not all(m.converged for m in mus) or stable[0] == stable[1]:
+        raise ValueError(f"values: no change of stability between {param} = {lo} and "
+                         f"{hi} (orbits found {[m.converged for m in mus]}, stable "
+                         f"{stable})")
+    mus = [m.multipliers for m in mus]
+    while abs(hi - lo) > tol:
+        mid = 0.5 * (lo + hi)
+        guess = xs[0] + (xs[1] - xs[0]) * ((mid - lo) / (hi - lo))
+        orb = shoot_periodic_orbit(system.with_param(param, mid), guess, n, tol=newton_tol)
+        scale = max(1.0, float(np.abs(guess).max()))
+        if not orb.converged or orb.minimal_period < n or \
+                float(np.abs(orb.state - guess).max()) > 0.25 * scale:
+            break
+        side = 0 if bool(orb.abs_max < 1.0) == stable[0] else 1
+        (lo, hi) = (mid, hi) if side == 0 else (lo, mid)
+        xs[side], mus[side] = orb.state, orb.multipliers
+    unstable = mus[1] if stable[0] else mus[0]
+    kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
+    return _crossing(lo, hi, mus[0], mus[1]), kind, (lo, hi)
 
 
 def _branch_events(vals, stab, mults):
@@ -341,17 +455,13 @@ def _branch_events(vals, stab, mults):
     (:attr:`Branch.bifurcations`)."""
     turns = [i for i in range(1, vals.size - 1)
              if (vals[i] - vals[i - 1]) * (vals[i + 1] - vals[i]) < 0]
-    bif = [(i, "fold (turning point)", float(vals[i])) for i in turns]
+    bif = [(i, FOLD_TURNING, float(vals[i])) for i in turns]
     for i in range(1, vals.size):
         if stab[i] != stab[i - 1]:
             unstable = mults[i] if not stab[i] else mults[i - 1]
             kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
             if kind == "fold" and any(abs(i - j) <= 1 for j in turns):
                 continue  # the turning point itself is listed
-            # linear interpolation of |mu|max - 1 between the two points
-            g0 = float(np.abs(mults[i - 1]).max()) - 1.0
-            g1 = float(np.abs(mults[i]).max()) - 1.0
-            w = g0 / (g0 - g1) if g0 != g1 else 0.5
-            bif.append((i, kind, float(vals[i - 1] + w * (vals[i] - vals[i - 1]))))
+            bif.append((i, kind, _crossing(vals[i - 1], vals[i], mults[i - 1], mults[i])))
     bif.sort()
-    return tuple(bif)
+    return bif
