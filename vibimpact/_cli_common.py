@@ -3,6 +3,8 @@ import argparse
 import os
 import sys
 
+from ._text import count
+
 
 class UsageError(Exception):
     """Bad input: reported as one line and exit status 2."""
@@ -242,8 +244,8 @@ def run_checkpointed(ckpt, unit, compute):
         if ckpt.exists():
             points, rows = ckpt.saved()
             n = points if unit == "points" else rows
-            print(f"vibimpact: interrupted: {n} {unit} saved in {os.fspath(ckpt.path)}; "
-                  "rerun with --resume", file=sys.stderr)
+            print(f"vibimpact: interrupted: {count(n, unit[:-1])} saved in "
+                  f"{os.fspath(ckpt.path)}; rerun with --resume", file=sys.stderr)
         else:
             print(f"vibimpact: interrupted before any {unit[:-1]} was saved",
                   file=sys.stderr)
@@ -266,8 +268,9 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
     bad = last["damaged"]
     if bad:
         names = f"{', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''}"
-        print(f"vibimpact: warning: {len(bad)} damaged {unit[:-1]} files in {where} were "
-              f"recomputed ({names})", file=sys.stderr)
+        files = count(len(bad), f"damaged {unit[:-1]} file")
+        print(f"vibimpact: warning: {files} in {where} "
+              f"{'was' if len(bad) == 1 else 'were'} recomputed ({names})", file=sys.stderr)
     try:
         write(ds, out, overwrite=overwrite or resuming)
     except (ValueError, OSError) as exc:
@@ -277,6 +280,6 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
         ckpt.remove()
     if resuming:
         loaded = last["points"] if unit == "points" else last["streams"]
-        print(f"vibimpact: resumed from {where}: {loaded} {unit} loaded, not recomputed",
-              file=sys.stderr)
+        print(f"vibimpact: resumed from {where}: {count(loaded, unit[:-1])} loaded, not "
+              "recomputed", file=sys.stderr)
     return last["points"]

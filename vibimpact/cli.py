@@ -60,6 +60,7 @@ written).
 
 from ._cli_common import (check_output, number, parse_sets, Parser, positive_int,
                           set_verbosity, UsageError, verbosity)
+from ._text import count
 
 
 def _cmd_presets(args):
@@ -140,8 +141,9 @@ def _cmd_simulate(args):
         raise UsageError(str(exc)) from None
     if not run.ok:
         print(f"vibimpact: warning: run {run.status.value.upper()}: {run.reason}; "
-              f"wrote the {len(run.strobe)} samples computed", file=sys.stderr)
-    print(f"wrote {out}: {len(run.strobe)} stroboscopic samples, {len(run.impacts)} impacts, "
+              f"wrote the {count(len(run.strobe), 'sample')} computed", file=sys.stderr)
+    print(f"wrote {out}: {count(len(run.strobe), 'stroboscopic sample')}, "
+          f"{count(len(run.impacts), 'impact')}, "
           f"status {run.status.value} ({elapsed:.1f} s)"
           + (f"; plot {args.plot}" if args.plot else "") + (f"; {note}" if note else ""))
     return 0

@@ -9,6 +9,7 @@ import os
 from ._cli_common import (UsageError, check_checkpoint, check_output, checkpoint_of,
                           finish_checkpointed, image_ext_ok, parse_analyses, parse_sets,
                           positive_int, run_checkpointed)
+from ._text import count
 
 DEFAULT_ETA = "0.9:1.5:0.005"
 
@@ -158,7 +159,8 @@ def _cmd_map(args):
         ds, status = run_checkpointed(ckpt, "rows", lambda: map2d(
             params, etas, {name: values}, direction=args.direction, analyses=analyses,
             scheduler=scheduler, workers=workers, task_points=args.task_points,
-            store=ckpt.path, resume=args.resume, progress=not args.no_progress,
+            store=ckpt.path, resume=args.resume,
+            progress=not args.no_progress and "map",
             command=shlex.join(["vibimpact"] + list(args.argv))))
     finally:
         if scheduler is not None:
@@ -190,8 +192,10 @@ def _summary(ds, elapsed, computed):
     counts = ", ".join(f"{k} {int((reg == c).sum())}" for k, c in
                        (("periodic", 1), ("quasi-periodic", 2), ("chaotic", 3),
                         ("diverged", 4), ("unsettled", 5)))
-    shape = " x ".join(f"{ds.sizes[d]} {d}" for d in ds["regime"].dims)
-    print(f"map {shape} = {reg.size} points: {counts} ({computed} computed in "
+    # a count of directions is a noun's; kh, eta, ... are the parameters' symbols
+    shape = " x ".join(count(ds.sizes[d], d) if d == "direction" else f"{ds.sizes[d]} {d}"
+                       for d in ds["regime"].dims)
+    print(f"map {shape} = {count(reg.size, 'point')}: {counts} ({computed} computed in "
           f"{elapsed:.1f} s, {computed / max(elapsed, 1e-9):.1f} points/s)")
 
 

@@ -15,6 +15,7 @@ import shlex
 import sys
 
 from ._cli_common import check_output, UsageError
+from ._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map")
 
@@ -170,7 +171,7 @@ def _cmd_rerun(args):
 
     diffs, total = io.differences(old, fresh)
     if not diffs:
-        print(f"identical: {total} variables" + (f"; wrote {new}" if keep else ""))
+        print(f"identical: {count(total, 'variable')}" + (f"; wrote {new}" if keep else ""))
         return 0
     print(f"different: {len(diffs)} of {total} variables differ"
           + (f"; wrote {new}" if keep else ""))

@@ -124,7 +124,7 @@ def _cmd_classify(args):
     ds, status = run_checkpointed(ckpt, "points", lambda: vi.sweep(
         params, etas, direction=args.direction, analyses=analyses, blocks=args.blocks,
         workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-        progress=not args.no_progress, command=_command_line(args)))
+        progress=not args.no_progress and "classify", command=_command_line(args)))
     if ds is None:
         return status
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
@@ -157,7 +157,8 @@ def _cmd_bifurcation(args):
         with StopWorkersOnSignal():
             ds = vi.sweep(params, etas, direction=args.direction,
                           analyses=("period", "poincare"), blocks=args.blocks,
-                          workers=args.workers, progress=not args.no_progress,
+                          workers=args.workers,
+                          progress=not args.no_progress and "bifurcation",
                           command=_command_line(args))
     except KeyboardInterrupt as exc:
         print("vibimpact: interrupted; nothing written", file=sys.stderr)

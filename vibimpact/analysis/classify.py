@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._text import count
 from .chaos01 import test01
 from .period import detect_period
 
@@ -143,7 +144,8 @@ class Regime:
             text += " impactless"
         elif self.impacting and math.isfinite(self.impacts_per_period):
             k = self.impacts_per_period
-            text += f", {k:.0f} impacts" if k == round(k) else f", {k:.2f} impacts/period"
+            text += f", {count(k, 'impact')}" if k == round(k) else \
+                f", {k:.2f} impacts/period"
         return text
 
 

@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .. import _validate as _v
+from .._text import count
 
 if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
@@ -176,13 +177,13 @@ def summarize_arcs(theta, width, largest_gap):
     if theta.size == 0:
         return "none"
     if k <= MAX_SMALL_ARCS and np.all(np.asarray(width) < SMALL_ARC_WIDTH):
-        return "1 small arc" if k == 1 else f"{k} small arcs"
+        return count(k, "small arc")
     for half, t in (("bottom half", theta), ("top half", -theta)):
         if np.all((t >= -tol) | (t <= -180.0 + tol) | (t >= 180.0 - tol)):
             return half
     if largest_gap < WHOLE_CIRCLE_GAP:
         return "whole circle"
-    return "1 arc" if k == 1 else f"{k} arcs"
+    return count(k, "arc")
 
 
 def contact_arcs(angles: ArrayLike, gap: float = 10.0) -> ContactArcs:

@@ -46,6 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .._text import count
+
 log = logging.getLogger(__name__)
 
 REQUEST = "request.json"
@@ -110,7 +112,7 @@ def unpack(arrays, m):
         head, _, key = name.partition(":")
         if head == "f":
             if arr.shape[0] != m:
-                raise ValueError(f"{key}: {arr.shape[0]} points, expected {m}")
+                raise ValueError(f"{key}: {count(arr.shape[0], 'point')}, expected {m}")
             for k in range(m):
                 points[k][key] = _value(arr[k])
         elif head.startswith("p"):

@@ -219,7 +219,7 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
           settings: SweepSettings | None = None, state0: ArrayLike | None = None,
           scheduler: Any = None, workers: int = 1, task_points: int = DEFAULT_TASK_POINTS,
           store: str | os.PathLike[str] | None = None, resume: bool = False,
-          progress: bool | Callable[[int], object] = False,
+          progress: bool | str | Callable[[int], object] = False,
           command: str | None = None) -> xr.Dataset:
     """Regime map over eta and one other parameter, rows computed on Dask.
 
@@ -255,9 +255,9 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
         (:mod:`vibimpact.engine.store`).
     resume : bool
         Continue the map saved in ``store``: its rows are loaded, not recomputed.
-    progress : bool or callable
-        A progress bar (points) on stderr; a callable is called as ``progress(k)`` with
-        every ``k`` points finished instead.
+    progress : bool, str or callable
+        A progress bar (points) on stderr, named "map" (True) or by the text given; a
+        callable is called as ``progress(k)`` with every ``k`` points finished instead.
     command : str, optional
         The command line to record in the attributes.
 

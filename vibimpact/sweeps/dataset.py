@@ -15,6 +15,7 @@ import sys
 import numpy as np
 
 from .. import __version__
+from .._text import count
 from ..analysis.classify import Label
 from ..system import param_dict, to_system
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
@@ -119,7 +120,7 @@ def label_text(code, n, ipp, arcs, contact=-1):
         return f"{head}, permanent contact" if contact == CONTACT_PERMANENT else \
             f"{head} impactless"
     if label is Label.PERIODIC and float(ipp).is_integer():
-        text = f"{head}, {ipp:.0f} impacts"
+        text = f"{head}, {count(ipp, 'impact')}"
     else:  # a mean count varies from point to point: it would split every interval
         text = f"{head}, impacting"
     return f"{text}, {arcs}" if arcs else text

@@ -125,7 +125,7 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
           continuation: bool = True, settings: SweepSettings | None = None,
           blocks: int = 16, workers: int = 1, seed_periods: int = 10,
           checkpoint: str | os.PathLike[str] | None = None, resume: bool = False,
-          progress: bool | Callable[[int], object] = False,
+          progress: bool | str | Callable[[int], object] = False,
           command: str | None = None) -> xr.Dataset:
     """Sweep the forcing frequency ``eta`` and classify the motion at every point.
 
@@ -161,9 +161,10 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         Directory where every finished point is saved at once
         (:mod:`vibimpact.engine.store`); with ``resume=True`` the points found there are
         loaded instead of recomputed.
-    progress : bool or callable
-        A progress bar on stderr; a callable is called as ``progress(k)`` with every
-        ``k`` points finished instead.
+    progress : bool, str or callable
+        A progress bar on stderr, named "sweep" (True) or by the text given (the
+        command's name, say); a callable is called as ``progress(k)`` with every ``k``
+        points finished instead.
     command : str, optional
         Command line to record in the attributes.
 
@@ -216,7 +217,7 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         for i, res in points:
             results[task.direction][i] = res
 
-    with prog.callback(progress, sum(t.todo for t in tasks), "classify") as report:
+    with prog.callback(progress, sum(t.todo for t in tasks), "sweep") as report:
         compute(tasks, executors.choose(workers, len(tasks)), on_task, store=store,
                 progress=report, stream=True)
     return to_dataset(p, etas, dirs, results, settings, direction=direction,

@@ -388,7 +388,7 @@ def _classify(p, a, b, settings, tol, refine, cache):
 def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None = None, *,
                      refine: bool = True, tol: float = 1e-4, direction: str | None = None,
                      settings: SweepSettings | None = None,
-                     progress: bool | Callable[[int], object] = False) -> xr.Dataset:
+                     progress: bool | str | Callable[[int], object] = False) -> xr.Dataset:
     """The type of every boundary of the sweep's interval map, refined by bisection.
 
     Parameters
@@ -408,8 +408,9 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
     settings : SweepSettings, optional
         Point analysis for the simulation bisections (the sweep's, from its attributes,
         by default).
-    progress : bool
-        A progress bar on stderr.
+    progress : bool, str or callable
+        A progress bar on stderr, named "transitions" (True) or by the text given; a
+        callable is called as ``progress(1)`` with every boundary typed instead.
 
     Returns
     -------
@@ -481,19 +482,15 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
             i, j = order[k], order[k + 1]
             if lab[i] != lab[j]:
                 jobs.append((d, _Point(sub, i, d), _Point(sub, j, d, k + 1 in seeds)))
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=len(jobs), desc="transitions", unit="boundary")
+    from ..engine.progress import callback
+
     rows = []
     cache = {}
-    for d, a, b in jobs:
-        r = _classify(p, a, b, settings, tol, refine, cache)
-        rows.append((d, a, b, r))
-        if bar is not None:
-            bar.update(1)
-    if bar is not None:
-        bar.close()
+    with callback(progress, len(jobs), "transitions", unit="boundary") as report:
+        for d, a, b in jobs:
+            r = _classify(p, a, b, settings, tol, refine, cache)
+            rows.append((d, a, b, r))
+            report(1)
 
     def col(f, dtype=None):
         return np.array([f(*r) for r in rows], dtype=dtype)

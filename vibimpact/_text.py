@@ -1,0 +1,31 @@
+"""Counts in words: the one place a number and its noun are made to agree."""
+from __future__ import annotations
+
+import numbers
+
+
+def count(n, noun, plural=None):
+    """``n`` followed by ``noun``, singular for exactly one: ``"1 impact"``, ``"2 impacts"``,
+    ``"0 impacts"``.
+
+    Parameters
+    ----------
+    n : int or float
+        A float that is a whole number prints without decimals (``2.0`` -> ``"2"``);
+        another float with ``:g``.
+    noun : str
+        The singular.
+    plural : str, optional
+        The plural when it is not ``noun + "s"`` (``"boundaries"``).
+
+    Returns
+    -------
+    str
+    """
+    if isinstance(n, numbers.Integral):
+        text = str(int(n))
+    elif float(n).is_integer():
+        text = f"{float(n):.0f}"
+    else:
+        text = f"{float(n):g}"
+    return f"{text} {noun if text == '1' else (plural or noun + 's')}"
