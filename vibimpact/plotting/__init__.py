@@ -1,9 +1,9 @@
-"""Figures drawn from datasets made by :mod:`vibimpact.io` and :func:`vibimpact.sweep`
-(never from a live run).
+"""Figures drawn from datasets made by :mod:`vibimpact.io` and :func:`vibimpact.sweep`.
 
-Every function takes an ``xarray.Dataset`` and draws with matplotlib's object API (a
-:class:`matplotlib.figure.Figure` rendered by Agg), so the global pyplot state and the
-interactive backend are never touched.
+Every function takes an ``xarray.Dataset`` (:func:`plot_xy` also a
+:class:`~vibimpact.Run`, drawn from :meth:`~vibimpact.Run.to_dataset`) and draws with
+matplotlib's object API (a :class:`matplotlib.figure.Figure` rendered by Agg), so the
+global pyplot state and the interactive backend are never touched.
 """
 from .bifurcation import plot_bifurcation
 from .response import plot_intervals, plot_response
