@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numbers
 import os
 import tempfile
 
@@ -20,142 +19,12 @@ if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
 
     import xarray as xr
-    from numpy.typing import ArrayLike
 
     from .run import Run
 
-#: model name -> state variable names (a user model gets x0, x1, ...)
-_STATE_NAMES = {"rotor": ("X", "Y", "dX", "dY"), "duffing": ("x", "dx")}
-
-_STATE_LONG = {"X": "horizontal displacement / clearance",
-               "Y": "vertical displacement / clearance (+Y down, along gravity)",
-               "dX": "horizontal velocity dX/dtau", "dY": "vertical velocity dY/dtau"}
-
-#: impact record field -> (units, long_name)
-_IMPACT_ATTRS = {
-    "t_entry": ("1", "dimensionless time tau of contact entry (R = 1)"),
-    "theta": ("degree", "contact angle atan2(Y, X) at entry; +90 = bottom of the retainer"),
-    "v_impact": ("1", "normal impact speed dR/dtau at entry"),
-    "penetration": ("1", "maximum penetration R - 1 during the contact / clearance"),
-    "duration": ("1", "contact duration in tau (NaN: still in contact at the end)"),
-    "t_exit": ("1", "dimensionless time tau of contact exit (NaN: still in contact)"),
-    "period": ("1", "forcing period of the entry, counted from the end of the transient"),
-}
-
-_TAU = "dimensionless time tau = omega_0 t"
-
-
-def _attr_value(value):
-    """A value NetCDF can store as an attribute: str, int or float."""
-    if value is None:
-        return ""
-    if isinstance(value, (bool, np.bool_)):
-        return int(value)
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real):
-        return float(value)
-    if isinstance(value, str):
-        return value
-    if hasattr(value, "value") and isinstance(value.value, str):  # an Enum such as Status
-        return value.value
-    return str(value)
-
-
-def _params_dict(params):
-    if hasattr(params, "as_dict"):
-        return params.as_dict()
-    vec = np.atleast_1d(np.asarray(params, dtype=np.float64))
-    return {f"p{i}": float(v) for i, v in enumerate(vec)}
-
-
-def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | None = None,
-                   attrs: Mapping[str, Any] | None = None) -> xr.Dataset:
-    """A :class:`~vibimpact.Run` as an ``xarray.Dataset``.
-
-    Parameters
-    ----------
-    run : Run
-        The result of :func:`vibimpact.simulate`.
-    command : str, optional
-        The command line (or call) that made the run, stored as the ``command`` attribute.
-    state0 : array_like, optional
-        The initial state at ``tau = 0``, stored as the variable ``state0``; the one the
-        run records (:attr:`Run.state0 <vibimpact.Run.state0>`) by default.
-    attrs : dict, optional
-        Further global attributes (values converted to str, int or float).
-
-    Returns
-    -------
-    xarray.Dataset
-        Variables ``strobe`` (``sample``, ``state``) with coordinate ``t_strobe``;
-        ``impact_<field>`` on dimension ``impact`` for each field of
-        :data:`vibimpact.run.IMPACT_DTYPE`; ``trajectory`` (``time``, ``state``) when the
-        run kept dense output; ``state0`` when the initial state is known.  Global
-        attributes: ``model``, ``status``, ``reason``, ``param_<name>``,
-        ``solver_<key>``, ``counter_<name>``, ``periods``, ``transient``, ``dense``,
-        ``vibimpact_version``, ``command``.  :meth:`vibimpact.Run.to_dataset` and
-        ``vibimpact simulate -o`` both make it here.
-
-    Examples
-    --------
-    >>> import vibimpact as vi
-    >>> from vibimpact.io import run_to_dataset
-    >>> run = vi.simulate(vi.presets.get("fig8").replace(eta=1.25), periods=5, transient=5)
-    >>> run_to_dataset(run).strobe.shape
-    (6, 4)
-    """
-    import xarray as xr
-
-    from . import __version__
-
-    strobe = np.asarray(run.strobe, dtype=np.float64)
-    n = strobe.shape[1]
-    names = _STATE_NAMES.get(run.model, tuple(f"x{i}" for i in range(n)))
-    if len(names) != n:
-        names = tuple(f"x{i}" for i in range(n))
-    state_coord = ("state", list(names), {"long_name": "state variable"})
-    data_vars = {
-        "strobe": (("sample", "state"), strobe,
-                   {"units": "1", "long_name": "stroboscopic (Poincare) samples at "
-                    "tau_k = 2 pi k / eta, after the transient"}),
-    }
-    coords = {
-        "state": state_coord,
-        "t_strobe": ("sample", np.asarray(run.t_strobe, dtype=np.float64),
-                     {"units": "1", "long_name": _TAU + " of the stroboscopic samples"}),
-    }
-    for field in run.impacts.dtype.names:
-        units, long_name = _IMPACT_ATTRS.get(field, ("1", field))
-        data_vars[f"impact_{field}"] = ("impact", np.asarray(run.impacts[field]),
-                                        {"units": units, "long_name": long_name})
-    if run.dense is not None:
-        data_vars["trajectory"] = (("time", "state"), np.asarray(run.dense, np.float64),
-                                   {"units": "1", "long_name": "evenly sampled trajectory"})
-        coords["time"] = ("time", np.asarray(run.t_dense, dtype=np.float64),
-                          {"units": "1", "long_name": _TAU})
-    state0 = run.state0 if state0 is None else state0
-    if state0 is not None:
-        data_vars["state0"] = ("state", np.asarray(state0, dtype=np.float64).reshape(n),
-                               {"units": "1", "long_name": "initial state at tau = 0"})
-    ds = xr.Dataset(data_vars, coords=coords)
-    for name in names:
-        if name in _STATE_LONG:
-            ds.attrs[f"state_{name}"] = _STATE_LONG[name]
-
-    glob = {"title": f"vibimpact simulation ({run.model} model)", "model": run.model,
-            "status": run.status, "reason": run.reason,
-            "vibimpact_version": __version__, "command": command}
-    glob.update({f"param_{k}": v for k, v in _params_dict(run.params).items()})
-    glob.update({f"solver_{k}": v for k, v in (run.solver or {}).items()})
-    glob.update({f"counter_{k}": v for k, v in (run.counters or {}).items()})
-    if run.periods is not None:
-        glob.update(periods=run.periods, transient=run.transient,
-                    dense=run.dense_per_period)
-    glob.update(attrs or {})
-    ds.attrs.update({k: _attr_value(v) for k, v in glob.items()})
-    return ds
-
+# a Run's dataset is made beside Run itself (Run.to_dataset); re-exported here, where the
+# writers are
+from .run import run_to_dataset  # noqa: E402,F401
 
 def as_run_dataset(value: xr.Dataset | Run, name: str = "ds") -> xr.Dataset:
     """The dataset of a run: a Dataset as it is, a :class:`~vibimpact.Run` through
@@ -181,9 +50,11 @@ def as_run_dataset(value: xr.Dataset | Run, name: str = "ds") -> xr.Dataset:
     """
     import xarray as xr
 
-    from .run import Run
-
-    if isinstance(value, Run):
+    if isinstance(value, xr.Dataset):
+        return value
+    # a Run converts itself (Run.to_dataset calls run_to_dataset above); recognised by
+    # what it has, so that this module, below Run's, does not import it back
+    if callable(getattr(value, "to_dataset", None)) and hasattr(value, "strobe"):
         return value.to_dataset()
     if not isinstance(value, xr.Dataset):
         raise TypeError(f"{name} must be an xarray.Dataset or a vibimpact.Run, got "
