@@ -213,12 +213,14 @@ def build_parser():
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
 
+    from .cli_continue import add_parser as add_continue
     from .cli_map import add_parser as add_map
     from .cli_rerun import add_parser as add_rerun
     from .cli_sweep import add_parsers
 
     add_parsers(sub, fmt)
     add_map(sub, fmt)
+    add_continue(sub, fmt)
     add_rerun(sub, fmt, build_parser)
     return parser
 

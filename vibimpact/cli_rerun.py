@@ -17,7 +17,7 @@ import sys
 from ._cli_common import check_output, UsageError
 from ._text import count
 
-RERUNNABLE = ("simulate", "classify", "bifurcation", "map")
+RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")
 
 _RERUN_EPILOG = """\
 examples:
@@ -100,6 +100,8 @@ def _redirect(args, new, overwrite):
         if args.plot is not None and args.dense is None:
             args.dense = 64  # what --plot implied for the recorded file
         args.plot = None
+        args.output = new
+    elif args.command == "continue":
         args.output = new
     elif args.command in ("classify", "map"):
         args.output = new

@@ -15,7 +15,7 @@ from ._cli_common import (StopWorkersOnSignal, UsageError, check_checkpoint, che
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
 DEFAULT_PRESET = "fig8"
-PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map")
+PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch")
 
 _CLASSIFY_EPILOG = """\
 examples:
@@ -66,6 +66,8 @@ examples:
   vibimpact plot fig8.nc --kind response -o response.png
   vibimpact plot fig8.nc --kind intervals -o intervals.png
   vibimpact plot run.nc --kind xy -o xy.png
+  vibimpact plot p1.nc -o p1.png                 # a 'vibimpact continue' branch
+  vibimpact plot fig8.nc --kind response --branch p1.nc -o overlay.png
 
 kinds:
   response     X_m and Y_m against eta, up/down sweeps, chaotic points marked (classify)
@@ -74,9 +76,16 @@ kinds:
   xy           the orbit in the (X, Y) clearance plane (a 'vibimpact simulate' file)
   map          regime, period, impacts, exponent over (eta, PARAM) ('vibimpact map';
                .zarr or .nc)
+  branch       a continued branch: X_m, Y_m and |mu|max against the parameter, stable
+               solid, unstable dashed, bifurcations marked ('vibimpact continue')
 
-Without --kind: xy for a simulate file, response (or bifurcation when the file has no
-response data) for a sweep file.  Without -o: FILE_KIND.png next to FILE.
+--branch BRANCH.nc (repeatable) draws branches continued in eta over the response
+curves: stable parts solid, unstable dashed, each kind of bifurcation with its own
+open marker, every line and marker in the legend.
+
+Without --kind: xy for a simulate file, branch for a continue file, response (or
+bifurcation when the file has no response data) for a sweep file.  Without -o:
+FILE_KIND.png next to FILE.
 """
 
 
@@ -195,6 +204,8 @@ def _has(ds, name):
 
 def _cmd_plot(args):
     path = os.fspath(args.file)
+    if args.branch and args.kind not in (None, "response"):
+        raise UsageError(f"--branch draws over response curves, not --kind {args.kind}")
     if args.kind == "map" or os.path.isdir(path):  # a parameter map ('vibimpact map')
         from .cli_map import plot_command
         return plot_command(args)
@@ -210,6 +221,14 @@ def _cmd_plot(args):
     if "map_vary" in ds.attrs:
         from .cli_map import plot_command
         return plot_command(args, ds)
+    from .branches import is_branch_dataset
+
+    if is_branch_dataset(ds):
+        from .cli_continue import plot_command
+        return plot_command(args, ds)
+    if args.kind == "branch":
+        raise UsageError(f"--kind branch needs a 'vibimpact continue' file; {path!r} is "
+                         "not one")
     try:
         what = _kind_of(ds)
     except Exception as exc:
@@ -232,6 +251,12 @@ def _cmd_plot(args):
     if kind == "bifurcation" and not _has(ds, "poincare_X"):
         raise UsageError(f"{path!r} has no Poincare points: sweep with --analyses "
                           "including poincare")
+    if args.branch and kind != "response":
+        raise UsageError(f"--branch draws over response curves, not --kind {kind}")
+    branches = []
+    if args.branch:
+        from .cli_continue import read_branches
+        branches = read_branches(args.branch)
     out = args.output
     if out is None:
         out = os.path.splitext(path)[0] + f"_{kind}.png"
@@ -248,7 +273,12 @@ def _cmd_plot(args):
             draw = {"response": plotting.plot_response,
                     "bifurcation": plotting.plot_bifurcation,
                     "intervals": plotting.plot_intervals}[kind]
-            plotting.save_figure(draw(ds), out)
+            fig = draw(ds)
+            if branches:
+                from .plotting.branch import overlay_branches
+                overlay_branches(fig.axes[:2], branches,
+                                 [os.path.basename(b) for b in args.branch])
+            plotting.save_figure(fig, out)
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing;
         # save_figure writes atomically, so nothing partial is left
         raise UsageError(f"cannot draw {kind} from {path!r}: "
@@ -315,12 +345,16 @@ def add_parsers(sub, fmt):
     p = sub.add_parser("plot", help="draw a figure from a NetCDF file", formatter_class=fmt,
                        epilog=_PLOT_EPILOG,
                        description="Draw a figure from a file written by 'vibimpact "
-                                   "classify', 'bifurcation' or 'simulate'.")
+                                   "classify', 'bifurcation', 'simulate', 'map' or\n"
+                                   "'continue'.")
     p.add_argument("file", metavar="FILE.nc", help="NetCDF file to read")
     p.add_argument("--kind", choices=PLOT_KINDS, default=None,
                    help="figure to draw (default: from the file, see below)")
     p.add_argument("-o", "--output", metavar="FIG.png", default=None,
                    help="image to write (default: FILE_KIND.png)")
+    p.add_argument("--branch", action="append", default=[], metavar="BRANCH.nc",
+                   help="draw a branch of 'vibimpact continue' (in eta) over the response "
+                        "curves (repeatable)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing image")
     p.set_defaults(func=_cmd_plot)
 

@@ -48,7 +48,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..system import System
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
-           "refine_stability_change", "orbit_signature", "grazing_gap",
+           "refine_stability_change", "StabilityChange", "orbit_signature", "grazing_gap",
            "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER", "FOLD_TURNING"]
 
 #: the kind of a turning point of a branch (the parameter reverses)
@@ -81,8 +81,8 @@ class Branch:
         Why the continuation stopped.
     brackets : tuple of (float, float)
         For each of ``bifurcations``, the parameter interval it lies in: the two branch
-        points around a stability change (narrowed to the ``refine`` tolerance of
-        :func:`continue_orbit` when it was given), ``(value, value)`` at a turning point.
+        points around a stability change (with ``refine``, the two orbits inserted at the
+        ends of the narrowed interval), ``(value, value)`` at a turning point.
     """
 
     param: object
@@ -268,9 +268,10 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         Narrow the interval of every stability change (not at a turning point) to this
         width by bisection: Newton shooting at the midpoint from the state interpolated
         between the two ends, the side kept by whether ``|mu|max < 1`` there
-        (:func:`refine_stability_change`).  Without it the value is interpolated between
-        the two branch points, which can be off by up to a step where the multipliers
-        move non-smoothly (at grazing).
+        (:func:`refine_stability_change`); the orbits at the two ends of the final
+        interval join the branch as points.  Without it the value is interpolated
+        between two branch points a step apart, which can be off by up to the step
+        where the multipliers move non-smoothly (at grazing).
 
     Returns
     -------
@@ -343,6 +344,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         x, lam, m = x_new, lam_new, mm
         record(x, lam, m.matrix)
         ds = min(steps.ds_max, ds * 1.5) if it <= 3 else ds
+    if refine is not None:
+        points = _refined(system, param, n, points, refine, steps.newton_tol)
     vals = np.array([q[0] for q in points])
     mults = np.array([q[2] for q in points])
     stab = np.array([bool(np.abs(mu).max() < 1.0) for mu in mults])
@@ -350,25 +353,60 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     if amplitude:
         amps = [_amplitude(system.with_param(param, q[0]), q[1], n, names) for q in points]
         amp = {k: np.array([a[k] for a in amps]) for k in names}
-    states = np.array([q[1] for q in points])
     events = _branch_events(vals, stab, mults)
-    brackets = []
-    for k, (i, kind, value) in enumerate(events):
+    brackets = tuple((v, v) if kind == FOLD_TURNING else
+                     (float(vals[i - 1]), float(vals[i])) for i, kind, v in events)
+    return Branch(param, vals, np.array([q[1] for q in points]), mults, stab, amp, n,
+                  tuple(events), status, brackets)
+
+
+def _refined(system, param, n, points, tol, newton_tol):
+    """``points`` with the two orbits of :func:`refine_stability_change` inserted at
+    every stability change that is not a turning point (a refinement that fails inserts
+    nothing)."""
+    vals = np.array([q[0] for q in points])
+    mults = np.array([q[2] for q in points])
+    stab = np.array([bool(np.abs(mu).max() < 1.0) for mu in mults])
+    out = list(points)
+    for i, kind, _ in reversed(_branch_events(vals, stab, mults)):
         if kind == FOLD_TURNING:
-            brackets.append((value, value))
             continue
-        lo_hi = (float(vals[i - 1]), float(vals[i]))
-        if refine is not None:
-            try:
-                value, kind, lo_hi = refine_stability_change(
-                    system, param, n, (vals[i - 1], vals[i]), (states[i - 1], states[i]),
-                    tol=refine, newton_tol=steps.newton_tol)
-            except ValueError:  # an end not shot again: the interpolated value stays
-                pass
-            events[k] = (i, kind, value)
-        brackets.append(lo_hi)
-    return Branch(param, vals, states, mults, stab, amp, n, tuple(events), status,
-                  tuple(brackets))
+        try:
+            ch = refine_stability_change(system, param, n, (vals[i - 1], vals[i]),
+                                         (points[i - 1][1], points[i][1]), tol=tol,
+                                         newton_tol=newton_tol)
+        except ValueError:  # an end not shot again: the interpolated value stays
+            continue
+        new = [(float(v), x, mu) for v, x, mu in zip(ch.bracket, ch.states, ch.multipliers)
+               if v not in (vals[i - 1], vals[i])]
+        out[i:i] = new
+    return out
+
+
+@dataclass(frozen=True)
+class StabilityChange:
+    """Where a branch changes stability (:func:`refine_stability_change`).
+
+    Attributes
+    ----------
+    value : float
+        ``|mu|max - 1`` interpolated linearly to zero in ``bracket``.
+    kind : str
+        :data:`KIND_BY_MULTIPLIER` of the unstable end's multipliers (``"?"`` if none
+        fits).
+    bracket : (float, float)
+        The final interval, its first end on the side of the first given end.
+    states : ndarray, shape (2, d)
+        The orbit's stroboscopic point at each end of ``bracket``.
+    multipliers : ndarray of complex, shape (2, d)
+        Its Floquet multipliers there.
+    """
+
+    value: float
+    kind: str
+    bracket: tuple
+    states: np.ndarray
+    multipliers: np.ndarray
 
 
 def _crossing(lo, hi, mu_lo, mu_hi):
@@ -382,7 +420,7 @@ def _crossing(lo, hi, mu_lo, mu_hi):
 
 def refine_stability_change(system: System, param: str, n: int, values: tuple,
                             states: tuple, *, tol: float = 1e-6,
-                            newton_tol: float = 1e-9) -> tuple:
+                            newton_tol: float = 1e-9) -> StabilityChange:
     """Narrow the parameter interval in which a period-``n`` orbit changes stability.
 
     Bisection: the orbit is shot (:func:`shoot_periodic_orbit`) at the midpoint from the
@@ -411,10 +449,8 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
 
     Returns
     -------
-    (float, str, (float, float))
-        The value (``|mu|max - 1`` interpolated linearly in the final interval), the kind
-        (:data:`KIND_BY_MULTIPLIER` of the unstable end's multipliers, ``"?"`` if none
-        fits) and the final interval ``(lo, hi)`` with ``lo`` at the first end's side.
+    StabilityChange
+        The value, kind and final interval, with the orbits at its ends.
 
     Raises
     ------
@@ -447,7 +483,8 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
         xs[side], mus[side] = orb.state, orb.multipliers
     unstable = mus[1] if stable[0] else mus[0]
     kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
-    return _crossing(lo, hi, mus[0], mus[1]), kind, (lo, hi)
+    return StabilityChange(_crossing(lo, hi, mus[0], mus[1]), kind, (lo, hi),
+                           np.array(xs), np.array(mus))
 
 
 def _branch_events(vals, stab, mults):

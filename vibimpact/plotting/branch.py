@@ -1,39 +1,107 @@
-"""A continued branch of periodic orbits on a response curve: stable solid, unstable dashed.
+"""Continued branches of periodic orbits: stable solid, unstable dashed, bifurcations
+marked.
 
-:func:`plot_branch` draws a :class:`vibimpact.analysis.Branch` (from
-:func:`vibimpact.analysis.continue_orbit`) on given axes, so that a response curve of a
-sweep (:func:`vibimpact.plotting.plot_response`) can show the unstable parts of the
-branches that a brute-force sweep, which only ever sees attractors, misses (Seydel 2010,
-sec. 2.2: stable solid, unstable dashed, is the usual convention of bifurcation diagrams).
+* :func:`plot_branch` draws one response measure of a branch (a
+  :class:`vibimpact.analysis.Branch`, or the dataset of a ``vibimpact continue`` file) on
+  given axes;
+* :func:`plot_branch_figure` is ``vibimpact plot BRANCH.nc --kind branch``: the response
+  amplitudes and the largest Floquet multiplier against the parameter;
+* :func:`overlay_branches` draws branches over the response curves of a sweep
+  (:func:`vibimpact.plotting.plot_response`), so that they show the unstable parts that a
+  brute-force sweep, which only ever sees attractors, misses.
+
+Stable solid and unstable dashed is the usual convention of bifurcation diagrams (Seydel
+2010, sec. 2.2).  Every line style and marker drawn gets a legend entry: the stable and
+unstable parts of each branch, and each kind of bifurcation found (open black markers,
+:data:`BIFURCATION_MARKERS`, placed at the bifurcation's parameter value).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-__all__ = ["plot_branch", "BIFURCATION_MARKERS"]
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+    from collections.abc import Sequence
+
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..analysis import Branch
+
+__all__ = ["plot_branch", "plot_branch_figure", "overlay_branches", "BIFURCATION_MARKERS",
+           "BIFURCATION_LABELS", "BRANCH_COLORS"]
 
 #: marker of each bifurcation kind found along a branch
-BIFURCATION_MARKERS = {"period doubling": "o", "fold": "s", "fold (turning point)": "s",
-                       "Neimark-Sacker": "D"}
+BIFURCATION_MARKERS = {"period doubling": "o", "fold": "^", "fold (turning point)": "s",
+                       "Neimark-Sacker": "D", "?": "*"}
+#: legend entry of each marker
+BIFURCATION_LABELS = {"period doubling": "period doubling (μ = −1)",
+                      "fold": "fold (μ = +1)",
+                      "fold (turning point)": "fold (turning point)",
+                      "Neimark-Sacker": "Neimark–Sacker (complex pair |μ| = 1)",
+                      "?": "stability change of unknown kind"}
+#: colours of successive branches on one figure
+BRANCH_COLORS = ("k", "tab:purple", "tab:brown", "tab:olive", "tab:cyan")
 
 
-def plot_branch(ax, branch, var="X_m", *, color="k", label=None, lw=1.2, markers=True):
+def _as_branch(branch):
+    """A Branch from a Branch or a ``vibimpact continue`` dataset; ValueError naming
+    ``branch`` otherwise."""
+    import xarray as xr
+
+    if isinstance(branch, xr.Dataset):
+        from ..branches import branch_from_dataset
+
+        try:
+            return branch_from_dataset(branch)
+        except ValueError:
+            raise ValueError("branch must be a vibimpact.analysis.Branch or the dataset "
+                             "of a 'vibimpact continue' file") from None
+    if not isinstance(getattr(branch, "amplitude", None), dict) or \
+            not hasattr(branch, "values") or not hasattr(branch, "stable"):
+        raise ValueError("branch must be a vibimpact.analysis.Branch")
+    return branch
+
+
+def _labelled(ax):
+    """The legend labels already on ``ax``."""
+    return set(ax.get_legend_handles_labels()[1])
+
+
+def _event_xy(x, y, idx, kind, value):
+    """Where the marker of a bifurcation goes: at its value, on the segment before
+    point ``idx`` (at the point itself for a turning point)."""
+    if kind != "fold (turning point)" and 0 < idx < x.size and x[idx] != x[idx - 1] \
+            and np.isfinite(value):
+        w = (value - x[idx - 1]) / (x[idx] - x[idx - 1])
+        return value, y[idx - 1] + w * (y[idx] - y[idx - 1])
+    return x[idx], y[idx]
+
+
+def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
+                color: str = "k", label: str | None = None, lw: float = 1.2,
+                markers: bool = True) -> list:
     """Draw one response measure of a continued branch against its parameter.
 
     Parameters
     ----------
     ax : matplotlib.axes.Axes
-    branch : vibimpact.analysis.Branch
-        Computed with ``amplitude=True``.
+    branch : vibimpact.analysis.Branch or xarray.Dataset
+        Computed with ``amplitude=True``, or read from a ``vibimpact continue`` file.
     var : str
         A key of ``branch.amplitude`` (``"X_m"``, ``"Y_m"``, ``"R_m"`` for the rotor;
-        ``"x_m"`` for the Duffing oscillator).
+        ``"x_m"`` for the Duffing oscillator), or ``"floquet_abs_max"`` for the largest
+        modulus of the Floquet multipliers.
     color : colour
     label : str, optional
         Legend entry of the stable part (the unstable part gets "<label> (unstable)").
     lw : float
     markers : bool
-        Mark the bifurcations of the branch (o period doubling, s fold, D Neimark--Sacker).
+        Mark the bifurcations of the branch (:data:`BIFURCATION_MARKERS`), each kind
+        with a legend entry (:data:`BIFURCATION_LABELS`) unless ``ax`` has one already.
 
     Returns
     -------
@@ -56,15 +124,18 @@ def plot_branch(ax, branch, var="X_m", *, color="k", label=None, lw=1.2, markers
     >>> len(plot_branch(ax, br, "x_m")) > 0
     True
     """
-    amp = getattr(branch, "amplitude", None)
-    if not isinstance(amp, dict) or not hasattr(branch, "values") or \
-            not hasattr(branch, "stable"):
-        raise ValueError("branch must be a vibimpact.analysis.Branch")
-    if var not in amp:
-        raise ValueError(f"var must be one of {', '.join(amp) or '(none: computed with '}"
-                         f"{'' if amp else 'amplitude=False)'}, got {var!r}")
+    branch = _as_branch(branch)
+    amp = branch.amplitude
+    if var == "floquet_abs_max":
+        mu = np.asarray(branch.multipliers)
+        y = np.abs(mu).max(axis=1) if mu.size else np.zeros(0)
+    elif var in amp:
+        y = np.asarray(amp[var], dtype=float)
+    else:
+        raise ValueError(f"var must be floquet_abs_max or one of "
+                         f"{', '.join(amp) or '(none: computed with amplitude=False)'}, "
+                         f"got {var!r}")
     x = np.asarray(branch.values, dtype=float)
-    y = np.asarray(amp[var], dtype=float)
     st = np.asarray(branch.stable, dtype=bool)
     artists = []
     labelled = {True: False, False: False}
@@ -75,19 +146,141 @@ def plot_branch(ax, branch, var="X_m", *, color="k", label=None, lw=1.2, markers
             j += 1
         # a run of equal stability, joined to the next point so the line is unbroken
         k = min(j + 1, x.size - 1)
-        s = st[i]
+        s = bool(st[i])
         lab = None
-        if label is not None and not labelled[bool(s)]:
+        if label is not None and not labelled[s]:
             lab = label if s else f"{label} (unstable)"
-            labelled[bool(s)] = True
+            labelled[s] = True
         artists += ax.plot(x[i:k + 1], y[i:k + 1], color=color, lw=lw,
                            ls="-" if s else "--", label=lab)
         i = j + 1
     if markers:
-        for idx, kind, _value in getattr(branch, "bifurcations", ()):
-            m = BIFURCATION_MARKERS.get(kind)
-            if m is None or not 0 <= idx < x.size:
+        for idx, kind, value in getattr(branch, "bifurcations", ()):
+            m = BIFURCATION_MARKERS.get(kind, BIFURCATION_MARKERS["?"])
+            if not 0 <= idx < x.size:
                 continue
-            artists += ax.plot([x[idx]], [y[idx]], ls="none", marker=m, ms=5, mfc="white",
-                               mec=color, mew=1.0)
+            text = BIFURCATION_LABELS.get(kind, BIFURCATION_LABELS["?"])
+            bx, by = _event_xy(x, y, idx, kind, value)
+            artists += ax.plot([bx], [by], ls="none", marker=m, ms=6, mfc="white",
+                               mec="k", mew=1.0, zorder=5,
+                               label=None if text in _labelled(ax) else text)
+    return artists
+
+
+def _branch_label(ds, name=None):
+    """``P1 branch`` (``P1 branch (name)``) of a branch dataset."""
+    n = int(ds.attrs.get("period", 1))
+    return f"P{n} branch" + (f", {name}" if name else "")
+
+
+def _legend(axes, **kwargs):
+    """One legend on ``axes[0]`` with every labelled artist of ``axes`` (first label
+    wins), replacing the one it had."""
+    seen = {}
+    for a in axes:
+        for h, lab in zip(*a.get_legend_handles_labels()):
+            seen.setdefault(lab, h)
+    if seen:
+        axes[0].legend(list(seen.values()), list(seen), **kwargs)
+
+
+def plot_branch_figure(ds: xr.Dataset,
+                       path: str | os.PathLike[str] | None = None) -> Figure:
+    """The figure of ``vibimpact plot BRANCH.nc --kind branch``.
+
+    One panel per response amplitude of the orbit (``X_m`` and ``Y_m`` for the rotor)
+    and one with the largest modulus of the Floquet multipliers, ``|mu|max``, against
+    the continuation parameter, with the stability boundary ``|mu| = 1`` drawn.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`vibimpact.branches.branch_to_dataset` (a ``vibimpact continue``
+        file).
+    path : str or os.PathLike, optional
+        Save the figure there (atomically).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``ds`` when it is not such a dataset.
+    """
+    from matplotlib.figure import Figure
+
+    from ._sweep import title
+
+    branch = _as_branch(ds)
+    names = [k for k in branch.amplitude if k != "R_m"][:2]
+    fig = Figure(figsize=(8, 2.4 * (len(names) + 1) + 0.6), layout="constrained")
+    axes = list(fig.subplots(len(names) + 1, 1, sharex=True, squeeze=False)[:, 0])
+    label = _branch_label(ds)
+    for a, name in zip(axes, names + ["floquet_abs_max"]):
+        plot_branch(a, branch, name, label=label)
+        a.set_ylabel(f"{name}  (max |{name[:-2]}| / clearance)" if name in names
+                     else "|μ|max")
+        a.grid(True, lw=0.4, alpha=0.5)
+    axes[-1].axhline(1.0, color="tab:red", lw=0.8, ls=":",
+                     label="|μ| = 1 (stability boundary)")
+    axes[-1].set_xlabel("η" if branch.param == "eta" else str(branch.param))
+    _legend(axes, loc="best", fontsize="small")
+    head = title(ds)
+    x = np.asarray(branch.values, dtype=float)
+    axes[0].set_title(f"{label}: {branch.param} from {x[0]:.6g} to {x[-1]:.6g}, "
+                      f"{x.size} orbits ({branch.status})"
+                      + (f"\n{head}" if head else ""), fontsize="medium")
+    if path is not None:
+        from .xy import save_figure
+
+        save_figure(fig, path)
+    return fig
+
+
+def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
+                     names: Sequence[str] | None = None) -> list:
+    """Draw branches over the two panels (``X_m``, ``Y_m``) of a response figure.
+
+    The legend of ``axes[0]`` is redrawn with every labelled artist of both panels: the
+    sweep's curves and markers, and each branch's stable and unstable parts and kinds of
+    bifurcation.
+
+    Parameters
+    ----------
+    axes : pair of matplotlib.axes.Axes
+        From :func:`vibimpact.plotting.plot_response` (``fig.axes[:2]``).
+    branches : sequence of xarray.Dataset
+        ``vibimpact continue`` files continued in ``eta``, with the amplitudes.
+    names : sequence of str, optional
+        A name for each branch in the legend (the file names, say).
+
+    Returns
+    -------
+    list of matplotlib artists
+
+    Raises
+    ------
+    ValueError
+        Naming ``axes`` or ``branches``.
+    """
+    axes = list(axes)
+    if len(axes) != 2:
+        raise ValueError("axes must be the two Axes of a response figure (X_m, Y_m)")
+    names = list(names) if names is not None else [None] * len(branches)
+    if len(names) != len(branches):
+        raise ValueError("names must give one name per branch")
+    artists = []
+    for k, (ds, name) in enumerate(zip(branches, names)):
+        br = _as_branch(ds)
+        if br.param != "eta" or not {"X_m", "Y_m"} <= set(br.amplitude):
+            raise ValueError(f"branches[{k}] must be continued in eta with the "
+                             f"amplitudes X_m, Y_m (it is in {br.param}, amplitudes "
+                             f"{', '.join(br.amplitude) or 'none'})")
+        color = BRANCH_COLORS[k % len(BRANCH_COLORS)]
+        for a, var in zip(axes, ("X_m", "Y_m")):
+            artists += plot_branch(a, br, var, color=color,
+                                   label=_branch_label(ds, name), lw=1.4)
+    _legend(axes, loc="best", fontsize="small")
     return artists

@@ -84,7 +84,8 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
                     a.plot(eta[sel], v[sel], ls="none", marker=marker, ms=ms, mew=1.0,
                            color="k", label=lab)
     for a, name in zip(axes, ("X_m", "Y_m")):
-        a.axhline(1.0, color="0.4", lw=0.8, ls="--")
+        a.axhline(1.0, color="0.4", lw=0.8, ls="--",
+                  label="retainer clearance" if a is axes[0] else None)
         a.set_ylabel(f"{name}  (max |{name[0]}| / clearance)")
         a.grid(True, lw=0.4, alpha=0.5)
     axes[0].legend(loc="best", fontsize="small")

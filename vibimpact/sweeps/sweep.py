@@ -65,13 +65,15 @@ def check_grid(eta):
 def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
                     eta_start: float = 1.0, step: float = 0.02, transient: int = 200,
                     state0: ArrayLike | None = None) -> np.ndarray:
-    """State on the branch reached by sweeping ``eta`` up from ``eta_start``.
+    """State on the branch reached by sweeping ``eta`` from ``eta_start`` (up, or down
+    when ``eta < eta_start``).
 
-    ``transient`` forcing periods at every grid point ``eta_start, eta_start + step, ...``
-    up to ``eta`` (and at ``eta`` itself when it is off that grid), each starting from the
-    previous point's final state (rest, or ``state0``, at the first).  With the default
-    B = Ec = 0.1 the impacting upper branch of fig8-fig11 above eta ~ 1.18 is reached only
-    this way: from rest the rotor stays on the low, impactless branch.
+    ``transient`` forcing periods at every grid point ``eta_start, eta_start ± step,
+    ...`` up (down) to ``eta`` (and at ``eta`` itself when it is off that grid), each
+    starting from the previous point's final state (rest, or ``state0``, at the first).
+    With the default B = Ec = 0.1 the impacting upper branch of fig8-fig11 above eta ~
+    1.18 is reached only this way: from rest the rotor stays on the low, impactless
+    branch.
 
     Returns
     -------
@@ -80,7 +82,8 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
     """
     x = state0
     last = eta_start
-    for e in np.arange(eta_start, eta + 1e-9, step):
+    sign = 1.0 if eta >= eta_start else -1.0
+    for e in np.arange(eta_start, eta + sign * 1e-9, sign * step):
         x = simulate(p.replace(eta=float(e)), periods=1, transient=transient,
                      state0=x).final_state
         last = e

@@ -1,0 +1,247 @@
+"""``vibimpact continue``: follow a periodic orbit in one parameter, and the branch
+figures of ``vibimpact plot`` (``--kind branch``, ``--branch`` over response curves).
+
+Like :mod:`vibimpact.cli`, only the standard library is imported at module level; the
+work is :func:`vibimpact.branches.follow_branch` (pseudo-arclength continuation by
+:func:`vibimpact.analysis.continue_orbit`) and the file
+:func:`vibimpact.branches.branch_to_dataset`.
+"""
+import math
+import os
+import shlex
+import time
+
+from ._cli_common import (UsageError, check_output, image_ext_ok, number, parse_sets,
+                          positive_int)
+
+_CONTINUE_EPILOG = """\
+examples:
+  vibimpact continue --preset fig8 --eta 1.12 --stop 1.25 --approach 1.1 -o p1.nc
+  vibimpact continue --preset fig8 --eta 1.12 --stop 1.25 --approach 1.1 \\
+      --ds-max 0.005 --refine 1e-7 -o p1_fine.nc
+  vibimpact continue --preset fig10 --eta 1.1 --param kh --stop 60 -o kh.nc
+  vibimpact plot p1.nc -o p1.png                        # the branch and |mu|max
+  vibimpact classify --eta 1.0:1.3:0.002 -o sweep.nc
+  vibimpact plot sweep.nc --kind response --branch p1.nc -o overlay.png
+
+The start: the motion is integrated --transient forcing periods from rest (or --state0)
+at the start value, or, with --approach ETA0, eta is stepped from ETA0 to --eta in steps
+of 0.02 with --transient periods each, every step starting from the previous one's final
+state, as a sweep does: the rotor then settles on the orbit a sweep from ETA0 follows
+(fig8 at eta 1.12 from rest: the impactless orbit; approached from 1.1: the impacting
+P1).  The period-N orbit is found there by Newton shooting and followed by
+pseudo-arclength continuation in --param (eta by default) towards --stop, through folds
+onto unstable parts, with its Floquet multipliers (variational equations with saltation
+matrices) at every orbit.  It ends when it leaves the window, after --max-points
+orbits, or when the step falls below its minimum.
+
+Where the stability changes, the interval between the two orbits is narrowed by
+bisection to --refine (Newton shooting at each midpoint) and the two orbits at its ends
+join the branch; the kind comes from the multiplier leaving the unit circle: -1 period
+doubling, +1 fold, a complex pair Neimark-Sacker; a turning point of the parameter is a
+fold (turning point).
+
+The NetCDF file holds per orbit (dimension point): the parameter (a coordinate named
+after it), orbit_state, floquet_real, floquet_imag, floquet_abs_max, stable (flag),
+X_m, Y_m, R_m; per bifurcation: bifurcation_kind (flag), bifurcation_value,
+bifurcation_lower, bifurcation_upper, bifurcation_point; the start state, every
+parameter, the solver settings and the command line ('vibimpact rerun' repeats it).
+
+exit status: 0 written, 2 bad input or no orbit at the start (nothing written).
+"""
+
+
+def _inputs(args):
+    """``(System, Steps)`` of the parsed arguments; UsageError for bad input."""
+    from . import _limits, presets
+    from .analysis import Steps
+    from .system import System
+
+    try:
+        base = presets.get(args.preset)
+        params = base.replace(eta=base.eta if args.eta is None else args.eta,
+                              **parse_sets(args.set))
+        system = System(params)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    try:
+        start = system.param(args.param)
+    except ValueError:
+        raise UsageError(f"--param: unknown parameter {args.param!r}; choose from "
+                         f"{', '.join(system.model.param_names)}") from None
+    if not math.isfinite(args.stop) or args.stop == start:
+        raise UsageError(f"--stop must be finite and differ from the start value "
+                         f"{args.param} = {start:g}, got {args.stop:g}")
+    try:
+        system.with_param(args.param, args.stop)
+    except ValueError as exc:
+        raise UsageError(f"--stop: {exc}") from None
+    for name in ("refine", "approach"):
+        value = getattr(args, name)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise UsageError(f"--{name} must be a finite number > 0, got {value:g}")
+    if args.transient > _limits.MAX_PERIODS:
+        raise UsageError(f"--transient: at most {_limits.MAX_PERIODS} forcing periods, "
+                         f"got {args.transient}")
+    try:
+        _limits.check_points(args.max_points, "--max-points")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    for name in ("ds", "ds_max"):
+        value = getattr(args, name)
+        if not (math.isfinite(value) and value > 0):
+            raise UsageError(f"--{name.replace('_', '-')} must be a finite number > 0, "
+                             f"got {value:g}")
+    steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds), ds_max=args.ds_max,
+                  max_points=args.max_points)
+    return system, steps
+
+
+def _summary(branch):
+    """Lines that say what the branch holds: its stable and unstable stretches and its
+    bifurcations."""
+    import numpy as np
+
+    x, st = np.asarray(branch.values), np.asarray(branch.stable)
+    p = branch.param
+    lines = [f"P{branch.n} branch in {p} from {x[0]:.6g} to {x[-1]:.6g}: {x.size} orbits "
+             f"({branch.status})"]
+    i = 0
+    while i < x.size:
+        j = i
+        while j + 1 < x.size and st[j + 1] == st[i]:
+            j += 1
+        lines.append(f"  {'stable' if st[i] else 'unstable':9s}{p} {x[i]:.7g} .. "
+                     f"{x[j]:.7g}")
+        i = j + 1
+    mu = np.abs(np.asarray(branch.multipliers)).max(axis=1)
+    for (i, kind, value), (lo, hi) in zip(branch.bifurcations, branch.brackets):
+        where = f" in [{min(lo, hi):.8g}, {max(lo, hi):.8g}]" if lo != hi else ""
+        lines.append(f"  {kind} at {p} = {value:.7g}{where}; |mu|max {mu[i - 1]:.6f} -> "
+                     f"{mu[i]:.6f}" if i > 0 else f"  {kind} at {p} = {value:.7g}")
+    if not branch.bifurcations:
+        lines.append("  no bifurcation found")
+    return lines
+
+
+def _cmd_continue(args):
+    out = os.fspath(args.output)
+    check_output(out, args.overwrite, "output file")
+    system, steps = _inputs(args)
+
+    from . import io
+    from .branches import branch_to_dataset, follow_branch
+
+    t0 = time.perf_counter()
+    try:
+        branch, x0 = follow_branch(system, stop=args.stop, param=args.param,
+                                   n=args.period, state0=args.state0,
+                                   transient=args.transient, approach=args.approach,
+                                   steps=steps, refine=args.refine)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    elapsed = time.perf_counter() - t0
+    command = shlex.join(["vibimpact"] + list(args.argv))
+    ds = branch_to_dataset(branch, system, start_state=x0, command=command,
+                           attrs={"preset": args.preset, "wall_time_s": round(elapsed, 3)})
+    try:
+        io.write_netcdf(ds, out, overwrite=args.overwrite)
+    except (ValueError, OSError) as exc:
+        raise UsageError(str(exc)) from None
+    print("\n".join(_summary(branch)))
+    print(f"wrote {out} ({elapsed:.1f} s)")
+    return 0
+
+
+def read_branches(paths):
+    """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
+    continue`` file continued in eta."""
+    from . import io
+    from .branches import is_branch_dataset
+
+    out = []
+    for path in map(os.fspath, paths):
+        if not os.path.isfile(path):
+            raise UsageError(f"--branch {path!r}: no such file")
+        try:
+            ds = io.read_netcdf(path)
+        except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
+            raise UsageError(f"--branch: cannot read {path!r} as NetCDF: "
+                             f"{type(exc).__name__}: {exc}") from None
+        if not is_branch_dataset(ds):
+            raise UsageError(f"--branch {path!r} is not a 'vibimpact continue' file")
+        if ds.attrs.get("continuation_param") != "eta":
+            raise UsageError(f"--branch {path!r} is continued in "
+                             f"{ds.attrs.get('continuation_param')}, not eta")
+        out.append(ds)
+    return out
+
+
+def plot_command(args, ds):
+    """``vibimpact plot BRANCH.nc [--kind branch]``."""
+    path = os.fspath(args.file)
+    if args.kind not in (None, "branch"):
+        raise UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
+                         "a continued branch (use --kind branch)")
+    if getattr(args, "branch", None):
+        raise UsageError("--branch draws branches over a sweep's response curves; "
+                         f"{path!r} is itself a branch")
+    out = os.fspath(args.output or os.path.splitext(path)[0] + "_branch.png")
+    image_ext_ok(out, "-o")
+    check_output(out, args.overwrite, "image file")
+    from .plotting.branch import plot_branch_figure
+
+    try:
+        plot_branch_figure(ds, out)
+    except Exception as exc:  # a damaged file can fail anywhere in drawing
+        raise UsageError(f"cannot draw a branch from {path!r}: {type(exc).__name__}: "
+                         f"{exc}") from None
+    print(f"wrote {out}")
+    return 0
+
+
+def add_parser(sub, fmt):
+    """Add ``continue`` to the subparsers ``sub``."""
+    c = sub.add_parser("continue", help="follow a periodic orbit in a parameter "
+                       "(stability, bifurcations)", formatter_class=fmt,
+                       epilog=_CONTINUE_EPILOG,
+                       description="Find a periodic orbit and follow it in one parameter "
+                                   "by pseudo-arclength continuation,\nstable and "
+                                   "unstable parts, with its Floquet multipliers and the "
+                                   "bifurcations\nwhere it changes stability; write a "
+                                   "NetCDF file and print what was found.")
+    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
+                   "'vibimpact presets'")
+    c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
+                   help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
+    c.add_argument("--eta", type=number, default=None,
+                   help="rotor speed eta of the start (default: the preset's, 1.0)")
+    c.add_argument("--param", default="eta", metavar="NAME",
+                   help="parameter continued (default: eta); its start value is the "
+                        "preset's after --set")
+    c.add_argument("--stop", type=number, required=True, metavar="VALUE",
+                   help="other end of the parameter window (above or below the start)")
+    c.add_argument("--period", type=positive_int(1), default=1, metavar="N",
+                   help="period of the orbit in forcing periods (default: 1)")
+    c.add_argument("--state0", type=number, nargs=4, metavar=("X", "Y", "dX", "dY"),
+                   help="where the integration towards the orbit starts (default: rest)")
+    c.add_argument("--approach", type=number, default=None, metavar="ETA0",
+                   help="reach the start by stepping eta from ETA0, as a sweep does")
+    c.add_argument("--transient", type=positive_int(0), default=500, metavar="N",
+                   help="forcing periods integrated before shooting, per --approach step "
+                        "(default: 500)")
+    c.add_argument("--ds", type=number, default=0.005, help="first arclength step "
+                   "(default: 0.005)")
+    c.add_argument("--ds-max", type=number, default=0.02, help="largest arclength step "
+                   "(default: 0.02)")
+    c.add_argument("--max-points", type=positive_int(2), default=400, metavar="N",
+                   help="orbits on the branch at most (default: 400)")
+    c.add_argument("--refine", type=number, default=1e-6, metavar="TOL",
+                   help="narrow every stability change to this width (default: 1e-6)")
+    c.add_argument("-o", "--output", default="branch.nc", metavar="OUT.nc",
+                   help="NetCDF file to write (default: branch.nc)")
+    c.add_argument("--overwrite", action="store_true", help="replace an existing file")
+    c.set_defaults(func=_cmd_continue)
+
+
+__all__ = ["add_parser", "plot_command", "read_branches"]
