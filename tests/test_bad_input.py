@@ -22,6 +22,7 @@ from vibimpact.cli import main
 SIM = ["simulate", "--eta", "1.2", "--periods", "5", "--transient", "5"]
 FROM = ["simulate", "--from", "s.nc", "--eta", "1.25", "--periods", "5", "--transient", "5"]
 ONE = ["classify", "--eta", "1.0:1.0:0.01", "--no-progress", "--workers", "1"]
+CONT = ["continue", "--eta", "1.12", "--stop", "1.25"]
 
 
 def run_cli(argv, capfd):
@@ -59,6 +60,12 @@ def _tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.
                      "poincare_X": (("eta", "sample"), np.ones((2, 64)))},
                     coords={"eta": [1.0, 1.01]}, attrs={"command": command})
     write_netcdf(ds, path)
+
+
+def _sweep_as(name):
+    def make(d):
+        _tiny_sweep_file(Path(d) / name)
+    return make
 
 
 def _garbage(d, name="bad.nc"):
@@ -120,6 +127,12 @@ def _damaged_store(d):
     store = Path(d) / "m.zarr"
     store.mkdir()
     (store / "zarr.json").write_text("{ not json")
+
+
+def _tiny_sweep_as(name):
+    def make(d):
+        _tiny_sweep_file(Path(d) / name)
+    return make
 
 
 def _checkpoint_file(d):
@@ -265,6 +278,24 @@ CLI_CASES = {
                                     _checkpoint("[1, 2, 3]")),
     "checkpoint is a file": ([*ONE, "-o", "c.nc", "--resume"], "not a directory",
                              _checkpoint_file),
+    # figure options of every command that draws (plot, bifurcation, map/simulate --plot)
+    "plot figsize 0x3": (["plot", "c.nc", "--figsize", "0x3", "-o", "p.png"],
+                         "argument --figsize: must be WIDTHxHEIGHT", _tiny_sweep_as("c.nc")),
+    "plot figsize abc": (["plot", "c.nc", "--figsize", "abc", "-o", "p.png"],
+                         "argument --figsize: must be WIDTHxHEIGHT", _tiny_sweep_as("c.nc")),
+    "plot dpi -1": (["plot", "c.nc", "--dpi", "-1", "-o", "p.png"],
+                    "argument --dpi: must be a number > 0", _tiny_sweep_as("c.nc")),
+    "plot style nope": (["plot", "c.nc", "--style", "nope", "-o", "p.png"],
+                        "argument --style: must be one of 'default', 'paper'",
+                        _tiny_sweep_as("c.nc")),
+    "bifurcation figsize abc": (["bifurcation", "--eta", "1:1.01:0.01", "--figsize", "abc",
+                                 "-o", "b.png"], "argument --figsize", None),
+    "map --plot dpi -1": (["map", "--eta", "1,1.1", "--vary", "kh=10,20", "--plot",
+                           "m.png", "--dpi", "-1", "-o", "m.zarr"], "argument --dpi", None),
+    "simulate --plot style nope": ([*SIM, "-o", "r.nc", "--plot", "xy.png", "--style",
+                                    "nope"], "argument --style", None),
+    "simulate figsize without --plot": ([*SIM, "-o", "r.nc", "--figsize", "3x2"],
+                                        "--figsize: for the image of --plot", None),
     # simulate --from SWEEP.nc (coexisting attractors): the file, the point, conflicts
     "from: missing file": ([*FROM, "-o", "x.nc"], "no such file", None),
     "from: garbage": ([*FROM, "-o", "x.nc"], "cannot read", _garbage_as("s.nc")),
@@ -300,6 +331,49 @@ CLI_CASES = {
                                   _sweep_file()),
     "direction without --from": ([*SIM, "--direction", "up", "-o", "x.nc"],
                                  "--direction needs --from", None),
+    # continue: the window, the parameter, the steps, the start, the output
+    "continue without --stop": ([*CONT[:-2], "-o", "b.nc"], "--stop", None),
+    "continue stop = start": ([*CONT[:-1], "1.12", "-o", "b.nc"], "--stop", None),
+    "continue stop NaN": ([*CONT[:-1], "nan", "-o", "b.nc"], "--stop", None),
+    "continue stop eta < 0": ([*CONT[:-1], "-1", "-o", "b.nc"], "--stop", None),
+    "continue stop not a number": ([*CONT[:-1], "x", "-o", "b.nc"], "--stop", None),
+    "continue unknown param": ([*CONT, "--param", "kq", "-o", "b.nc"], "--param", None),
+    "continue stop outside the domain": (["continue", "--param", "kh", "--stop", "-5",
+                                          "-o", "b.nc"], "--stop: kh", None),
+    "continue period 0": ([*CONT, "--period", "0", "-o", "b.nc"], "--period", None),
+    "continue max-points 1": ([*CONT, "--max-points", "1", "-o", "b.nc"], "--max-points",
+                              None),
+    "continue max-points 1e9": ([*CONT, "--max-points", "1000000000", "-o", "b.nc"],
+                                "--max-points grid has 1000000000 points", None),
+    "continue ds 0": ([*CONT, "--ds", "0", "-o", "b.nc"], "--ds must be", None),
+    "continue ds-max NaN": ([*CONT, "--ds-max", "nan", "-o", "b.nc"], "--ds-max", None),
+    "continue refine < 0": ([*CONT, "--refine", "-1e-6", "-o", "b.nc"], "--refine", None),
+    "continue approach 0": ([*CONT, "--approach", "0", "-o", "b.nc"], "--approach", None),
+    "continue transient 1e9": ([*CONT, "--transient", "1000000000", "-o", "b.nc"],
+                               "--transient", None),
+    "continue unknown preset": ([*CONT, "--preset", "fig99", "-o", "b.nc"], "fig99", None),
+    "continue unknown --set": ([*CONT, "--set", "kq=1", "-o", "b.nc"], "kq", None),
+    "continue existing output": ([*CONT, "-o", "b.nc"], "--overwrite", _existing("b.nc")),
+    "continue state0 short": ([*CONT, "--state0", "0", "0", "-o", "b.nc"], "--state0",
+                              None),
+    "continue no orbit at the start": (["continue", "--eta", "1.23", "--approach", "1.1",
+                                        "--transient", "200", "--stop", "1.25",
+                                        "--period", "7", "-o", "b.nc"],
+                                       "no period-7 orbit found at eta = 1.23", None),
+    # ... and its plots
+    "plot --branch missing": (["plot", "c.nc", "--branch", "missing.nc", "-o", "p.png"],
+                              "--branch 'missing.nc': no such file", _sweep_as("c.nc")),
+    "plot --branch a sweep": (["plot", "c.nc", "--branch", "c.nc", "-o", "p.png"],
+                              "is not a 'vibimpact continue' file", _sweep_as("c.nc")),
+    "plot --branch garbage": (["plot", "c.nc", "--branch", "bad.nc", "-o", "p.png"],
+                              "--branch: cannot read", lambda d: (_sweep_as("c.nc")(d),
+                                                                  _garbage(d))),
+    "plot --branch on intervals": (["plot", "c.nc", "--kind", "intervals", "--branch",
+                                    "c.nc", "-o", "p.png"], "--branch draws over "
+                                   "response curves", _sweep_as("c.nc")),
+    "plot --kind branch of a sweep": (["plot", "c.nc", "--kind", "branch", "-o", "p.png"],
+                                      "--kind branch needs a 'vibimpact continue' file",
+                                      _sweep_as("c.nc")),
 }
 
 
@@ -401,6 +475,26 @@ def _steps(**kw):
     return Steps(**kw)
 
 
+def _follow(**kw):
+    import vibimpact as vi
+    from vibimpact.branches import follow_branch
+
+    return follow_branch(vi.presets.get("fig8"), stop=1.1, **kw)
+
+
+def _branch_io(name, what):
+    """branches.NAME given a Run (branch_to_dataset) or a foreign dataset."""
+    import xarray as xr
+
+    import vibimpact as vi
+    from vibimpact import branches
+
+    if what == "run":
+        run = vi.simulate(vi.presets.get("fig8"), periods=1)
+        return branches.branch_to_dataset(run, vi.System(vi.presets.get("fig8")))
+    return getattr(branches, name)(xr.Dataset({"x": ("t", [1.0])}))
+
+
 API_CASES = {
     "Params kh < 0": (lambda: _params(kh=-1.0), "kh"),
     "Params B < 0": (lambda: _params(B=-0.1), "B "),
@@ -451,6 +545,17 @@ API_CASES = {
                             "max_periods"),
     "Steps ds 0": (lambda: _steps(ds=0.0), "ds"),
     "Steps max_points 1": (lambda: _steps(max_points=1), "max_points"),
+    "continuation refine < 0": (lambda: _analyse("continue_orbit", [0.0] * 4, stop=1.2,
+                                                 refine=-1.0), "refine"),
+    "refine_stability_change same stability": (
+        lambda: _analyse("refine_stability_change", "eta", 1, (1.0, 1.01),
+                         ([0.0] * 4, [0.0] * 4)), "values"),
+    "follow_branch approach 0": (lambda: _follow(approach=0.0), "approach"),
+    "follow_branch transient < 0": (lambda: _follow(transient=-1), "transient"),
+    "branch_to_dataset of a Run": (lambda: _branch_io("branch_to_dataset", "run"),
+                                   "branch"),
+    "branch_from_dataset foreign": (lambda: _branch_io("branch_from_dataset", "foreign"),
+                                    "ds"),
 }
 
 

@@ -58,8 +58,9 @@ written).
 """
 
 
-from ._cli_common import (check_output, number, parse_sets, Parser, positive_int,
-                          set_verbosity, UsageError, verbosity)
+from ._cli_common import (add_figure_options, check_output, figure_options, number,
+                          parse_sets, Parser, positive_int, set_verbosity, UsageError,
+                          verbosity)
 from ._text import count
 
 
@@ -90,6 +91,7 @@ def _cmd_simulate(args):
 
     out = os.fspath(args.output)
     check_output(out, args.overwrite, "output file")
+    fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
         check_output(args.plot, args.overwrite, "plot file")
         if os.path.abspath(args.plot) == os.path.abspath(out):
@@ -136,7 +138,7 @@ def _cmd_simulate(args):
         if args.plot is not None:
             from .plotting import plot_xy
 
-            plot_xy(ds, args.plot)
+            plot_xy(ds, args.plot, **fig_kw)
     except (ValueError, OSError) as exc:
         raise UsageError(str(exc)) from None
     if not run.ok:
@@ -209,6 +211,7 @@ def build_parser():
                    help="NetCDF file to write")
     s.add_argument("--plot", metavar="FILE.png", help="also draw the orbit in the (X, Y) "
                    "plane with the retainer and the impacts")
+    add_figure_options(s, "the --plot image")
     s.add_argument("--overwrite", action="store_true",
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)

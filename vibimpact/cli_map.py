@@ -6,9 +6,9 @@ instant.
 """
 import os
 
-from ._cli_common import (UsageError, check_checkpoint, check_output, checkpoint_of,
-                          finish_checkpointed, image_ext_ok, parse_analyses, parse_sets,
-                          positive_int, run_checkpointed)
+from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
+                          checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
+                          parse_analyses, parse_sets, positive_int, run_checkpointed)
 from ._text import count
 
 DEFAULT_ETA = "0.9:1.5:0.005"
@@ -138,6 +138,7 @@ def _cmd_map(args):
     ckpt = checkpoint_of(out)
     resuming = args.resume and ckpt.exists()
     _check_map_output(out, args.overwrite or resuming)
+    fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
         check_output(args.plot, args.overwrite, "plot file")
@@ -174,11 +175,10 @@ def _cmd_map(args):
                                  unit="rows")
     _summary(ds, elapsed, computed=ds["regime"].size - loaded)
     if args.plot is not None:
-        from .plotting import save_figure
         from .plotting.map2d import plot_map
 
         try:
-            save_figure(plot_map(ds), args.plot)
+            plot_map(ds, path=args.plot, **fig_kw)
         except (ValueError, OSError) as exc:
             raise UsageError(f"--plot: {exc} ({out} is written)") from None
         print(f"wrote {args.plot}")
@@ -225,11 +225,10 @@ def plot_command(args, ds=None):
 
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
-    from .plotting import save_figure
     from .plotting.map2d import plot_map
 
     try:
-        save_figure(plot_map(ds), out)
+        plot_map(ds, path=out, **figure_options(args))
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
         raise UsageError(f"cannot draw a map from {path!r}: {type(exc).__name__}: "
                           f"{exc}") from None
@@ -272,6 +271,7 @@ def add_parser(sub, fmt):
                    help="Zarr store or NetCDF file to write (default: map.zarr)")
     m.add_argument("--plot", metavar="FIG.png", default=None,
                    help="also draw the map (as 'vibimpact plot OUT --kind map')")
+    add_figure_options(m, "the --plot image")
     m.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from its checkpoint OUT.partial")
     m.add_argument("--keep-checkpoint", action="store_true",

@@ -8,8 +8,9 @@ instant.
 import os
 import sys
 
-from ._cli_common import (StopWorkersOnSignal, UsageError, check_checkpoint, check_output,
-                          checkpoint_of, finish_checkpointed, image_ext_ok, interrupt_status,
+from ._cli_common import (StopWorkersOnSignal, UsageError, add_figure_options,
+                          check_checkpoint, check_output, checkpoint_of, figure_options,
+                          finish_checkpointed, image_ext_ok, interrupt_status,
                           parse_analyses, parse_sets, positive_int, run_checkpointed)
 
 #: the main job
@@ -160,7 +161,7 @@ def _cmd_bifurcation(args):
 
     import vibimpact as vi
     from . import io
-    from .plotting import plot_bifurcation, save_figure
+    from .plotting import plot_bifurcation
 
     try:
         with StopWorkersOnSignal():
@@ -180,7 +181,7 @@ def _cmd_bifurcation(args):
         if data_only is not None:
             print(f"wrote {data}")
             return 0
-        save_figure(plot_bifurcation(ds), image)
+        plot_bifurcation(ds, path=image, **figure_options(args))
     except (ValueError, OSError) as exc:
         raise UsageError(str(exc)) from None
     print(f"wrote {image} and {data}")
@@ -268,12 +269,12 @@ def _cmd_plot(args):
 
     try:
         if kind == "xy":
-            plotting.plot_xy(ds, out)
+            plotting.plot_xy(ds, out, **figure_options(args))
         else:
             draw = {"response": plotting.plot_response,
                     "bifurcation": plotting.plot_bifurcation,
                     "intervals": plotting.plot_intervals}[kind]
-            fig = draw(ds)
+            fig = draw(ds, **figure_options(args))
             if branches:
                 from .plotting.branch import overlay_branches
                 overlay_branches(fig.axes[:2], branches,
@@ -340,6 +341,7 @@ def add_parsers(sub, fmt):
     b.add_argument("-o", "--output", default="bifurcation.png", metavar="FILE.png",
                    help="image to write (default: bifurcation.png); the data goes to "
                         "FILE.nc")
+    add_figure_options(b, "the image")
     b.set_defaults(func=_cmd_bifurcation)
 
     p = sub.add_parser("plot", help="draw a figure from a NetCDF file", formatter_class=fmt,
@@ -356,6 +358,7 @@ def add_parsers(sub, fmt):
                    help="draw a branch of 'vibimpact continue' (in eta) over the response "
                         "curves (repeatable)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing image")
+    add_figure_options(p, "the image")
     p.set_defaults(func=_cmd_plot)
 
 

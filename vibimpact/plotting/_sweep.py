@@ -66,12 +66,20 @@ def title(ds):
     return ", ".join(parts)
 
 
-def new_figure(nrows, height):
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(8, height), layout="constrained")
+def new_figure(lk, nrows, height, paper_height):
+    """A figure of ``nrows`` axes sharing eta, 8 inches by ``height`` (one column by
+    ``paper_height`` in the paper style), sized and styled by the Look ``lk``."""
+    fig = lk.figure((8, height), paper_height)
     axes = fig.subplots(nrows, 1, sharex=True, squeeze=False)[:, 0]
     return fig, list(axes)
+
+
+def axes_of(ax, n, what):
+    """``(figure, list of n axes)`` from a caller's ``ax``; ValueError naming ``ax``."""
+    axes = list(ax) if not hasattr(ax, "plot") else [ax]
+    if len(axes) != n:
+        raise ValueError(f"ax must be {n} Axes ({what})")
+    return axes[0].figure, axes
 
 
 def grid_step(eta):

@@ -5,7 +5,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import DIRECTION_COLORS, check_sweep, directions, new_figure, title
+from ._sweep import DIRECTION_COLORS, axes_of, check_sweep, directions, new_figure, title
+from .style import look
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -16,7 +17,9 @@ if TYPE_CHECKING:  # names of the annotations only
 
 
 def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
-                     path: str | os.PathLike[str] | None = None) -> Figure:
+                     path: str | os.PathLike[str] | None = None, *,
+                     figsize: tuple[float, float] | None = None, dpi: float | None = None,
+                     style: str | None = None) -> Figure:
     """Draw the Poincaré points X and Y of a sweep against eta (two panels).
 
     Parameters
@@ -26,13 +29,25 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
         of ``vibimpact classify`` / ``vibimpact bifurcation``); uses ``poincare_X``,
         ``poincare_Y`` (``eta``, ``sample`` [, ``direction``]).
     ax : pair of matplotlib.axes.Axes, optional
-        Axes for X and Y; a new 8 x 6.5 inch figure otherwise.
+        Axes for X and Y; a new 8 x 6.5 inch figure otherwise (one column, 3.5 x 3.6
+        inches, in the paper style).
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
+    figsize : (float, float), optional
+        Width and height of the new figure in inches (not with ``ax``).
+    dpi : float, optional
+        Resolution of the saved figure (default 150; 300 in the paper style).
+    style : {"default", "paper"}, optional
+        ``"paper"``: :data:`vibimpact.plotting.style.PAPER_STYLE`, a journal's look.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``.
 
     Notes
     -----
@@ -48,13 +63,18 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
     >>> fig = plot_bifurcation(read_netcdf("bif.nc"), path="bif.png")  # doctest: +SKIP
     """
     check_sweep(ds, "poincare_X", "poincare_Y")
-    if ax is None:
-        fig, axes = new_figure(2, 6.5)
-    else:
-        axes = list(ax)
-        if len(axes) != 2:
-            raise ValueError("ax must be two Axes (for X and for Y)")
-        fig = axes[0].figure
+    lk = look(figsize, dpi, style, ax)
+    with lk.context():
+        if ax is None:
+            fig, axes = new_figure(lk, 2, 6.5, 3.6)
+        else:
+            fig, axes = axes_of(ax, 2, "for X and for Y")
+        _draw(ds, axes, lk)
+        return lk.finish(fig, path)
+
+
+def _draw(ds, axes, lk):
+    """The Poincaré points of every direction on ``axes`` (X, Y)."""
     for d, sub in directions(ds):
         eta = sub["eta"].values
         color = DIRECTION_COLORS.get(d, "tab:green")
@@ -69,13 +89,8 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
     axes[1].set_ylabel("Y  (Poincaré, +Y down)")
     axes[-1].set_xlabel("η")
     for a in axes:
-        a.grid(True, lw=0.4, alpha=0.5)
-    leg = axes[0].legend(loc="best", fontsize="small", markerscale=6)
+        a.grid(True, alpha=0.5)
+    leg = lk.legend(axes[0], markerscale=6)
     for h in leg.legend_handles:
         h.set_alpha(1.0)
-    axes[0].set_title(title(ds), fontsize="medium")
-    if path is not None:
-        from .xy import save_figure
-
-        save_figure(fig, path)
-    return fig
+    lk.title(axes[0], title(ds))

@@ -2,15 +2,23 @@
 exponent over (eta, parameter), with the interval boundaries drawn as lines."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from ._sweep import REGIME_NAMES, title
+from ._sweep import title
+from .map_panels import (MAP_REGIME_COLORS, MISSING, exponent_norm, exponent_panel,
+                         impacts_keys, impacts_scale, period_keys, period_scale,
+                         regime_panel)
+from .style import look, width
 
-#: regime code -> colour (0: not computed)
-MAP_REGIME_COLORS = {0: "0.85", 1: "#31a354", 2: "tab:orange", 3: "tab:red", 4: "0.15",
-                     5: "tab:purple"}
-#: colour of points where a quantity was not computed or does not exist
-MISSING = "0.9"
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+__all__ = ["MAP_REGIME_COLORS", "MISSING", "boundaries", "is_listed", "plot_map"]
 
 
 def _vary_name(ds):
@@ -64,65 +72,27 @@ def _draw_boundaries(ax, segs):
     from matplotlib.collections import LineCollection
 
     if segs:
-        ax.add_collection(LineCollection(segs, colors="k", linewidths=0.6, zorder=3))
+        ax.add_collection(LineCollection(segs, colors="k", linewidths=width(0.4), zorder=3))
 
 
-def _regime_panel(ax, xe, ye, reg):
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
-
-    codes = len(MAP_REGIME_COLORS)
-    cmap = ListedColormap([MAP_REGIME_COLORS[c] for c in range(codes)])
-    ax.pcolormesh(xe, ye, reg, cmap=cmap,
-                  norm=BoundaryNorm(np.arange(-0.5, codes + 0.5), codes))
-    present = [c for c in range(codes) if np.any(reg == c)]
-    ax.legend(handles=[Patch(facecolor=MAP_REGIME_COLORS[c], edgecolor="0.5",
-                             label=REGIME_NAMES[c]) for c in present],
-              loc="upper left", fontsize="x-small", framealpha=0.85)
-    ax.set_title("regime", fontsize="medium")
-
-
-def _period_panel(fig, ax, xe, ye, period, reg):
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-
-    per = np.where(reg == 1, period, 0).astype(int)
-    values = sorted(int(v) for v in np.unique(per) if v > 0)
-    if len(values) > 19:  # the 18 most frequent periods, the rest as one colour
-        counts = {v: int((per == v).sum()) for v in values}
-        keep = sorted(sorted(values, key=lambda v: -counts[v])[:18])
-        per = np.where(np.isin(per, keep) | (per == 0), per, -1)
-        values = keep + [-1]
-    codes = np.full(per.shape, 0)
-    for k, v in enumerate(values, start=1):
-        codes[per == v] = k
-    palette = [MISSING] + [_tab20(k) for k in range(len(values))]
-    cmap = ListedColormap(palette)
-    norm = BoundaryNorm(np.arange(-0.5, len(values) + 1.5), len(palette))
-    m = ax.pcolormesh(xe, ye, codes, cmap=cmap, norm=norm)
-    cb = fig.colorbar(m, ax=ax, ticks=np.arange(len(values) + 1), shrink=0.9)
-    cb.ax.set_yticklabels(["none"] + [f"P{v}" if v > 0 else "other" for v in values],
-                          fontsize="x-small")
-    ax.set_title("period n (T = n 2π/η; none: not periodic or too long)",
-                 fontsize="medium")
+def is_listed(ds, values):
+    """True when the map's parameter values were given as a list (``--vary f=0,0.05``,
+    recorded in the attribute ``vary_range``), or, without that record, are not evenly
+    spaced: the map then shows them as categories, one row each."""
+    spec = str(ds.attrs.get("vary_range", "")).partition("=")[2].strip()
+    if spec:
+        return ":" not in spec
+    v = np.asarray(values, dtype=float)
+    if v.size < 3:
+        return False
+    step = np.diff(v)
+    return not np.allclose(step, step[0], rtol=1e-9, atol=0.0)
 
 
-def _tab20(k):
-    from matplotlib import colormaps
-
-    order = (0, 2, 4, 6, 8, 10, 12, 16, 18, 1, 3, 5, 7, 9, 11, 13, 17, 19, 15)
-    return colormaps["tab20"](order[k % len(order)])
-
-
-def _masked_panel(fig, ax, xe, ye, z, cmap, norm, label):
-    from matplotlib import colormaps
-
-    cm = colormaps[cmap].with_extremes(bad=MISSING)
-    m = ax.pcolormesh(xe, ye, np.ma.masked_invalid(z), cmap=cm, norm=norm)
-    cb = fig.colorbar(m, ax=ax, shrink=0.9)
-    cb.set_label(label, fontsize="small")
-
-
-def plot_map(ds, direction=None, path=None):
+def plot_map(ds: xr.Dataset, direction: str | None = None,
+             path: str | os.PathLike[str] | None = None, *, categorical: bool | None = None,
+             figsize: tuple[float, float] | None = None, dpi: float | None = None,
+             style: str | None = None) -> Figure:
     """Four panels over (eta, parameter): regime, period, impacts per period, exponent.
 
     Parameters
@@ -135,10 +105,27 @@ def plot_map(ds, direction=None, path=None):
         block of panels each).
     path : str or os.PathLike, optional
         Save the figure there.
+    categorical : bool, optional
+        Draw the parameter's values as categories, one evenly spaced row each labelled
+        with its value, instead of on a numeric axis; by default when they were listed
+        (:func:`is_listed`).
+    figsize : (float, float), optional
+        Width and height in inches; 12 x 8 per sweep direction by default (two journal
+        columns, 7 x 5 per direction, in the paper style).
+    dpi : float, optional
+        Resolution of the saved figure (default 150; 300 in the paper style).
+    style : {"default", "paper"}, optional
+        ``"paper"``: :data:`vibimpact.plotting.style.PAPER_STYLE`, a journal's look.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``direction``, ``figsize``, ``dpi`` or ``style``, or a dataset that is no
+        map.
 
     Notes
     -----
@@ -146,68 +133,77 @@ def plot_map(ds, direction=None, path=None):
     neighbouring points with different labels (kind of motion, period, impacts per
     period, loaded arcs): the vertical ones are the boundaries of the frequency intervals
     of each row, the horizontal ones where a row's label differs from the next row's.
-    Grey: not computed (the exponent is computed only where no period is found) or, for
+    Each quantity has one colour scale over all the panels of the figure (both sweep
+    directions): the same colour is the same period, count or exponent everywhere.
+    Period and impacts per period are integers, drawn with one colour per value present;
+    grey: not computed (the exponent is computed only where no period is found) or, for
     the period, no period.
     """
-    from matplotlib.colors import Normalize
-    from matplotlib.figure import Figure
-
     from ._sweep import check_dataset
 
     check_dataset(ds, "a map (vibimpact.map2d)")
     for v in ("regime", "period", "label", "impacts_per_period", "lyapunov"):
         if v not in ds:
             raise ValueError(f"the map dataset has no {v}")
+    lk = look(figsize, dpi, style)
     name = _vary_name(ds)
-    if "direction" in ds.dims:
-        dirs = [str(d) for d in ds["direction"].values]
-        if direction is not None:
-            if direction not in dirs:
-                raise ValueError(f"direction must be one of {', '.join(dirs)}")
-            dirs = [direction]
-        subs = [(d, ds.sel(direction=d)) for d in dirs]
-    else:
+    subs = _directions(ds, direction)
+    values = np.asarray(ds[name].values, dtype=float)
+    listed = is_listed(ds, values) if categorical is None else bool(categorical)
+    ye = np.arange(values.size + 1) - 0.5 if listed else _edges(values)
+    with lk.context():
+        fig = lk.figure((12, 8 * len(subs)), 5.0 * len(subs), columns=2)
+        grid = fig.subplots(2 * len(subs), 2, sharex=True, sharey=True, squeeze=False)
+        _panels(fig, grid, [s.transpose(name, "eta", ...) for _, s in subs],
+                _edges(ds["eta"].values), ye)
+        for k, (d, _) in enumerate(subs):
+            grid[2 * k, 0].annotate(f"sweep {d}", (0.0, 1.0), xycoords="axes fraction",
+                                    xytext=(0, 14), textcoords="offset points",
+                                    fontweight="bold")
+        for ax in grid[:, 0]:
+            ax.set_ylabel(name)
+            if listed:
+                ax.set_yticks(np.arange(values.size), [f"{v:g}" for v in values])
+        for ax in grid[-1]:
+            ax.set_xlabel("η")
+        lk.title(fig, f"parameter map over η and {name}: {title(ds)}")
+        return lk.finish(fig, path)
+
+
+def _directions(ds, direction):
+    """``[(direction, dataset)]`` of the sweeps to draw."""
+    if "direction" not in ds.dims:
         d = str(ds.attrs.get("sweep_direction", ds.attrs.get("direction", "up")))
-        subs = [(d, ds)]
-    xe = _edges(ds["eta"].values)
-    ye = _edges(ds[name].values)
-    fig = Figure(figsize=(12, 8 * len(subs)), layout="constrained")
-    grid = fig.subplots(2 * len(subs), 2, sharex=True, sharey=True, squeeze=False)
-    for k, (d, sub) in enumerate(subs):
-        sub = sub.transpose(name, "eta", ...)
-        reg = np.asarray(sub["regime"].values, dtype=int)
-        segs = boundaries(sub["label"].values, xe, ye)
+        return [(d, ds)]
+    dirs = [str(d) for d in ds["direction"].values]
+    if direction is not None:
+        if direction not in dirs:
+            raise ValueError(f"direction must be one of {', '.join(dirs)}, got "
+                             f"{direction!r}")
+        dirs = [direction]
+    return [(d, ds.sel(direction=d)) for d in dirs]
+
+
+def _panels(fig, grid, subs, xe, ye):
+    """The four panels of every sweep in ``subs`` (rows 2k, 2k + 1 of ``grid``), each
+    quantity on one colour scale over all of them."""
+    regs = [np.asarray(s["regime"].values, dtype=int) for s in subs]
+    pscale, pkeys = period_scale([period_keys(s["period"].values, r)
+                                  for s, r in zip(subs, regs)])
+    iscale, ikeys = impacts_scale([impacts_keys(s["impacts_per_period"].values)
+                                   for s in subs])
+    lams = [np.asarray(s["lyapunov"].values, dtype=float) for s in subs]
+    norm = exponent_norm(lams)
+    for k, sub in enumerate(subs):
         (a, b), (c, e) = grid[2 * k], grid[2 * k + 1]
-        _regime_panel(a, xe, ye, reg)
-        _period_panel(fig, b, xe, ye, np.asarray(sub["period"].values), reg)
-        ipp = np.asarray(sub["impacts_per_period"].values, dtype=float)
-        finite = ipp[np.isfinite(ipp)]
-        _masked_panel(fig, c, xe, ye, ipp, "viridis",
-                      Normalize(0.0, max(1.0, float(finite.max()) if finite.size else 1.0)),
-                      "contacts per motion period")
-        c.set_title("impacts per period", fontsize="medium")
-        lam = np.asarray(sub["lyapunov"].values, dtype=float)
-        fin = lam[np.isfinite(lam)]
-        top = float(np.abs(fin).max()) if fin.size else 1.0
-        _masked_panel(fig, e, xe, ye, lam, "RdBu_r", Normalize(-top or -1.0, top or 1.0),
-                      "λ₁ per unit τ")
-        e.set_title("largest Lyapunov exponent" + ("" if fin.size else
-                                                    " (none computed: all periodic)"),
-                    fontsize="medium")
+        regime_panel(a, xe, ye, regs[k])
+        pscale.draw(fig, b, xe, ye, pkeys[k], "T = n 2π/η")
+        b.set_title("period n")
+        iscale.draw(fig, c, xe, ye, ikeys[k], "contacts per period")
+        c.set_title("impacts per period")
+        exponent_panel(fig, e, xe, ye, lams[k], norm)
+        segs = boundaries(sub["label"].values, xe, ye)
         for ax in (a, b, c, e):
             _draw_boundaries(ax, segs)
             ax.set_xlim(xe[0], xe[-1])
             ax.set_ylim(ye[0], ye[-1])
-        for ax in (a, c):
-            ax.set_ylabel(name)
-        grid[2 * k, 0].annotate(f"sweep {d}", (0.0, 1.0), xycoords="axes fraction",
-                                xytext=(0, 14), textcoords="offset points",
-                                fontsize="medium", fontweight="bold")
-    for ax in grid[-1]:
-        ax.set_xlabel("η")
-    fig.suptitle(f"parameter map over η and {name}: {title(ds)}", fontsize="medium")
-    if path is not None:
-        from .xy import save_figure
-
-        save_figure(fig, path)
-    return fig

@@ -5,8 +5,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, check_sweep, directions, grid_step,
-                     new_figure, title)
+from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
+                     grid_step, new_figure, title)
+from .style import look, width
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -19,18 +20,14 @@ if TYPE_CHECKING:  # names of the annotations only
 REGIME_COLORS = {0: "0.85", 2: "tab:orange", 3: "tab:red", 4: "0.15", 5: "tab:purple"}
 PERIOD_COLORS = ("#a1d99b", "#31a354", "#74c476", "#006d2c", "#c7e9c0", "#41ab5d")
 LONG_PERIOD_COLOR = "#d9ef8b"
-
-
-def _save(fig, path):
-    if path is not None:
-        from .xy import save_figure
-
-        save_figure(fig, path)
-    return fig
+#: hatching of a band -> its legend entry, which says what it means
+HATCHES = {"///": "hatched ///: impactless", "...": "dotted ...: permanent contact"}
 
 
 def plot_response(ds: xr.Dataset, ax: Axes | None = None,
-                  path: str | os.PathLike[str] | None = None, bands: bool = True) -> Figure:
+                  path: str | os.PathLike[str] | None = None, bands: bool = True, *,
+                  figsize: tuple[float, float] | None = None, dpi: float | None = None,
+                  style: str | None = None) -> Figure:
     """Response amplitudes X_m and Y_m against eta, chaotic points marked.
 
     Parameters
@@ -38,17 +35,29 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
     ds : xarray.Dataset
         A sweep dataset with the ``response`` analysis: ``X_m``, ``Y_m``, ``regime``.
     ax : pair of matplotlib.axes.Axes, optional
-        Axes for X_m and Y_m; a new 8 x 6.5 inch figure otherwise.
+        Axes for X_m and Y_m; a new 8 x 6.5 inch figure otherwise (one column, 3.5 x 4
+        inches, in the paper style).
     path : str or os.PathLike, optional
         Save the figure there.
     bands : bool
         Regime bands behind the curves (needs ``label``, ``period``,
         ``impacts_per_period``): the up sweep's in the upper half of each panel, the down
-        sweep's in the lower half, coloured as in :func:`plot_intervals`.
+        sweep's in the lower half, coloured and hatched as in :func:`plot_intervals`.
+    figsize : (float, float), optional
+        Width and height of the new figure in inches (not with ``ax``).
+    dpi : float, optional
+        Resolution of the saved figure (default 150; 300 in the paper style).
+    style : {"default", "paper"}, optional
+        ``"paper"``: :data:`vibimpact.plotting.style.PAPER_STYLE`, a journal's look.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``.
 
     Notes
     -----
@@ -57,16 +66,20 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
     retainer clearance.
     """
     check_sweep(ds, "X_m", "Y_m", "regime")
-    if ax is None:
-        fig, axes = new_figure(2, 6.5)
-    else:
-        axes = list(ax)
-        if len(axes) != 2:
-            raise ValueError("ax must be two Axes (for X_m and for Y_m)")
-        fig = axes[0].figure
-    band_handles = []
-    if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
-        band_handles = _bands(ds, axes)
+    lk = look(figsize, dpi, style, ax)
+    with lk.context():
+        if ax is None:
+            fig, axes = new_figure(lk, 2, 6.5, 4.0)
+        else:
+            fig, axes = axes_of(ax, 2, "for X_m and for Y_m")
+        if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
+            _bands(ds, axes, lk)
+        _curves(ds, axes, lk)
+        return lk.finish(fig, path)
+
+
+def _curves(ds, axes, lk):
+    """The response maxima of every direction on ``axes`` (X_m, Y_m), their legend."""
     marked = set()
     for d, sub in directions(ds):
         eta = sub["eta"].values
@@ -75,28 +88,23 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
         for a, name in zip(axes, ("X_m", "Y_m")):
             v = np.asarray(sub[name].values, dtype=float).copy()
             v[reg == 4] = np.nan
-            a.plot(eta, v, color=color, lw=0.9, marker=".", ms=3, label=f"sweep {d}")
+            a.plot(eta, v, color=color, lw=width(0.6), marker=".", ms=3,
+                   label=f"sweep {d}")
             for code, marker, ms in ((3, "x", 5), (2, "+", 6), (5, "1", 6)):
                 sel = (reg == code) & np.isfinite(v)
                 if sel.any():
                     lab = REGIME_NAMES[code] if (a, code) not in marked else None
                     marked.add((a, code))
-                    a.plot(eta[sel], v[sel], ls="none", marker=marker, ms=ms, mew=1.0,
-                           color="k", label=lab)
+                    a.plot(eta[sel], v[sel], ls="none", marker=marker, ms=ms,
+                           mew=width(0.67), color="k", label=lab)
     for a, name in zip(axes, ("X_m", "Y_m")):
-        a.axhline(1.0, color="0.4", lw=0.8, ls="--",
+        a.axhline(1.0, color="0.4", lw=width(0.53), ls="--",
                   label="retainer clearance" if a is axes[0] else None)
         a.set_ylabel(f"{name}  (max |{name[0]}| / clearance)")
-        a.grid(True, lw=0.4, alpha=0.5)
-    axes[0].legend(loc="best", fontsize="small")
-    if band_handles:
-        axes[-1].legend(handles=band_handles, loc="upper center", bbox_to_anchor=(0.5, -0.18),
-                        ncol=min(len(band_handles), 6), fontsize="small", frameon=False,
-                        title="bands: up sweep (upper half), down sweep (lower half)"
-                        if len(directions(ds)) > 1 else None, title_fontsize="small")
+        a.grid(True, alpha=0.5)
+    lk.legend(axes[0])
     axes[-1].set_xlabel("η")
-    axes[0].set_title(title(ds), fontsize="medium")
-    return _save(fig, path)
+    lk.title(axes[0], title(ds))
 
 
 def _band(iv, k, h):
@@ -122,28 +130,53 @@ def _band(iv, k, h):
     return a, b, color, name, key, hatch
 
 
-def _bands(ds, axes):
-    """Regime bands behind response curves: the up sweep in the upper half of each axes,
-    the down sweep in the lower half; returns legend handles of the colours used."""
-    from matplotlib.patches import Patch
-
+def _each_band(ds):
+    """``(row, iv, k, band)`` for interval ``k`` of the intervals ``iv`` of every sweep
+    direction (``row`` 0, 1 in the order of :func:`directions`), ``band`` from
+    :func:`_band`."""
     from ..sweeps.dataset import intervals
 
     h = grid_step(ds["eta"].values)
-    dirs = directions(ds)
-    used = {}
-    for row, (d, sub) in enumerate(dirs):
+    for row, (d, sub) in enumerate(directions(ds)):
         sub = sub.copy()
         sub.attrs["sweep_direction"] = d
         iv = intervals(sub)
-        lo, hi = (0.0, 1.0) if len(dirs) == 1 else ((0.5, 1.0) if row == 0 else (0.0, 0.5))
         for k in range(iv.sizes["interval"]):
-            a, b, color, name, key, hatch = _band(iv, k, h)
-            used.setdefault(key, (name, color))
-            for ax in axes:
-                ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=0.35, lw=0,
-                           hatch=hatch, edgecolor="0.6" if hatch else None, zorder=0)
-    return [Patch(facecolor=c, alpha=0.35, label=n) for _, (n, c) in sorted(used.items())]
+            yield row, iv, k, _band(iv, k, h)
+
+
+def band_legend(fig, bands, lk, alpha=1.0, title=None):
+    """A legend below the figure's axes of the bands drawn: one entry per colour present
+    and one per hatching present, which says what the hatching means."""
+    from matplotlib.patches import Patch
+
+    used, hatches = {}, set()
+    for _, _, color, name, key, hatch in bands:
+        used.setdefault(key, (name, color))
+        hatches.add(hatch)
+    handles = [Patch(facecolor=c, alpha=alpha, label=n) for _, (n, c) in sorted(used.items())]
+    handles += [Patch(facecolor="white", edgecolor="0.4", hatch=h, label=text)
+                for h, text in HATCHES.items() if h in hatches]
+    return fig.legend(handles=handles, loc="outside lower center", title=title,
+                      ncol=min(len(handles), 3 if lk.paper else 6), frameon=False)
+
+
+def _bands(ds, axes, lk):
+    """Regime bands behind response curves, the up sweep in the upper half of each axes,
+    the down sweep in the lower half, and their legend below the figure's axes."""
+    two = "direction" in ds.dims and ds.sizes["direction"] > 1
+    bands = []
+    for row, _, _, band in _each_band(ds):
+        a, b, color, _, _, hatch = band
+        lo, hi = (0.0, 1.0) if not two else ((0.5, 1.0) if row == 0 else (0.0, 0.5))
+        bands.append(band)
+        for ax in axes:
+            ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=0.35, lw=0,
+                       hatch=hatch, edgecolor="0.6" if hatch else None, zorder=0)
+    if bands:
+        band_legend(axes[0].figure, bands, lk, alpha=0.35,
+                    title="bands: up sweep (upper half), down sweep (lower half)"
+                    if two else None)
 
 
 def _short(label, regime, period):
@@ -153,7 +186,9 @@ def _short(label, regime, period):
 
 
 def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
-                   path: str | os.PathLike[str] | None = None) -> Figure:
+                   path: str | os.PathLike[str] | None = None, *,
+                   figsize: tuple[float, float] | None = None, dpi: float | None = None,
+                   style: str | None = None) -> Figure:
     """The regime map: coloured bands along eta, one row per sweep direction.
 
     Parameters
@@ -161,12 +196,25 @@ def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
     ds : xarray.Dataset
         A sweep dataset (``label``, ``regime``, ``period``, ``impacts_per_period``).
     ax : matplotlib.axes.Axes, optional
+        Draw into these axes; a new figure 9 inches wide otherwise (one column, 3.5
+        inches, in the paper style).
     path : str or os.PathLike, optional
         Save the figure there.
+    figsize : (float, float), optional
+        Width and height of the new figure in inches (not with ``ax``).
+    dpi : float, optional
+        Resolution of the saved figure (default 150; 300 in the paper style).
+    style : {"default", "paper"}, optional
+        ``"paper"``: :data:`vibimpact.plotting.style.PAPER_STYLE`, a journal's look.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``.
 
     Notes
     -----
@@ -174,50 +222,41 @@ def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
     is a band from half a grid step before its first point to half a step after its last.
     Periodic bands are green (shades by period; yellow-green: periodic with a period too
     long to resolve), quasi-periodic orange, chaotic red,
-    diverged black; impactless bands are hatched.  Wide bands carry a short label (P1,
+    diverged black; impactless bands are hatched ``///``, permanent contact dotted; the
+    legend lists the colours and hatchings present.  Wide bands carry a short label (P1,
     P2, QP, C, D).
     """
-    from matplotlib.patches import Patch
-
-    from ..sweeps.dataset import intervals
-
     check_sweep(ds, "label", "regime", "period", "impacts_per_period")
-    dirs = directions(ds)
-    if ax is None:
-        from matplotlib.figure import Figure
+    lk = look(figsize, dpi, style, ax)
+    n = len(directions(ds))
+    with lk.context():
+        if ax is None:
+            ax = lk.figure((9, 1.6 + 0.7 * n), 1.4 + 0.35 * n).add_subplot()
+        _interval_rows(ds, ax, lk)
+        return lk.finish(ax.figure, path)
 
-        fig = Figure(figsize=(9, 1.2 + 0.7 * len(dirs)), layout="constrained")
-        ax = fig.add_subplot()
-    fig = ax.figure
+
+def _interval_rows(ds, ax, lk):
+    """The bands of every direction as rows of ``ax``, their labels and legend."""
     eta = ds["eta"].values
     h = grid_step(eta)
     span = float(eta.max() - eta.min()) + h
-    used = {}
-    for row, (d, sub) in enumerate(dirs):
-        sub = sub.copy()
-        sub.attrs["sweep_direction"] = d
-        iv = intervals(sub)
-        for k in range(iv.sizes["interval"]):
-            a, b, color, name, key, hatch = _band(iv, k, h)
-            ax.broken_barh([(a, b - a)], (row - 0.4, 0.8), facecolors=color,
-                           edgecolors="white", linewidth=0.3, hatch=hatch)
-            used.setdefault(key, (name, color))
-            if (b - a) > 0.035 * span:
-                reg = int(iv["regime"].values[k])
-                ax.text((a + b) / 2, row, _short(iv["label"].values[k], reg,
-                                                 int(iv["period"].values[k])),
-                        ha="center", va="center", fontsize="small",
-                        color="white" if reg in (3, 4) else "black")
+    bands = []
+    for row, iv, k, band in _each_band(ds):
+        a, b, color, _, _, hatch = band
+        bands.append(band)
+        ax.broken_barh([(a, b - a)], (row - 0.4, 0.8), facecolors=color,
+                       edgecolors="white", linewidth=width(0.2), hatch=hatch)
+        if (b - a) > 0.035 * span:
+            reg = int(iv["regime"].values[k])
+            ax.text((a + b) / 2, row, _short(iv["label"].values[k], reg,
+                                             int(iv["period"].values[k])),
+                    ha="center", va="center", fontsize="small",
+                    color="white" if reg in (3, 4) else "black")
+    dirs = directions(ds)
     ax.set_yticks(range(len(dirs)), [f"sweep {d}" for d, _ in dirs])
     ax.set_ylim(len(dirs) - 0.5, -0.5)
     ax.set_xlim(float(eta.min()) - h / 2, float(eta.max()) + h / 2)
     ax.set_xlabel("η")
-    handles = [Patch(facecolor=c, label=n) for _, (n, c) in sorted(used.items())]
-    handles += [Patch(facecolor="white", edgecolor="0.3", hatch="///", label="impactless"),
-                Patch(facecolor="white", edgecolor="0.3", hatch="...",
-                      label="permanent contact")]
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.35 if
-              len(dirs) == 1 else -0.22), ncol=min(len(handles), 7), fontsize="small",
-              frameon=False)
-    ax.set_title(title(ds), fontsize="medium")
-    return _save(fig, path)
+    band_legend(ax.figure, bands, lk)
+    lk.title(ax, title(ds))

@@ -16,7 +16,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..run import Run
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> None:
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None) -> None:
     """Save a figure atomically (temporary file in the same directory, then rename).
 
     Parameters
@@ -24,7 +24,10 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> No
     fig : matplotlib.figure.Figure
     path : str or os.PathLike
         The format follows the extension (``.png``, ``.pdf``, ``.svg``, ...).
-    dpi : int
+    dpi : float, optional
+        Resolution in dots per inch; the figure's own (``fig.dpi``) by default, which
+        the plotting functions set from their ``dpi`` (150 unless told; 300 in the paper
+        style).
 
     Raises
     ------
@@ -46,7 +49,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> No
                                dir=directory)
     os.close(fd)
     try:
-        fig.savefig(tmp, format=ext, dpi=dpi)
+        fig.savefig(tmp, format=ext, dpi=fig.dpi if dpi is None else dpi)
         mask = os.umask(0o022)
         os.umask(mask)
         os.chmod(tmp, 0o666 & ~mask)
@@ -72,7 +75,8 @@ def _title(ds):
 
 
 def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
-            ax: Axes | None = None) -> Axes:
+            ax: Axes | None = None, *, figsize: tuple[float, float] | None = None,
+            dpi: float | None = None, style: str | None = None) -> Axes:
     """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
 
     Parameters
@@ -84,11 +88,24 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
     ax : matplotlib.axes.Axes, optional
-        Draw into these axes; a new 6 x 6.6 inch figure otherwise.
+        Draw into these axes; a new 6 x 6.6 inch figure otherwise (one column, 3.5 x 4.2
+        inches, in the paper style).
+    figsize : (float, float), optional
+        Width and height of the new figure in inches (not with ``ax``).
+    dpi : float, optional
+        Resolution of the saved figure (default 150; 300 in the paper style).
+    style : {"default", "paper"}, optional
+        ``"paper"``: :data:`vibimpact.plotting.style.PAPER_STYLE`, a journal's look.
 
     Returns
     -------
     matplotlib.axes.Axes
+
+    Raises
+    ------
+    ValueError
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``, or a dataset without the rotor's
+        states.
 
     Notes
     -----
@@ -107,21 +124,32 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     >>> ax = plot_xy(run)  # a vibimpact.Run  # doctest: +SKIP
     """
     from ..io import as_run_dataset
+    from .style import look
 
     ds = as_run_dataset(ds)
-    if ax is None:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(6, 6.6), layout="constrained")
-        ax = fig.add_subplot()
+    lk = look(figsize, dpi, style, ax)
     states = [str(s) for s in ds["state"].values]
     if states[:2] != ["X", "Y"]:
         raise ValueError(f"plot_xy needs the rotor states X, Y; the dataset has {states}")
+    with lk.context():
+        if ax is None:
+            ax = lk.figure((6, 6.6), 4.2).add_subplot()
+        _orbit(ds, ax, lk)
+        lk.finish(ax.figure, path)
+    return ax
+
+
+def _orbit(ds, ax, lk):
+    """The retainer, the orbit, its stroboscopic points, impacts and loaded arcs on
+    ``ax``, with the legend below the figure's axes."""
+    from .style import width
+
     phi = np.linspace(0.0, 2.0 * np.pi, 721)
-    ax.plot(np.cos(phi), np.sin(phi), color="0.3", lw=1.5, label="retainer R = 1")
+    ax.plot(np.cos(phi), np.sin(phi), color="0.3", lw=width(1.0), label="retainer R = 1")
     if "trajectory" in ds:
         traj = ds["trajectory"].values
-        ax.plot(traj[:, 0], traj[:, 1], color="C0", lw=0.7, alpha=0.8, label="trajectory")
+        ax.plot(traj[:, 0], traj[:, 1], color="C0", lw=width(0.47), alpha=0.8,
+                label="trajectory")
     strobe = ds["strobe"].values
     ax.plot(strobe[:, 0], strobe[:, 1], ls="none", marker="o", ms=3.5, color="C1",
             mfc="none" if "trajectory" in ds else "C1",
@@ -133,21 +161,20 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
         arcs = contact_arcs(deg)
         for k, (a, w) in enumerate(zip(arcs.start, arcs.width)):
             phi = np.radians(a + np.linspace(0.0, max(w, 2.0), 60) - (1.0 if w < 2 else 0.0))
-            ax.plot(1.04 * np.cos(phi), 1.04 * np.sin(phi), color="C3", lw=5, alpha=0.45,
+            ax.plot(1.04 * np.cos(phi), 1.04 * np.sin(phi), color="C3", lw=width(3.3),
+                    alpha=0.45,
                     solid_capstyle="butt",
                     label=f"loaded arcs: {arcs.summary}" if k == 0 else None)
         th = np.radians(deg)
-        ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=1.5, color="C3",
+        ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=width(1.0),
+                color="C3",
                 label=f"impacts ({th.size})")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("X")
     ax.set_ylabel("Y  (+Y down, along gravity)")
     if not ax.yaxis_inverted():
         ax.invert_yaxis()
-    ax.set_title(_title(ds), fontsize="medium")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize="small",
-              frameon=False)
-    ax.grid(True, lw=0.4, alpha=0.5)
-    if path is not None:
-        save_figure(ax.figure, path)
-    return ax
+    lk.title(ax, _title(ds))
+    ax.figure.legend(handles=ax.get_legend_handles_labels()[0], loc="outside lower center",
+                     ncol=2, frameon=False)
+    ax.grid(True, alpha=0.5)

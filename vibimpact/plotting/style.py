@@ -1,0 +1,245 @@
+"""The look of every figure: its size, its resolution and its style, defined once.
+
+Two styles, each a dict of matplotlib ``rcParams`` applied while a figure is drawn (and
+saved), never to the global state:
+
+* ``"default"`` (:data:`DEFAULT_STYLE`): sans-serif at matplotlib's sizes, figures sized
+  for a screen, a title naming the preset and the parameters;
+* ``"paper"`` (:data:`PAPER_STYLE`): a journal look, serif fonts sized for a
+  single-column figure (8 pt text, 7 pt ticks and legends), thin lines and ticks,
+  TrueType fonts embedded in PDF, 300 dpi, and no title over the axes (a caption says
+  it); figures are one column, :data:`COLUMN_WIDTH` inches, wide (the four-panel map two
+  columns).
+
+Every plotting function takes ``figsize``, ``dpi`` and ``style`` and checks them with
+:func:`look`; the command line's ``--figsize``, ``--dpi`` and ``--style`` are the same
+checks.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+__all__ = ["COLUMN_WIDTH", "DEFAULT_STYLE", "PAPER_STYLE", "STYLES", "Look", "look",
+           "width"]
+
+#: rcParams of the ``"default"`` style (matplotlib's, with smaller legends)
+DEFAULT_STYLE = {"legend.fontsize": "small", "legend.title_fontsize": "small",
+                 "axes.titlesize": "medium", "figure.titlesize": "medium",
+                 "grid.linewidth": 0.4}
+
+#: rcParams of the ``"paper"`` style: a journal's single-column figure
+PAPER_STYLE = {
+    # a Times-like serif; DejaVu Serif for the glyphs STIX lacks (subscripts)
+    "font.family": ["STIXGeneral", "DejaVu Serif"],
+    "mathtext.fontset": "stix",
+    "font.size": 8.0,
+    "axes.labelsize": 8.0,
+    "axes.titlesize": 8.0,
+    "figure.titlesize": 8.0,
+    "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0,
+    "legend.fontsize": 7.0,
+    "legend.title_fontsize": 7.0,
+    "legend.frameon": False,
+    "lines.linewidth": 0.8,
+    "lines.markersize": 3.0,
+    "axes.linewidth": 0.5,
+    "patch.linewidth": 0.5,
+    "hatch.linewidth": 0.4,
+    "grid.linewidth": 0.3,
+    "xtick.major.width": 0.5,
+    "ytick.major.width": 0.5,
+    "xtick.minor.width": 0.4,
+    "ytick.minor.width": 0.4,
+    "xtick.major.size": 2.5,
+    "ytick.major.size": 2.5,
+    "xtick.direction": "in",
+    "ytick.direction": "in",
+    "pdf.fonttype": 42,
+    "ps.fonttype": 42,
+}
+
+#: style name -> rcParams
+STYLES = {"default": DEFAULT_STYLE, "paper": PAPER_STYLE}
+
+#: resolution (dots per inch) of a saved figure, per style
+DPI = {"default": 150.0, "paper": 300.0}
+
+#: width of a journal column in inches (the ``"paper"`` figures')
+COLUMN_WIDTH = 3.5
+
+def check_figsize(figsize):
+    """``figsize`` as a ``(width, height)`` tuple of finite floats > 0 (inches), or None.
+
+    Raises
+    ------
+    ValueError
+        Naming ``figsize``.
+    """
+    if figsize is None:
+        return None
+    bad = ValueError(f"figsize must be (width, height) in inches, two finite numbers "
+                     f"> 0, got {figsize!r}")
+    if isinstance(figsize, (str, bytes)):
+        raise bad
+    try:
+        pair = tuple(figsize)
+    except TypeError:
+        raise bad from None
+    if len(pair) != 2 or not all(isinstance(v, numbers.Real) and not isinstance(v, bool)
+                                 and math.isfinite(v) and v > 0 for v in pair):
+        raise bad
+    return float(pair[0]), float(pair[1])
+
+
+def check_dpi(dpi):
+    """``dpi`` as a finite float > 0, or None.
+
+    Raises
+    ------
+    ValueError
+        Naming ``dpi``.
+    """
+    if dpi is None:
+        return None
+    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real) or \
+            not math.isfinite(dpi) or dpi <= 0:
+        raise ValueError(f"dpi must be a finite number > 0 (dots per inch), got {dpi!r}")
+    return float(dpi)
+
+
+def check_style(style):
+    """``style`` as one of :data:`STYLES` (None: ``"default"``).
+
+    Raises
+    ------
+    ValueError
+        Naming ``style``.
+    """
+    if style is None:
+        return "default"
+    if not isinstance(style, str) or style not in STYLES:
+        raise ValueError(f"style must be one of {', '.join(map(repr, STYLES))}, "
+                         f"got {style!r}")
+    return style
+
+
+def width(factor):
+    """A line width ``factor`` times the style's ``lines.linewidth`` (1.5 in the default
+    style, 0.8 in the paper style), so that every line of a figure thins together."""
+    from matplotlib import rcParams
+
+    return factor * float(rcParams["lines.linewidth"])
+
+
+@dataclass(frozen=True)
+class Look:
+    """The checked ``figsize``, ``dpi`` and ``style`` of one figure (made by :func:`look`).
+
+    Attributes
+    ----------
+    style : str
+    figsize : tuple of float or None
+        None: the plot kind's own size for the style.
+    dpi : float or None
+        None: :data:`DPI` of the style for a new figure; the figure's own when saving
+        into given axes.
+    """
+
+    style: str = "default"
+    figsize: tuple[float, float] | None = None
+    dpi: float | None = None
+
+    @property
+    def paper(self):
+        """True for the ``"paper"`` style."""
+        return self.style == "paper"
+
+    def context(self):
+        """The style's rcParams, applied while the figure is drawn and saved."""
+        import matplotlib
+
+        return matplotlib.rc_context(STYLES[self.style])
+
+    def size(self, default, paper_height, columns=1):
+        """The figure size: ``figsize``, else ``default`` (width, height) in the default
+        style and ``columns`` journal columns by ``paper_height`` inches in the paper
+        style."""
+        if self.figsize is not None:
+            return self.figsize
+        if self.paper:
+            return COLUMN_WIDTH * columns, float(paper_height)
+        return tuple(default)
+
+    def figure(self, default, paper_height, columns=1):
+        """A new constrained-layout Figure of :meth:`size` at the look's resolution."""
+        from matplotlib.figure import Figure
+
+        return Figure(figsize=self.size(default, paper_height, columns),
+                      dpi=self.dpi or DPI[self.style], layout="constrained")
+
+    def title(self, target, text):
+        """Set the title of axes ``target`` (or the suptitle of a Figure), except in the
+        paper style, where the caption says it."""
+        if self.paper or not text:
+            return
+        if hasattr(target, "suptitle"):
+            target.suptitle(text)
+        else:
+            target.set_title(text)
+
+    def legend(self, ax, handles=None, ncol=1, **kwargs):
+        """A legend beside ``ax``, outside the data: on the right in the default style,
+        above the axes in the paper style (where the figure is one column narrow)."""
+        if self.paper:
+            place = dict(loc="lower left", bbox_to_anchor=(0.0, 1.01, 1.0, 0.1),
+                         mode="expand", ncol=max(ncol, 2), borderaxespad=0.0)
+        else:
+            place = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), ncol=ncol,
+                         borderaxespad=0.0)
+        place.update(kwargs)
+        return ax.legend(handles=handles, **place) if handles is not None else \
+            ax.legend(**place)
+
+    def finish(self, fig, path=None):
+        """Lay the figure out while the style is applied (the ticks and texts that
+        matplotlib makes at drawing time get its fonts and widths too) and save it to
+        ``path`` when given, at the look's dpi.  Returns ``fig``."""
+        fig.draw_without_rendering()
+        if path is not None:
+            from .xy import save_figure
+
+            save_figure(fig, path, dpi=self.dpi or fig.dpi)
+        return fig
+
+
+def look(figsize=None, dpi=None, style=None, ax=None):
+    """Check the figure options of a plotting function.
+
+    Parameters
+    ----------
+    figsize : (float, float), optional
+        Width and height in inches, > 0.
+    dpi : float, optional
+        Resolution of a saved figure, > 0.
+    style : {"default", "paper"}, optional
+    ax : optional
+        The axes the caller was given: a ``figsize`` is refused with them (their figure
+        has its size already).
+
+    Returns
+    -------
+    Look
+
+    Raises
+    ------
+    ValueError
+        Naming the argument.
+    """
+    figsize = check_figsize(figsize)
+    if figsize is not None and ax is not None:
+        raise ValueError("figsize sizes a new figure; leave it out when passing ax "
+                         "(size ax's figure instead)")
+    return Look(style=check_style(style), figsize=figsize, dpi=check_dpi(dpi))
