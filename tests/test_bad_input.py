@@ -129,12 +129,6 @@ def _damaged_store(d):
     (store / "zarr.json").write_text("{ not json")
 
 
-def _tiny_sweep_as(name):
-    def make(d):
-        _tiny_sweep_file(Path(d) / name)
-    return make
-
-
 def _checkpoint_file(d):
     (Path(d) / "c.nc.partial").write_text("not a directory")
 
@@ -280,14 +274,14 @@ CLI_CASES = {
                              _checkpoint_file),
     # figure options of every command that draws (plot, bifurcation, map/simulate --plot)
     "plot figsize 0x3": (["plot", "c.nc", "--figsize", "0x3", "-o", "p.png"],
-                         "argument --figsize: must be WIDTHxHEIGHT", _tiny_sweep_as("c.nc")),
+                         "argument --figsize: must be WIDTHxHEIGHT", _sweep_as("c.nc")),
     "plot figsize abc": (["plot", "c.nc", "--figsize", "abc", "-o", "p.png"],
-                         "argument --figsize: must be WIDTHxHEIGHT", _tiny_sweep_as("c.nc")),
+                         "argument --figsize: must be WIDTHxHEIGHT", _sweep_as("c.nc")),
     "plot dpi -1": (["plot", "c.nc", "--dpi", "-1", "-o", "p.png"],
-                    "argument --dpi: must be a number > 0", _tiny_sweep_as("c.nc")),
+                    "argument --dpi: must be a number > 0", _sweep_as("c.nc")),
     "plot style nope": (["plot", "c.nc", "--style", "nope", "-o", "p.png"],
                         "argument --style: must be one of 'default', 'paper'",
-                        _tiny_sweep_as("c.nc")),
+                        _sweep_as("c.nc")),
     "bifurcation figsize abc": (["bifurcation", "--eta", "1:1.01:0.01", "--figsize", "abc",
                                  "-o", "b.png"], "argument --figsize", None),
     "map --plot dpi -1": (["map", "--eta", "1,1.1", "--vary", "kh=10,20", "--plot",
