@@ -351,3 +351,18 @@ def test_plot_command_takes_figsize_dpi_and_style(name, kind, make, tmp_path, mo
     assert rc == 0, err
     (w, _), dpi = _png_size(tmp_path / "b.png")
     assert w == round(COLUMN_WIDTH * (2 if kind == "map" else 1) * 300)
+
+
+@pytest.mark.parametrize("argv, image", [
+    (["simulate", "--eta", "1.2", "--periods", "3", "--transient", "3", "-o", "r.nc",
+      "--plot", "xy.png"], "xy.png"),
+    (["bifurcation", "--eta", "1.0,1.01", "--workers", "1", "--no-progress", "-o",
+      "b.png"], "b.png")])
+def test_drawing_commands_take_figsize_and_dpi(argv, image, tmp_path, monkeypatch, capfd):
+    """Hypothesis: simulate --plot and bifurcation, which compute and then draw, size
+    and resolve their image as --figsize and --dpi say."""
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = run_cli(argv + ["--figsize", "3x2", "--dpi", "30"], capfd)
+    assert rc == 0, err
+    size, dpi = _png_size(tmp_path / image)
+    assert size == (90, 60) and dpi == pytest.approx((30, 30), rel=1e-3)

@@ -67,6 +67,7 @@ examples:
   vibimpact plot fig8.nc --kind response -o response.png
   vibimpact plot fig8.nc --kind intervals -o intervals.png
   vibimpact plot run.nc --kind xy -o xy.png
+  vibimpact plot fig8.nc --kind intervals --style paper -o intervals.pdf
   vibimpact plot p1.nc -o p1.png                 # a 'vibimpact continue' branch
   vibimpact plot fig8.nc --kind response --branch p1.nc -o overlay.png
 
