@@ -1,9 +1,9 @@
 """Files that fit the ecosystem: CF attributes, declared flags and provenance in every output.
 
 A small CF checker (:func:`cf_problems`, in the spirit of the CF checker's rules) runs
-over the files that ``simulate``, ``classify``, ``bifurcation`` and ``map`` (Zarr store
-and NetCDF) write in small runs (a few eta points, a few periods), read back with
-netCDF4 or zarr directly, not through xarray's decoding:
+over the files that ``simulate``, ``classify``, ``bifurcation``, ``map`` (Zarr store
+and NetCDF) and ``continue`` write in small runs (a few eta points, a few periods),
+read back with netCDF4 or zarr directly, not through xarray's decoding:
 
 * ``Conventions`` (CF-x.y), ``date_created`` (ISO-8601 UTC, written during this test
   run) and ``history`` (lines that start with an ISO-8601 UTC time; the last one holds
@@ -34,7 +34,7 @@ from vibimpact import provenance
 from vibimpact.cli import main
 
 #: integer-coded variables: each must be a CF flag variable where present
-CODED = ("regime", "contact", "stable", "impacts_constant", "row_done")
+CODED = ("regime", "contact", "stable", "impacts_constant", "row_done", "bifurcation_kind")
 ETA = ["--eta", "1.0:1.02:0.01", "--no-progress", "--workers", "1"]
 COMMANDS = {  # the command, its -o argument, the file it writes
     "simulate": (["simulate", "--eta", "1.25", "--periods", "5", "--transient", "5"],
@@ -45,6 +45,9 @@ COMMANDS = {  # the command, its -o argument, the file it writes
                   "1", "--no-progress"], "map.zarr", "map.zarr"),
     "map_nc": (["map", "--eta", "1.0:1.04:0.02", "--vary", "kh=40:80:40", "--workers", "1",
                 "--no-progress", "--direction", "both"], "map.nc", "map.nc"),
+    # fig8's P1 through its Neimark-Sacker point: both stabilities and one bifurcation
+    "continue": (["continue", "--eta", "1.18", "--stop", "1.2", "--approach", "1.1",
+                  "--transient", "100"], "cont.nc", "cont.nc"),
 }
 OUTPUT = {kind: file for kind, (_, _, file) in COMMANDS.items()}
 
@@ -192,10 +195,11 @@ def cf_problems(path, since=None):
 @pytest.mark.parametrize("kind", list(COMMANDS))
 def test_every_output_passes_the_cf_checker(written, kind):
     """Hypothesis: the file of every writing command (simulate, classify, bifurcation,
-    map as Zarr and as NetCDF) passes every rule of the checker: CF global attributes
-    written now, units or complete flag declarations on every numeric variable (the
-    bifurcation file holds contact = -1, not computed, and declares it), no _FillValue on
-    coordinates, and true provenance attributes."""
+    map as Zarr and as NetCDF, continue) passes every rule of the checker: CF global
+    attributes written now, units or complete flag declarations on every numeric
+    variable (the bifurcation file holds contact = -1, not computed, and declares it;
+    the continue file a Neimark-Sacker bifurcation_kind and both stabilities), no
+    _FillValue on coordinates, and true provenance attributes."""
     d, start = written
     assert cf_problems(d / OUTPUT[kind], since=start) == []
 
@@ -266,7 +270,7 @@ def test_resumed_map_store_sees_every_row(tmp_path):
     assert vi.io.differences(back, ref)[0] == []
 
 
-@pytest.mark.parametrize("kind", ["simulate", "classify", "map_zarr"])
+@pytest.mark.parametrize("kind", ["simulate", "classify", "map_zarr", "continue"])
 def test_rerun_is_identical_despite_new_time_stamps(written, kind, tmp_path):
     """Hypothesis: 'vibimpact rerun' of a file stamped with date_created and history
     reports identical data, and its recomputed file (-o) carries its own stamps and

@@ -144,10 +144,12 @@ def test_sweep_and_branch_agree_while_the_orbit_is_stable(files):
 
 
 def _styles(lines):
-    """``(colour, linestyle, marker)`` of each matplotlib Line2D."""
+    """``(colour, linestyle, marker, marker edge and face colours)`` of each matplotlib
+    Line2D: what a reader sees of it."""
     from matplotlib.colors import to_rgba
 
-    return {(to_rgba(h.get_color()), h.get_linestyle(), str(h.get_marker()))
+    return {(to_rgba(h.get_color()), h.get_linestyle(), str(h.get_marker()),
+             to_rgba(h.get_markeredgecolor()), to_rgba(h.get_markerfacecolor()))
             for h in lines}
 
 
@@ -235,3 +237,32 @@ def test_refine_off_gives_the_interpolated_value_of_the_plain_branch():
     (i, kind, v), (_, _, vf) = br.bifurcations[0], fine.bifurcations[0]
     assert kind == "Neimark-Sacker" and br.values[i - 1] < v < br.values[i]
     assert abs(v - vf) < 0.02 and fine.values.size == br.values.size + 2
+
+
+def test_folds_of_a_duffing_branch_are_turning_points_in_file_and_figure():
+    """Hypothesis: a branch round the two folds of a hardening Duffing oscillator's
+    response (omega 0.8 to 1.6) is written with two turning_point bifurcations (flag 1)
+    whose interval is the point itself, the middle part between them unstable and the
+    outer parts stable; refinement leaves turning points alone; the branch figure (no
+    rotor amplitudes: x_m and |mu|max) explains both line styles and the fold marker."""
+    from vibimpact.analysis import Steps, continue_orbit
+    from vibimpact.branches import BIFURCATION_CODES, branch_to_dataset
+    from vibimpact.plotting.branch import plot_branch_figure
+
+    p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=0.8)
+    x0 = vi.simulate(p, periods=1, transient=400).final_state
+    br = continue_orbit(vi.System(p), x0, param="omega", stop=(0.8, 1.6),
+                        steps=Steps(ds=0.02, ds_max=0.05), refine=1e-6)
+    ds = branch_to_dataset(br, vi.System(p))
+    kinds = ds["bifurcation_kind"].values
+    assert list(kinds) == [BIFURCATION_CODES["fold (turning point)"]] * 2
+    np.testing.assert_array_equal(ds["bifurcation_lower"].values,
+                                  ds["bifurcation_upper"].values)
+    i, j = ds["bifurcation_point"].values
+    st = ds["stable"].values
+    assert np.all(st[:i] == 1) and np.all(st[i + 1:j] == 0) and np.all(st[j + 1:] == 1)
+    fig = plot_branch_figure(ds)
+    assert len(fig.axes) == 3  # x_m, dx_m, |mu|max
+    _assert_legend_explains_every_line(fig)
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert "fold (turning point)" in labels

@@ -11,15 +11,16 @@ import os
 import shlex
 import time
 
-from ._cli_common import (UsageError, check_output, image_ext_ok, number, parse_sets,
-                          positive_int)
+from ._cli_common import (UsageError, check_output, figure_options, image_ext_ok, number,
+                          parse_sets, positive_int)
 
 _CONTINUE_EPILOG = """\
 examples:
   vibimpact continue --preset fig8 --eta 1.12 --stop 1.25 --approach 1.1 -o p1.nc
   vibimpact continue --preset fig8 --eta 1.12 --stop 1.25 --approach 1.1 \\
       --ds-max 0.005 --refine 1e-7 -o p1_fine.nc
-  vibimpact continue --preset fig10 --eta 1.1 --param kh --stop 60 -o kh.nc
+  vibimpact continue --preset fig10 --eta 1.1 --param kh --stop 60 --ds 0.5 \\
+      --ds-max 2 -o kh.nc
   vibimpact plot p1.nc -o p1.png                        # the branch and |mu|max
   vibimpact classify --eta 1.0:1.3:0.002 -o sweep.nc
   vibimpact plot sweep.nc --kind response --branch p1.nc -o overlay.png
@@ -33,7 +34,9 @@ P1).  The period-N orbit is found there by Newton shooting and followed by
 pseudo-arclength continuation in --param (eta by default) towards --stop, through folds
 onto unstable parts, with its Floquet multipliers (variational equations with saltation
 matrices) at every orbit.  It ends when it leaves the window, after --max-points
-orbits, or when the step falls below its minimum.
+orbits, or when the step falls below its minimum.  --ds and --ds-max are steps along
+the branch in (state, parameter): scale them to the parameter (kh ~ 100: --ds 0.5
+--ds-max 2).
 
 Where the stability changes, the interval between the two orbits is narrowed by
 bisection to --refine (Newton shooting at each midpoint) and the two orbits at its ends
@@ -139,7 +142,13 @@ def _cmd_continue(args):
                                    transient=args.transient, approach=args.approach,
                                    steps=steps, refine=args.refine)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        text = str(exc)
+        if text.startswith("state0: shooting failed"):  # the API's argument: say it here
+            text = (f"no period-{args.period} orbit found at {args.param} = "
+                    f"{system.param(args.param):g}: Newton shooting from the state reached "
+                    f"failed{text[len('state0: shooting failed at the start'):]}; try "
+                    "--approach, a longer --transient, --state0 or another --period")
+        raise UsageError(text) from None
     elapsed = time.perf_counter() - t0
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = branch_to_dataset(branch, system, start_state=x0, command=command,
@@ -192,7 +201,7 @@ def plot_command(args, ds):
     from .plotting.branch import plot_branch_figure
 
     try:
-        plot_branch_figure(ds, out)
+        plot_branch_figure(ds, out, **figure_options(args))
     except Exception as exc:  # a damaged file can fail anywhere in drawing
         raise UsageError(f"cannot draw a branch from {path!r}: {type(exc).__name__}: "
                          f"{exc}") from None

@@ -279,7 +279,8 @@ def _cmd_plot(args):
             if branches:
                 from .plotting.branch import overlay_branches
                 overlay_branches(fig.axes[:2], branches,
-                                 [os.path.basename(b) for b in args.branch])
+                                 [os.path.basename(b) for b in args.branch],
+                                 style=figure_options(args)["style"])
             plotting.save_figure(fig, out)
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing;
         # save_figure writes atomically, so nothing partial is left

@@ -78,7 +78,9 @@ class Branch:
         :func:`locate_bifurcation`), or at point ``index`` the parameter turned
         ("fold (turning point)").
     status : str
-        Why the continuation stopped.
+        Why the continuation stopped: the end of the parameter window reached (or left,
+        when the last step could not be shortened to end there), ``max_points`` orbits,
+        or a step below ``ds_min``.
     brackets : tuple of (float, float)
         For each of ``bifurcations``, the parameter interval it lies in: the two branch
         points around a stability change (with ``refine``, the two orbits inserted at the
@@ -240,7 +242,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     (:func:`~vibimpact.analysis.monodromy`), ``G_lambda`` from central differences of the
     map in the parameter.  The tangent is the null vector of ``[G_x | G_lambda]``, oriented
     to keep the direction of travel, so the continuation goes round folds onto the
-    unstable branch.  The step adapts (x1.5 after a fast corrector, /2 after a failure).
+    unstable branch.  The step adapts (x1.5 after a fast corrector, /2 after a failure);
+    a step that would leave the parameter window is shortened to end at its edge.
 
     Parameters
     ----------
@@ -324,22 +327,30 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     record(x, lam, m.matrix)
     status = f"max_points ({steps.max_points}) reached"
     ds = steps.ds
+    edge_tries = 0  # steps shortened to end at the window's edge
     while len(points) < steps.max_points:
         u_pred = np.append(x, lam) + ds * t
         ok, u, mm, J, it = arc.correct(u_pred, t)
+        lam_out = u[-1] if ok else u_pred[-1]
+        if not window[0] <= lam_out <= window[1]:
+            # shorten the step to end at the edge (at most 3 times), so that the branch
+            # reaches it and no change of stability before it is missed
+            edge = window[1] if lam_out > window[1] else window[0]
+            frac = (edge - lam) / (lam_out - lam) if lam_out != lam else 0.0
+            if edge_tries < 3 and ds * frac >= steps.ds_min:
+                ds *= frac
+                edge_tries += 1
+                continue
+            status = (f"reached the end of the window, {param} = {edge:.6g}"
+                      if abs(edge - lam) <= steps.ds_min else "left the parameter window")
+            break
         if not ok:
-            if not window[0] <= u_pred[-1] <= window[1]:
-                status = "left the parameter window"
-                break
             ds *= 0.5
             if ds < steps.ds_min:
                 status = f"step below ds_min ({steps.ds_min}) at {param} = {lam:.6g}"
                 break
             continue
         x_new, lam_new = u[:-1], u[-1]
-        if not window[0] <= lam_new <= window[1]:
-            status = "left the parameter window"
-            break
         t = arc.tangent(J, t)
         x, lam, m = x_new, lam_new, mm
         record(x, lam, m.matrix)

@@ -161,8 +161,8 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
                 continue
             text = BIFURCATION_LABELS.get(kind, BIFURCATION_LABELS["?"])
             bx, by = _event_xy(x, y, idx, kind, value)
-            artists += ax.plot([bx], [by], ls="none", marker=m, ms=6, mfc="white",
-                               mec="k", mew=1.0, zorder=5,
+            artists += ax.plot([bx], [by], ls="none", marker=m, ms=6, color="k",
+                               mfc="white", mec="k", mew=1.0, zorder=5,
                                label=None if text in _labelled(ax) else text)
     return artists
 
@@ -173,19 +173,20 @@ def _branch_label(ds, name=None):
     return f"P{n} branch" + (f", {name}" if name else "")
 
 
-def _legend(axes, **kwargs):
-    """One legend on ``axes[0]`` with every labelled artist of ``axes`` (first label
-    wins), replacing the one it had."""
+def _legend(lk, axes):
+    """One legend beside ``axes[0]`` (placed by the Look ``lk``) with every labelled
+    artist of ``axes`` (first label wins), replacing the one it had."""
     seen = {}
     for a in axes:
         for h, lab in zip(*a.get_legend_handles_labels()):
             seen.setdefault(lab, h)
     if seen:
-        axes[0].legend(list(seen.values()), list(seen), **kwargs)
+        lk.legend(axes[0], handles=list(seen.values()))
 
 
-def plot_branch_figure(ds: xr.Dataset,
-                       path: str | os.PathLike[str] | None = None) -> Figure:
+def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
+                       figsize: tuple[float, float] | None = None,
+                       dpi: float | None = None, style: str | None = None) -> Figure:
     """The figure of ``vibimpact plot BRANCH.nc --kind branch``.
 
     One panel per response amplitude of the orbit (``X_m`` and ``Y_m`` for the rotor)
@@ -199,6 +200,13 @@ def plot_branch_figure(ds: xr.Dataset,
         file).
     path : str or os.PathLike, optional
         Save the figure there (atomically).
+    figsize : (float, float), optional
+        Width and height in inches (default 8 inches wide, 2.4 per panel; one column in
+        the paper style).
+    dpi : float, optional
+        Resolution of the saved figure.
+    style : {"default", "paper"}, optional
+        :mod:`vibimpact.plotting.style`.
 
     Returns
     -------
@@ -207,40 +215,37 @@ def plot_branch_figure(ds: xr.Dataset,
     Raises
     ------
     ValueError
-        Naming ``ds`` when it is not such a dataset.
+        Naming ``ds``, ``figsize``, ``dpi`` or ``style``.
     """
-    from matplotlib.figure import Figure
-
     from ._sweep import title
+    from .style import look, width
 
     branch = _as_branch(ds)
+    lk = look(figsize, dpi, style)
     names = [k for k in branch.amplitude if k != "R_m"][:2]
-    fig = Figure(figsize=(8, 2.4 * (len(names) + 1) + 0.6), layout="constrained")
-    axes = list(fig.subplots(len(names) + 1, 1, sharex=True, squeeze=False)[:, 0])
-    label = _branch_label(ds)
-    for a, name in zip(axes, names + ["floquet_abs_max"]):
-        plot_branch(a, branch, name, label=label)
-        a.set_ylabel(f"{name}  (max |{name[:-2]}| / clearance)" if name in names
-                     else "|μ|max")
-        a.grid(True, lw=0.4, alpha=0.5)
-    axes[-1].axhline(1.0, color="tab:red", lw=0.8, ls=":",
-                     label="|μ| = 1 (stability boundary)")
-    axes[-1].set_xlabel("η" if branch.param == "eta" else str(branch.param))
-    _legend(axes, loc="best", fontsize="small")
-    head = title(ds)
-    x = np.asarray(branch.values, dtype=float)
-    axes[0].set_title(f"{label}: {branch.param} from {x[0]:.6g} to {x[-1]:.6g}, "
-                      f"{x.size} orbits ({branch.status})"
-                      + (f"\n{head}" if head else ""), fontsize="medium")
-    if path is not None:
-        from .xy import save_figure
-
-        save_figure(fig, path)
-    return fig
+    with lk.context():
+        fig = lk.figure((8, 2.4 * (len(names) + 1) + 0.6), 1.5 * (len(names) + 1) + 0.6)
+        axes = list(fig.subplots(len(names) + 1, 1, sharex=True, squeeze=False)[:, 0])
+        label = _branch_label(ds)
+        for a, name in zip(axes, names + ["floquet_abs_max"]):
+            plot_branch(a, branch, name, label=label, lw=width(0.8))
+            a.set_ylabel(f"{name}  (max |{name[:-2]}| / clearance)" if name in names
+                         else "|μ|max")
+            a.grid(True, alpha=0.5)
+        axes[-1].axhline(1.0, color="tab:red", lw=width(0.53), ls=":",
+                         label="|μ| = 1 (stability boundary)")
+        axes[-1].set_xlabel("η" if branch.param == "eta" else str(branch.param))
+        _legend(lk, axes)
+        x = np.asarray(branch.values, dtype=float)
+        head = title(ds)
+        lk.title(fig, f"{label} in {branch.param} from {x[0]:.6g} to {x[-1]:.6g}, "
+                      f"{x.size} orbits" + (f"\n{head}" if head else ""))
+        return lk.finish(fig, path)
 
 
 def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
-                     names: Sequence[str] | None = None) -> list:
+                     names: Sequence[str] | None = None, *,
+                     style: str | None = None) -> list:
     """Draw branches over the two panels (``X_m``, ``Y_m``) of a response figure.
 
     The legend of ``axes[0]`` is redrawn with every labelled artist of both panels: the
@@ -255,6 +260,8 @@ def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
         ``vibimpact continue`` files continued in ``eta``, with the amplitudes.
     names : sequence of str, optional
         A name for each branch in the legend (the file names, say).
+    style : {"default", "paper"}, optional
+        The style the response figure was drawn in (line widths, legend placement).
 
     Returns
     -------
@@ -263,8 +270,11 @@ def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
     Raises
     ------
     ValueError
-        Naming ``axes`` or ``branches``.
+        Naming ``axes``, ``names``, ``branches`` or ``style``.
     """
+    from .style import look, width
+
+    lk = look(style=style)
     axes = list(axes)
     if len(axes) != 2:
         raise ValueError("axes must be the two Axes of a response figure (X_m, Y_m)")
@@ -279,8 +289,10 @@ def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
                              f"amplitudes X_m, Y_m (it is in {br.param}, amplitudes "
                              f"{', '.join(br.amplitude) or 'none'})")
         color = BRANCH_COLORS[k % len(BRANCH_COLORS)]
-        for a, var in zip(axes, ("X_m", "Y_m")):
-            artists += plot_branch(a, br, var, color=color,
-                                   label=_branch_label(ds, name), lw=1.4)
-    _legend(axes, loc="best", fontsize="small")
+        with lk.context():
+            for a, var in zip(axes, ("X_m", "Y_m")):
+                artists += plot_branch(a, br, var, color=color,
+                                       label=_branch_label(ds, name), lw=width(0.9))
+    with lk.context():
+        _legend(lk, axes)
     return artists
