@@ -31,7 +31,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from .system import System
 
 __all__ = ["BIFURCATION_CODES", "BIFURCATION_FLAGS", "STABLE_FLAGS", "branch_from_dataset",
-           "branch_to_dataset", "follow_branch", "is_branch_dataset"]
+           "branch_to_dataset", "follow_branch", "is_branch_dataset", "stretches"]
 
 #: bifurcation kind (:attr:`vibimpact.analysis.Branch.bifurcations`) -> flag value of the
 #: ``bifurcation_kind`` variable
@@ -44,6 +44,34 @@ BIFURCATION_FLAGS = ((0, 1, 2, 3, 4),
 STABLE_FLAGS = ((0, 1), "unstable stable")
 
 _TITLE = "vibimpact continuation of a periodic orbit"
+
+
+def stretches(stable: ArrayLike) -> list[tuple[int, int, bool]]:
+    """The runs of equal stability along a branch.
+
+    Parameters
+    ----------
+    stable : array_like of bool, shape (k,)
+
+    Returns
+    -------
+    list of (int, int, bool)
+        ``(first, last, stable)`` index ranges (inclusive), in order.
+
+    Examples
+    --------
+    >>> stretches([True, True, False, True])
+    [(0, 1, True), (2, 2, False), (3, 3, True)]
+    """
+    st = np.asarray(stable, dtype=bool).reshape(-1)
+    out, i = [], 0
+    while i < st.size:
+        j = i
+        while j + 1 < st.size and st[j + 1] == st[i]:
+            j += 1
+        out.append((i, j, bool(st[i])))
+        i = j + 1
+    return out
 
 
 def _flags(values, meanings, dtype):

@@ -16,6 +16,7 @@ examples:
   vibimpact classify --eta 0.9:1.5:0.002 -o fig8.nc
   vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
   vibimpact plot fig8.nc --kind response -o response.png
+  vibimpact continue --preset fig8 --eta 1.12 --stop 1.25 --approach 1.1 -o p1.nc
   vibimpact rerun fig8.nc
 
 'vibimpact COMMAND --help' shows the options and an example of each command.

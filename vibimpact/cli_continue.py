@@ -105,18 +105,15 @@ def _summary(branch):
     bifurcations."""
     import numpy as np
 
-    x, st = np.asarray(branch.values), np.asarray(branch.stable)
+    from .branches import stretches
+
+    x = np.asarray(branch.values)
     p = branch.param
     lines = [f"P{branch.n} branch in {p} from {x[0]:.6g} to {x[-1]:.6g}: {x.size} orbits "
              f"({branch.status})"]
-    i = 0
-    while i < x.size:
-        j = i
-        while j + 1 < x.size and st[j + 1] == st[i]:
-            j += 1
-        lines.append(f"  {'stable' if st[i] else 'unstable':9s}{p} {x[i]:.7g} .. "
+    for i, j, stable in stretches(branch.stable):
+        lines.append(f"  {'stable' if stable else 'unstable':9s}{p} {x[i]:.7g} .. "
                      f"{x[j]:.7g}")
-        i = j + 1
     mu = np.abs(np.asarray(branch.multipliers)).max(axis=1)
     for (i, kind, value), (lo, hi) in zip(branch.bifurcations, branch.brackets):
         where = f" in [{min(lo, hi):.8g}, {max(lo, hi):.8g}]" if lo != hi else ""

@@ -1,8 +1,8 @@
 """``vibimpact rerun``: redo the command recorded in an output file and compare the data.
 
-Every file written by ``simulate``, ``classify``, ``bifurcation`` (its ``.nc``) and ``map``
-(a Zarr store or a NetCDF file) stores the command line in the global attribute
-``command``.  ``rerun`` parses it with today's
+Every file written by ``simulate``, ``classify``, ``bifurcation`` (its ``.nc``),
+``continue`` and ``map`` (a Zarr store or a NetCDF file) stores the command line in the
+global attribute ``command``.  ``rerun`` parses it with today's
 parser, runs it in this process with the output redirected to a new file, and compares
 every data variable and coordinate of the two files bit for bit (NaN equal to NaN, string
 variables as text).  Attributes are not compared: they hold the wall time and the output
@@ -188,8 +188,9 @@ def add_parser(sub, fmt, build_parser):
     r = sub.add_parser("rerun", help="redo the command recorded in an output file and "
                        "compare bit for bit", formatter_class=fmt, epilog=_RERUN_EPILOG,
                        description="Run the command recorded in a simulate, classify, "
-                                   "bifurcation or map output again and compare\nevery "
-                                   "data variable and coordinate with it, bit for bit.")
+                                   "bifurcation, continue or map output\nagain and "
+                                   "compare every data variable and coordinate with it, "
+                                   "bit for bit.")
     r.add_argument("file", metavar="OUT.nc|OUT.zarr",
                    help="NetCDF file or map Zarr store written by vibimpact")
     r.add_argument("-o", "--output", metavar="NEW.nc", default=None,

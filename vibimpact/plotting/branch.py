@@ -137,23 +137,19 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
                          f"got {var!r}")
     x = np.asarray(branch.values, dtype=float)
     st = np.asarray(branch.stable, dtype=bool)
+    from ..branches import stretches
+
     artists = []
     labelled = {True: False, False: False}
-    i = 0
-    while i < x.size:
-        j = i
-        while j + 1 < x.size and st[j + 1] == st[i]:
-            j += 1
+    for i, j, s in stretches(st):
         # a run of equal stability, joined to the next point so the line is unbroken
         k = min(j + 1, x.size - 1)
-        s = bool(st[i])
         lab = None
         if label is not None and not labelled[s]:
             lab = label if s else f"{label} (unstable)"
             labelled[s] = True
         artists += ax.plot(x[i:k + 1], y[i:k + 1], color=color, lw=lw,
                            ls="-" if s else "--", label=lab)
-        i = j + 1
     if markers:
         for idx, kind, value in getattr(branch, "bifurcations", ()):
             m = BIFURCATION_MARKERS.get(kind, BIFURCATION_MARKERS["?"])
