@@ -13,6 +13,7 @@ import time
 
 from ._cli_common import (UsageError, check_output, figure_options, image_ext_ok, number,
                           parse_sets, positive_int)
+from ._text import count
 
 _CONTINUE_EPILOG = """\
 examples:
@@ -109,8 +110,8 @@ def _summary(branch):
 
     x = np.asarray(branch.values)
     p = branch.param
-    lines = [f"P{branch.n} branch in {p} from {x[0]:.6g} to {x[-1]:.6g}: {x.size} orbits "
-             f"({branch.status})"]
+    lines = [f"P{branch.n} branch in {p} from {x[0]:.6g} to {x[-1]:.6g}: "
+             f"{count(x.size, 'orbit')} ({branch.status})"]
     for i, j, stable in stretches(branch.stable):
         lines.append(f"  {'stable' if stable else 'unstable':9s}{p} {x[i]:.7g} .. "
                      f"{x[j]:.7g}")

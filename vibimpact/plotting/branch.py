@@ -213,6 +213,7 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
     ValueError
         Naming ``ds``, ``figsize``, ``dpi`` or ``style``.
     """
+    from .._text import count
     from ._sweep import title
     from .style import look, width
 
@@ -235,7 +236,7 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
         x = np.asarray(branch.values, dtype=float)
         head = title(ds)
         lk.title(fig, f"{label} in {branch.param} from {x[0]:.6g} to {x[-1]:.6g}, "
-                      f"{x.size} orbits" + (f"\n{head}" if head else ""))
+                      f"{count(x.size, 'orbit')}" + (f"\n{head}" if head else ""))
         return lk.finish(fig, path)
 
 
