@@ -762,7 +762,7 @@ def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd
     assert rc == 0, err
     assert "Traceback" not in err
     assert "vibimpact: warning: 2 damaged point files" in err
-    assert "1 points loaded" in err
+    assert "1 point loaded" in err  # one, not "1 points"
     assert out.splitlines()[-1] == "wrote d.nc"
     assert not ck.exists()
     diffs, total = _differences(read_netcdf("c.nc"), read_netcdf("d.nc"))

@@ -17,6 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from vibimpact._text import count
+
 ROOT = Path(__file__).resolve().parents[1]
 TINY = ["--eta", "1.0:1.02:0.01", "--preset", "fig8"]
 ONE = ["--eta", "1.0:1.0:0.01", "--preset", "fig8", "--no-progress"]
@@ -297,7 +299,8 @@ def test_interrupted_sweep_resumes_bit_identical(sig, workers, tmp_path, referen
     saved = _points(ckpt)
     if signum == signal.SIGINT:
         assert proc.returncode == 130, err
-        assert err.splitlines()[-1] == (f"vibimpact: interrupted: {len(saved)} points saved "
+        assert err.splitlines()[-1] == (f"vibimpact: interrupted: "
+                                        f"{count(len(saved), 'point')} saved "
                                         f"in X.nc.partial; rerun with --resume")
         assert "Traceback" not in err
     else:

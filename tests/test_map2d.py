@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from vibimpact._text import count
 from vibimpact.cli import main
 from vibimpact.engine import cluster as dask_executor
 from vibimpact.engine import plan
@@ -369,7 +370,7 @@ def test_cli_killed_map_resumes_to_the_uninterrupted_map(tmp_path, capsys):
     proc = _cli(*args, "--resume", cwd=tmp_path)
     out, err = proc.communicate(timeout=300)
     assert proc.returncode == 0, err
-    assert f"{n} rows loaded, not recomputed" in err
+    assert f"{count(n, 'row')} loaded, not recomputed" in err
     assert all(f.stat().st_mtime_ns == t for f, t in saved.items())
     ds = open_map(tmp_path / "m.zarr")
     ref = vi.map2d(P, parse_range(eta), {"kh": parse_range(kh)})
