@@ -15,6 +15,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from vibimpact.cli import main
 from vibimpact.plotting import plot_bifurcation, plot_intervals, plot_response, plot_xy
+from vibimpact.plotting.branch import plot_branch_figure
 from vibimpact.plotting.map2d import is_listed, plot_map
 from vibimpact.plotting.style import COLUMN_WIDTH, PAPER_STYLE
 
@@ -55,6 +56,23 @@ def run_ds():
         {"strobe": (("sample", "state"), [[0.0, 0.5, 0.0, 0.0], [0.1, 0.6, 0.0, 0.0]]),
          "impact_theta": ("impact", [90.0, 45.0])},
         coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"param_eta": 1.2, "preset": "fig8"})
+
+
+def branch_ds():
+    """A hand-made P1 branch in eta, stable then unstable past a period doubling."""
+    import vibimpact as vi
+    from vibimpact.analysis import Branch
+    from vibimpact.branches import branch_to_dataset
+
+    k = 6
+    mu = np.tile(np.array([0.5 + 0.1j, 0.5 - 0.1j, 0.3, 0.2]), (k, 1))
+    mu[3:, 2] = -1.2
+    amp = {"X_m": np.linspace(0.5, 0.9, k), "Y_m": np.linspace(0.6, 1.0, k),
+           "R_m": np.linspace(0.7, 1.1, k)}
+    br = Branch("eta", np.linspace(1.1, 1.2, k), np.zeros((k, 4)), mu,
+                np.arange(k) < 3, amp, 1, ((3, "period doubling", 1.15),), "window end",
+                ((1.14, 1.16),))
+    return branch_to_dataset(br, vi.presets.get("fig8"), attrs={"preset": "fig8"})
 
 
 def map_ds(vary_range="f=0,0.05"):
@@ -218,7 +236,8 @@ def _kinds():
             "bifurcation": lambda **kw: plot_bifurcation(sweep_ds(), **kw),
             "intervals": lambda **kw: plot_intervals(sweep_ds(), **kw),
             "xy": lambda **kw: plot_xy(run_ds(), **kw).figure,
-            "map": lambda **kw: plot_map(map_ds(), **kw)}
+            "map": lambda **kw: plot_map(map_ds(), **kw),
+            "branch": lambda **kw: plot_branch_figure(branch_ds(), **kw)}
 
 
 @pytest.mark.parametrize("style", [None, "paper"])
@@ -333,7 +352,8 @@ def run_cli(argv, capfd):
     ("s.nc", "bifurcation", lambda p: sweep_ds().to_netcdf(p)),
     ("s.nc", "intervals", lambda p: sweep_ds().to_netcdf(p)),
     ("r.nc", "xy", lambda p: run_ds().to_netcdf(p)),
-    ("m.nc", "map", lambda p: map_ds().to_netcdf(p))])
+    ("m.nc", "map", lambda p: map_ds().to_netcdf(p)),
+    ("c.nc", "branch", lambda p: branch_ds().to_netcdf(p))])
 def test_plot_command_takes_figsize_dpi_and_style(name, kind, make, tmp_path, monkeypatch,
                                                   capfd):
     """Hypothesis: 'vibimpact plot --figsize WxH --dpi N' gives every kind's PNG W*N x H*N
