@@ -138,7 +138,7 @@ def plot_landscapes(path, panels):
                  "agreeing claims (numbers), best pair (star)", fontsize="medium")
     if sc is not None:
         fig.colorbar(sc, cax=fig.add_axes((0.92, 0.15, 0.012, 0.68)), label="objective")
-    save_figure(fig, path)
+    save_figure(fig, path, dpi=150)
 
 
 def _fmt_pair(s):

@@ -220,7 +220,7 @@ def xy_figure(name, ds, path):
         rows.append((tag, float(rds.attrs["param_eta"]), label, arcs))
     fig.suptitle(f"{name}: X-Y trajectories (up sweep; +Y down, along gravity)",
                  fontsize="medium")
-    save_figure(fig, path)
+    save_figure(fig, path, dpi=150)
     return rows
 
 

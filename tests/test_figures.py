@@ -327,6 +327,24 @@ def test_bad_figure_options_are_refused_naming_them(kind, kw, name, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_given_axes_keep_their_legends_on_them():
+    """Hypothesis: drawn into the caller's axes (panels of a larger figure), plot_xy and
+    plot_intervals put their legend on those axes, below them, and none on the figure,
+    so that several panels do not pile their legends up."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 4), layout="constrained")
+    left, right = fig.subplots(1, 2)
+    plot_xy(run_ds(), ax=left)
+    plot_xy(run_ds(), ax=right)
+    assert fig.legends == []
+    for ax in (left, right):
+        assert "impacts (2)" in _legend_texts(ax.get_legend())
+    ax = Figure().add_subplot()
+    plot_intervals(sweep_ds(), ax=ax)
+    assert ax.figure.legends == [] and "P1" in _legend_texts(ax.get_legend())
+
+
 def test_figsize_with_given_axes_is_refused():
     """Hypothesis: a figsize cannot size axes the caller made (their figure has its
     size), so it is refused naming figsize."""

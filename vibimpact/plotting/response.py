@@ -73,7 +73,7 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
         else:
             fig, axes = axes_of(ax, 2, "for X_m and for Y_m")
         if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
-            _bands(ds, axes, lk)
+            _bands(ds, axes, lk, own=ax is None)
         _curves(ds, axes, lk)
         return lk.finish(fig, path)
 
@@ -145,9 +145,10 @@ def _each_band(ds):
             yield row, iv, k, _band(iv, k, h)
 
 
-def band_legend(fig, bands, lk, alpha=1.0, title=None):
-    """A legend below the figure's axes of the bands drawn: one entry per colour present
-    and one per hatching present, which says what the hatching means."""
+def band_legend(ax, own, bands, lk, alpha=1.0, title=None):
+    """A legend below the axes (:meth:`Look.legend_below`) of the bands drawn: one entry
+    per colour present and one per hatching present, which says what the hatching
+    means."""
     from matplotlib.patches import Patch
 
     used, hatches = {}, set()
@@ -157,13 +158,14 @@ def band_legend(fig, bands, lk, alpha=1.0, title=None):
     handles = [Patch(facecolor=c, alpha=alpha, label=n) for _, (n, c) in sorted(used.items())]
     handles += [Patch(facecolor="white", edgecolor="0.4", hatch=h, label=text)
                 for h, text in HATCHES.items() if h in hatches]
-    return fig.legend(handles=handles, loc="outside lower center", title=title,
-                      ncol=min(len(handles), 3 if lk.paper else 6), frameon=False)
+    return lk.legend_below(ax, own, handles, title=title,
+                           ncol=min(len(handles), 3 if lk.paper else 6))
 
 
-def _bands(ds, axes, lk):
+def _bands(ds, axes, lk, own):
     """Regime bands behind response curves, the up sweep in the upper half of each axes,
-    the down sweep in the lower half, and their legend below the figure's axes."""
+    the down sweep in the lower half, and their legend below the axes (``own``: the
+    figure is the plotting function's)."""
     two = "direction" in ds.dims and ds.sizes["direction"] > 1
     bands = []
     for row, _, _, band in _each_band(ds):
@@ -174,7 +176,7 @@ def _bands(ds, axes, lk):
             ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=0.35, lw=0,
                        hatch=hatch, edgecolor="0.6" if hatch else None, zorder=0)
     if bands:
-        band_legend(axes[0].figure, bands, lk, alpha=0.35,
+        band_legend(axes[-1], own, bands, lk, alpha=0.35,
                     title="bands: up sweep (upper half), down sweep (lower half)"
                     if two else None)
 
@@ -230,13 +232,14 @@ def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
     lk = look(figsize, dpi, style, ax)
     n = len(directions(ds))
     with lk.context():
-        if ax is None:
+        own = ax is None
+        if own:
             ax = lk.figure((9, 1.6 + 0.7 * n), 1.4 + 0.35 * n).add_subplot()
-        _interval_rows(ds, ax, lk)
+        _interval_rows(ds, ax, lk, own)
         return lk.finish(ax.figure, path)
 
 
-def _interval_rows(ds, ax, lk):
+def _interval_rows(ds, ax, lk, own):
     """The bands of every direction as rows of ``ax``, their labels and legend."""
     eta = ds["eta"].values
     h = grid_step(eta)
@@ -258,5 +261,5 @@ def _interval_rows(ds, ax, lk):
     ax.set_ylim(len(dirs) - 0.5, -0.5)
     ax.set_xlim(float(eta.min()) - h / 2, float(eta.max()) + h / 2)
     ax.set_xlabel("η")
-    band_legend(ax.figure, bands, lk)
+    band_legend(ax, own, bands, lk)
     lk.title(ax, title(ds))

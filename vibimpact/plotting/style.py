@@ -203,6 +203,16 @@ class Look:
         return ax.legend(handles=handles, **place) if handles is not None else \
             ax.legend(**place)
 
+    def legend_below(self, ax, own, handles, **kwargs):
+        """A legend of ``handles`` under the figure's axes when the figure is the
+        plotting function's ``own`` (constrained layout makes room for it), else under
+        ``ax``, the caller's axes, whose figure may hold other plots."""
+        kwargs.setdefault("frameon", False)
+        if own:
+            return ax.figure.legend(handles=handles, loc="outside lower center", **kwargs)
+        return ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.15),
+                         **kwargs)
+
     def finish(self, fig, path=None):
         """Lay the figure out while the style is applied (the ticks and texts that
         matplotlib makes at drawing time get its fonts and widths too) and save it to

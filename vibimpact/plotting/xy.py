@@ -132,16 +132,17 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     if states[:2] != ["X", "Y"]:
         raise ValueError(f"plot_xy needs the rotor states X, Y; the dataset has {states}")
     with lk.context():
-        if ax is None:
+        own = ax is None
+        if own:
             ax = lk.figure((6, 6.6), 4.2).add_subplot()
-        _orbit(ds, ax, lk)
+        _orbit(ds, ax, lk, own)
         lk.finish(ax.figure, path)
     return ax
 
 
-def _orbit(ds, ax, lk):
+def _orbit(ds, ax, lk, own):
     """The retainer, the orbit, its stroboscopic points, impacts and loaded arcs on
-    ``ax``, with the legend below the figure's axes."""
+    ``ax``, with the legend below the axes (``own``: the figure is plot_xy's)."""
     from .style import width
 
     phi = np.linspace(0.0, 2.0 * np.pi, 721)
@@ -175,6 +176,5 @@ def _orbit(ds, ax, lk):
     if not ax.yaxis_inverted():
         ax.invert_yaxis()
     lk.title(ax, _title(ds))
-    ax.figure.legend(handles=ax.get_legend_handles_labels()[0], loc="outside lower center",
-                     ncol=2, frameon=False)
+    lk.legend_below(ax, own, ax.get_legend_handles_labels()[0], ncol=2)
     ax.grid(True, alpha=0.5)
