@@ -122,7 +122,7 @@ def plot_landscapes(path, panels):
     """
     from matplotlib.figure import Figure
 
-    from vibimpact.plotting.xy import save_figure
+    from vibimpact.plotting import save_figure
 
     ncol = min(3, len(panels))
     nrow = -(-len(panels) // ncol)

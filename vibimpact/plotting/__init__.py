@@ -8,6 +8,7 @@ global pyplot state and the interactive backend are never touched.  Each takes `
 """
 from .bifurcation import plot_bifurcation
 from .response import plot_intervals, plot_response
-from .xy import plot_xy, save_figure
+from .style import save_figure
+from .xy import plot_xy
 
 __all__ = ["plot_bifurcation", "plot_intervals", "plot_response", "plot_xy", "save_figure"]

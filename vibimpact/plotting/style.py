@@ -17,12 +17,19 @@ checks.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 import numbers
+import os
+import tempfile
 from dataclasses import dataclass
 
+if TYPE_CHECKING:  # names of the annotations only
+    from matplotlib.figure import Figure
+
 __all__ = ["COLUMN_WIDTH", "DEFAULT_STYLE", "PAPER_STYLE", "STYLES", "Look", "look",
-           "width"]
+           "save_figure", "width"]
 
 #: rcParams of the ``"default"`` style (matplotlib's, with smaller legends)
 DEFAULT_STYLE = {"legend.fontsize": "small", "legend.title_fontsize": "small",
@@ -219,10 +226,51 @@ class Look:
         ``path`` when given, at the look's dpi.  Returns ``fig``."""
         fig.draw_without_rendering()
         if path is not None:
-            from .xy import save_figure
-
             save_figure(fig, path, dpi=self.dpi or fig.dpi)
         return fig
+
+
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = None) -> None:
+    """Save a figure atomically (temporary file in the same directory, then rename).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    path : str or os.PathLike
+        The format follows the extension (``.png``, ``.pdf``, ``.svg``, ...).
+    dpi : float, optional
+        Resolution in dots per inch; the figure's own (``fig.dpi``) by default, which
+        the plotting functions set from their ``dpi`` (150 unless told; 300 in the paper
+        style).
+
+    Raises
+    ------
+    ValueError
+        For a missing directory or an unsupported extension.
+    OSError
+        When the file cannot be written (no temporary file is left behind).
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
+    ext = os.path.splitext(path)[1].lstrip(".").lower()
+    supported = fig.canvas.get_supported_filetypes()
+    if ext not in supported:
+        raise ValueError(f"cannot save a figure as {path!r}: unknown extension; use one of "
+                         f"{', '.join('.' + e for e in sorted(supported))}")
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
+                               dir=directory)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format=ext, dpi=fig.dpi if dpi is None else dpi)
+        mask = os.umask(0o022)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
 
 
 def look(figsize=None, dpi=None, style=None, ax=None):
