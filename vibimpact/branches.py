@@ -19,6 +19,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._fill import complex_parts
+
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
     from typing import Any
@@ -147,14 +149,15 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
 def _point_vars(branch, names):
     """The data variables on ``point`` (and ``state``, ``multiplier``)."""
     mu = np.asarray(branch.multipliers, dtype=complex)
+    real, imag = complex_parts(mu)
     out = {
         "orbit_state": (("point", "state"), np.asarray(branch.states, dtype=np.float64),
                         dict(units="1", long_name="stroboscopic point of the orbit at the "
                                                   "start of a forcing period")),
-        "floquet_real": (("point", "multiplier"), mu.real.copy(),
+        "floquet_real": (("point", "multiplier"), real,
                          dict(units="1", long_name="Floquet multipliers, real part, by "
                                                    "decreasing modulus")),
-        "floquet_imag": (("point", "multiplier"), mu.imag.copy(),
+        "floquet_imag": (("point", "multiplier"), imag,
                          dict(units="1", long_name="Floquet multipliers, imaginary part")),
         "floquet_abs_max": ("point", np.abs(mu).max(axis=1) if mu.size else
                             np.zeros(0), dict(units="1", long_name="largest modulus "

@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
+from .._fill import not_computed
 from ..analysis.classify import DecisionRule, Label
 from ..system import System
 from .codes import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERMANENT,
@@ -132,7 +133,7 @@ class SweepSettings:
 
 
 def _nan(n):
-    return np.full(n, np.nan)
+    return not_computed(n)
 
 
 @dataclass
@@ -196,18 +197,18 @@ class PointResult:
     orbit_distance: float = np.nan
     arcs: str = ""
     reason: str = ""
-    samples: np.ndarray = field(default_factory=lambda: np.full((64, 4), np.nan))
+    samples: np.ndarray = field(default_factory=lambda: not_computed((64, 4)))
     final_state: np.ndarray = field(default_factory=lambda: _nan(4))
     orbit_point: np.ndarray = field(default_factory=lambda: _nan(4))
     multipliers: np.ndarray = field(
-        default_factory=lambda: _nan(N_MULTIPLIERS) + np.nan * 1j)
+        default_factory=lambda: not_computed(N_MULTIPLIERS, complex))
 
     @classmethod
     def empty(cls, n_state: int, n_samples: int) -> PointResult:
         """Nothing computed yet, for a model of ``n_state`` variables."""
-        return cls(samples=np.full((n_samples, n_state), np.nan), final_state=_nan(n_state),
+        return cls(samples=not_computed((n_samples, n_state)), final_state=_nan(n_state),
                    orbit_point=_nan(n_state),
-                   multipliers=_nan(n_state) + np.nan * 1j)
+                   multipliers=not_computed(n_state, complex))
 
     def update(self, **values) -> None:
         """Set several fields."""

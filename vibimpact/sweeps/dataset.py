@@ -15,6 +15,7 @@ import sys
 import numpy as np
 
 from .. import __version__
+from .._fill import complex_parts, not_computed
 from .._text import count
 from ..analysis.classify import Label
 from ..system import param_dict, to_system
@@ -137,7 +138,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     ns = settings.n_samples
 
     def stack(key, fill, dtype):
-        arr = np.full((len(dirs), n), fill, dtype=dtype)
+        arr = not_computed((len(dirs), n), dtype, fill)
         for a, d in enumerate(dirs):
             order = np.arange(n) if d == "up" else np.arange(n)[::-1]
             for i, r in enumerate(results[d]):
@@ -151,10 +152,10 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
         data[key] = (stack(key, fill, dt), dict(units=units, long_name=long))
     names = to_system(p).model.state_names
     d_state = len(names)
-    samples = np.full((len(dirs), n, ns, d_state), np.nan)
-    final = np.full((len(dirs), n, d_state), np.nan)
-    arcs = np.full((len(dirs), n), "", dtype=object)
-    reason = np.full((len(dirs), n), "", dtype=object)
+    samples = not_computed((len(dirs), n, ns, d_state))
+    final = not_computed((len(dirs), n, d_state))
+    arcs = not_computed((len(dirs), n), object)
+    reason = not_computed((len(dirs), n), object)
     for a, d in enumerate(dirs):
         order = np.arange(n) if d == "up" else np.arange(n)[::-1]
         for i, r in enumerate(results[d]):
@@ -192,13 +193,13 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     ds = ds.assign_coords(state=("state", np.array(names, dtype=object)))
     # --- issue 8: Floquet multipliers, complex split into real and imaginary parts ---
     if "floquet" in settings.analyses:
-        mu = np.full((len(dirs), n, d_state), np.nan + 0j)
+        mu = not_computed((len(dirs), n, d_state), complex)
         for a, d in enumerate(dirs):
             order = np.arange(n) if d == "up" else np.arange(n)[::-1]
             for i, r in enumerate(results[d]):
                 if r is not None and "multipliers" in r:
                     mu[a, order[i]] = np.asarray(r["multipliers"], dtype=complex)
-        for part, arr in (("real", mu.real), ("imag", mu.imag)):
+        for part, arr in zip(("real", "imag"), complex_parts(mu)):
             ds[f"floquet_{part}"] = (dims + ("multiplier",), arr, dict(
                 units="1", long_name=f"Floquet multipliers of the periodic orbit, {part} "
                                      "part, by decreasing modulus (shooting, monodromy from "
