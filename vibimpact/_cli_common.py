@@ -322,14 +322,13 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
     loaded.  ``unit`` names what the run counts ("points", "rows").  Returns the number of
     points loaded from the checkpoint and not recomputed.
     """
+    from .engine.store import set_aside_line
+
     last = ckpt.last_resume() if resuming else {"points": 0, "streams": 0, "damaged": []}
     where = os.fspath(ckpt.path)
-    bad = last["damaged"]
-    if bad:
-        names = f"{', '.join(bad[:3])}{', ...' if len(bad) > 3 else ''}"
-        files = count(len(bad), f"damaged {unit[:-1]} file")
-        print(f"vibimpact: warning: {files} in {where} "
-              f"{'was' if len(bad) == 1 else 'were'} recomputed ({names})", file=sys.stderr)
+    warning = set_aside_line(last, where, unit)
+    if warning:
+        print(warning, file=sys.stderr)
     try:
         write(ds, out, overwrite=overwrite or resuming)
     except (ValueError, OSError) as exc:
