@@ -149,7 +149,8 @@ def test_damaged_checkpoint_points_are_recomputed(classified, monkeypatch, capfd
                             "-o", "d.nc", "--resume"], capfd)
     assert rc == 0, err
     assert "Traceback" not in err
-    assert "vibimpact: warning: 2 damaged point files" in err
+    assert "vibimpact: warning: 2 point files in d.nc.partial were set aside as *.corrupt" in err
+    assert err.count(": damaged") == 2 and "their 2 points were computed again" in err
     assert "1 point loaded" in err  # one, not "1 points"
     assert out.splitlines()[-1] == "wrote d.nc"
     assert not ck.exists()

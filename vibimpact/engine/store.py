@@ -15,7 +15,9 @@ Layout
     A sweep saves every point as its own entry the moment it is finished; a map saves one
     entry per row.
 ``last_resume.json``
-    What the last resume loaded: points, complete streams, and the damaged entries.
+    What the last resume loaded: points, complete streams, the entries set aside (with
+    why: damaged, another request's, or misplaced) and the points and streams computed
+    again because of them.
 
 Every file is written to a temporary name, flushed and renamed, so an entry is either
 completely on disk or absent: a run killed at any moment (Ctrl-C, SIGKILL, a lost
@@ -27,10 +29,14 @@ Damaged checkpoints
 * ``request.json`` unreadable, not JSON or not a checkpoint record, or a directory that
   is not a checkpoint: :meth:`Checkpoint.open` raises ``ValueError`` naming it; nothing
   is guessed.
-* An entry that cannot be read back completely (truncated, garbage, a foreign ``.npz``,
-  another request's fingerprint, indices outside the request) can only come from a
-  damaged disk or a hand edit: it is renamed ``<name>.corrupt`` (kept as evidence), its
-  points count as not done and are computed again, and the last resume lists it.
+* An entry that cannot be read back completely (truncated, garbage, a foreign ``.npz``:
+  *damaged*), that carries another request's fingerprint (*foreign*: copied from another
+  sweep or map), or whose own indices (row, direction, positions, grid indices) are not
+  those of its name or lie outside the request (*misplaced*) can only come from a damaged
+  disk or a hand edit: it is renamed ``<name>.corrupt`` (kept as evidence), its points
+  count as not done and are computed again, and the last resume lists it with its reason
+  and the number of points (streams) that were computed again because of it
+  (:func:`set_aside_line` says it in one line).
 """
 from __future__ import annotations
 
@@ -54,6 +60,19 @@ REQUEST = "request.json"
 LAST_RESUME = "last_resume.json"
 _ENTRY = re.compile(r"^(up|down)_(\d{6})_(\d{6})-(\d{6})\.npz$")
 _META = ("fingerprint", "row", "direction", "position", "eta_index")
+
+
+class SetAside(ValueError):
+    """An entry that is not loaded; ``reason`` is "damaged", "foreign" or "misplaced"."""
+
+    def __init__(self, reason):
+        super().__init__(reason)
+        self.reason = reason
+
+
+#: why an entry was set aside, in words
+REASONS = {"damaged": "damaged", "foreign": "from another request",
+           "misplaced": "indices not its own"}
 
 
 def fingerprint(request):
@@ -176,12 +195,16 @@ class Checkpoint:
         return sum(per.values()), sum(1 for v in per.values() if v == n)
 
     def last_resume(self):
-        """``{"points", "streams", "damaged"}`` of the last resume (zeros if none)."""
+        """``{"points", "streams", "damaged", "reasons", "recomputed_points",
+        "recomputed_streams"}`` of the last resume (zeros if none)."""
+        empty = {"points": 0, "streams": 0, "damaged": [], "reasons": {},
+                 "recomputed_points": 0, "recomputed_streams": 0}
         try:
             rec = json.loads((self.path / LAST_RESUME).read_text())
-            return {k: rec[k] for k in ("points", "streams", "damaged")}
+            return {k: rec.get(k, v) if k not in ("points", "streams", "damaged") else rec[k]
+                    for k, v in empty.items()}
         except Exception:
-            return {"points": 0, "streams": 0, "damaged": []}
+            return empty
 
     def remove(self):
         shutil.rmtree(self.path, ignore_errors=True)
@@ -208,6 +231,7 @@ class Checkpoint:
         path, what = self.path, self.what
         self.fp = fingerprint(request)
         self.n = int(streams["points"])
+        self.streams = streams
         if self.exists():
             if not resume:
                 raise ValueError(f"{what} {path} already exists: pass resume=True "
@@ -253,39 +277,56 @@ class Checkpoint:
         with np.load(self.path / name, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
         if any(k not in arrays for k in _META):
-            raise ValueError("not an entry")
+            raise SetAside("damaged")
+        if str(arrays["fingerprint"]) != self.fp:
+            raise SetAside("foreign")
         pos = np.arange(start, stop)
-        if str(arrays["fingerprint"]) != self.fp or int(arrays["row"]) != row or \
-                str(arrays["direction"]) != direction or \
-                not np.array_equal(arrays["position"], pos) or stop > self.n:
-            raise ValueError("foreign entry")
-        points = unpack({k: v for k, v in arrays.items() if k not in _META}, pos.size)
+        grid = pos if direction == "up" else self.n - 1 - pos
+        if int(arrays["row"]) != row or str(arrays["direction"]) != direction or \
+                not np.array_equal(arrays["position"], pos) or \
+                not np.array_equal(arrays["eta_index"], grid) or \
+                not self._inside(row, direction, stop):
+            raise SetAside("misplaced")
+        try:
+            points = unpack({k: v for k, v in arrays.items() if k not in _META}, pos.size)
+        except (ValueError, IndexError):
+            raise SetAside("damaged") from None
         for r in points:
-            if np.shape(r.get("final_state")) != (4,) or "regime" not in r:
-                raise ValueError("not a point")
+            if np.ndim(r.get("final_state")) != 1 or "regime" not in r:
+                raise SetAside("damaged")
         return dict(zip(pos.tolist(), points))
+
+    def _inside(self, row, direction, stop):
+        """Whether entry points ``.. stop - 1`` of stream ``(row, direction)`` lie in the
+        request's streams."""
+        streams = getattr(self, "streams", None) or {}
+        rows = int(streams.get("rows", row + 1))
+        dirs = streams.get("directions", [direction])
+        return 0 < stop <= self.n and 0 <= row < rows and direction in dirs
 
     def attach(self):
         """Tie the handle to the request recorded in the checkpoint (to look at it)."""
         record = read_record(self.path)
         self.fp = record["fingerprint"]
         self.n = int(record["streams"]["points"])
+        self.streams = record["streams"]
         return record
 
     def load(self, resume=True):
         """``{(row, direction): {position: result}}`` of every readable entry.
 
-        With ``resume``, damaged entries are renamed ``<name>.corrupt`` and what was
-        loaded and set aside is written to ``last_resume.json``; without, they are only
-        skipped (a look at a running checkpoint changes nothing).
+        With ``resume``, entries set aside (damaged, foreign or misplaced) are renamed
+        ``<name>.corrupt`` and what was loaded and set aside is written to
+        ``last_resume.json``; without, they are only skipped (a look at a running
+        checkpoint changes nothing).
         """
-        done, damaged = {}, []
+        done, aside = {}, []
         for name, row, d, a, b in self.entries():
             try:
                 points = self._read(name, row, d, a, b)
-            except Exception:  # BadZipFile, EOFError, OSError, ValueError, KeyError, ...
+            except Exception as exc:  # BadZipFile, EOFError, OSError, KeyError, ...
+                aside.append((name, getattr(exc, "reason", "damaged"), row, d, a, b))
                 if resume:
-                    damaged.append(name + ".corrupt")
                     try:
                         os.replace(self.path / name, self.path / (name + ".corrupt"))
                     except OSError:
@@ -293,13 +334,64 @@ class Checkpoint:
                 continue
             done.setdefault((row, d), {}).update(points)
         if resume:
-            npts = sum(len(v) for v in done.values())
-            full = sum(1 for v in done.values() if len(v) == self.n)
-            _atomic_write(self.path / LAST_RESUME, json.dumps(
-                {"points": npts, "streams": full, "damaged": damaged}).encode())
-            log.info("checkpoint %s: %d points loaded, %d damaged entries set aside",
-                     self.path, npts, len(damaged))
+            self._record_resume(done, aside)
         return done
+
+    def _record_resume(self, done, aside):
+        """Write ``last_resume.json``: what :meth:`load` loaded and set aside, and how many
+        points (streams) of the request are computed again because of the latter."""
+        npts = sum(len(v) for v in done.values())
+        full = sum(1 for v in done.values() if len(v) == self.n)
+        again, streams = set(), set()
+        for _, _, row, d, a, b in aside:
+            if not self._inside(row, d, min(b, self.n)) or a >= min(b, self.n):
+                continue  # outside the request: it stood for none of its points
+            have = done.get((row, d), {})
+            again.update((row, d, i) for i in range(a, min(b, self.n)) if i not in have)
+            if len(have) < self.n:
+                streams.add((row, d))
+        rec = {"points": npts, "streams": full,
+               "damaged": [name + ".corrupt" for name, *_ in aside],
+               "reasons": {name + ".corrupt": why for name, why, *_ in aside},
+               "recomputed_points": len(again), "recomputed_streams": len(streams)}
+        _atomic_write(self.path / LAST_RESUME, json.dumps(rec).encode())
+        log.info("checkpoint %s: %d points loaded, %d entries set aside", self.path, npts,
+                 len(aside))
+
+
+def set_aside_line(last, where, unit="points"):
+    """The one warning line about the entries a resume set aside, or None if none was.
+
+    Parameters
+    ----------
+    last : dict
+        :meth:`Checkpoint.last_resume`.
+    where : str
+        The checkpoint, as the message names it.
+    unit : {"points", "rows"}
+        What the run counts: points of a sweep, rows of a map.
+
+    Returns
+    -------
+    str or None
+        E.g. ``"vibimpact: warning: 2 point files in c.nc.partial were set aside as
+        *.corrupt (up_000000_000004-000005.npz: from another request; ...); their 1 point
+        was computed again"``.
+    """
+    bad = last.get("damaged") or []
+    if not bad:
+        return None
+    reasons = last.get("reasons") or {}
+    shown = [f"{name[:-len('.corrupt')]}: {REASONS.get(reasons.get(name), 'damaged')}"
+             for name in bad[:3]]
+    more = ", ..." if len(bad) > 3 else ""
+    key = "recomputed_points" if unit == "points" else "recomputed_streams"
+    k = int(last.get(key, 0))
+    again = f"their {count(k, unit[:-1])} {'was' if k == 1 else 'were'} computed again" \
+        if k else f"none of their {unit} needed computing again"
+    return (f"vibimpact: warning: {count(len(bad), unit[:-1] + ' file')} in {where} "
+            f"{'was' if len(bad) == 1 else 'were'} set aside as *.corrupt "
+            f"({'; '.join(shown)}{more}); {again}")
 
 
 def read_record(path):
