@@ -35,9 +35,13 @@ ETA = np.round(np.arange(0.9, 1.5 + 1e-9, 0.002), 6)
 
 #: (part, file suffix, function name, "tottime" or "cumtime"); the first two are the
 #: compiled kernels' own time, the rest Python parts measured cumulatively (they contain
-#: some kernel time of their own: the Floquet step's variational integrations)
+#: some kernel time of their own: the Floquet step's variational integrations).  The
+#: integrator is the install's precompiled loop (cProfile names it as a built-in method
+#: of ``vibimpact._kernel._aot``) or, without it, numba's dispatcher: both are counted
 BUCKETS = (
     ("integrator kernel (all integrations)", "_kernel/driver.py", "integrate", "tottime"),
+    ("integrator kernel (all integrations)", "~",
+     "<built-in method vibimpact._kernel._aot.integrate>", "tottime"),
     ("Lyapunov kernel (variational, non-periodic points)", "_kernel/lyapunov.py",
      "benettin", "tottime"),
     ("of the total: Floquet step (shooting, cumulative)", "sweeps/point.py", "_floquet",
@@ -63,7 +67,7 @@ def _profile(settings):
         for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
             if fname.endswith(suffix) and fn == func:
                 t += tt if col == "tottime" else ct
-        out[name] = t
+        out[name] = out.get(name, 0.0) + t
     kernels = sum(list(out.values())[:2])
     out["Python around the kernels (wall - kernels)"] = max(0.0, wall - kernels)
     return wall, out, ds

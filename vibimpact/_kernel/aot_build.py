@@ -67,14 +67,17 @@ def exports():
 @contextlib.contextmanager
 def _dispatcher_flags(options_by_func):
     """numba's AOT compiler compiles every export with one set of flags (the error model
-    of Python, the runtime on); compile each with its dispatcher's options instead
-    (``error_model="numpy"``, ``_nrt``: :mod:`.jitopts`), so that the precompiled code is
-    the code the JIT compiles."""
+    of Python, the runtime on) and for the features LLVM derives from the processor's
+    name; compile each with its dispatcher's options instead (``error_model="numpy"``,
+    ``_nrt``: :mod:`.jitopts`) and for the JIT's feature list of this processor, so that
+    the precompiled code is the code the JIT compiles."""
+    from numba.core.codegen import AOTCPUCodegen
     from numba.core.compiler import Flags
     from numba.core.registry import cpu_target
     from numba.pycc import compiler as pycc_compiler
 
     original = pycc_compiler.compile_extra
+    original_features = AOTCPUCodegen._customize_tm_features
 
     def compile_extra(typingctx, targetctx, func, args, return_type, flags, locals,
                       library):
@@ -88,11 +91,18 @@ def _dispatcher_flags(options_by_func):
         return original(typingctx, targetctx, func, args, return_type, flags,
                         locals=locals, library=library)
 
+    def host_features(self):
+        # the JIT's explicit feature list for this processor, not the one LLVM derives
+        # from the processor's name (numba's AOT default)
+        return self._get_host_cpu_features()
+
     pycc_compiler.compile_extra = compile_extra
+    AOTCPUCodegen._customize_tm_features = host_features
     try:
         yield
     finally:
         pycc_compiler.compile_extra = original
+        AOTCPUCodegen._customize_tm_features = original_features
 
 
 def default_path():
