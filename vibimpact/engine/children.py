@@ -8,10 +8,12 @@ import sys
 
 
 def worker_setup():
-    """Set-up of a worker or manager process: Ctrl-C is the parent's to handle, SIGTERM
-    ends it (no handler inherited by fork), and it dies with the parent."""
+    """Set-up of a worker or manager process: Ctrl-C and SIGTERM (sent to the whole
+    process group by a terminal, ``timeout`` or a batch system) are the parent's to
+    handle, which then kills its children (no handler inherited by fork raises here), and
+    it dies with the parent."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         try:  # PR_SET_PDEATHSIG: SIGKILL this process when the parent process dies
             import ctypes

@@ -171,9 +171,10 @@ class Dask:
         """See :mod:`vibimpact.engine.executors`.  On any exception (a failing job,
         Ctrl-C) the jobs not yet finished are cancelled before it propagates; results
         already passed to ``on_task`` stay delivered."""
-        from distributed import as_completed
+        from distributed import KilledWorker, as_completed
 
         from . import plan
+        from .executors import WorkerLost
 
         with _client(self.scheduler, self.workers) as client:
             jobs = make_jobs(slots(client))
@@ -187,7 +188,9 @@ class Dask:
                     for task, res in zip(jobs[index[fut.key]], results):
                         on_task(task, res)
                     fut.release()
-            except BaseException:
+            except BaseException as exc:
                 with contextlib.suppress(Exception):
                     client.cancel(futures)
+                if isinstance(exc, KilledWorker):  # died on more workers than Dask retries
+                    raise WorkerLost(f"Dask workers died running a task ({exc})") from exc
                 raise

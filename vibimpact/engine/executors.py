@@ -14,8 +14,10 @@
 * :class:`Serial`: in this process, in order.
 * :class:`Processes`: local worker processes (``concurrent.futures.ProcessPoolExecutor``,
   forked on Linux); points travel back through a queue of a manager process.  A worker
-  that dies ends the run with an error (``BrokenProcessPool``) instead of a hang; Ctrl-C
-  or any error kills the workers at once.
+  (or the queue's process) that dies, killed by the OOM killer or ``kill -9``, ends the
+  run at once with :class:`WorkerLost` instead of a hang; the points finished before are
+  reported (saved in the checkpoint), so a resumed run loses nothing else.  Ctrl-C or
+  any error kills the workers at once.
 * :class:`vibimpact.engine.cluster.Dask`: a Dask cluster (local or remote).
 
 Which executor runs a plan never changes a number.
@@ -29,6 +31,12 @@ from concurrent.futures.process import BrokenProcessPool
 
 from . import plan
 from .children import worker_setup
+
+
+class WorkerLost(RuntimeError):
+    """A worker process (or the process of the points' queue, or a Dask worker more
+    often than Dask retries a task) died while the run needed it; the points finished
+    before it are reported, the ones in flight are lost."""
 
 
 class Serial:
@@ -101,9 +109,12 @@ class Processes:
                 try:
                     results = f.result()  # re-raises a worker's exception
                 except BrokenProcessPool as exc:
-                    raise RuntimeError(f"a worker process died unexpectedly ({exc}); the "
-                                       "finished points are in the checkpoint, if any") \
-                        from exc
+                    _drain(q, tasks, on_point)  # what the others finished meanwhile
+                    raise WorkerLost("a worker process died unexpectedly (killed by the "
+                                     "system or a signal)") from exc
+                except (EOFError, ConnectionError) as exc:  # the queue's process died
+                    raise WorkerLost("the points' queue process died unexpectedly "
+                                     f"({type(exc).__name__})") from exc
                 for task, res in zip(futures[f], results):
                     on_task(task, res)
         _drain(q, tasks, on_point)
@@ -117,6 +128,9 @@ def _drain(q, tasks, on_point):
             row, d, start, i, res = q.get_nowait()
         except _queue.Empty:
             return
+        except (EOFError, ConnectionError) as exc:  # the manager process died
+            raise WorkerLost("the points' queue process died unexpectedly "
+                             f"({type(exc).__name__})") from exc
         on_point(tasks[(row, d, start)], i, res)
 
 

@@ -39,8 +39,13 @@ def start():
 
 
 def _compile():
+    import signal
+
     from .._kernel import boundary as _kb
     from .children import worker_setup
 
     worker_setup()
+    # multiprocessing ends a daemon child with SIGTERM when this process exits; nothing
+    # depends on the helper, so SIGTERM ends it at once
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _kb.compile_array_routines()
