@@ -85,18 +85,19 @@ def connect(scheduler, timeout=CONNECT_TIMEOUT):
         check_workers(scheduler)
         return scheduler, False
     if isinstance(scheduler, (str, os.PathLike)):
-        text = os.fspath(scheduler)
-        kw = {"scheduler_file": text} if os.path.isfile(text) else {"address": text}
-        what = text
+        what = os.fspath(scheduler)
+        kw = {"address": scheduler_address(what)}
     elif hasattr(scheduler, "scheduler_address"):
         kw = {"address": scheduler}
         what = str(scheduler.scheduler_address)
     else:
         raise ValueError("scheduler must be an address, a scheduler file, a "
                          f"distributed.Client or a Dask cluster, got {scheduler!r}")
+    client = Client.__new__(Client)
     try:
-        client = Client(**kw, timeout=timeout, set_as_default=False)
+        client.__init__(**kw, timeout=timeout, set_as_default=False)
     except Exception as exc:  # OSError, TimeoutError, ValueError for a bad address, ...
+        _abandon(client)
         msg = " ".join(str(exc).split()) or type(exc).__name__
         raise ValueError(f"cannot connect to the Dask scheduler {what!r}: {msg}") from None
     try:
@@ -105,6 +106,48 @@ def connect(scheduler, timeout=CONNECT_TIMEOUT):
         client.close()
         raise
     return client, True
+
+
+def scheduler_address(text):
+    """The scheduler address that ``text`` names: the ``address`` of a scheduler file
+    (JSON, as ``dask scheduler --scheduler-file`` writes), or ``text`` itself, checked
+    (a known protocol, a port).  ValueError otherwise, before any connection is tried.
+    """
+    import json
+
+    from distributed.comm import get_address_host_port, parse_address, registry
+
+    if os.path.isdir(text):
+        raise ValueError(f"{text!r} is a directory, not a scheduler file or address")
+    if os.path.isfile(text):
+        try:
+            with open(text, encoding="utf-8") as fh:
+                address = json.load(fh)["address"]
+            if not isinstance(address, str):
+                raise TypeError
+        except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):
+            raise ValueError(f"{text!r} is not a Dask scheduler file (JSON with an "
+                             "'address')") from None
+        text = address
+    scheme, _ = parse_address(text, strict=False)
+    if scheme not in registry.backends:
+        raise ValueError(f"{text!r}: unknown protocol {scheme!r} (known: "
+                         f"{', '.join(sorted(registry.backends))})")
+    if scheme in ("tcp", "tls", "ws", "wss"):
+        try:
+            get_address_host_port(text)
+        except ValueError as exc:
+            raise ValueError(f"{text!r}: {exc} (e.g. tcp://host:8786)") from None
+    return text
+
+
+def _abandon(client):
+    """Let a Client whose constructor failed be collected quietly: without this its
+    ``__del__`` waits 40 s for a connection that never was and prints a traceback."""
+    with contextlib.suppress(Exception):
+        client.status = "closed"
+    with contextlib.suppress(Exception):
+        client._loop_runner.stop()  # noqa: SLF001 -- distributed's own attribute
 
 
 @contextlib.contextmanager
