@@ -237,3 +237,120 @@ def test_stop_off_the_grid_is_accepted(text, grid):
     assert _parse(text).tolist() == grid
 
 
+
+
+# --- issue 23, failure 7: wrong types are TypeErrors, wrong values and shapes ValueErrors ---
+
+def _map(eta=(1.0,), vary=None, **kw):
+    import vibimpact as vi
+
+    return vi.map2d(vi.presets.get("fig8"), eta, {"kh": [40.0]} if vary is None else vary,
+                    **kw)
+
+
+def _plot(name):
+    import vibimpact as vi
+
+    return getattr(vi.plotting, name)(None, "never.png")
+
+
+def _continue(state, **kw):
+    return _analyse("continue_orbit", state, **{"stop": 1.2, **kw})
+
+
+#: id -> (callable, exact class: TypeError or ValueError, needle naming the argument)
+CONTRACT_CASES = {
+    "Params kh 10**400 (overflow)": (lambda: _params(kh=10**400), ValueError, "kh"),
+    "Params G -10**400": (lambda: _params(G=-10**400), ValueError, "G"),
+    "Params kh None": (lambda: _params(kh=None), TypeError, "kh"),
+    "Params kh list": (lambda: _params(kh=[1.0]), TypeError, "kh"),
+    "Params kh complex": (lambda: _params(kh=1 + 2j), TypeError, "kh"),
+    "Params kh bool": (lambda: _params(kh=True), TypeError, "kh"),
+    "Params kh string": (lambda: _params(kh="120"), TypeError, "kh"),
+    "replace Ec string": (lambda: _replace(Ec="0.1"), TypeError, "Ec"),
+    "simulate method list": (lambda: _simulate(method=["dp5"], periods=1), TypeError,
+                             "method"),
+    "simulate method int": (lambda: _simulate(method=5, periods=1), TypeError, "method"),
+    "simulate rtol string": (lambda: _simulate(rtol="1e-6", periods=1), TypeError, "rtol"),
+    "simulate atol None": (lambda: _simulate(atol=None, periods=1), TypeError, "atol"),
+    "simulate max_step string": (lambda: _simulate(max_step="0.1", periods=1), TypeError,
+                                 "max_step"),
+    "simulate state0 (2, 2)": (lambda: _simulate(state0=np.zeros((2, 2)), periods=1),
+                               ValueError, "state0"),
+    "simulate state0 string": (lambda: _simulate(state0="0,0,0,0", periods=1), TypeError,
+                               "state0"),
+    "simulate periods float": (lambda: _simulate(periods=2.0), TypeError, "periods"),
+    "simulate p None": (lambda: __import__("vibimpact").simulate(None), TypeError, "p "),
+    "System rtol string": (lambda: _system(rtol="1e-6"), TypeError, "rtol"),
+    "System method list": (lambda: _system(method=["dp5"]), TypeError, "method"),
+    "System of None": (lambda: __import__("vibimpact").System(None), TypeError, "p "),
+    "intervals None": (lambda: __import__("vibimpact").intervals(None), TypeError, "ds"),
+    "sweep analyses 5": (lambda: _sweep([1.0], analyses=5), TypeError, "analyses"),
+    "sweep analyses of ints": (lambda: _sweep([1.0], analyses=[1, 2]), TypeError,
+                               "analyses"),
+    "sweep analyses unknown in string": (lambda: _sweep([1.0], analyses="period,spectrum"),
+                                         ValueError, "analyses"),
+    "sweep eta 2-D": (lambda: _sweep(np.array([[1.0, 1.1]])), ValueError, "eta"),
+    "sweep eta string": (lambda: _sweep("1.0"), TypeError, "eta"),
+    "sweep eta None": (lambda: _sweep(None), TypeError, "eta"),
+    "sweep state0 (2, 2)": (lambda: _sweep([1.0], state0=np.zeros((2, 2))), ValueError,
+                            "state0"),
+    "sweep direction int": (lambda: _sweep([1.0], direction=5), TypeError, "direction"),
+    "sweep workers float": (lambda: _sweep([1.0], workers=1.5), TypeError, "workers"),
+    "sweep settings dict": (lambda: _sweep([1.0], settings={}), TypeError, "settings"),
+    "map2d eta 2-D": (lambda: _map(eta=np.array([[1.0, 1.1]])), ValueError, "eta"),
+    "map2d vary values 2-D": (lambda: _map(vary={"kh": [[40.0, 80.0]]}), ValueError, "kh"),
+    "map2d vary values string": (lambda: _map(vary={"kh": "40"}), TypeError, "kh"),
+    "map2d analyses 5": (lambda: _map(analyses=5), TypeError, "analyses"),
+    "classify_params None": (lambda: __import__("vibimpact").classify_params(None),
+                             TypeError, "system"),
+    "classify_params analyses int": (lambda: _analyse("classify_params", analyses=3),
+                                     TypeError, "analyses"),
+    "continue_orbit state0 (2, 2)": (lambda: _continue(np.zeros((2, 2))), ValueError,
+                                     "state0"),
+    "continue_orbit stop string": (lambda: _continue(np.zeros(4), stop="1.2"), TypeError,
+                                   "stop"),
+    "lyapunov_spectrum None": (lambda: __import__("vibimpact").analysis.lyapunov_spectrum(
+        None), TypeError, "system"),
+    "detect_period None": (lambda: __import__("vibimpact").analysis.detect_period(None),
+                           TypeError, "points"),
+    "detect_period tol string": (lambda: __import__("vibimpact").analysis.detect_period(
+        np.zeros((10, 4)), tol="1e-6"), TypeError, "tol"),
+    "detect_period 3-D": (lambda: __import__("vibimpact").analysis.detect_period(
+        np.zeros((10, 4, 2))), ValueError, "points"),
+    "classify None": (lambda: __import__("vibimpact").analysis.classify(None), TypeError,
+                      "points"),
+    "presets.get None": (lambda: _preset(None), TypeError, "name"),
+    "plot_response None": (lambda: _plot("plot_response"), TypeError, "ds"),
+    "plot_intervals None": (lambda: _plot("plot_intervals"), TypeError, "ds"),
+    "plot_bifurcation None": (lambda: _plot("plot_bifurcation"), TypeError, "ds"),
+    "plot_xy None": (lambda: _plot("plot_xy"), TypeError, "ds"),
+}
+
+
+@pytest.mark.parametrize("case", list(CONTRACT_CASES))
+def test_api_error_contract_type_or_value_error_naming_the_argument(case, tmp_path,
+                                                                    monkeypatch):
+    """Hypothesis: a wrong type (string, None, list, complex, bool, float for an integer)
+    raises a TypeError and a wrong value or shape (overflow, a (2, 2) state, a 2-D grid)
+    a ValueError that is no TypeError, each naming the argument, before any work and
+    without writing a file."""
+    monkeypatch.chdir(tmp_path)
+    call, cls, needle = CONTRACT_CASES[case]
+    with pytest.raises(cls) as info:
+        call()
+    assert needle in str(info.value), str(info.value)
+    if cls is ValueError:
+        assert not isinstance(info.value, TypeError), type(info.value)
+    assert listing(tmp_path) == []
+
+
+def test_analyses_given_as_one_string_is_a_list_of_names_not_letters():
+    """Hypothesis: ``analyses="period"`` means the one analysis "period" (and
+    "period,impacts" two), as on the command line, not the letters p, e, r, ..."""
+    from vibimpact.sweeps.sweep import check_request
+
+    settings, _ = check_request("up", "period", None, None)
+    assert settings.analyses == ("period",)
+    settings, _ = check_request("up", "impacts, period", None, None)
+    assert settings.analyses == ("period", "impacts")

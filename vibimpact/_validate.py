@@ -1,7 +1,12 @@
-"""Argument checks shared by the public API: each raises ``ValueError`` naming the argument.
+"""Argument checks shared by the public API: each raises an error naming the argument.
 
 Every public function validates its arguments with these (and nothing else), so the
-messages are the same everywhere: ``"<name> must be ..., got <value>"``.
+messages are the same everywhere: ``"<name> must be ..., got <value>"``.  A wrong *type*
+(a string where a number belongs, a list for a method's name, ``None`` for an array)
+raises :class:`WrongType`, a ``TypeError``; a wrong value or shape (out of range, not
+finite, a (2, 2) array for a state) a ``ValueError``.  :class:`WrongType` is a
+``ValueError`` as well, so that callers that turn bad input into one line (the command
+line) catch both with ``except ValueError``.
 """
 from __future__ import annotations
 
@@ -11,10 +16,80 @@ import numbers
 import numpy as np
 
 
+class WrongType(TypeError, ValueError):
+    """An argument of the wrong type (a ``TypeError``; also a ``ValueError``, see above)."""
+
+
+def _real(name, value, what):
+    """``value`` as a Python float: real numbers only (bool, str, None, complex, arrays
+    of more than one element refused with :class:`WrongType`); a number too large for a
+    float is a ``ValueError`` ("must be finite")."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise WrongType(f"{name} must be {what}, got {type(value).__name__} {value!r}"[:200])
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"{name} must be finite, got {value!r}"[:200]) from None
+
+
+def choice(name, value, options):
+    """``value`` if it is one of the strings ``options`` (a non-string: WrongType)."""
+    if not isinstance(value, str):
+        raise WrongType(f"{name} must be a str, one of {', '.join(options)}, got "
+                        f"{type(value).__name__} {value!r}"[:200])
+    if value not in options:
+        raise ValueError(f"{name} must be one of {', '.join(options)}, got {value!r}")
+    return value
+
+
+def names(name, value, options):
+    """A tuple of strings from ``options``: ``value`` is an iterable of them or one string
+    of comma-separated names (``"period,impacts"``; a string is never split into
+    letters)."""
+    if isinstance(value, str):
+        value = [v.strip() for v in value.split(",") if v.strip()]
+    try:
+        items = tuple(value)
+    except TypeError:
+        raise WrongType(f"{name} must be a sequence of str (from {', '.join(options)}), "
+                        f"got {type(value).__name__} {value!r}"[:200]) from None
+    wrong = [v for v in items if not isinstance(v, str)]
+    if wrong:
+        raise WrongType(f"{name} must hold str, got {type(wrong[0]).__name__} "
+                        f"{wrong[0]!r}"[:200])
+    bad = [v for v in items if v not in options]
+    if bad:
+        raise ValueError(f"{name}: unknown {', '.join(bad)}; choose from "
+                         f"{', '.join(options)}")
+    return items
+
+
+def array1d(name, value, what="numbers"):
+    """``value`` as a 1-D float64 array (a single number is one element): strings, None,
+    mappings and other non-numeric values are :class:`WrongType`, more than one
+    dimension a ``ValueError`` with the shape."""
+    if value is None or isinstance(value, (str, bytes, dict)):
+        raise WrongType(f"{name} must be {what} (a 1-D array), got "
+                        f"{type(value).__name__} {value!r}"[:200])
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except OverflowError:
+        raise ValueError(f"{name} must be finite") from None
+    except (TypeError, ValueError):
+        raise WrongType(f"{name} must be {what} (a 1-D array), got {value!r}"[:200]) \
+            from None
+    if arr.ndim > 1:
+        raise ValueError(f"{name} must be 1-D, got shape {arr.shape}")
+    return arr.reshape(-1)
+
+
 def count(name, value, minimum=1, maximum=None):
     """``value`` as an ``int`` in ``[minimum, maximum]`` (booleans and floats refused)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise WrongType(f"{name} must be an integer >= {minimum}, got "
+                        f"{type(value).__name__} {value!r}"[:200])
     if value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
     if maximum is not None and value > maximum:
@@ -26,23 +101,15 @@ def positive(name, value, allow_none=False):
     """``value`` as a finite ``float > 0`` (``None`` passes through with ``allow_none``)."""
     if value is None and allow_none:
         return None
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    v = _real(name, value, "a number")
     if not math.isfinite(v) or v <= 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return v
 
 
 def finite(name, value):
-    """``value`` as a finite ``float`` (anything ``float()`` takes)."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    """``value`` as a finite ``float`` (a real number: no strings)."""
+    v = _real(name, value, "a real number")
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return v
@@ -50,9 +117,7 @@ def finite(name, value):
 
 def real_positive(name, value):
     """``value`` as a finite ``float > 0``; only real numbers (no strings) accepted."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a real number > 0, got {value!r}")
-    value = float(value)
+    value = _real(name, value, "a real number > 0")
     if not np.isfinite(value) or value <= 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return value
@@ -63,10 +128,9 @@ def state(name, value, n):
     ``value`` is None)."""
     if value is None:
         return np.zeros(n)
-    try:
-        y = np.array(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be {n} numbers, got {value!r}") from None
+    y = array1d(name, value, f"{n} numbers")
+    if np.ndim(value) != 1:
+        raise ValueError(f"{name} must have shape ({n},), got shape {np.shape(value)}")
     if y.size != n or not np.all(np.isfinite(y)):
         raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
     return y
@@ -74,10 +138,12 @@ def state(name, value, n):
 
 def points(value, name="points"):
     """``value`` as a finite float array of shape (m, d) (a 1-D array is one column)."""
+    if value is None or isinstance(value, (str, bytes, dict)):
+        raise WrongType(f"{name} must be a numeric array, got {type(value).__name__}")
     try:
         x = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a numeric array: {exc}") from None
+        raise WrongType(f"{name} must be a numeric array: {exc}") from None
     if x.ndim == 1:
         x = x[:, None]
     if x.ndim != 2:

@@ -18,6 +18,7 @@ from ._kernel import dispatch as _dispatch
 from ._kernel import rotor as _rotor
 from ._kernel.boundary import Problem
 from ._kernel.precompiled import routine as _precompiled
+from . import _validate as _v
 from .params import DuffingParams, Params
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -158,4 +159,5 @@ def resolve(p, model=None):
         return ROTOR, p.as_array()
     if isinstance(p, DuffingParams):
         return DUFFING, p.as_array()
-    raise ValueError(f"p must be vibimpact.Params or DuffingParams, got {type(p).__name__}")
+    raise _v.WrongType(f"p must be vibimpact.Params or DuffingParams, got "
+                       f"{type(p).__name__}")

@@ -12,6 +12,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from . import _validate as _v
+
 #: Default linear damping of the magnetic support.  NOT from the paper (which omits it; it
 #: says only that passive magnetic bearings have very low radial damping): the converged
 #: optimum of ``analyses/calibrate.py`` against the paper's interval claims of figs 8, 10
@@ -27,12 +29,7 @@ _NONNEGATIVE = ("B", "kh", "Bh", "BT", "f", "Rr", "Ec", "eps")
 
 
 def _check_finite(name, value):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return value
+    return _v.finite(name, value)
 
 
 class _ParamsMixin:

@@ -14,6 +14,7 @@ reproduces the most claims (reading (a) of ``reports/calibration.md``).
 """
 from __future__ import annotations
 
+from ._validate import WrongType
 from .params import DEFAULT_B, DEFAULT_EC, Params
 
 _TABLE = {
@@ -51,6 +52,8 @@ def describe(name: str) -> str:
 
 
 def _row(name):
+    if not isinstance(name, str):
+        raise WrongType(f"name must be a preset's name (str), got {type(name).__name__}")
     if name not in _TABLE:
         raise ValueError(f"unknown preset {name!r}; choose from {', '.join(_TABLE)}")
     return _TABLE[name]

@@ -107,7 +107,7 @@ class System:
         object.__setattr__(self, "model", mdl)
         object.__setattr__(self, "p", vec)
         if self.method is not None:
-            _kb.Method.named(self.method)
+            _kb.Method.named(_v.choice("method", self.method, _kb.METHODS))
         for name in ("rtol", "atol", "max_step", "event_tol"):
             value = getattr(self, name)
             if value is not None:
@@ -320,8 +320,8 @@ def as_system(system, name="system"):
     how to make one otherwise."""
     if isinstance(system, System):
         return system
-    raise ValueError(f"{name} must be a vibimpact.System (e.g. vi.System(params)), got "
-                     f"{type(system).__name__}")
+    raise _v.WrongType(f"{name} must be a vibimpact.System (e.g. vi.System(params)), "
+                       f"got {type(system).__name__}")
 
 
 def to_system(p):

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._text import count
+from .._validate import WrongType
 from .chaos01 import test01
 from .period import detect_period
 
@@ -257,6 +258,9 @@ def classify(points: ArrayLike, *, lyapunov: float | None = None,
     if hasattr(points, "strobe"):  # a Run (or anything holding stroboscopic samples)
         raise TypeError(f"points must be an array of stroboscopic samples, got "
                         f"{type(points).__name__}; pass its .strobe")
+    if points is None or isinstance(points, (str, bytes, dict)):
+        raise WrongType(f"points must be an array of stroboscopic samples, got "
+                        f"{type(points).__name__}")
     if diverged:
         return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
     try:

@@ -99,11 +99,7 @@ def check_vary(p, vary):
                          f"{', '.join(names)}")
     if isinstance(values, np.ndarray):
         _limits.check_points(values.size, name=name)
-    try:
-        arr = np.array(values, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"vary {name}: values must be numbers, got {values!r}"[:200]) \
-            from None
+    arr = _v.array1d(f"vary {name}: values", values)
     if arr.size == 0:
         raise ValueError(f"vary {name}: no values")
     _limits.check_points(arr.size, name=name)

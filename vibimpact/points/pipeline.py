@@ -52,10 +52,7 @@ def _settings(settings, changes):
     st = replace(st, **changes)
     if st.lyapunov not in ("auto", "always"):
         raise ValueError(f"lyapunov must be 'auto' or 'always', got {st.lyapunov!r}")
-    bad = [a for a in st.analyses if a not in ANALYSES]
-    if bad:
-        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
-                         f"{', '.join(ANALYSES)}")
+    st = replace(st, analyses=_v.names("analyses", st.analyses, ANALYSES))
     _v.count("transient_max", st.transient_max, 0)
     for name in ("record", "lyap_min", "lyap_max"):
         _v.count(name, getattr(st, name), 1)

@@ -47,10 +47,7 @@ def check_grid(eta):
     size = np.size(eta) if isinstance(eta, np.ndarray) else None
     if size is not None:
         _limits.check_points(size)  # before copying a huge array
-    try:
-        arr = np.array(eta, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"eta must be numbers, got {eta!r}") from None
+    arr = _v.array1d("eta", eta)
     if arr.size == 0:
         raise ValueError("eta must not be empty")
     _limits.check_points(arr.size)
@@ -105,18 +102,13 @@ def check_request(direction, analyses, settings, state0, n_state=4):
     ValueError
         Naming ``direction``, ``analyses``, ``settings`` or ``state0``.
     """
-    if direction not in DIRECTIONS:
-        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}, "
-                         f"got {direction!r}")
-    analyses = tuple(analyses)
-    bad = [a for a in analyses if a not in ANALYSES]
-    if bad:
-        raise ValueError(f"analyses: unknown {', '.join(map(str, bad))}; choose from "
-                         f"{', '.join(ANALYSES)}")
+    _v.choice("direction", direction, DIRECTIONS)
+    analyses = _v.names("analyses", analyses, ANALYSES)
     analyses = tuple(a for a in ANALYSES if a in analyses or a == "period")
     settings = SweepSettings() if settings is None else settings
     if not isinstance(settings, SweepSettings):
-        raise ValueError("settings must be a SweepSettings")
+        raise _v.WrongType(f"settings must be a SweepSettings, got "
+                           f"{type(settings).__name__}")
     settings = SweepSettings(**{**settings.__dict__, "analyses": analyses})
     if state0 is not None:
         state0 = _v.state("state0", state0, n_state)
