@@ -111,6 +111,9 @@ def parse_sets(items):
             raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
         if key == "eta":
             raise UsageError("set eta with --eta, not --set")
+        if key in out:
+            raise UsageError(f"--set {key} given twice ({key}={out[key]:g} and "
+                             f"{item.strip()}); give each parameter once")
         try:
             out[key] = float(text)
         except ValueError:

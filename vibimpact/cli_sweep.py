@@ -204,6 +204,35 @@ def _has(ds, name):
     return name in ds and bool(np.isfinite(ds[name].values).any())
 
 
+def _missing(ds, path, what, analysis):
+    """The UsageError for a sweep file without finite ``what`` to draw: every point
+    diverged or not computed, or the analysis was not requested."""
+    import json
+
+    import numpy as np
+
+    from ._text import count
+    from .analysis.classify import Label
+    from .points.point import REGIME_CODES
+
+    reg = ds["regime"].values if "regime" in ds else np.zeros(0)
+    diverged = int(np.sum(reg == REGIME_CODES[Label.DIVERGED]))
+    if reg.size and np.all((reg == REGIME_CODES[Label.DIVERGED]) | (reg == 0)):
+        why = (f"every point ({reg.size}) diverged" if diverged == reg.size else
+               f"{diverged} of {count(reg.size, 'point')} diverged, the others were not "
+               "computed")
+        return UsageError(f"{path!r} has no {what} to draw: {why} (its labels: --kind "
+                          "intervals)")
+    try:
+        asked = analysis in json.loads(ds.attrs.get("settings", "{}")).get("analyses", "")
+    except (ValueError, AttributeError):
+        asked = False
+    if asked:
+        return UsageError(f"{path!r} has no {what} to draw: none of its points has a "
+                          "finite value")
+    return UsageError(f"{path!r} has no {what}: sweep with --analyses including {analysis}")
+
+
 def _cmd_plot(args):
     path = os.fspath(args.file)
     if args.branch and args.kind not in (None, "response"):
@@ -248,11 +277,9 @@ def _cmd_plot(args):
         raise UsageError(f"--kind {kind} needs a sweep file ('vibimpact classify' or "
                           f"'bifurcation'); {path!r} is a simulate run (use --kind xy)")
     if kind == "response" and not _has(ds, "X_m"):
-        raise UsageError(f"{path!r} has no response data (X_m): sweep with --analyses "
-                          "including response")
+        raise _missing(ds, path, "response data (X_m)", "response")
     if kind == "bifurcation" and not _has(ds, "poincare_X"):
-        raise UsageError(f"{path!r} has no Poincare points: sweep with --analyses "
-                          "including poincare")
+        raise _missing(ds, path, "Poincare points", "poincare")
     if args.branch and kind != "response":
         raise UsageError(f"--branch draws over response curves, not --kind {kind}")
     branches = []

@@ -223,7 +223,11 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     """``"START:STOP:STEP"`` or ``"V1,V2,..."`` -> a strictly increasing grid.
 
     A range includes STOP when it lies on the grid (its values are rounded to 12 decimals,
-    so that ``0.9 + k * 0.002`` prints as typed); a list is taken as written.
+    so that ``0.9 + k * 0.002`` prints as typed; a range whose values that rounding
+    would change by more than the arithmetic's own error, such as a START with 13
+    decimals, is refused rather than changed, and values of 10^4 and more, where 12
+    decimals are below a float's resolution, are not rounded); a list is taken as
+    written.
 
     Parameters
     ----------
@@ -268,13 +272,47 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
         _limits.check_points(approx, name=name)
     count = int(math.floor((b - a) / h + 1e-9)) + 1
     _limits.check_points(count, name=name)
-    grid = np.round(a + h * np.arange(count), 12)
+    raw, grid = _rounded_grid(a, h, count)
     if positive and grid[0] <= 0.0:
         raise ValueError(f"{name} START must be >= 1e-12 (the grid is rounded to 12 "
                          f"decimals), got {text!r}")
     if np.any(np.diff(grid) <= 0.0):  # a STEP below the rounding repeats values
+        if max(abs(a), abs(b)) >= ROUND_BELOW:
+            raise ValueError(f"{name} STEP {h:g} is below a float's resolution at "
+                             f"{max(abs(a), abs(b)):g}: values would repeat, got {text!r}")
         raise ValueError(f"{name} STEP must be >= 1e-12 (the grid is rounded to 12 "
                          f"decimals), got {text!r}")
+    return _check_unchanged(raw, grid, name, text)
+
+
+#: range values from this magnitude on are not rounded to 12 decimals (below a float's
+#: resolution there: the rounding would change nothing, or overflow)
+ROUND_BELOW = 1e4
+
+
+def _rounded_grid(a, h, n):
+    """``(raw, rounded)``: ``a + h k`` (k < n), and rounded to 12 decimals where that is
+    below :data:`ROUND_BELOW`."""
+    raw = a + h * np.arange(n)
+    small = np.abs(raw) < ROUND_BELOW
+    grid = raw.copy()
+    grid[small] = np.round(raw[small], 12)
+    return raw, grid
+
+
+def _check_unchanged(raw, grid, name, text):
+    """ValueError naming ``name`` when the rounding changed a value of the grid by more
+    than the arithmetic's own error (a value typed with more than 12 decimals); ``grid``
+    otherwise."""
+    noise = 8.0 * np.finfo(float).eps * max(1.0, abs(raw[0]), abs(raw[-1]))
+    changed = np.flatnonzero(np.abs(grid - raw) > noise)
+    if changed.size:
+        k = int(changed[0])
+        which = "START" if k == 0 else f"value {k + 1}"
+        raise ValueError(f"{name} {which} {float(raw[k])!r} has more than 12 decimals (the "
+                         f"grid is rounded to 12 decimals: it would become "
+                         f"{float(grid[k])!r}); give "
+                         f"START and STEP with at most 12 decimals, got {text!r}")
     return grid
 
 
