@@ -60,3 +60,50 @@ def check_periods(periods, transient):
         raise ValueError(f"periods={periods} (+ transient={transient}) is {total} forcing "
                          f"periods (about {cost} at ~{SECONDS_PER_PERIOD * 1e3:g} ms per "
                          f"period); at most {MAX_PERIODS} in one run")
+
+
+#: most memory (bytes) the arrays of one request may need: a simulate run's samples, a
+#: sweep's or map's results; the one limit of every request, checked before any work
+MAX_BYTES = 4 << 30
+#: bytes of one point of a sweep or map besides its Poincaré samples (the scalar
+#: results, final state, orbit point, multipliers and their text), a generous estimate
+POINT_OVERHEAD_BYTES = 1024
+
+
+def human_bytes(n):
+    """``512 bytes``, ``3.2 MiB``, ``149 GiB``, ``4.4e+06 TiB`` (binary units)."""
+    for unit, size in (("TiB", 1 << 40), ("GiB", 1 << 30), ("MiB", 1 << 20),
+                       ("KiB", 1 << 10)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{int(n)} bytes"
+
+
+def check_memory(nbytes, what):
+    """ValueError when the arrays of a request need more than :data:`MAX_BYTES`.
+
+    Parameters
+    ----------
+    nbytes : int
+        The estimate: the arrays the request allocates in proportion to the numbers it
+        was given (:func:`run_bytes`, :func:`points_bytes`).
+    what : str
+        The request's numbers, named as the caller's arguments, for the message.
+    """
+    if nbytes > MAX_BYTES:
+        raise ValueError(f"{what} needs about {human_bytes(nbytes)} of memory for its "
+                         f"arrays; at most {human_bytes(MAX_BYTES)} in one request")
+
+
+def run_bytes(periods, dense, n_state):
+    """Bytes of a run's arrays: ``periods + 1`` stroboscopic samples and
+    ``periods * dense + 1`` dense samples, each a state and a time, held twice (the run
+    and its dataset)."""
+    rows = (periods + 1) + (periods * dense + 1 if dense else 0)
+    return 2 * 8 * (n_state + 1) * rows
+
+
+def points_bytes(points, n_samples, n_state):
+    """Bytes of the results of ``points`` sweep or map points with ``n_samples``
+    Poincaré samples each."""
+    return points * (8 * n_samples * n_state + POINT_OVERHEAD_BYTES)

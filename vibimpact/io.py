@@ -89,6 +89,131 @@ def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, An
     return out, encoding
 
 
+#: free space (bytes) an output's file system must have before a command computes
+MIN_FREE = 1 << 20
+
+
+def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
+                      what: str = "output", hint: str = "pass overwrite=True to replace it",
+                      store: bool = False, free: int = MIN_FREE) -> str:
+    """Vet an output path before anything is computed; every writer and every command
+    that writes (its outputs and its checkpoint ``OUT.partial``) goes through it.
+
+    Refused: an empty name, a name that is not valid UTF-8, a name ending with ``/``
+    (a file's), a directory (unless ``store``: a Zarr directory), a dangling symbolic
+    link, anything that is not a regular file (a device such as ``/dev/full``, a pipe,
+    a socket) even with ``overwrite``, an existing path without ``overwrite``, a missing
+    or unwritable directory, a name too long for the file system (the writer's own
+    temporary name ``.NAME.XXXXXXXX.tmp`` is created and removed, which also tests a
+    read-only mount), and a file system with less than ``free`` bytes free.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    overwrite : bool
+        An existing regular file (or Zarr directory, with ``store``) may be replaced.
+    what : str
+        Names the path in the messages ("output file", "plot file", "checkpoint").
+    hint : str
+        How to allow replacing it, in the message of an existing path.
+    store : bool
+        ``path`` is a directory store (Zarr): a trailing ``/`` is allowed, an existing
+        directory is not refused here.
+    free : int
+        Bytes that must be free on the file system of ``path``.
+
+    Returns
+    -------
+    str
+        The path, with a store's trailing ``/`` removed.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what``, the path and the reason.
+    """
+    path = os.fspath(path)
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if not path.strip():
+        raise ValueError(f"{what} {path!r}: the name is empty")
+    try:
+        path.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError(f"{what} {path!r}: the name is not valid UTF-8 (NetCDF, Zarr "
+                         "and the checkpoint need UTF-8 file names)") from None
+    if store:
+        path = path.rstrip("/" + os.sep) or path
+    elif path.endswith(("/", os.sep)) or os.path.basename(path) in (".", ".."):
+        raise ValueError(f"{what} {path!r} names a directory (ends with '/'); give a "
+                         "file name")
+    if os.path.islink(path) and not os.path.exists(path):
+        raise ValueError(f"{what} {path!r} is a dangling symbolic link (to "
+                         f"{os.readlink(path)!r}); remove it or choose another name")
+    if os.path.isdir(path) and not store:
+        raise ValueError(f"{what} {path!r} is a directory")
+    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
+        raise ValueError(f"{what} {path!r} is not a regular file (a device, pipe or "
+                         "socket); not replacing it")
+    if os.path.lexists(path) and not overwrite:
+        raise ValueError(f"{what} {path!r} exists; {hint}")
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} does "
+                         "not exist")
+    try:  # os.access says yes to root and knows nothing of read-only mounts: try it
+        fd, probe = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".",
+                                     suffix=".tmp", dir=directory)
+    except OSError as exc:
+        import errno
+
+        if exc.errno == errno.ENAMETOOLONG:
+            raise ValueError(f"{what} {path!r}: the name is too long for the file "
+                             "system") from None
+        raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} is not "
+                         f"writable ({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(probe)
+    try:
+        st = os.statvfs(directory)
+        left = st.f_bavail * st.f_frsize
+    except (OSError, AttributeError):
+        left = None
+    if left is not None and left < free:
+        raise ValueError(f"cannot write {what} {path!r}: {left} bytes free on the file "
+                         f"system of {directory!r}, {free} needed")
+    return path
+
+
+def write_failed(path: str, exc: BaseException) -> OSError:
+    """The ``OSError`` a writer raises when writing ``path`` failed with ``exc``.
+
+    NetCDF reports a full disk as ``RuntimeError: NetCDF: HDF error``; the message says
+    what the file system says (its free space) instead.
+
+    Parameters
+    ----------
+    path : str
+    exc : BaseException
+        The error of the write.
+
+    Returns
+    -------
+    OSError
+    """
+    import errno
+
+    reason = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+    code = getattr(exc, "errno", None)
+    try:
+        st = os.statvfs(os.path.dirname(os.path.abspath(path)) or ".")
+        if st.f_bavail * st.f_frsize < MIN_FREE:
+            reason, code = os.strerror(errno.ENOSPC), errno.ENOSPC
+    except (OSError, AttributeError):
+        pass
+    return OSError(code or errno.EIO, f"cannot write {path!r}: {reason}")
+
+
 def _umask():
     mask = os.umask(0o022)
     os.umask(mask)
@@ -118,19 +243,17 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     TypeError
         When ``ds`` is neither a Dataset nor a Run.
     ValueError
-        When ``path`` exists and not ``overwrite``, or its directory does not exist.
+        For a path :func:`check_output_path` refuses (it exists and not ``overwrite``,
+        its directory does not exist or is not writable, a device, a dangling link, a
+        name that is empty, too long or not UTF-8, ...).
     OSError
-        When the file cannot be written (the temporary file is removed).
+        When the file cannot be written: a full disk, which NetCDF reports as
+        ``RuntimeError: NetCDF: HDF error``, included (:func:`write_failed`; the
+        temporary file is removed).
     """
     ds = as_run_dataset(ds)
-    path = os.fspath(path)
+    path = check_output_path(path, overwrite, free=0)
     directory = os.path.dirname(os.path.abspath(path))
-    if os.path.isdir(path):
-        raise ValueError(f"output {path!r} is a directory")
-    if os.path.exists(path) and not overwrite:
-        raise ValueError(f"output file {path!r} exists (pass overwrite=True to replace it)")
-    if not os.path.isdir(directory):
-        raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
     import netCDF4  # noqa: F401 -- imported before the provenance records its version
 
     out, encoding = for_file(ds, "vibimpact.io.write_netcdf")
@@ -138,10 +261,14 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
                                dir=directory)
     os.close(fd)
     try:
-        out.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=encoding)
-        os.chmod(tmp, 0o666 & ~_umask())
+        try:
+            out.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4",
+                          encoding=encoding)
+            os.chmod(tmp, 0o666 & ~_umask())
+        except (OSError, RuntimeError) as exc:  # a full disk: "NetCDF: HDF error"
+            raise write_failed(path, exc) from None
         if overwrite:
-            os.replace(tmp, path)
+            _rename(tmp, path)
         else:
             try:
                 os.link(tmp, path)  # fails if path appeared meanwhile: never clobber
@@ -149,10 +276,17 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
                 raise ValueError(f"output file {path!r} exists "
                                  "(pass overwrite=True to replace it)") from None
             except OSError:  # no hard links on this file system
-                os.replace(tmp, path)
+                _rename(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _rename(tmp, path):
+    try:
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise write_failed(path, exc) from None
 
 
 def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:

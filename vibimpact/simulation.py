@@ -135,7 +135,8 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
     ValueError
         Naming the offending argument; also for more than
         :data:`vibimpact._limits.MAX_PERIODS` forcing periods (``periods + transient``),
-        with the estimated time.
+        with the estimated time, and for arrays (``periods`` stroboscopic and
+        ``periods * dense`` dense samples) over :data:`vibimpact._limits.MAX_BYTES`.
 
     Examples
     --------
@@ -159,6 +160,8 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
     max_step = _v.positive("max_step", max_step, allow_none=True)
     bound = _v.positive("bound", bound, allow_none=True)
     n = len(mdl.state_names)
+    _limits.check_memory(_limits.run_bytes(periods, dense, n),
+                         f"periods={periods} with dense={dense}")
     y = _v.state("state0", state0, n)
     y0 = y.copy()  # the kernel advances y in place
 

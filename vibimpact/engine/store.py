@@ -152,6 +152,7 @@ class Checkpoint:
         self.what = what  # "checkpoint" or "map checkpoint", in messages
         self.fp = None
         self.n = None
+        self._record = None  # request.json's bytes, to restore a vanished checkpoint
 
     # --- path level -----------------------------------------------------------------
     def exists(self):
@@ -271,7 +272,19 @@ class Checkpoint:
         buf = io.BytesIO()
         np.savez_compressed(buf, **arrays)
         name = entry_name(row, direction, int(pos[0]), int(pos[-1]) + 1)
-        _atomic_write(self.path / name, buf.getvalue())
+        try:
+            if self._record is None:
+                self._record = (self.path / REQUEST).read_bytes()
+            if not self.path.is_dir():  # moved or removed while the run goes on
+                self.path.mkdir(parents=True)
+                _atomic_write(self.path / REQUEST, self._record)
+                log.warning("%s %s vanished during the run; recreated (the points saved "
+                            "before are in the run's memory and its result)", self.what,
+                            self.path)
+            _atomic_write(self.path / name, buf.getvalue())
+        except OSError as exc:  # a full disk, a read-only file system
+            raise OSError(exc.errno, f"cannot save to {self.what} {os.fspath(self.path)!r}"
+                          f": {exc.strerror or exc}") from None
 
     def _read(self, name, row, direction, start, stop):
         with np.load(self.path / name, allow_pickle=False) as z:

@@ -292,6 +292,10 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     settings, state0 = check_request(direction, analyses, settings, state0,
                                      to_system(p).n_state)
     check_size(etas.size, values.size * (2 if direction == "both" else 1), name)
+    _limits.check_memory(_limits.points_bytes(
+        etas.size * values.size * (2 if direction == "both" else 1), settings.n_samples,
+        to_system(p).n_state), f"a map of eta x {name} with {settings.n_samples} "
+        "Poincare samples per point")
     workers = _v.count("workers", workers, 1)
     task_points = _v.count("task_points", task_points, 1)
     p = with_values(with_frequency(p, 1.0), **{name: float(values[0])})

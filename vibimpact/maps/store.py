@@ -76,12 +76,9 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
     if fmt == "netcdf":
         vio.write_netcdf(ds, path, overwrite=overwrite)
         return
+    path = vio.check_output_path(path, overwrite, store=True, free=0)
     directory = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(directory):
-        raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
     if os.path.lexists(path):
-        if not overwrite:
-            raise ValueError(f"output {path!r} exists (pass overwrite=True to replace it)")
         if not (os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))):
             raise ValueError(f"output {path!r} exists and is not a Zarr store; not "
                              "replacing it")
@@ -99,13 +96,20 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
         with warnings.catch_warnings():  # consolidated metadata is a zarr-python
             # extension of format 3, and what lets xarray.open_zarr(path) open it quietly
             warnings.filterwarnings("ignore", message="Consolidated metadata is currently")
-            out.to_zarr(tmp, mode="w", consolidated=True, zarr_format=3, encoding=encoding)
+            try:
+                out.to_zarr(tmp, mode="w", consolidated=True, zarr_format=3,
+                            encoding=encoding)
+            except (OSError, RuntimeError) as exc:  # a full disk
+                raise vio.write_failed(path, exc) from None
         if os.path.lexists(path):
             old = tempfile.mkdtemp(prefix="." + os.path.basename(path) + ".", suffix=".old",
                                    dir=directory)
             os.rmdir(old)
             os.rename(path, old)
-        os.rename(tmp, path)
+        try:
+            os.rename(tmp, path)
+        except OSError as exc:
+            raise vio.write_failed(path, exc) from None
     finally:
         if os.path.exists(tmp):
             shutil.rmtree(tmp, ignore_errors=True)

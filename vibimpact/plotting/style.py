@@ -246,14 +246,15 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
     Raises
     ------
     ValueError
-        For a missing directory or an unsupported extension.
+        For a path :func:`vibimpact.io.check_output_path` refuses (a missing directory,
+        a device, ...) or an unsupported extension.
     OSError
         When the file cannot be written (no temporary file is left behind).
     """
-    path = os.fspath(path)
+    from ..io import check_output_path, write_failed
+
+    path = check_output_path(path, overwrite=True, what="figure", free=0)
     directory = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(directory):
-        raise ValueError(f"cannot write {path!r}: directory {directory!r} does not exist")
     ext = os.path.splitext(path)[1].lstrip(".").lower()
     supported = fig.canvas.get_supported_filetypes()
     if ext not in supported:
@@ -263,11 +264,14 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
                                dir=directory)
     os.close(fd)
     try:
-        fig.savefig(tmp, format=ext, dpi=fig.dpi if dpi is None else dpi)
-        mask = os.umask(0o022)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, path)
+        try:
+            fig.savefig(tmp, format=ext, dpi=fig.dpi if dpi is None else dpi)
+            mask = os.umask(0o022)
+            os.umask(mask)
+            os.chmod(tmp, 0o666 & ~mask)
+            os.replace(tmp, path)
+        except OSError as exc:  # a full disk
+            raise write_failed(path, exc) from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)

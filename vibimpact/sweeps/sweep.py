@@ -27,6 +27,7 @@ import numpy as np
 
 from .. import _limits
 from .. import _validate as _v
+from .._text import count
 from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
@@ -147,7 +148,8 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         Transient, record length, Lyapunov and classifier settings.
     blocks : int
         Contiguous blocks per direction (see the module docstring); the result depends on
-        it, not on ``workers``.
+        it, not on ``workers``.  At most :data:`vibimpact._limits.MAX_POINTS` (more
+        blocks than points are as many blocks as points).
     workers : int
         Processes that compute blocks at once (1: in this process).
     seed_periods : int
@@ -186,11 +188,15 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0,
                                      to_system(p).n_state)
-    blocks = _v.count("blocks", blocks, 1)
+    blocks = _v.count("blocks", blocks, 1, _limits.MAX_POINTS)
     workers = _v.count("workers", workers, 1)
-    seed_periods = _v.count("seed_periods", seed_periods, 1)
+    seed_periods = _v.count("seed_periods", seed_periods, 1, _limits.MAX_PERIODS)
     dirs = plan.directions(direction)
     n = etas.size
+    _limits.check_memory(_limits.points_bytes(n * len(dirs), settings.n_samples,
+                                              to_system(p).n_state),
+                         f"a sweep of {count(n * len(dirs), 'point')} with "
+                         f"{count(settings.n_samples, 'Poincare sample')} each")
     done = {}
     store = None
     if checkpoint:
