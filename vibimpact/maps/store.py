@@ -72,8 +72,7 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
     from .. import io as vio
 
     fmt = output_format(path)
-    path = os.fspath(path).rstrip("/" + os.sep)
-    if fmt == "netcdf":
+    if fmt == "netcdf":  # a NetCDF path ending in '/' is refused there
         vio.write_netcdf(ds, path, overwrite=overwrite)
         return
     path = vio.check_output_path(path, overwrite, store=True, free=0)
