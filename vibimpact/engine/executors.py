@@ -88,7 +88,11 @@ class Processes:
                 _kill(set(mp.active_children()) - before)
                 pool.shutdown(wait=False, cancel_futures=True)
                 raise
-            pool.shutdown(wait=True)
+            # every result is in: the workers are idle and end on the pool's sentinels;
+            # shutdown(wait=True) would hang for good if one was killed meanwhile (the
+            # pool's thread then waits for a worker that never gets its sentinel)
+            pool.shutdown(wait=False)
+            _end(set(mp.active_children()) - before, grace=2.0)
         finally:
             if manager is not None:
                 manager.shutdown()
@@ -132,6 +136,16 @@ def _drain(q, tasks, on_point):
             raise WorkerLost("the points' queue process died unexpectedly "
                              f"({type(exc).__name__})") from exc
         on_point(tasks[(row, d, start)], i, res)
+
+
+def _end(processes, grace):
+    """Let ``processes`` exit for ``grace`` seconds, then kill those still running."""
+    import time
+
+    deadline = time.monotonic() + grace
+    while any(p.is_alive() for p in processes) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    _kill(p for p in processes if p.is_alive())
 
 
 def _kill(processes):
