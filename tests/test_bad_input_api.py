@@ -325,6 +325,33 @@ CONTRACT_CASES = {
     "plot_intervals None": (lambda: _plot("plot_intervals"), TypeError, "ds"),
     "plot_bifurcation None": (lambda: _plot("plot_bifurcation"), TypeError, "ds"),
     "plot_xy None": (lambda: _plot("plot_xy"), TypeError, "ds"),
+    "sweep p None": (lambda: __import__("vibimpact").sweep(None, [1.0]), TypeError, "p "),
+    "sweep continuation string": (lambda: _sweep([1.0], continuation="no"), TypeError,
+                                  "continuation"),
+    "sweep resume 1": (lambda: _sweep([1.0], resume=1), TypeError, "resume"),
+    "sweep checkpoint int": (lambda: _sweep([1.0], checkpoint=5), TypeError, "checkpoint"),
+    "map2d p None": (lambda: __import__("vibimpact").map2d(None, [1.0], {"kh": [1.0]}),
+                     TypeError, "p "),
+    "map2d store int": (lambda: _map(store=5), TypeError, "store"),
+    "System model string": (lambda: _system(model="rotor"), TypeError, "model"),
+    "System.param None": (lambda: _system().param(None), TypeError, "param"),
+    "System.param unknown": (lambda: _system().param("kq"), ValueError, "param"),
+    "test01 None": (lambda: __import__("vibimpact").analysis.test01(None), TypeError,
+                    "series"),
+    "test01 string": (lambda: __import__("vibimpact").analysis.test01("abc"), TypeError,
+                      "series"),
+    "test01 2-D": (lambda: __import__("vibimpact").analysis.test01(np.zeros((100, 2))),
+                   ValueError, "series"),
+    "contact_arcs None": (lambda: __import__("vibimpact").analysis.contact_arcs(None),
+                          TypeError, "angles"),
+    "contact_arcs 2-D": (lambda: __import__("vibimpact").analysis.contact_arcs(
+        np.zeros((3, 2))), ValueError, "angles"),
+    "open_map None": (lambda: __import__("vibimpact").maps.open_map(None), TypeError,
+                      "path"),
+    "read_netcdf None": (lambda: __import__("vibimpact").io.read_netcdf(None), TypeError,
+                         "path"),
+    "write_netcdf path None": (lambda: __import__("vibimpact").io.write_netcdf(
+        __import__("xarray").Dataset(), None), TypeError, "path"),
 }
 
 

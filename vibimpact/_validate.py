@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 
 import numpy as np
 
@@ -151,3 +152,25 @@ def points(value, name="points"):
     if not np.all(np.isfinite(x)):
         raise ValueError(f"{name} must be finite (no NaN or inf)")
     return x
+
+
+def flag(name, value):
+    """``value`` as a ``bool``: only ``True``/``False`` (numpy's included); a string such as
+    ``"no"`` (which Python would take as true) is :class:`WrongType`."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise WrongType(f"{name} must be True or False, got {type(value).__name__} "
+                        f"{value!r}"[:200])
+    return bool(value)
+
+
+def path(name, value, allow_empty=False):
+    """``value`` as a ``str`` path: a ``str``, ``bytes`` (decoded as the file system
+    does) or an ``os.PathLike``, anything else :class:`WrongType`; an empty path a
+    ``ValueError`` unless ``allow_empty``."""
+    if not isinstance(value, (str, bytes, os.PathLike)):
+        raise WrongType(f"{name} must be a path (str or os.PathLike), got "
+                        f"{type(value).__name__} {value!r}"[:200])
+    text = os.fsdecode(os.fspath(value))
+    if not text and not allow_empty:
+        raise ValueError(f"{name} must be a non-empty path, got {value!r}")
+    return text

@@ -14,6 +14,8 @@ import tempfile
 
 import numpy as np
 
+from . import _validate as _v
+
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
     from typing import Any
@@ -132,9 +134,7 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     ValueError
         Naming ``what``, the path and the reason.
     """
-    path = os.fspath(path)
-    if isinstance(path, bytes):
-        path = os.fsdecode(path)
+    path = _v.path("path", path, allow_empty=True)
     if not path.strip():
         raise ValueError(f"{what} {path!r}: the name is empty")
     try:
@@ -302,6 +302,7 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
     """
     import xarray as xr
 
+    path = _v.path("path", path)
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()
 

@@ -148,7 +148,8 @@ def resolve(p, model=None):
     """
     if model is not None:
         if not isinstance(model, Model):
-            raise ValueError("model must be a vibimpact.models.Model")
+            raise _v.WrongType(f"model must be a vibimpact.models.Model, got "
+                               f"{type(model).__name__}")
         vec = np.ascontiguousarray(p.as_array() if hasattr(p, "as_array") else p,
                                    dtype=np.float64)
         if vec.ndim != 1 or vec.size != len(model.param_names):

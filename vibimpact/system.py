@@ -151,8 +151,11 @@ class System:
         names = self.model.param_names
         if isinstance(name, str) and name in names:
             return names.index(name)
-        if self.builtin or isinstance(name, bool) or \
-                not isinstance(name, (int, np.integer)) or not 0 <= int(name) < len(names):
+        if not isinstance(name, (str, int, np.integer)) or isinstance(name, bool):
+            raise _v.WrongType(f"param must be a parameter's name (str), one of "
+                               f"{', '.join(names)}, got {type(name).__name__} {name!r}")
+        if self.builtin or not isinstance(name, (int, np.integer)) or \
+                not 0 <= int(name) < len(names):
             raise ValueError(f"param must be one of {', '.join(names)}"
                              + ("" if self.builtin else " or an index") + f", got {name!r}")
         return int(name)

@@ -50,11 +50,8 @@ MIN_LENGTH = 20
 
 
 def _series(series):
-    try:
-        x = np.asarray(series, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"series must be a numeric 1-D array: {exc}") from None
-    if x.ndim != 1:
+    x = _v.array1d("series", series)
+    if np.ndim(series) != 1:
         raise ValueError(f"series must be 1-D, got shape {x.shape}")
     if x.size < MIN_LENGTH:
         raise ValueError(f"series must have at least {MIN_LENGTH} values, got {x.size}")

@@ -214,11 +214,8 @@ def contact_arcs(angles: ArrayLike, gap: float = 10.0) -> ContactArcs:
     >>> str(contact_arcs([175.0, 179.0, -178.0, -176.0]))
     '1 small arc (175..-176°)'
     """
-    try:
-        theta = np.asarray(angles, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"angles must be a numeric 1-D array: {exc}") from None
-    if theta.ndim != 1 or not np.all(np.isfinite(theta)):
+    theta = _v.array1d("angles", angles)
+    if np.ndim(angles) != 1 or not np.all(np.isfinite(theta)):
         raise ValueError(f"angles must be 1-D and finite, got shape {theta.shape}")
     if isinstance(gap, bool) or not isinstance(gap, numbers.Real) or not 0.0 < gap < 360.0:
         raise ValueError(f"gap must be a number in (0, 360) degrees, got {gap!r}")

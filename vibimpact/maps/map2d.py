@@ -285,8 +285,10 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     from ..engine.store import Checkpoint
 
     if not isinstance(p, (Params, DuffingParams, System)):
-        raise ValueError(f"p must be vibimpact.Params, DuffingParams or System, got "
-                         f"{type(p).__name__}")
+        raise _v.WrongType(f"p must be vibimpact.Params, DuffingParams or System, got "
+                           f"{type(p).__name__}")
+    resume = _v.flag("resume", resume)
+    store = None if store is None else _v.path("store", store)
     name, values = check_vary(p, vary)
     etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0,

@@ -18,6 +18,8 @@ import warnings
 
 import numpy as np
 
+from .. import _validate as _v
+
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
 
@@ -161,7 +163,7 @@ def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
 
     from ..engine.store import is_checkpoint
 
-    path = os.fspath(path)
+    path = _v.path("path", path)
     if os.path.isdir(path) and is_checkpoint(path):
         from .map2d import partial_map
 

@@ -183,8 +183,11 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     from .dataset import to_dataset
 
     if not isinstance(p, (Params, DuffingParams, System)):
-        raise ValueError(f"p must be vibimpact.Params, DuffingParams or System, got "
-                         f"{type(p).__name__}")
+        raise _v.WrongType(f"p must be vibimpact.Params, DuffingParams or System, got "
+                           f"{type(p).__name__}")
+    continuation = _v.flag("continuation", continuation)
+    resume = _v.flag("resume", resume)
+    checkpoint = None if checkpoint is None else _v.path("checkpoint", checkpoint)
     etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0,
                                      to_system(p).n_state)
