@@ -112,3 +112,16 @@ def test_a_map_row_from_another_map_is_recomputed(tmp_path):
     assert "their 1 row was computed again" in set_aside_line(last, "a", "rows")
     diffs, _ = differences(own, again)
     assert diffs == []
+
+
+def test_saved_counts_distinct_grid_points(tmp_path):
+    """Hypothesis: the interrupt line's count (Checkpoint.saved) counts distinct grid
+    points: an entry beyond the grid or one overlapping another adds nothing (it said
+    "13 points" of an 11-point grid)."""
+    ck = Checkpoint(tmp_path / "ck").open("sweep", {"a": 1}, {"rows": 1, "directions":
+                                                                 ["up"], "points": 3}, False)
+    for k in range(3):
+        ck.save(0, "up", [(k, {"regime": 1, "final_state": np.zeros(4)})])
+    shutil.copy(ck.path / entry_name(0, "up", 1, 2), ck.path / entry_name(0, "up", 1, 3))
+    shutil.copy(ck.path / entry_name(0, "up", 2, 3), ck.path / entry_name(0, "up", 5, 6))
+    assert ck.saved() == (3, 1)

@@ -188,12 +188,16 @@ class Checkpoint:
             return None
 
     def saved(self):
-        """``(points, complete streams)`` in the entries now present (by their names)."""
+        """``(points, complete streams)`` in the entries now present (by their names):
+        distinct grid points, so that overlapping entries or entries beyond the grid
+        never count more points than the request has."""
         per = {}
-        for _, row, d, a, b in self.entries():
-            per[(row, d)] = per.get((row, d), 0) + (b - a)
         n = self._streams_shape()
-        return sum(per.values()), sum(1 for v in per.values() if v == n)
+        for _, row, d, a, b in self.entries():
+            stop = b if n is None else min(b, int(n))
+            per.setdefault((row, d), set()).update(range(a, stop))
+        return (sum(len(v) for v in per.values()),
+                sum(1 for v in per.values() if n is not None and len(v) == n))
 
     def last_resume(self):
         """``{"points", "streams", "damaged", "reasons", "recomputed_points",
