@@ -231,7 +231,7 @@ def image_ext_ok(path, what):
 
 
 class Interrupted(KeyboardInterrupt):
-    """SIGINT or SIGTERM during a sweep; ``signum`` decides the exit status 128 + signum."""
+    """SIGINT or SIGTERM; ``signum`` decides the exit status 128 + signum."""
 
     def __init__(self, signum):
         super().__init__(signum)
@@ -239,10 +239,13 @@ class Interrupted(KeyboardInterrupt):
 
 
 class StopWorkersOnSignal:
-    """While a sweep runs: SIGINT and SIGTERM raise :class:`Interrupted` in the main
-    thread, so both end with the saved-points message and exit status 128 + signum;
-    :func:`vibimpact.sweep` kills its workers on the way out (finished points are already
-    saved atomically, the points in flight are lost).
+    """While it is entered: SIGINT and SIGTERM (what ``timeout`` and batch systems send)
+    raise :class:`Interrupted` in the main thread, so that both unwind alike: temporary
+    files are removed on the way out, workers are killed (finished points are already
+    saved atomically, the points in flight are lost) and the command ends with one line
+    and exit status 128 + signum.  The first signal restores the handlers found on
+    entry, so a second one acts at once.  :func:`vibimpact.cli.main` enters it for the
+    whole command; a sweep or map enters it again around its computation.
     """
 
     def __enter__(self):
@@ -270,9 +273,19 @@ class StopWorkersOnSignal:
 
 
 def interrupt_status(exc):
+    """128 + the signal number of an interrupt (130 for a plain KeyboardInterrupt)."""
     import signal
 
     return 128 + int(getattr(exc, "signum", signal.SIGINT))
+
+
+def report_interrupt(exc, line):
+    """Print ``line`` for the interrupt ``exc`` (once: :func:`vibimpact.cli.main` prints
+    nothing more for it) and return its exit status."""
+    if not getattr(exc, "reported", False):
+        print(line, file=sys.stderr)
+        exc.reported = True
+    return interrupt_status(exc)
 
 
 def checkpoint_of(out):
@@ -283,47 +296,109 @@ def checkpoint_of(out):
     return Checkpoint(out + ".partial")
 
 
+def remove_stale_temporaries(out):
+    """Remove what an earlier run killed while writing ``out`` left beside it: the
+    temporary files and stores of :func:`vibimpact.io.write_netcdf` and
+    :func:`vibimpact.maps.write_map` (``.OUT.*.tmp``, ``.OUT.*.old``) and the temporary
+    entries of its checkpoint (``OUT.partial/.tmp-*``).  Returns their number."""
+    import glob
+    import shutil
+
+    directory, name = os.path.split(os.path.abspath(out))
+    pattern = glob.escape(os.path.join(directory, "." + name + "."))
+    stale = glob.glob(pattern + "*.tmp") + glob.glob(pattern + "*.old") + \
+        glob.glob(os.path.join(glob.escape(out + ".partial"), ".tmp-*"))
+    for path in stale:
+        if os.path.isdir(path) and not os.path.islink(path):
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            try:
+                os.unlink(path)
+            except OSError:
+                pass
+    return len(stale)
+
+
 def check_checkpoint(ckpt, resume):
     """UsageError unless a run may go ahead with ``ckpt``: it exists and is not a
-    directory, or exists without ``resume``."""
+    directory, or exists without ``resume``.  With ``resume``, the temporary files an
+    earlier run killed while writing left are removed (:func:`remove_stale_temporaries`
+    of the output ``ckpt`` belongs to)."""
     try:
         ckpt.check_reusable(resume)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    if ckpt.exists():  # a resume writes into it: try that before computing
+        import tempfile
+
+        try:
+            fd, probe = tempfile.mkstemp(prefix=".tmp-probe-", dir=ckpt.path)
+        except OSError as exc:
+            raise UsageError(f"checkpoint {os.fspath(ckpt.path)!r} is not writable "
+                             f"({exc.strerror or exc})") from None
+        os.close(fd)
+        os.unlink(probe)
+    path = os.fspath(ckpt.path)
+    if resume and path.endswith(".partial"):
+        remove_stale_temporaries(path[:-len(".partial")])
 
 
-def run_checkpointed(ckpt, unit, compute):
-    """``(compute(), None)``, or ``(None, exit status)`` after an interrupt.
+def _saved_line(ckpt, unit, resumable):
+    """What a stopped run kept: ``: 3 points saved in OUT.partial; rerun with --resume``
+    (``resumable``, a checkpoint with something in it), `` before any point was saved``
+    or ``; nothing written`` (no checkpoint, or a command without --resume)."""
+    if ckpt is None or not resumable:
+        return "; nothing written"
+    if not ckpt.exists():
+        return f" before any {unit[:-1]} was saved"
+    points, rows = ckpt.saved()
+    n = points if unit == "points" else rows
+    return (f": {count(n, unit[:-1])} saved in {os.fspath(ckpt.path)}; rerun with "
+            "--resume")
 
-    SIGINT and SIGTERM interrupt ``compute`` (:class:`StopWorkersOnSignal`); the line
-    printed then says how many ``unit`` ("points" or "rows") the checkpoint holds.  A
-    ValueError (a checkpoint of another request, a lost scheduler) is a UsageError.
+
+def run_checkpointed(ckpt, unit, compute, *, resumable=True):
+    """``(compute(), None)``, or ``(None, exit status)`` after an interrupt or a lost
+    worker.
+
+    SIGINT and SIGTERM interrupt ``compute`` (:class:`StopWorkersOnSignal`; exit status
+    128 + signum); a worker process that dies (:class:`vibimpact.engine.executors.
+    WorkerLost`) ends it with exit status 2.  Either way one line says how many ``unit``
+    ("points" or "rows") the checkpoint ``ckpt`` holds and how to resume, unless
+    ``resumable`` is false or ``ckpt`` is None (a command without --resume: "nothing
+    written").  A ValueError (a checkpoint of another request, a lost scheduler) is a
+    UsageError.
     """
+    from .engine.executors import WorkerLost
+
     try:
         with StopWorkersOnSignal():
             return compute(), None
     except KeyboardInterrupt as exc:
-        if ckpt.exists():
-            points, rows = ckpt.saved()
-            n = points if unit == "points" else rows
-            print(f"vibimpact: interrupted: {count(n, unit[:-1])} saved in "
-                  f"{os.fspath(ckpt.path)}; rerun with --resume", file=sys.stderr)
-        else:
-            print(f"vibimpact: interrupted before any {unit[:-1]} was saved",
-                  file=sys.stderr)
-        return None, interrupt_status(exc)
+        return None, report_interrupt(
+            exc, "vibimpact: interrupted" + _saved_line(ckpt, unit, resumable))
+    except WorkerLost as exc:
+        print(f"vibimpact: error: {exc}{_saved_line(ckpt, unit, resumable)}",
+              file=sys.stderr)
+        return None, 2
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    except OSError as exc:  # a checkpoint that cannot be written: disk full, read-only
+        raise UsageError(f"{error_text(exc)}{_saved_line(ckpt, unit, resumable)}") \
+            from None
 
 
-def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit):
+def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit,
+                        resumable=True):
     """Write the result of a checkpointed run and tidy its checkpoint.
 
     Warns about the damaged checkpoint entries the resume recomputed, writes ``ds`` to
     ``out`` with ``write(ds, out, overwrite=...)`` (a failure is a usage error that keeps
     the checkpoint), removes the checkpoint unless ``keep``, and says what a resumed run
-    loaded.  ``unit`` names what the run counts ("points", "rows").  Returns the number of
-    points loaded from the checkpoint and not recomputed.
+    loaded.  ``unit`` names what the run counts ("points", "rows").  SIGINT or SIGTERM
+    while writing removes the temporary file, keeps the checkpoint and says so (with
+    --resume advice if ``resumable``), then propagates.  Returns the number of points
+    loaded from the checkpoint and not recomputed.
     """
     from .engine.store import set_aside_line
 
@@ -333,12 +408,17 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
     if warning:
         print(warning, file=sys.stderr)
     try:
-        write(ds, out, overwrite=overwrite or resuming)
-    except (ValueError, OSError) as exc:
-        raise UsageError(f"{exc} (the computed {unit} stay in {where}; fix the problem "
-                         "and rerun with --resume)") from None
-    if not keep:
-        ckpt.remove()
+        try:
+            write(ds, out, overwrite=overwrite or resuming)
+        except (ValueError, OSError) as exc:
+            raise UsageError(f"{exc} (the computed {unit} stay in {where}; fix the "
+                             "problem and rerun with --resume)") from None
+        if not keep:
+            ckpt.remove()
+    except KeyboardInterrupt as exc:  # the write's temporary file is gone already
+        report_interrupt(exc, "vibimpact: interrupted" + _saved_line(ckpt, unit,
+                                                                      resumable))
+        raise
     if resuming:
         loaded = last["points"] if unit == "points" else last["streams"]
         print(f"vibimpact: resumed from {where}: {count(loaded, unit[:-1])} loaded, not "

@@ -59,9 +59,9 @@ written).
 """
 
 
-from ._cli_common import (add_figure_options, check_output, figure_options, number,
-                          parse_sets, Parser, positive_int, set_verbosity, UsageError,
-                          verbosity)
+from ._cli_common import (add_figure_options, check_output, figure_options,
+                          interrupt_status, number, parse_sets, Parser, positive_int,
+                          set_verbosity, StopWorkersOnSignal, UsageError, verbosity)
 from ._text import count
 
 
@@ -240,21 +240,26 @@ def main(argv=None):
     Returns
     -------
     int
-        The exit status: 0 success, 1 ``rerun`` found a difference, 2 bad input,
-        130 interrupted.
+        The exit status: 0 success, 1 ``rerun`` found a difference, 2 bad input, a
+        failed write or a worker process that died, 130 interrupted (SIGINT, Ctrl-C),
+        143 terminated (SIGTERM, as ``timeout`` and batch systems send).  An
+        interrupted or terminated command removes its temporary files and keeps its
+        checkpoint (SIGTERM is handled as Ctrl-C at every phase).
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
     set_verbosity(verbosity(args))
     try:
-        return args.func(args)
+        with StopWorkersOnSignal():
+            return args.func(args)
     except UsageError as exc:
         print("vibimpact: error: " + " ".join(str(exc).split()), file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("vibimpact: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        if not getattr(exc, "reported", False):  # a command may have said more already
+            print("vibimpact: interrupted", file=sys.stderr)
+        return interrupt_status(exc)
 
 
 if __name__ == "__main__":

@@ -40,7 +40,9 @@ both, (direction, PARAM, eta); variables as in a classify file (regime, label, p
 impacts_per_period, lyapunov, ...).  --vary takes START:STOP:STEP (STOP included when on
 the grid) or a comma-separated list of values.
 
-exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+exit status: 0 written, 2 bad input (nothing computed) or Dask workers died more
+often than Dask retries (checkpoint kept), 130 interrupted (Ctrl-C), 143
+terminated (SIGTERM).
 """
 
 
@@ -137,6 +139,7 @@ def _cmd_map(args):
                          "the cluster's")
     ckpt = checkpoint_of(out)
     resuming = args.resume and ckpt.exists()
+    resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
     _check_map_output(out, args.overwrite or resuming)
     fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
@@ -162,7 +165,8 @@ def _cmd_map(args):
             scheduler=scheduler, workers=workers, task_points=args.task_points,
             store=ckpt.path, resume=args.resume,
             progress=not args.no_progress and "map",
-            command=shlex.join(["vibimpact"] + list(args.argv))))
+            command=shlex.join(["vibimpact"] + list(args.argv))),
+            resumable=resumable)
     finally:
         if scheduler is not None:
             scheduler.close()
@@ -172,7 +176,7 @@ def _cmd_map(args):
     ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
     loaded = finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
                                  keep=args.keep_checkpoint, overwrite=args.overwrite,
-                                 unit="rows")
+                                 unit="rows", resumable=resumable)
     _summary(ds, elapsed, computed=ds["regime"].size - loaded)
     if args.plot is not None:
         from .plotting.map2d import plot_map

@@ -149,6 +149,12 @@ def _cmd_rerun(args):
         os.close(fd)
         os.unlink(new)
     _redirect(parsed, new, args.overwrite if keep else False)
+    parsed.rerun_of = path  # no --resume advice: rerun has none
+    # what the run may leave when stopped: its checkpoint (one that was there before is
+    # refused by the command and kept) and, for the comparison only, its output
+    leftovers = [] if keep else [new]
+    if not os.path.lexists(new + ".partial"):
+        leftovers.append(new + ".partial")
 
     recorded = old.attrs.get("vibimpact_version")
     if recorded and str(recorded) != __version__:
@@ -164,12 +170,11 @@ def _cmd_rerun(args):
             return status
         fresh = _read(new, "rerun output")
     finally:
-        if not keep:
-            for leftover in (new, new + ".partial"):
-                if os.path.isdir(leftover):
-                    shutil.rmtree(leftover, ignore_errors=True)
-                elif os.path.exists(leftover):
-                    os.unlink(leftover)
+        for leftover in leftovers:
+            if os.path.isdir(leftover):
+                shutil.rmtree(leftover, ignore_errors=True)
+            elif os.path.exists(leftover):
+                os.unlink(leftover)
 
     diffs, total = io.differences(old, fresh)
     if not diffs:

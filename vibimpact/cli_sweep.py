@@ -6,12 +6,11 @@ numpy, numba, xarray and matplotlib are imported inside the commands, so ``--hel
 instant.
 """
 import os
-import sys
 
-from ._cli_common import (StopWorkersOnSignal, UsageError, add_figure_options,
-                          check_checkpoint, check_output, checkpoint_of, figure_options,
-                          finish_checkpointed, image_ext_ok, interrupt_status,
-                          parse_analyses, parse_sets, positive_int, run_checkpointed)
+from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
+                          checkpoint_of, figure_options, finish_checkpointed,
+                          image_ext_ok, parse_analyses, parse_sets, positive_int,
+                          run_checkpointed)
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -29,8 +28,9 @@ hysteresis show as in the paper; the sweep is cut into --blocks seeded blocks th
 --workers processes compute at once.  The result depends on --blocks, never on --workers.
 
 Each finished point is saved at once in the checkpoint directory OUT.partial.  After
-Ctrl-C (exit status 130) or a crash, run the same command again with --resume: the saved
-points are loaded, not recomputed, and the file is identical to an uninterrupted run.
+Ctrl-C (exit status 130), SIGTERM (143), a worker process killed (2) or a crash, run the
+same command again with --resume: the saved points are loaded, not recomputed, and the
+file is identical to an uninterrupted run.
 The checkpoint is removed once OUT is written.
 
 Labels need evidence: periodic a period found (or an orbit found by Newton shooting
@@ -47,7 +47,8 @@ settle_periods, shoot_residual, X_m, Y_m, R_m, min_gap, arcs, poincare_X, poinca
 ...; every parameter and the command line as attributes.  The interval table
 (consecutive points with the same label) is printed on stdout.
 
-exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+exit status: 0 written, 2 bad input (nothing computed) or a worker process died
+(checkpoint kept), 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
 """
 
 _BIFURCATION_EPILOG = """\
@@ -59,7 +60,8 @@ Poincare (stroboscopic) points, draws X and Y of the Poincare points against eta
 down sweeps in two colours) and writes the data next to the image (bif.png -> bif.nc);
 'vibimpact plot bif.nc --kind bifurcation' redraws it.
 
-exit status: 0 written, 2 bad input (nothing computed), 130 interrupted.
+exit status: 0 written, 2 bad input (nothing computed) or a worker process died
+(nothing written), 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
 """
 
 _PLOT_EPILOG = """\
@@ -123,6 +125,7 @@ def _cmd_classify(args):
     analyses = parse_analyses(args.analyses)
     ckpt = checkpoint_of(out)
     resuming = args.resume and ckpt.exists()
+    resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
     # with --resume, an output next to its checkpoint is the remains of a run killed
     # between writing the file and removing the checkpoint: it is replaced
     check_output(out, args.overwrite or resuming, "output file")
@@ -135,12 +138,14 @@ def _cmd_classify(args):
     ds, status = run_checkpointed(ckpt, "points", lambda: vi.sweep(
         params, etas, direction=args.direction, analyses=analyses, blocks=args.blocks,
         workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-        progress=not args.no_progress and "classify", command=_command_line(args)))
+        progress=not args.no_progress and "classify", command=_command_line(args)),
+        resumable=resumable)
     if ds is None:
         return status
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
     finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
-                        keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points")
+                        keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points",
+                        resumable=resumable)
     print(format_intervals(vi.intervals(ds)))
     print(f"wrote {out}")
     return 0
@@ -164,18 +169,12 @@ def _cmd_bifurcation(args):
     from . import io
     from .plotting import plot_bifurcation
 
-    try:
-        with StopWorkersOnSignal():
-            ds = vi.sweep(params, etas, direction=args.direction,
-                          analyses=("period", "poincare"), blocks=args.blocks,
-                          workers=args.workers,
-                          progress=not args.no_progress and "bifurcation",
-                          command=_command_line(args))
-    except KeyboardInterrupt as exc:
-        print("vibimpact: interrupted; nothing written", file=sys.stderr)
-        return interrupt_status(exc)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    ds, status = run_checkpointed(None, "points", lambda: vi.sweep(
+        params, etas, direction=args.direction, analyses=("period", "poincare"),
+        blocks=args.blocks, workers=args.workers,
+        progress=not args.no_progress and "bifurcation", command=_command_line(args)))
+    if ds is None:
+        return status
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
     try:
         io.write_netcdf(ds, data, overwrite=args.overwrite)

@@ -1,0 +1,394 @@
+"""Faults from outside (issue 23, failures 1, 4 and 8): a worker process killed with
+SIGKILL (what the OOM killer does) at different moments of classify, bifurcation and map;
+SIGTERM (what ``timeout`` and batch systems send) and SIGINT while every writing command
+computes or writes; rerun stopped; ``map --scheduler`` with a scheduler that cannot be.
+
+Every case runs the real command line in a subprocess and sends real signals; it checks
+the exit status, the one line on stderr, that no temporary file is left, that the
+checkpoint is kept, and that ``--resume`` gives the uninterrupted result bit for bit.
+"""
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from test_cli_sweep import _env, _points, assert_same_data, cli
+
+#: a classify sweep long enough (about 3 s on two workers) to be killed at three moments
+SWEEP = ["--eta", "0.95:1.25:0.002", "--preset", "fig8", "--direction", "both",
+         "--no-progress"]
+N_SWEEP = 2 * 151
+#: a map of 8 rows of 11 points in both directions
+MAP = ["--eta", "1.0:1.1:0.01", "--vary", "kh=10:80:10", "--preset", "fig8",
+       "--direction", "both", "--no-progress"]
+
+#: runs the command line with every dataset write stalled after its temporary file is
+#: complete (it says WRITING on stderr first), so that a signal lands while writing
+STALL = r"""
+import sys, time
+import xarray as xr
+def stall(write):
+    def stalled(self, *args, **kwargs):
+        out = write(self, *args, **kwargs)
+        sys.stderr.write("WRITING\n")
+        sys.stderr.flush()
+        time.sleep(120)
+        return out
+    return stalled
+xr.Dataset.to_netcdf = stall(xr.Dataset.to_netcdf)
+xr.Dataset.to_zarr = stall(xr.Dataset.to_zarr)
+from vibimpact.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def start(args, cwd, stall=False):
+    """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``) in its own session."""
+    code = ["-c", STALL] if stall else ["-m", "vibimpact.cli"]
+    err = open(Path(cwd) / "err.txt", "w")
+    try:
+        return subprocess.Popen([sys.executable, *code, *map(str, args)], cwd=cwd,
+                                env=_env(), stdout=subprocess.DEVNULL, stderr=err,
+                                start_new_session=True)
+    finally:
+        err.close()
+
+
+def wait_for(condition, proc, what, timeout=120):
+    """Poll ``condition()`` until true; fail if ``proc`` ends first or on timeout."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert proc.poll() is None, f"ended before {what}"
+        assert time.monotonic() < deadline, f"no {what} in {timeout} s"
+        time.sleep(0.005)
+
+
+def finish(proc, timeout=60):
+    """Wait for ``proc`` (killed after ``timeout`` s: a hang fails the test)."""
+    try:
+        proc.wait(timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        pytest.fail(f"still running {timeout} s after the fault: a hang")
+    return proc.returncode
+
+
+def messages(cwd):
+    """The lines on stderr, without the stall marker."""
+    text = (Path(cwd) / "err.txt").read_text()
+    assert "Traceback" not in text and "Exception ignored" not in text, text
+    return [line for line in text.splitlines() if line != "WRITING"]
+
+
+def children(pid):
+    """The process ids of the children of ``pid``."""
+    out = set()
+    for task in os.listdir(f"/proc/{pid}/task"):
+        try:
+            out |= {int(c) for c in
+                    Path(f"/proc/{pid}/task/{task}/children").read_text().split()}
+        except OSError:
+            pass
+    return sorted(out)
+
+
+def files(cwd):
+    """The names in ``cwd`` but the test's own stderr file (hidden ones included)."""
+    return sorted(p.name for p in Path(cwd).iterdir() if p.name != "err.txt")
+
+
+def no_temporaries(ckpt):
+    """No temporary entry inside a checkpoint directory."""
+    return not [p for p in Path(ckpt).iterdir() if p.name.startswith(".tmp")]
+
+
+@pytest.fixture(scope="module")
+def references(tmp_path_factory):
+    """The uninterrupted outputs: classify (two workers) and map (in this process)."""
+    from vibimpact.io import read_netcdf
+    from vibimpact.maps import open_map
+
+    d = tmp_path_factory.mktemp("references")
+    r = cli("classify", *SWEEP, "--workers", "2", "-o", "c.nc", cwd=d)
+    assert r.returncode == 0, r.stderr
+    r = cli("map", *MAP, "--workers", "1", "-o", "m.zarr", cwd=d)
+    assert r.returncode == 0, r.stderr
+    return {"classify": read_netcdf(d / "c.nc"), "map": open_map(d / "m.zarr")}
+
+
+# --- a worker killed with SIGKILL ----------------------------------------------------
+
+@pytest.mark.parametrize("moment", [0.0, 0.5, 0.85])
+def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, tmp_path,
+                                                                        references):
+    """Hypothesis: a pool worker of 'classify --workers 2' SIGKILLed early (before any
+    point was saved or just after), mid-run or near the end ends the command within
+    seconds (no hang) with exit status 2 and one line naming the dead worker, the saved
+    points and --resume; the checkpoint holds exactly that many points, nothing goes on
+    computing afterwards, no temporary file is left, and --resume writes the
+    uninterrupted sweep bit for bit."""
+    from vibimpact.io import read_netcdf
+
+    ckpt = tmp_path / "c.nc.partial"
+    proc = start(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], tmp_path)
+    try:
+        wait_for(lambda: len(children(proc.pid)) >= 3 and
+                 len(_points(ckpt)) >= moment * N_SWEEP, proc, "pool workers")
+        victim = children(proc.pid)[-1]  # the pool's workers start after the queue's
+        os.kill(victim, signal.SIGKILL)
+        t0 = time.monotonic()
+        status = finish(proc)
+        elapsed = time.monotonic() - t0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert status == 2 and elapsed < 10, (status, elapsed)
+    lines = messages(tmp_path)
+    assert len(lines) == 1, lines
+    saved = _points(ckpt)
+    m = re.fullmatch(r"vibimpact: error: a worker process died unexpectedly \(killed by "
+                     r"the system or a signal\)(?:: (\d+) points? saved in c\.nc\.partial; "
+                     r"rerun with --resume| before any point was saved)", lines[0])
+    assert m, lines[0]
+    assert int(m.group(1) or 0) == len(saved) <= N_SWEEP  # all: the kill came last
+    time.sleep(0.3)
+    assert _points(ckpt) == saved  # no orphaned worker goes on computing
+    assert files(tmp_path) == (["c.nc.partial"] if ckpt.exists() else [])
+    if ckpt.exists():
+        assert no_temporaries(ckpt)
+
+    r = cli("classify", *SWEEP, "--workers", "2", "-o", "c.nc", "--resume", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert_same_data(read_netcdf(tmp_path / "c.nc"), references["classify"])
+    assert files(tmp_path) == ["c.nc"]
+
+
+def test_killed_queue_process_ends_classify_with_a_resumable_checkpoint(tmp_path):
+    """Hypothesis: the process that carries finished points back (the queue's manager,
+    the first child) SIGKILLed mid-run also ends the command within seconds, exit 2, one
+    line with --resume advice, and the checkpoint is kept."""
+    ckpt = tmp_path / "c.nc.partial"
+    proc = start(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], tmp_path)
+    try:
+        wait_for(lambda: len(children(proc.pid)) >= 3 and len(_points(ckpt)) >= 20, proc,
+                 "20 saved points")
+        os.kill(children(proc.pid)[0], signal.SIGKILL)
+        status = finish(proc)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    lines = messages(tmp_path)
+    assert status == 2 and len(lines) == 1, (status, lines)
+    assert lines[0].startswith("vibimpact: error: ") and "died" in lines[0]
+    assert lines[0].endswith("saved in c.nc.partial; rerun with --resume"), lines[0]
+    assert files(tmp_path) == ["c.nc.partial"] and no_temporaries(ckpt)
+
+
+def test_killed_worker_ends_bifurcation_with_one_line_and_no_file(tmp_path):
+    """Hypothesis: bifurcation (no checkpoint, no --resume) with a pool worker SIGKILLed
+    mid-run ends within seconds, exit 2, one line naming the dead worker and saying
+    nothing was written (no --resume advice), and leaves no file at all."""
+    proc = start(["bifurcation", *SWEEP, "--workers", "2", "-o", "b.png"], tmp_path)
+    try:
+        wait_for(lambda: len(children(proc.pid)) >= 3, proc, "pool workers")
+        time.sleep(0.5)
+        os.kill(children(proc.pid)[-1], signal.SIGKILL)
+        t0 = time.monotonic()
+        status = finish(proc)
+        elapsed = time.monotonic() - t0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert status == 2 and elapsed < 10, (status, elapsed)
+    assert messages(tmp_path) == ["vibimpact: error: a worker process died unexpectedly "
+                                  "(killed by the system or a signal); nothing written"]
+    assert files(tmp_path) == []
+
+
+def test_killed_dask_worker_is_replaced_and_the_map_completes(tmp_path, references):
+    """Hypothesis: 'map --workers 2' (a local Dask cluster) whose worker process is
+    SIGKILLed after the first saved row loses nothing: Dask restarts the worker and runs
+    its tasks again, the command ends with exit 0, no temporary file, and its map equals
+    the serial one bit for bit."""
+    from vibimpact.maps import open_map
+
+    ckpt = tmp_path / "m.zarr.partial"
+    proc = start(["map", *MAP, "--workers", "2", "-o", "m.zarr"], tmp_path)
+    try:
+        wait_for(lambda: _points(ckpt), proc, "a saved row")
+        # the nannies run in the command's process, their workers are spawned children
+        workers = [w for w in children(proc.pid)
+                   if b"spawn_main" in Path(f"/proc/{w}/cmdline").read_bytes()]
+        assert workers, children(proc.pid)
+        os.kill(workers[-1], signal.SIGKILL)
+        assert len(_points(ckpt)) < 16  # 8 rows, 2 directions: killed mid-run
+        status = finish(proc, timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert status == 0, messages(tmp_path)
+    assert files(tmp_path) == ["m.zarr"]
+    assert_same_data(open_map(tmp_path / "m.zarr"), references["map"])
+
+
+# --- SIGTERM / SIGINT at every phase --------------------------------------------------
+
+def interrupt_while_writing(args, cwd, signum=signal.SIGTERM):
+    """Run ``args`` with its writes stalled, send ``signum`` once it writes; the exit
+    status and the stderr lines."""
+    proc = start(args, cwd, stall=True)
+    try:
+        wait_for(lambda: "WRITING" in (Path(cwd) / "err.txt").read_text(), proc,
+                 "a write")
+        proc.send_signal(signum)
+        status = finish(proc)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    return status, messages(cwd)
+
+
+SIMPLE = {
+    "simulate": ["simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "20",
+                 "--transient", "20", "-o", "r.nc"],
+    "simulate --plot": ["simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "20",
+                        "--transient", "20", "-o", "r.nc", "--plot", "xy.png"],
+    "bifurcation": ["bifurcation", "--eta", "1.0:1.03:0.01", "--no-progress", "-o",
+                    "b.png"],
+    "continue": ["continue", "--preset", "fig8", "--eta", "1.12", "--stop", "1.13", "-o",
+                 "p.nc"],
+}
+
+
+@pytest.mark.parametrize("name", sorted(SIMPLE))
+def test_sigterm_while_writing_leaves_nothing(name, tmp_path):
+    """Hypothesis: SIGTERM while a command without a checkpoint writes its output (its
+    temporary file complete, not yet renamed) is handled as Ctrl-C: exit 143, the one
+    line 'vibimpact: interrupted', and no file left, temporary or final."""
+    status, lines = interrupt_while_writing(SIMPLE[name], tmp_path)
+    assert status == 143 and lines == ["vibimpact: interrupted"], (status, lines)
+    assert files(tmp_path) == []
+
+
+CHECKPOINTED = {
+    "classify": (["classify", "--eta", "1.0:1.03:0.01", "--preset", "fig8",
+                  "--no-progress", "-o", "c.nc"], "c.nc", "4 points"),
+    "map": (["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=10:20:10", "--preset",
+             "fig8", "--workers", "1", "--no-progress", "-o", "m.zarr"], "m.zarr",
+            "2 rows"),
+}
+
+
+@pytest.mark.parametrize("sig", ["SIGTERM", "SIGINT"])
+@pytest.mark.parametrize("name", sorted(CHECKPOINTED))
+def test_signal_while_writing_keeps_the_checkpoint_and_resumes(name, sig, tmp_path):
+    """Hypothesis: SIGTERM (exit 143) or SIGINT (130) while classify or map writes its
+    output removes the temporary file, keeps the complete checkpoint and says so in one
+    line with --resume advice; a stale temporary file of the output and of the
+    checkpoint (what a SIGKILL at that moment leaves) is removed by --resume, whose
+    output equals the uninterrupted run's bit for bit."""
+    from vibimpact.io import read_netcdf
+    from vibimpact.maps import open_map
+
+    args, out, saved = CHECKPOINTED[name]
+    signum = getattr(signal, sig)
+    status, lines = interrupt_while_writing(args, tmp_path, signum)
+    assert status == 128 + signum, (status, lines)
+    assert lines == [f"vibimpact: interrupted: {saved} saved in {out}.partial; rerun "
+                     "with --resume"]
+    assert files(tmp_path) == [f"{out}.partial"]
+    ckpt = tmp_path / f"{out}.partial"
+    assert no_temporaries(ckpt)
+    (tmp_path / f".{out}.abc123.tmp").write_bytes(b"stale")  # as a SIGKILL leaves
+    (ckpt / ".tmp-xyz.npz").write_bytes(b"stale")
+
+    r = cli(*args, "--resume", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert files(tmp_path) == [out] and "Traceback" not in r.stderr
+    read = read_netcdf if out.endswith(".nc") else open_map
+    ref = tmp_path / "ref"
+    ref.mkdir()
+    assert cli(*args, cwd=ref).returncode == 0
+    assert_same_data(read(tmp_path / out), read(ref / out))
+
+
+def test_sigterm_while_computing_a_sweep_keeps_its_points(tmp_path, references):
+    """Hypothesis: SIGTERM to the whole process group (as 'timeout' sends it) while
+    'classify --workers 2' computes ends it with exit 143 and the saved-points line;
+    the workers stop with it and --resume gives the uninterrupted sweep."""
+    from vibimpact.io import read_netcdf
+
+    ckpt = tmp_path / "c.nc.partial"
+    proc = start(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], tmp_path)
+    try:
+        wait_for(lambda: len(_points(ckpt)) >= 10, proc, "10 saved points")
+        os.killpg(proc.pid, signal.SIGTERM)
+        status = finish(proc)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    lines = messages(tmp_path)
+    saved = _points(ckpt)
+    assert status == 143 and lines == [f"vibimpact: interrupted: {len(saved)} points "
+                                       "saved in c.nc.partial; rerun with --resume"]
+    time.sleep(0.3)
+    assert _points(ckpt) == saved and files(tmp_path) == ["c.nc.partial"]
+    r = cli("classify", *SWEEP, "--workers", "2", "-o", "c.nc", "--resume", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert_same_data(read_netcdf(tmp_path / "c.nc"), references["classify"])
+
+
+@pytest.mark.parametrize("moment", ["computing", "writing"])
+def test_stopped_rerun_leaves_no_hidden_file_and_no_resume_advice(moment, tmp_path):
+    """Hypothesis: 'vibimpact rerun c.nc' stopped by SIGTERM while it recomputes or
+    writes removes its hidden output and checkpoint (.c.nc.rerun-*), exits 143 and says
+    'interrupted; nothing written' without advising a --resume that rerun lacks."""
+    args = ["classify", "--eta", "1.0:1.03:0.01", "--preset", "fig8", "--no-progress",
+            "-o", "c.nc"]
+    assert cli(*args, cwd=tmp_path).returncode == 0
+    if moment == "writing":
+        status, lines = interrupt_while_writing(["rerun", "c.nc"], tmp_path)
+    else:
+        proc = start(["rerun", "c.nc"], tmp_path)
+        try:
+            wait_for(lambda: any(p.name.endswith(".partial") and _points(p)
+                                 for p in tmp_path.iterdir()), proc, "a saved point")
+            proc.send_signal(signal.SIGTERM)
+            status = finish(proc)
+        finally:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+        lines = messages(tmp_path)
+    assert status == 143 and lines == ["vibimpact: interrupted; nothing written"], \
+        (status, lines)
+    assert files(tmp_path) == ["c.nc"]
+
+
+# --- map --scheduler that cannot be ---------------------------------------------------
+
+@pytest.mark.parametrize("scheduler,needle", [
+    ("garbage.json", "is not a Dask scheduler file"),
+    ("adir", "is a directory"),
+    ("foo://bar", "unknown protocol 'foo'"),
+    ("tcp://somehost", "missing port number")])
+def test_map_with_an_impossible_scheduler_fails_at_once(scheduler, needle, tmp_path):
+    """Hypothesis: 'map --scheduler' with a garbage file, a directory, an unknown
+    protocol or an address without a port ends in seconds with one line and exit 2:
+    no 40 s wait and no 'Exception ignored in Client.__del__' traceback afterwards."""
+    (tmp_path / "garbage.json").write_text("not json")
+    (tmp_path / "adir").mkdir()
+    t0 = time.monotonic()
+    r = subprocess.run([sys.executable, "-m", "vibimpact.cli", "map", "--eta",
+                        "1.0:1.02:0.01", "--vary", "kh=10:20:10", "--scheduler",
+                        scheduler, "-o", "m.zarr"], cwd=tmp_path, env=_env(),
+                       capture_output=True, text=True, timeout=60)
+    assert time.monotonic() - t0 < 15
+    assert r.returncode == 2 and r.stderr.splitlines() == [r.stderr.strip()], r.stderr
+    assert r.stderr.startswith("vibimpact: error: --scheduler: ") and needle in r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["adir", "garbage.json"]
