@@ -96,6 +96,9 @@ def _branch_io(name, what):
     if what == "run":
         run = vi.simulate(vi.presets.get("fig8"), periods=1)
         return branches.branch_to_dataset(run, vi.System(vi.presets.get("fig8")))
+    if what is None:
+        return getattr(branches, name)(None, *((vi.System(vi.presets.get("fig8")),)
+                                              if name == "branch_to_dataset" else ()))
     return getattr(branches, name)(xr.Dataset({"x": ("t", [1.0])}))
 
 
@@ -352,7 +355,59 @@ CONTRACT_CASES = {
                          "path"),
     "write_netcdf path None": (lambda: __import__("vibimpact").io.write_netcdf(
         __import__("xarray").Dataset(), None), TypeError, "path"),
+    "sweep progress int": (lambda: _sweep([1.0], progress=5), TypeError, "progress"),
+    "sweep_start eta string": (lambda: _sweep_start(eta="1.0"), TypeError, "eta"),
+    "sweep_start direction int": (lambda: _sweep_start(direction=1), TypeError,
+                                  "direction"),
+    "sweep_params None": (lambda: __import__("vibimpact").sweeps.sweep_params(None),
+                          TypeError, "ds"),
+    "follow_branch stop string": (lambda: _follow_to("1.2"), TypeError, "stop"),
+    "branch_to_dataset None": (lambda: _branch_io("branch_to_dataset", None), TypeError,
+                               "branch"),
+    "branch_from_dataset None": (lambda: _branch_io("branch_from_dataset", None),
+                                 TypeError, "ds"),
+    "plot_response ax int": (lambda: _plot_with(ax=5), TypeError, "ax"),
+    "plot_response figsize string": (lambda: _plot_with(figsize="4x3"), TypeError,
+                                     "figsize"),
+    "plot_response figsize of 3": (lambda: _plot_with(figsize=(1, 2, 3)), ValueError,
+                                   "figsize"),
+    "plot_response dpi string": (lambda: _plot_with(dpi="100"), TypeError, "dpi"),
+    "plot_response dpi -1": (lambda: _plot_with(dpi=-1), ValueError, "dpi"),
+    "plot_response style int": (lambda: _plot_with(style=1), TypeError, "style"),
 }
+
+
+def _sweep_ds():
+    """A two-point sweep dataset made by hand (no computation)."""
+    import vibimpact as vi
+    from vibimpact.points.point import PointResult, SweepSettings
+    from vibimpact.sweeps.dataset import to_dataset
+
+    res = PointResult.empty(4, 64).as_dict()
+    res.update(regime=1, period=1, final_state=np.zeros(4))
+    return to_dataset(vi.presets.get("fig8"), np.array([1.0, 1.1]), ("up",),
+                      {"up": [res, res]}, SweepSettings(), direction="up",
+                      continuation=True, blocks=1, command="")
+
+
+def _sweep_start(**kw):
+    import vibimpact as vi
+
+    return vi.sweeps.sweep_start(_sweep_ds(), **{"eta": 1.0, "direction": "up", **kw})
+
+
+def _plot_with(**kw):
+    import vibimpact as vi
+
+    kw.setdefault("ax", None)
+    return vi.plotting.plot_response(_sweep_ds(), kw.pop("ax"), **kw)
+
+
+def _follow_to(stop):
+    import vibimpact as vi
+    from vibimpact.branches import follow_branch
+
+    return follow_branch(vi.presets.get("fig8"), stop=stop)
 
 
 @pytest.mark.parametrize("case", list(CONTRACT_CASES))

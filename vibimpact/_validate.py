@@ -174,3 +174,13 @@ def path(name, value, allow_empty=False):
     if not text and not allow_empty:
         raise ValueError(f"{name} must be a non-empty path, got {value!r}")
     return text
+
+
+def dataset(name, value, what="an xarray.Dataset", hint=""):
+    """``value`` if it is an ``xarray.Dataset``; :class:`WrongType` naming ``name`` and
+    saying what to pass (``what``, then ``hint``) otherwise."""
+    import xarray as xr
+
+    if not isinstance(value, xr.Dataset):
+        raise WrongType(f"{name} must be {what}, got {type(value).__name__}{hint}")
+    return value

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _validate as _v
 from ._fill import complex_parts
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -120,11 +121,11 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     ValueError
         Naming the argument (``state0`` when no period-``n`` orbit is found there).
     """
-    from . import _validate as _v
     from .analysis import Steps, continue_orbit
     from .system import to_system
 
     system = to_system(system)
+    stop = _v.finite("stop", stop)
     transient = _v.count("transient", transient, 0)
     mdl = system.model
     omega_name = mdl.param_names[mdl.omega_index]
@@ -242,7 +243,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     from .system import param_dict, to_system
 
     if not isinstance(branch, Branch):
-        raise ValueError(f"branch must be a vibimpact.analysis.Branch, got "
+        raise _v.WrongType(f"branch must be a vibimpact.analysis.Branch, got "
                          f"{type(branch).__name__}")
     system = to_system(system)
     names = list(system.model.state_names)
@@ -287,6 +288,7 @@ def branch_from_dataset(ds: xr.Dataset) -> Branch:
     """
     from .analysis import Branch
 
+    _v.dataset("ds", ds, "the xarray.Dataset of a continued branch (branch_to_dataset)")
     if not is_branch_dataset(ds):
         raise ValueError("ds is not a continued branch (a 'vibimpact continue' file)")
     kinds = {v: k for k, v in BIFURCATION_CODES.items()}

@@ -5,6 +5,8 @@ from __future__ import annotations
 import contextlib
 import sys
 
+from .. import _validate as _v
+
 
 def nothing(k):
     """The progress callback that reports nothing."""
@@ -49,4 +51,4 @@ def callback(progress, total, desc, unit="pt"):
         return contextlib.nullcontext(progress)
     if isinstance(progress, str):
         return bar(bool(progress), total, progress, unit)
-    return bar(bool(progress), total, desc, unit)
+    return bar(progress is not None and _v.flag("progress", progress), total, desc, unit)

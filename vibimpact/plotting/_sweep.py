@@ -5,6 +5,8 @@ import json
 
 import numpy as np
 
+from .. import _validate as _v
+
 #: colour of each sweep direction
 DIRECTION_COLORS = {"up": "tab:blue", "down": "tab:orange"}
 
@@ -75,8 +77,15 @@ def new_figure(lk, nrows, height, paper_height):
 
 
 def axes_of(ax, n, what):
-    """``(figure, list of n axes)`` from a caller's ``ax``; ValueError naming ``ax``."""
-    axes = list(ax) if not hasattr(ax, "plot") else [ax]
+    """``(figure, list of n axes)`` from a caller's ``ax``; ValueError naming ``ax`` (a
+    TypeError for something that holds no Axes)."""
+    try:
+        axes = list(ax) if not hasattr(ax, "plot") else [ax]
+    except TypeError:
+        axes = [ax]
+    if not all(hasattr(a, "plot") and hasattr(a, "figure") for a in axes):
+        raise _v.WrongType(f"ax must be {n} matplotlib Axes ({what}), got "
+                           f"{type(ax).__name__} {ax!r}"[:200])
     if len(axes) != n:
         raise ValueError(f"ax must be {n} Axes ({what})")
     return axes[0].figure, axes

@@ -25,6 +25,8 @@ import os
 import tempfile
 from dataclasses import dataclass
 
+from .. import _validate as _v
+
 if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.figure import Figure
 
@@ -87,17 +89,18 @@ def check_figsize(figsize):
     """
     if figsize is None:
         return None
-    bad = ValueError(f"figsize must be (width, height) in inches, two finite numbers "
-                     f"> 0, got {figsize!r}")
+    text = (f"figsize must be (width, height) in inches, two finite numbers > 0, got "
+            f"{figsize!r}")
     if isinstance(figsize, (str, bytes)):
-        raise bad
+        raise _v.WrongType(text)
     try:
         pair = tuple(figsize)
     except TypeError:
-        raise bad from None
-    if len(pair) != 2 or not all(isinstance(v, numbers.Real) and not isinstance(v, bool)
-                                 and math.isfinite(v) and v > 0 for v in pair):
-        raise bad
+        raise _v.WrongType(text) from None
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in pair):
+        raise _v.WrongType(text)
+    if len(pair) != 2 or not all(math.isfinite(v) and v > 0 for v in pair):
+        raise ValueError(text)
     return float(pair[0]), float(pair[1])
 
 
@@ -111,9 +114,11 @@ def check_dpi(dpi):
     """
     if dpi is None:
         return None
-    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real) or \
-            not math.isfinite(dpi) or dpi <= 0:
-        raise ValueError(f"dpi must be a finite number > 0 (dots per inch), got {dpi!r}")
+    text = f"dpi must be a finite number > 0 (dots per inch), got {dpi!r}"
+    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real):
+        raise _v.WrongType(text)
+    if not math.isfinite(dpi) or dpi <= 0:
+        raise ValueError(text)
     return float(dpi)
 
 
@@ -127,7 +132,10 @@ def check_style(style):
     """
     if style is None:
         return "default"
-    if not isinstance(style, str) or style not in STYLES:
+    if not isinstance(style, str):
+        raise _v.WrongType(f"style must be a str, one of {', '.join(map(repr, STYLES))}, "
+                           f"got {type(style).__name__} {style!r}")
+    if style not in STYLES:
         raise ValueError(f"style must be one of {', '.join(map(repr, STYLES))}, "
                          f"got {style!r}")
     return style

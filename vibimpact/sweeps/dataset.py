@@ -15,6 +15,7 @@ import sys
 import numpy as np
 
 from .. import __version__
+from .. import _validate as _v
 from .._fill import complex_parts, not_computed
 from .._text import count
 from ..analysis.classify import Label
@@ -30,6 +31,9 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..params import DuffingParams, Params
     from ..points.point import PointResult, SweepSettings
     from ..system import System
+
+#: what a function that takes a sweep's dataset asks for, in its TypeError
+SWEEP_DATASET = "the xarray.Dataset of a sweep (vibimpact.sweep)"
 
 #: variable -> (dtype, units, long_name)
 VARIABLES = {
@@ -246,6 +250,7 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None) -> Params:
     """
     from ..params import Params
 
+    _v.dataset("ds", ds, SWEEP_DATASET)
     try:
         params = json.loads(ds.attrs["params"])
         return Params(**params) if eta is None else Params(**params, eta=eta)
@@ -275,9 +280,7 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
     """
     import xarray as xr
 
-    if not isinstance(ds, xr.Dataset):
-        raise TypeError(f"ds must be the xarray.Dataset of a sweep (vibimpact.sweep), got "
-                        f"{type(ds).__name__}")
+    _v.dataset("ds", ds, SWEEP_DATASET)
     if "label" not in ds or "eta" not in ds.dims:
         raise ValueError("ds must be a sweep dataset (variables label, regime; dim eta)")
     if "direction" in ds.dims:

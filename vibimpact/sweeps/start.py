@@ -31,7 +31,8 @@ import numpy as np
 
 from ..analysis.classify import Label
 from ..points.codes import REGIME_CODES
-from .dataset import sweep_params
+from .. import _validate as _v
+from .dataset import SWEEP_DATASET, sweep_params
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
@@ -137,12 +138,8 @@ def _directions(ds):
 
 
 def _check_sweep(ds):
-    import xarray as xr
-
-    if not isinstance(ds, xr.Dataset):
-        hint = "; a Run is one simulation, not a sweep" if hasattr(ds, "strobe") else ""
-        raise TypeError(f"ds must be the xarray.Dataset of a sweep (vibimpact.sweep), got "
-                        f"{type(ds).__name__}{hint}")
+    hint = "; a Run is one simulation, not a sweep" if hasattr(ds, "strobe") else ""
+    _v.dataset("ds", ds, SWEEP_DATASET, hint)
     if "map_vary" in ds.attrs:
         raise ValueError("ds is a parameter map (vibimpact map), not a sweep")
     missing = [n for n in ("regime", "label", "final_state") if n not in ds]
@@ -230,6 +227,9 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
         if len(dirs) > 1:
             raise ValueError(f"direction: the sweep has {' and '.join(dirs)}; give one")
         direction = dirs[0]
+    elif not isinstance(direction, str):
+        raise _v.WrongType(f"direction must be a str, one of {', '.join(dirs)}, got "
+                           f"{type(direction).__name__} {direction!r}")
     elif direction not in dirs:
         raise ValueError(f"direction {direction!r} is not in the sweep (it has "
                          f"{' and '.join(dirs)})")
@@ -238,7 +238,7 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     if eta is None and grid.size != 1:
         raise ValueError(f"eta: give one of the sweep's {grid.size} grid values (from "
                          f"{grid.min():.12g} to {grid.max():.12g})")
-    i = 0 if eta is None else grid_index(grid, eta)
+    i = 0 if eta is None else grid_index(grid, _v.finite("eta", eta))
     at = float(sub["eta"].values[i])
     where = f"eta = {at:.12g} ({direction})"
     regime = int(sub["regime"].values[i])
