@@ -378,7 +378,8 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
         return None, report_interrupt(
             exc, "vibimpact: interrupted" + _saved_line(ckpt, unit, resumable))
     except WorkerLost as exc:
-        print(f"vibimpact: error: {exc}{_saved_line(ckpt, unit, resumable)}",
+        text = " ".join(str(exc).split())  # Dask's KilledWorker spans lines
+        print(f"vibimpact: error: {text}{_saved_line(ckpt, unit, resumable)}",
               file=sys.stderr)
         return None, 2
     except ValueError as exc:
