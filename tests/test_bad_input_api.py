@@ -374,6 +374,14 @@ CONTRACT_CASES = {
     "plot_response dpi string": (lambda: _plot_with(dpi="100"), TypeError, "dpi"),
     "plot_response dpi -1": (lambda: _plot_with(dpi=-1), ValueError, "dpi"),
     "plot_response style int": (lambda: _plot_with(style=1), TypeError, "style"),
+    "impact_count None": (lambda: __import__("vibimpact").analysis.impact_count(None, 10),
+                          TypeError, "impact_period"),
+    "impact_count impact records": (lambda: __import__("vibimpact").analysis.impact_count(
+        np.zeros(0, dtype=[("t_entry", "f8")]), 10), TypeError, "impact_period"),
+    "impact_count negative": (lambda: __import__("vibimpact").analysis.impact_count(
+        [-1], 10), ValueError, "impact_period"),
+    "impact_statistics None": (lambda: __import__("vibimpact").analysis.impact_statistics(
+        None), TypeError, "impacts"),
 }
 
 

@@ -106,6 +106,10 @@ def impact_count(impact_period: ArrayLike, n_periods: int, period: int = 1) -> I
     (8.0, True)
     """
     idx = np.asarray(impact_period)
+    if idx.dtype.kind not in "iuf":  # None, text, a Run's impact records, booleans
+        raise _v.WrongType(f"impact_period must be a 1-D array of integer period "
+                           f"indices >= 0, got {type(impact_period).__name__} of "
+                           f"dtype {idx.dtype}")
     integral = idx.size == 0 or idx.dtype.kind in "iu" or (
         idx.dtype.kind == "f" and np.all(np.isfinite(idx)) and np.all(idx == np.round(idx)))
     if idx.ndim != 1 or not integral or np.any(idx < 0):
@@ -283,13 +287,14 @@ def impact_statistics(impacts: np.ndarray) -> ImpactStatistics:
 
     Raises
     ------
-    ValueError
-        When ``impacts`` lacks those fields.
+    TypeError
+        When ``impacts`` lacks those fields (:class:`vibimpact._validate.WrongType`).
     """
     a, needed = np.asarray(impacts), {"v_impact", "penetration", "duration"}
     if not needed <= set(a.dtype.names or ()):
-        raise ValueError("impacts must be a structured array with fields v_impact, "
-                         "penetration and duration (vibimpact.run.IMPACT_DTYPE)")
+        raise _v.WrongType(f"impacts must be a structured array with fields v_impact, "
+                           f"penetration and duration (vibimpact.run.IMPACT_DTYPE), got "
+                           f"{type(impacts).__name__}")
     a, nan = a.ravel(), float("nan")
     if a.size == 0:
         return ImpactStatistics(0, nan, nan, nan, nan)
