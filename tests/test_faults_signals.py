@@ -318,30 +318,67 @@ def test_signal_while_writing_keeps_the_checkpoint_and_resumes(name, sig, tmp_pa
     assert_same_data(read(tmp_path / out), read(ref / out))
 
 
-def test_sigterm_while_computing_a_sweep_keeps_its_points(tmp_path, references):
-    """Hypothesis: SIGTERM to the whole process group (as 'timeout' sends it) while
-    'classify --workers 2' computes ends it with exit 143 and the saved-points line;
-    the workers stop with it and --resume gives the uninterrupted sweep."""
-    from vibimpact.io import read_netcdf
+COMPUTING = {"classify": (["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], "c.nc",
+                          "point"),
+             "map": (["map", *MAP, "--workers", "2", "-o", "m.zarr"], "m.zarr", "row")}
 
-    ckpt = tmp_path / "c.nc.partial"
-    proc = start(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], tmp_path)
+
+@pytest.mark.parametrize("name", sorted(COMPUTING))
+def test_group_sigterm_while_computing_keeps_the_saved_points(name, tmp_path,
+                                                              references):
+    """Hypothesis: SIGTERM to the whole process group (as 'timeout' sends it) while
+    'classify --workers 2' (a process pool) or 'map --workers 2' (a Dask cluster)
+    computes ends it within seconds with exit 143 and the saved-count line; the workers
+    stop with it (nothing is saved afterwards) and --resume gives the uninterrupted
+    result bit for bit."""
+    from vibimpact.io import read_netcdf
+    from vibimpact.maps import open_map
+
+    args, out, unit = COMPUTING[name]
+    ckpt = tmp_path / f"{out}.partial"
+    proc = start(args, tmp_path)
     try:
-        wait_for(lambda: len(_points(ckpt)) >= 10, proc, "10 saved points")
+        wait_for(lambda: len(_points(ckpt)) >= 2, proc, "2 saved entries")
         os.killpg(proc.pid, signal.SIGTERM)
+        t0 = time.monotonic()
         status = finish(proc)
+        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
     lines = messages(tmp_path)
     saved = _points(ckpt)
-    assert status == 143 and lines == [f"vibimpact: interrupted: {len(saved)} points "
-                                       "saved in c.nc.partial; rerun with --resume"]
-    time.sleep(0.3)
-    assert _points(ckpt) == saved and files(tmp_path) == ["c.nc.partial"]
-    r = cli("classify", *SWEEP, "--workers", "2", "-o", "c.nc", "--resume", cwd=tmp_path)
+    n = len(saved) if unit == "point" else len({f.split("-")[0] for f in saved})
+    assert status == 143 and elapsed < 15, (status, elapsed)
+    assert lines == [f"vibimpact: interrupted: {n} {unit}{'s' * (n != 1)} saved in "
+                     f"{out}.partial; rerun with --resume"]
+    time.sleep(0.5)
+    assert _points(ckpt) == saved and files(tmp_path) == [f"{out}.partial"]
+    r = cli(*args, "--resume", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    assert_same_data(read_netcdf(tmp_path / "c.nc"), references["classify"])
+    read = read_netcdf if out.endswith(".nc") else open_map
+    assert_same_data(read(tmp_path / out), references[name])
+
+
+def test_sigterm_while_simulating_leaves_nothing(tmp_path):
+    """Hypothesis: SIGTERM while a long simulate integrates (or still imports) ends it
+    within seconds (the kernel returns to Python often enough), exit 143, the one line
+    'vibimpact: interrupted', no file."""
+    proc = start(["simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "100000",
+                  "--transient", "0", "-o", "r.nc"], tmp_path)
+    try:
+        time.sleep(2.5)
+        assert proc.poll() is None, messages(tmp_path)
+        proc.send_signal(signal.SIGTERM)
+        t0 = time.monotonic()
+        status = finish(proc)
+        elapsed = time.monotonic() - t0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert status == 143 and elapsed < 10, (status, elapsed)
+    assert messages(tmp_path) == ["vibimpact: interrupted"]
+    assert files(tmp_path) == []
 
 
 @pytest.mark.parametrize("moment", ["computing", "writing"])
