@@ -104,3 +104,20 @@ def test_eta_step_below_a_floats_resolution_says_so():
 
     with pytest.raises(ValueError, match=r"STEP 1 is below a float.s resolution at 1e\+17"):
         parse_range("1e17:100000000000000032:1")
+
+
+def test_interval_table_prints_large_eta_in_its_columns():
+    """Hypothesis: the interval table prints an eta of 10^4 or more with 4 significant
+    digits in its 8 columns (eta = 1e300, which the parser now accepts like --eta 1e300,
+    printed 300 digits), and ordinary values with 4 decimals as before."""
+    import xarray as xr
+
+    from vibimpact.sweeps import format_intervals
+
+    iv = xr.Dataset({"start": ("interval", [1e300, 1.1]), "end": ("interval", [1e300, 1.2]),
+                     "points": ("interval", [1, 11]),
+                     "label": ("interval", ["diverged", "P1 impactless"]),
+                     "direction": ("interval", ["up", "up"])})
+    lines = format_intervals(iv).splitlines()
+    assert lines[1] == "up          1e+300   1e+300      1  diverged"
+    assert lines[2] == "up          1.1000   1.2000     11  P1 impactless"

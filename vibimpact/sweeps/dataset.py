@@ -343,14 +343,16 @@ def format_intervals(iv: xr.Dataset) -> str:
     -------
     str
     """
-    import xarray as xr
-
-    if not isinstance(iv, xr.Dataset):
-        raise TypeError(f"iv must be the xarray.Dataset of intervals(ds), got "
-                        f"{type(iv).__name__}")
+    _v.dataset("iv", iv, "the xarray.Dataset of intervals(ds)")
     lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
     for k in range(iv.sizes["interval"]):
-        lines.append(f"{str(iv['direction'].values[k]):<9} {iv['start'].values[k]:8.4f} "
-                     f"{iv['end'].values[k]:8.4f} {int(iv['points'].values[k]):6d}  "
+        lines.append(f"{str(iv['direction'].values[k]):<9} {_eta(iv['start'].values[k])} "
+                     f"{_eta(iv['end'].values[k])} {int(iv['points'].values[k]):6d}  "
                      f"{iv['label'].values[k]}")
     return "\n".join(lines)
+
+
+def _eta(value):
+    """A grid value in the interval table's 8 columns: 4 decimals, or 4 significant digits
+    from 10^4 on (1e300 printed 300 digits)."""
+    return f"{value:8.4f}" if abs(value) < 1e4 else f"{value:8.4g}"
