@@ -47,13 +47,15 @@ sys.exit(main(sys.argv[1:]))
 """
 
 
-def start(args, cwd, stall=False):
-    """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``) in its own session."""
+def start(args, cwd, stall=False, env=None):
+    """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``, ``env`` added to the
+    environment) in its own session."""
     code = ["-c", STALL] if stall else ["-m", "vibimpact.cli"]
     err = open(Path(cwd) / "err.txt", "w")
     try:
         return subprocess.Popen([sys.executable, *code, *map(str, args)], cwd=cwd,
-                                env=_env(), stdout=subprocess.DEVNULL, stderr=err,
+                                env=dict(_env(), **(env or {})),
+                                stdout=subprocess.DEVNULL, stderr=err,
                                 start_new_session=True)
     finally:
         err.close()
@@ -211,28 +213,52 @@ def test_killed_worker_ends_bifurcation_with_one_line_and_no_file(tmp_path):
     assert files(tmp_path) == []
 
 
-def test_killed_dask_worker_is_replaced_and_the_map_completes(tmp_path, references):
+def dask_workers(pid):
+    """The Dask worker processes of a local cluster started by the command ``pid`` (the
+    nannies run in its process, their workers are spawned children)."""
+    return [w for w in children(pid)
+            if b"spawn_main" in Path(f"/proc/{w}/cmdline").read_bytes()]
+
+
+@pytest.mark.parametrize("retries", [3, 0])
+def test_killed_dask_worker_is_replaced_or_ends_the_map_resumably(retries, tmp_path,
+                                                                   references):
     """Hypothesis: 'map --workers 2' (a local Dask cluster) whose worker process is
-    SIGKILLed after the first saved row loses nothing: Dask restarts the worker and runs
-    its tasks again, the command ends with exit 0, no temporary file, and its map equals
-    the serial one bit for bit."""
+    SIGKILLed after the first saved row loses nothing.  With Dask's default retries the
+    worker is restarted and its tasks run again: exit 0, no temporary file, the serial
+    map bit for bit.  With no retries left (allowed-failures 0) the map ends within
+    seconds with exit 2 and one line (no scheduler log lines) naming the saved rows and
+    --resume, and --resume gives the serial map bit for bit."""
     from vibimpact.maps import open_map
 
     ckpt = tmp_path / "m.zarr.partial"
-    proc = start(["map", *MAP, "--workers", "2", "-o", "m.zarr"], tmp_path)
+    env = {"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": str(retries)}
+    proc = start(["map", *MAP, "--workers", "2", "-o", "m.zarr"], tmp_path, env=env)
     try:
         wait_for(lambda: _points(ckpt), proc, "a saved row")
-        # the nannies run in the command's process, their workers are spawned children
-        workers = [w for w in children(proc.pid)
-                   if b"spawn_main" in Path(f"/proc/{w}/cmdline").read_bytes()]
+        workers = dask_workers(proc.pid)
         assert workers, children(proc.pid)
         os.kill(workers[-1], signal.SIGKILL)
         assert len(_points(ckpt)) < 16  # 8 rows, 2 directions: killed mid-run
+        t0 = time.monotonic()
         status = finish(proc, timeout=120)
+        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert status == 0, messages(tmp_path)
+    if retries:
+        assert status == 0, messages(tmp_path)
+    else:
+        lines = messages(tmp_path)
+        assert status == 2 and elapsed < 15 and len(lines) == 1, (status, elapsed, lines)
+        m = re.fullmatch(r"vibimpact: error: Dask workers died running a task more often "
+                         r"than Dask retries one \(distributed\.scheduler\.allowed-"
+                         r"failures\): (\d+) rows? saved in m\.zarr\.partial; rerun with "
+                         r"--resume", lines[0])
+        assert m, lines[0]
+        assert files(tmp_path) == ["m.zarr.partial"] and no_temporaries(ckpt)
+        r = cli("map", *MAP, "--workers", "2", "-o", "m.zarr", "--resume", cwd=tmp_path)
+        assert r.returncode == 0, r.stderr
     assert files(tmp_path) == ["m.zarr"]
     assert_same_data(open_map(tmp_path / "m.zarr"), references["map"])
 
@@ -410,8 +436,8 @@ def test_stopped_rerun_leaves_no_hidden_file_and_no_resume_advice(moment, tmp_pa
 # --- map --scheduler that cannot be ---------------------------------------------------
 
 @pytest.mark.parametrize("scheduler,needle", [
-    ("garbage.json", "is not a Dask scheduler file"),
-    ("adir", "is a directory"),
+    ("garbage.json", "not a Dask scheduler file"),
+    ("adir", "a directory, not a scheduler file"),
     ("foo://bar", "unknown protocol 'foo'"),
     ("tcp://somehost", "missing port number")])
 def test_map_with_an_impossible_scheduler_fails_at_once(scheduler, needle, tmp_path):
@@ -427,5 +453,6 @@ def test_map_with_an_impossible_scheduler_fails_at_once(scheduler, needle, tmp_p
                        capture_output=True, text=True, timeout=60)
     assert time.monotonic() - t0 < 15
     assert r.returncode == 2 and r.stderr.splitlines() == [r.stderr.strip()], r.stderr
-    assert r.stderr.startswith("vibimpact: error: --scheduler: ") and needle in r.stderr
+    assert r.stderr.startswith("vibimpact: error: --scheduler: cannot connect to the Dask "
+                               f"scheduler {scheduler!r}: ") and needle in r.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["adir", "garbage.json"]

@@ -86,7 +86,11 @@ def connect(scheduler, timeout=CONNECT_TIMEOUT):
         return scheduler, False
     if isinstance(scheduler, (str, os.PathLike)):
         what = os.fspath(scheduler)
-        kw = {"address": scheduler_address(what)}
+        try:
+            kw = {"address": scheduler_address(what)}
+        except ValueError as exc:
+            raise ValueError(f"cannot connect to the Dask scheduler {what!r}: {exc}") \
+                from None
     elif hasattr(scheduler, "scheduler_address"):
         kw = {"address": scheduler}
         what = str(scheduler.scheduler_address)
@@ -118,7 +122,7 @@ def scheduler_address(text):
     from distributed.comm import get_address_host_port, parse_address, registry
 
     if os.path.isdir(text):
-        raise ValueError(f"{text!r} is a directory, not a scheduler file or address")
+        raise ValueError("a directory, not a scheduler file or address")
     if os.path.isfile(text):
         try:
             with open(text, encoding="utf-8") as fh:
@@ -126,18 +130,18 @@ def scheduler_address(text):
             if not isinstance(address, str):
                 raise TypeError
         except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):
-            raise ValueError(f"{text!r} is not a Dask scheduler file (JSON with an "
-                             "'address')") from None
+            raise ValueError("not a Dask scheduler file (JSON with an 'address') nor an "
+                             "address") from None
         text = address
     scheme, _ = parse_address(text, strict=False)
     if scheme not in registry.backends:
-        raise ValueError(f"{text!r}: unknown protocol {scheme!r} (known: "
+        raise ValueError(f"unknown protocol {scheme!r} in {text!r} (known: "
                          f"{', '.join(sorted(registry.backends))})")
     if scheme in ("tcp", "tls", "ws", "wss"):
         try:
             get_address_host_port(text)
         except ValueError as exc:
-            raise ValueError(f"{text!r}: {exc} (e.g. tcp://host:8786)") from None
+            raise ValueError(f"{exc} (e.g. tcp://host:8786)") from None
     return text
 
 
@@ -160,7 +164,7 @@ def _local_cluster(workers):
         with dask.config.set(WORKER_CONFIG):
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1,
                                    processes=True, dashboard_address=":0",
-                                   silence_logs=logging.ERROR)
+                                   silence_logs=logging.CRITICAL)  # errors: ours
     except Exception as exc:
         raise RuntimeError(
             f"cannot start {workers} local Dask worker processes ({exc}); worker processes "
@@ -235,5 +239,7 @@ class Dask:
                 with contextlib.suppress(Exception):
                     client.cancel(futures)
                 if isinstance(exc, KilledWorker):  # died on more workers than Dask retries
-                    raise WorkerLost(f"Dask workers died running a task ({exc})") from exc
+                    raise WorkerLost("Dask workers died running a task more often than "
+                                     "Dask retries one (distributed.scheduler.allowed-"
+                                     "failures)") from exc
                 raise
