@@ -48,7 +48,7 @@ def assert_refused(rc, out, err, needle):
 
 # --- files the cases start from ---------------------------------------------------------
 
-def _tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.nc"):
+def tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.nc"):
     import xarray as xr
 
     from vibimpact.io import write_netcdf
@@ -60,9 +60,9 @@ def _tiny_sweep_file(path, command="vibimpact classify --eta 1.0:1.01:0.01 -o c.
     write_netcdf(ds, path)
 
 
-def _sweep_as(name):
+def sweep_as(name):
     def make(d):
-        _tiny_sweep_file(Path(d) / name)
+        tiny_sweep_file(Path(d) / name)
     return make
 
 
@@ -80,7 +80,7 @@ def _empty(d, name="bad.nc"):
 
 def _truncated(d, name="bad.nc"):
     full = Path(d) / ".full.nc"
-    _tiny_sweep_file(full)
+    tiny_sweep_file(full)
     data = full.read_bytes()
     full.unlink()
     (Path(d) / name).write_bytes(data[: len(data) // 2])
@@ -94,7 +94,7 @@ def _foreign(d, name="bad.nc"):
 
 
 def _foreign_command(d, name="bad.nc"):
-    _tiny_sweep_file(Path(d) / name, command="rm -rf /")
+    tiny_sweep_file(Path(d) / name, command="rm -rf /")
 
 
 def _png_as_nc(d, name="bad.nc"):
@@ -272,14 +272,14 @@ CLI_CASES = {
                              _checkpoint_file),
     # figure options of every command that draws (plot, bifurcation, map/simulate --plot)
     "plot figsize 0x3": (["plot", "c.nc", "--figsize", "0x3", "-o", "p.png"],
-                         "argument --figsize: must be WIDTHxHEIGHT", _sweep_as("c.nc")),
+                         "argument --figsize: must be WIDTHxHEIGHT", sweep_as("c.nc")),
     "plot figsize abc": (["plot", "c.nc", "--figsize", "abc", "-o", "p.png"],
-                         "argument --figsize: must be WIDTHxHEIGHT", _sweep_as("c.nc")),
+                         "argument --figsize: must be WIDTHxHEIGHT", sweep_as("c.nc")),
     "plot dpi -1": (["plot", "c.nc", "--dpi", "-1", "-o", "p.png"],
-                    "argument --dpi: must be a number > 0", _sweep_as("c.nc")),
+                    "argument --dpi: must be a number > 0", sweep_as("c.nc")),
     "plot style nope": (["plot", "c.nc", "--style", "nope", "-o", "p.png"],
                         "argument --style: must be one of 'default', 'paper'",
-                        _sweep_as("c.nc")),
+                        sweep_as("c.nc")),
     "bifurcation figsize abc": (["bifurcation", "--eta", "1:1.01:0.01", "--figsize", "abc",
                                  "-o", "b.png"], "argument --figsize", None),
     "map --plot dpi -1": (["map", "--eta", "1,1.1", "--vary", "kh=10,20", "--plot",
@@ -354,18 +354,18 @@ CLI_CASES = {
                                        "no period-7 orbit found at eta = 1.23", None),
     # ... and its plots
     "plot --branch missing": (["plot", "c.nc", "--branch", "missing.nc", "-o", "p.png"],
-                              "--branch 'missing.nc': no such file", _sweep_as("c.nc")),
+                              "--branch 'missing.nc': no such file", sweep_as("c.nc")),
     "plot --branch a sweep": (["plot", "c.nc", "--branch", "c.nc", "-o", "p.png"],
-                              "is not a 'vibimpact continue' file", _sweep_as("c.nc")),
+                              "is not a 'vibimpact continue' file", sweep_as("c.nc")),
     "plot --branch garbage": (["plot", "c.nc", "--branch", "bad.nc", "-o", "p.png"],
-                              "--branch: cannot read", lambda d: (_sweep_as("c.nc")(d),
+                              "--branch: cannot read", lambda d: (sweep_as("c.nc")(d),
                                                                   _garbage(d))),
     "plot --branch on intervals": (["plot", "c.nc", "--kind", "intervals", "--branch",
                                     "c.nc", "-o", "p.png"], "--branch draws over "
-                                   "response curves", _sweep_as("c.nc")),
+                                   "response curves", sweep_as("c.nc")),
     "plot --kind branch of a sweep": (["plot", "c.nc", "--kind", "branch", "-o", "p.png"],
                                       "--kind branch needs a 'vibimpact continue' file",
-                                      _sweep_as("c.nc")),
+                                      sweep_as("c.nc")),
 }
 
 

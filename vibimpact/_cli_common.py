@@ -121,29 +121,59 @@ def parse_sets(items):
     return out
 
 
-def check_output(path, overwrite, what):
-    """Fail early (before computing) if ``path`` cannot be created."""
+def check_output(path, overwrite, what, store=False):
+    """Fail early (before computing) if ``path`` cannot be created: the one check of an
+    output path (:func:`vibimpact.io.check_output_path`) as a :class:`UsageError`.
 
-    if os.path.isdir(path):
-        raise UsageError(f"{what} {path!r} is a directory")
-    if os.path.exists(path) and not overwrite:
-        raise UsageError(f"{what} {path!r} exists; pass --overwrite to replace it")
-    directory = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(directory):
-        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
-                          "does not exist")
-    if not os.access(directory, os.W_OK | os.X_OK):
-        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
-                          "is not writable")
-    import tempfile
+    Returns
+    -------
+    str
+        The path (a store's trailing ``/`` removed).
+    """
+    from .io import check_output_path
 
-    try:  # os.access says yes to root and knows nothing of read-only mounts: try it
-        fd, probe = tempfile.mkstemp(prefix=".vibimpact-probe-", dir=directory)
-    except OSError as exc:
-        raise UsageError(f"cannot write {what} {path!r}: directory {directory!r} "
-                          f"is not writable ({exc.strerror or exc})") from None
-    os.close(fd)
-    os.unlink(probe)
+    try:
+        return check_output_path(path, overwrite, what=what, store=store,
+                                 hint="pass --overwrite to replace it")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def error_text(exc):
+    """The message of a failed write for one line: an ``OSError`` as its reason and file
+    name, without the ``[Errno N]`` prefix; anything else as ``str(exc)``."""
+    if isinstance(exc, OSError) and exc.strerror:
+        return exc.strerror + (f": {exc.filename!r}" if exc.filename else "")
+    return str(exc)
+
+
+def write_outputs(*writes):
+    """Write a command's outputs so that they succeed or fail together.
+
+    Parameters
+    ----------
+    *writes : (str, callable)
+        ``(path, write)`` in order; ``write()`` writes ``path``.  When one fails, the
+        outputs written before it are removed again.
+
+    Raises
+    ------
+    UsageError
+        The failure in one line (ValueError, OSError, a NetCDF RuntimeError).
+    """
+    done = []
+    try:
+        for path, write in writes:
+            write()
+            done.append(path)
+    except (ValueError, OSError, RuntimeError) as exc:
+        for path in done:
+            try:
+                os.unlink(path)
+            except OSError:
+                pass
+        written = f" ({', '.join(map(repr, done))} removed again)" if done else ""
+        raise UsageError(f"{error_text(exc)}{written}") from None
 
 
 def parse_analyses(text):
@@ -296,6 +326,41 @@ def checkpoint_of(out):
     return Checkpoint(out + ".partial")
 
 
+#: in a checkpoint: the stamp of the output written from it (see :func:`wrote_output`)
+OUTPUT_STAMP = "output.json"
+
+
+def _stamp(out):
+    """``[size, mtime_ns, inode]`` of the file ``out`` (of a Zarr store's zarr.json)."""
+    target = os.path.join(out, "zarr.json") if os.path.isdir(out) else out
+    st = os.stat(target)
+    return [st.st_size, st.st_mtime_ns, st.st_ino]
+
+
+def wrote_output(ckpt, out):
+    """Record in ``ckpt`` that ``out`` was written from it, before the checkpoint is
+    removed or kept (--keep-checkpoint): a later --resume may replace that file, and
+    only that file, without --overwrite (:func:`output_of`)."""
+    import json
+
+    try:
+        (ckpt.path / OUTPUT_STAMP).write_text(json.dumps(_stamp(out)))
+    except OSError:  # no stamp: a resume then asks for --overwrite
+        pass
+
+
+def output_of(ckpt, out):
+    """True when the existing ``out`` is the file written from the checkpoint ``ckpt``
+    (:func:`wrote_output`), which --resume may replace; an unrelated file needs
+    --overwrite."""
+    import json
+
+    try:
+        return json.loads((ckpt.path / OUTPUT_STAMP).read_text()) == _stamp(out)
+    except (OSError, ValueError):
+        return False
+
+
 def remove_stale_temporaries(out):
     """Remove what an earlier run killed while writing ``out`` left beside it: the
     temporary files and stores of :func:`vibimpact.io.write_netcdf` and
@@ -410,10 +475,11 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
         print(warning, file=sys.stderr)
     try:
         try:
-            write(ds, out, overwrite=overwrite or resuming)
-        except (ValueError, OSError) as exc:
-            raise UsageError(f"{exc} (the computed {unit} stay in {where}; fix the "
-                             "problem and rerun with --resume)") from None
+            write(ds, out, overwrite=overwrite or (resuming and output_of(ckpt, out)))
+        except (ValueError, OSError, RuntimeError) as exc:
+            raise UsageError(f"{error_text(exc)} (the computed {unit} stay in {where}; "
+                             "fix the problem and rerun with --resume)") from None
+        wrote_output(ckpt, out)
         if not keep:
             ckpt.remove()
     except KeyboardInterrupt as exc:  # the write's temporary file is gone already

@@ -62,6 +62,7 @@ written).
 from ._cli_common import (add_figure_options, check_output, figure_options,
                           interrupt_status, number, parse_sets, Parser, positive_int,
                           set_verbosity, StopWorkersOnSignal, UsageError, verbosity)
+from ._cli_common import write_outputs
 from ._text import count
 
 
@@ -134,14 +135,12 @@ def _cmd_simulate(args):
     elapsed = time.perf_counter() - start
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = run.to_dataset(command, attrs={**attrs, "wall_time_s": round(elapsed, 3)})
-    try:
-        io.write_netcdf(ds, out, overwrite=args.overwrite)
-        if args.plot is not None:
-            from .plotting import plot_xy
+    writes = [(out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
+    if args.plot is not None:
+        from .plotting import plot_xy
 
-            plot_xy(ds, args.plot, **fig_kw)
-    except (ValueError, OSError) as exc:
-        raise UsageError(str(exc)) from None
+        writes.append((args.plot, lambda: plot_xy(ds, args.plot, **fig_kw)))
+    write_outputs(*writes)  # both or neither
     if not run.ok:
         print(f"vibimpact: warning: run {run.status.value.upper()}: {run.reason}; "
               f"wrote the {count(len(run.strobe), 'sample')} computed", file=sys.stderr)

@@ -6,6 +6,7 @@ instant.
 """
 import os
 
+from ._cli_common import error_text, output_of
 from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
                           checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
                           parse_analyses, parse_sets, positive_int, run_checkpointed)
@@ -87,15 +88,14 @@ def _check_map_output(out, overwrite):
     except ValueError as exc:
         raise UsageError(f"-o: {exc}") from None
     if fmt == "netcdf":
-        check_output(out, overwrite, "output file")
-        return
+        return check_output(out, overwrite, "output file")
     if os.path.lexists(out):
         if not overwrite:
             raise UsageError(f"output {out!r} exists; pass --overwrite to replace it")
         if not os.path.isfile(os.path.join(out, "zarr.json")):
             raise UsageError(f"output {out!r} exists and is not a Zarr store; not "
                               "replacing it")
-    check_output(out.rstrip("/" + os.sep) + ".probe", False, "output")
+    return check_output(out, True, "output", store=True)
 
 
 def _inputs(args):
@@ -131,16 +131,16 @@ def _cmd_map(args):
     import shlex
     import time
 
-    out = os.fspath(args.output).rstrip("/" + os.sep) or os.fspath(args.output)
+    out = os.fspath(args.output)
     params, etas, name, values = _inputs(args)
     analyses = parse_analyses(args.analyses)
     if args.scheduler is not None and args.workers is not None:
         raise UsageError("--workers is for local runs; the workers of --scheduler are "
                          "the cluster's")
-    ckpt = checkpoint_of(out)
+    ckpt = checkpoint_of(os.fspath(args.output).rstrip("/" + os.sep))
     resuming = args.resume and ckpt.exists()
+    out = _check_map_output(out, args.overwrite or (resuming and output_of(ckpt, out)))
     resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
-    _check_map_output(out, args.overwrite or resuming)
     fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
@@ -174,19 +174,37 @@ def _cmd_map(args):
         return status
     elapsed = time.perf_counter() - t0
     ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
+    # with --plot the checkpoint goes only once the image is written too
     loaded = finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
-                                 keep=args.keep_checkpoint, overwrite=args.overwrite,
-                                 unit="rows", resumable=resumable)
+                                 keep=args.keep_checkpoint or args.plot is not None,
+                                 overwrite=args.overwrite, unit="rows",
+                                 resumable=resumable)
     _summary(ds, elapsed, computed=ds["regime"].size - loaded)
     if args.plot is not None:
-        from .plotting.map2d import plot_map
-
-        try:
-            plot_map(ds, path=args.plot, **fig_kw)
-        except (ValueError, OSError) as exc:
-            raise UsageError(f"--plot: {exc} ({out} is written)") from None
-        print(f"wrote {args.plot}")
+        _plot_or_undo(ds, out, ckpt, args, fig_kw)
     return 0
+
+
+def _plot_or_undo(ds, out, ckpt, args, fig_kw):
+    """Draw the map's --plot image; if that fails, remove ``out`` again (the outputs
+    succeed or fail together) and keep the checkpoint, so that --resume loses nothing."""
+    import shutil
+
+    from .plotting.map2d import plot_map
+
+    try:
+        plot_map(ds, path=args.plot, **fig_kw)
+    except (ValueError, OSError) as exc:
+        if os.path.isdir(out):
+            shutil.rmtree(out, ignore_errors=True)
+        elif os.path.exists(out):
+            os.unlink(out)
+        raise UsageError(f"--plot: {error_text(exc)} ({out!r} removed again; the computed "
+                         f"rows stay in {os.fspath(ckpt.path)}: fix the problem and rerun "
+                         "with --resume)") from None
+    if not args.keep_checkpoint:
+        ckpt.remove()
+    print(f"wrote {args.plot}")
 
 
 def _summary(ds, elapsed, computed):

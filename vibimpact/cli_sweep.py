@@ -11,6 +11,7 @@ from ._cli_common import (UsageError, add_figure_options, check_checkpoint, chec
                           checkpoint_of, figure_options, finish_checkpointed,
                           image_ext_ok, parse_analyses, parse_sets, positive_int,
                           run_checkpointed)
+from ._cli_common import output_of, write_outputs
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -126,9 +127,9 @@ def _cmd_classify(args):
     ckpt = checkpoint_of(out)
     resuming = args.resume and ckpt.exists()
     resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
-    # with --resume, an output next to its checkpoint is the remains of a run killed
-    # between writing the file and removing the checkpoint: it is replaced
-    check_output(out, args.overwrite or resuming, "output file")
+    # an existing output is replaced with --overwrite, or by --resume if it was written
+    # from this checkpoint (kept, or its run killed before removing it); never otherwise
+    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)), "output file")
     check_checkpoint(ckpt, args.resume)
 
     import vibimpact as vi
@@ -176,14 +177,14 @@ def _cmd_bifurcation(args):
     if ds is None:
         return status
     ds.attrs.update(preset=args.preset, eta_range=args.eta)
-    try:
-        io.write_netcdf(ds, data, overwrite=args.overwrite)
-        if data_only is not None:
-            print(f"wrote {data}")
-            return 0
-        plot_bifurcation(ds, path=image, **figure_options(args))
-    except (ValueError, OSError) as exc:
-        raise UsageError(str(exc)) from None
+    writes = [(data, lambda: io.write_netcdf(ds, data, overwrite=args.overwrite))]
+    if data_only is None:
+        writes.append((image, lambda: plot_bifurcation(ds, path=image,
+                                                       **figure_options(args))))
+    write_outputs(*writes)  # both or neither
+    if data_only is not None:
+        print(f"wrote {data}")
+        return 0
     print(f"wrote {image} and {data}")
     return 0
 
