@@ -433,6 +433,29 @@ def test_stopped_rerun_leaves_no_hidden_file_and_no_resume_advice(moment, tmp_pa
     assert files(tmp_path) == ["c.nc"]
 
 
+def test_next_rerun_removes_what_a_killed_rerun_left(tmp_path):
+    """Hypothesis: a rerun SIGKILLed while it recomputes cannot clean up (its hidden
+    checkpoint .c.nc.rerun-PID-*.nc.partial stays); the next rerun of the same file
+    removes it, since process PID is gone, and still reports 'identical'."""
+    args = ["classify", "--eta", "1.0:1.03:0.01", "--preset", "fig8", "--no-progress",
+            "-o", "c.nc"]
+    assert cli(*args, cwd=tmp_path).returncode == 0
+    proc = start(["rerun", "c.nc"], tmp_path)
+    try:
+        wait_for(lambda: any(p.name.endswith(".partial") and _points(p)
+                             for p in tmp_path.iterdir()), proc, "a saved point")
+        proc.send_signal(signal.SIGKILL)
+        assert finish(proc) == -signal.SIGKILL
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    left = [n for n in files(tmp_path) if n != "c.nc"]
+    assert left and all(n.startswith(f".c.nc.rerun-{proc.pid}-") for n in left), left
+    r = cli("rerun", "c.nc", cwd=tmp_path)
+    assert r.returncode == 0 and r.stdout.startswith("identical: "), r.stderr
+    assert files(tmp_path) == ["c.nc"]
+
+
 # --- map --scheduler that cannot be ---------------------------------------------------
 
 @pytest.mark.parametrize("scheduler,needle", [

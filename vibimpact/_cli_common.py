@@ -367,21 +367,28 @@ def remove_stale_temporaries(out):
     :func:`vibimpact.maps.write_map` (``.OUT.*.tmp``, ``.OUT.*.old``) and the temporary
     entries of its checkpoint (``OUT.partial/.tmp-*``).  Returns their number."""
     import glob
-    import shutil
 
     directory, name = os.path.split(os.path.abspath(out))
     pattern = glob.escape(os.path.join(directory, "." + name + "."))
     stale = glob.glob(pattern + "*.tmp") + glob.glob(pattern + "*.old") + \
         glob.glob(os.path.join(glob.escape(out + ".partial"), ".tmp-*"))
-    for path in stale:
+    remove_paths(stale)
+    return len(stale)
+
+
+def remove_paths(paths):
+    """Remove each file, link or directory tree of ``paths`` that exists; errors are
+    ignored (what cannot be removed stays)."""
+    import shutil
+
+    for path in paths:
         if os.path.isdir(path) and not os.path.islink(path):
             shutil.rmtree(path, ignore_errors=True)
-        else:
+        elif os.path.lexists(path):
             try:
                 os.unlink(path)
             except OSError:
                 pass
-    return len(stale)
 
 
 def check_checkpoint(ckpt, resume):

@@ -14,7 +14,7 @@ import os
 import shlex
 import sys
 
-from ._cli_common import check_output, UsageError
+from ._cli_common import check_output, remove_paths, UsageError
 from ._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")
@@ -117,8 +117,34 @@ def _redirect(args, new, overwrite):
     return args
 
 
+def _remove_dead_reruns(path):
+    """Remove the hidden output, checkpoint and temporary files (``.FILE.rerun-PID-*``,
+    ``..FILE.rerun-PID-*.tmp``) that a rerun of ``path`` killed with SIGKILL left, when
+    process PID no longer runs; the files of a rerun still running are left alone."""
+    import re
+
+    directory, name = os.path.split(os.path.abspath(path))
+    ours = re.compile(r"\.\.?" + re.escape(name) + r"\.rerun-(\d+)-")
+    try:
+        names = os.listdir(directory)
+    except OSError:
+        return
+    remove_paths(os.path.join(directory, base) for base in names
+                 if (m := ours.match(base)) and not _running(int(m.group(1))))
+
+
+def _running(pid):
+    """Whether process ``pid`` exists."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, another user's
+        return True
+    return True
+
+
 def _cmd_rerun(args):
-    import shutil
     import tempfile
 
     from . import __version__, io
@@ -139,8 +165,10 @@ def _cmd_rerun(args):
         parsed.recorded_start = recorded_start(old, path)
     if not keep:
         directory = os.path.dirname(os.path.abspath(path))
+        _remove_dead_reruns(path)
         try:
-            fd, new = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".rerun-",
+            fd, new = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.rerun-"
+                                              f"{os.getpid()}-",
                                        suffix=".zarr" if _is_store(path) else ".nc",
                                        dir=directory)
         except OSError as exc:
@@ -170,11 +198,7 @@ def _cmd_rerun(args):
             return status
         fresh = _read(new, "rerun output")
     finally:
-        for leftover in leftovers:
-            if os.path.isdir(leftover):
-                shutil.rmtree(leftover, ignore_errors=True)
-            elif os.path.exists(leftover):
-                os.unlink(leftover)
+        remove_paths(leftovers)
 
     diffs, total = io.differences(old, fresh)
     if not diffs:
