@@ -270,7 +270,7 @@ def test_full_file_system_is_refused_before_computing(tmp_path, monkeypatch, cap
     monkeypatch.setattr(os, "statvfs", lambda path: Full())
     for argv in ([*CLASSIFY, "-o", "c.nc"], [*SIM, "-o", "r.nc"]):
         rc, stdout, err = run_cli(argv, capfd)
-        assert_refused(rc, stdout, err, "0 bytes free on the file system")
+        assert_refused(rc, stdout, err, "only 0 bytes free on the file system")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -180,8 +180,10 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     except (OSError, AttributeError):
         left = None
     if left is not None and left < free:
-        raise ValueError(f"cannot write {what} {path!r}: {left} bytes free on the file "
-                         f"system of {directory!r}, {free} needed")
+        from ._limits import human_bytes
+
+        raise ValueError(f"cannot write {what} {path!r}: only {human_bytes(left)} free on "
+                         f"the file system of {directory!r}, {human_bytes(free)} needed")
     return path
 
 
