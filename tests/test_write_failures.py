@@ -313,3 +313,27 @@ def test_map_plot_failure_removes_the_map_and_resume_loses_nothing(
     assert rc == 0, err
     assert (tmp_path / "m.png").is_file() and not (tmp_path / "m.nc.partial").exists()
     assert differences(reference["m.nc"], read_netcdf(tmp_path / "m.nc"))[0] == []
+
+
+def test_output_larger_than_the_free_space_is_refused_before_computing(
+        tmp_path, monkeypatch, capfd):
+    """Where the size of the file is known from the request (a run's dense samples, a
+    sweep's or map's grid), a file system with less free space than that is refused
+    before any work: exit 2 at once, one line with both sizes, no file."""
+    import time
+
+    class TwoMiB:
+        f_bavail, f_frsize = 512, 4096
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(os, "statvfs", lambda path: TwoMiB())
+    for argv in ([*SIM[:-4], "--periods", "200", "--dense", "2000", "-o", "r.nc"],
+                 ["classify", "--eta", "0.9:1.5:0.0005", "-o", "c.nc"],
+                 ["bifurcation", "--eta", "0.9:1.5:0.0005", "-o", "b.png"],
+                 ["map", "--eta", "0.9:1.5:0.01", "--vary", "kh=10:200:5", "-o", "m.zarr"]):
+        start = time.perf_counter()
+        rc, stdout, err = run_cli(argv, capfd)
+        assert_refused(rc, stdout, err, "only 2 MiB free on the file system")
+        assert "MiB needed" in err
+        assert time.perf_counter() - start < 10
+    assert list(tmp_path.iterdir()) == []

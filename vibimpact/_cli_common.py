@@ -121,22 +121,36 @@ def parse_sets(items):
     return out
 
 
-def check_output(path, overwrite, what, store=False):
+def check_output(path, overwrite, what, store=False, size=0):
     """Fail early (before computing) if ``path`` cannot be created: the one check of an
-    output path (:func:`vibimpact.io.check_output_path`) as a :class:`UsageError`.
+    output path (:func:`vibimpact.io.check_output_path`) as a :class:`UsageError`;
+    ``size`` (bytes, an estimate of the file) must be free on its file system, and at
+    least :data:`vibimpact.io.MIN_FREE`.
 
     Returns
     -------
     str
         The path (a store's trailing ``/`` removed).
     """
-    from .io import check_output_path
+    from .io import MIN_FREE, check_output_path
 
     try:
         return check_output_path(path, overwrite, what=what, store=store,
-                                 hint="pass --overwrite to replace it")
+                                 hint="pass --overwrite to replace it",
+                                 free=max(MIN_FREE, size))
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+
+
+def sweep_file_bytes(params, points, direction="up"):
+    """An estimate of the file of a sweep or map of ``points`` grid points per
+    direction (``"both"``: twice as many), for :func:`check_output`'s ``size``."""
+    from ._limits import points_bytes
+    from .points.point import SweepSettings
+    from .system import to_system
+
+    points *= 2 if direction == "both" else 1
+    return points_bytes(points, SweepSettings().n_samples, to_system(params).n_state)
 
 
 def error_text(exc):

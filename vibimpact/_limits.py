@@ -103,6 +103,15 @@ def run_bytes(periods, dense, n_state):
     return 2 * 8 * (n_state + 1) * rows
 
 
+def check_run(periods, transient, dense, n_state):
+    """ValueError when a run is over a limit: :func:`check_periods`, and its arrays
+    (:func:`run_bytes`) over :data:`MAX_BYTES`; the one check of :func:`vibimpact.simulate`
+    and of ``vibimpact simulate`` before it sizes its output."""
+    check_periods(periods, transient)
+    check_memory(run_bytes(periods, dense, n_state),
+                 f"periods={periods} with dense={dense}")
+
+
 def points_bytes(points, n_samples, n_state):
     """Bytes of the results of ``points`` sweep or map points with ``n_samples``
     Poincaré samples each."""

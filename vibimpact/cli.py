@@ -121,6 +121,17 @@ def _cmd_simulate(args):
         except ValueError as exc:
             raise UsageError(str(exc)) from None
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
+    from . import _limits
+    from .system import to_system
+
+    n_state = to_system(params).n_state
+    try:  # before sizing the output: a request over the limits says so first
+        _limits.check_run(args.periods, args.transient, dense, n_state)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    # the file holds the run's arrays once: is there room for it?
+    check_output(out, args.overwrite, "output file",
+                 size=_limits.run_bytes(args.periods, dense, n_state) // 2)
 
     from . import io
     from .simulation import simulate

@@ -6,7 +6,7 @@ instant.
 """
 import os
 
-from ._cli_common import error_text, output_of
+from ._cli_common import error_text, output_of, sweep_file_bytes
 from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
                           checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
                           parse_analyses, parse_sets, positive_int, run_checkpointed)
@@ -80,7 +80,7 @@ def parse_vary(text, preset_params):
     return name, np.asarray(values, dtype=float)
 
 
-def _check_map_output(out, overwrite):
+def _check_map_output(out, overwrite, size):
     from .maps.store import output_format
 
     try:
@@ -88,14 +88,14 @@ def _check_map_output(out, overwrite):
     except ValueError as exc:
         raise UsageError(f"-o: {exc}") from None
     if fmt == "netcdf":
-        return check_output(out, overwrite, "output file")
+        return check_output(out, overwrite, "output file", size=size)
     if os.path.lexists(out):
         if not overwrite:
             raise UsageError(f"output {out!r} exists; pass --overwrite to replace it")
         if not os.path.isfile(os.path.join(out, "zarr.json")):
             raise UsageError(f"output {out!r} exists and is not a Zarr store; not "
                               "replacing it")
-    return check_output(out, True, "output", store=True)
+    return check_output(out, True, "output", store=True, size=size)
 
 
 def _inputs(args):
@@ -139,7 +139,8 @@ def _cmd_map(args):
                          "the cluster's")
     ckpt = checkpoint_of(os.fspath(args.output).rstrip("/" + os.sep))
     resuming = args.resume and ckpt.exists()
-    out = _check_map_output(out, args.overwrite or (resuming and output_of(ckpt, out)))
+    size = sweep_file_bytes(params, etas.size * values.size, args.direction)
+    out = _check_map_output(out, args.overwrite or (resuming and output_of(ckpt, out)), size)
     resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
     fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:

@@ -11,7 +11,7 @@ from ._cli_common import (UsageError, add_figure_options, check_checkpoint, chec
                           checkpoint_of, figure_options, finish_checkpointed,
                           image_ext_ok, parse_analyses, parse_sets, positive_int,
                           run_checkpointed)
-from ._cli_common import output_of, write_outputs
+from ._cli_common import output_of, sweep_file_bytes, write_outputs
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -129,7 +129,8 @@ def _cmd_classify(args):
     resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
     # an existing output is replaced with --overwrite, or by --resume if it was written
     # from this checkpoint (kept, or its run killed before removing it); never otherwise
-    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)), "output file")
+    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)), "output file",
+                 size=sweep_file_bytes(params, etas.size, args.direction))
     check_checkpoint(ckpt, args.resume)
 
     import vibimpact as vi
@@ -164,7 +165,8 @@ def _cmd_bifurcation(args):
     etas, params = _sweep_inputs(args)
     if data_only is None:
         check_output(image, args.overwrite, "image file")
-    check_output(data, args.overwrite, "data file")
+    check_output(data, args.overwrite, "data file",
+                 size=sweep_file_bytes(params, etas.size, args.direction))
 
     import vibimpact as vi
     from . import io

@@ -149,7 +149,6 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
     mdl, pvec = resolve(p, model)
     periods = _v.count("periods", periods, 1)
     transient = _v.count("transient", transient, 0)
-    _limits.check_periods(periods, transient)
     steps_per_period = _v.count("steps_per_period", steps_per_period, 1)
     dense = _v.count("dense", dense, 0)
     max_steps_per_period = _v.count("max_steps_per_period", max_steps_per_period, 1)
@@ -160,8 +159,7 @@ def simulate(p: Params | DuffingParams | ArrayLike, periods: int = 100,
     max_step = _v.positive("max_step", max_step, allow_none=True)
     bound = _v.positive("bound", bound, allow_none=True)
     n = len(mdl.state_names)
-    _limits.check_memory(_limits.run_bytes(periods, dense, n),
-                         f"periods={periods} with dense={dense}")
+    _limits.check_run(periods, transient, dense, n)
     y = _v.state("state0", state0, n)
     y0 = y.copy()  # the kernel advances y in place
 
