@@ -24,6 +24,7 @@ Which executor runs a plan never changes a number.
 """
 from __future__ import annotations
 
+import os
 import queue as _queue
 import sys
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -48,11 +49,35 @@ class Serial:
                 on_task(task, results)
 
 
-def run_job_streaming(job, points):
-    """Runs in a worker: :func:`plan.run_job`, every finished point put on the queue
-    ``points`` as ``(row, direction, start, position, result)``; returns the results."""
+class QueueLink:
+    """The points' queue (a manager's queue proxy) as it travels to a worker: pickled
+    without connecting, opened by the worker with :meth:`open`.  A proxy unpickled by
+    the pool connects to its manager there and then, outside the task, so a dead
+    manager printed a traceback from the worker on the command's stderr; here the
+    worker ends quietly and the parent reports the lost queue (:class:`WorkerLost`)."""
+
+    def __init__(self, proxy):
+        self.rebuild, self.args = proxy.__reduce__()
+
+    def open(self):
+        """The queue proxy, connected; a worker whose manager is gone exits at once."""
+        try:
+            return self.rebuild(*self.args)
+        except (EOFError, OSError):
+            os._exit(1)
+
+
+def run_job_streaming(job, link):
+    """Runs in a worker: :func:`plan.run_job`, every finished point put on the queue of
+    ``link`` (a :class:`QueueLink`) as ``(row, direction, start, position, result)``;
+    returns the results.  A worker whose queue is gone exits quietly."""
+    points = link.open()
+
     def put(task, i, res):
-        points.put((task.row, task.direction, task.start, i, res))
+        try:
+            points.put((task.row, task.direction, task.start, i, res))
+        except (EOFError, OSError):
+            os._exit(1)
 
     return plan.run_job(job, put)
 
@@ -104,7 +129,8 @@ class Processes:
         if q is None:
             futures = {pool.submit(plan.run_job, job): job for job in jobs}
         else:
-            futures = {pool.submit(run_job_streaming, job, q): job for job in jobs}
+            link = QueueLink(q)
+            futures = {pool.submit(run_job_streaming, job, link): job for job in jobs}
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
