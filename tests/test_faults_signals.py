@@ -150,7 +150,8 @@ def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, t
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert status == 2 and elapsed < 10, (status, elapsed)
+    assert status == 2 and elapsed < 10, (status, elapsed,
+                                          (tmp_path / "err.txt").read_text())
     lines = messages(tmp_path)
     assert len(lines) == 1, lines
     saved = _points(ckpt)
@@ -207,7 +208,8 @@ def test_killed_worker_ends_bifurcation_with_one_line_and_no_file(tmp_path):
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert status == 2 and elapsed < 10, (status, elapsed)
+    assert status == 2 and elapsed < 10, (status, elapsed,
+                                          (tmp_path / "err.txt").read_text())
     assert messages(tmp_path) == ["vibimpact: error: a worker process died unexpectedly "
                                   "(killed by the system or a signal); nothing written"]
     assert files(tmp_path) == []

@@ -296,6 +296,7 @@ class StopWorkersOnSignal:
         import signal
 
         self._old = {}
+        self._pid = os.getpid()
         try:
             for sig in (signal.SIGINT, signal.SIGTERM):
                 self._old[sig] = signal.signal(sig, self._handle)
@@ -304,6 +305,13 @@ class StopWorkersOnSignal:
         return self
 
     def _handle(self, signum, frame):
+        import signal
+
+        if os.getpid() != self._pid:  # a worker forked before its own set-up (the pool
+            # ends its workers with SIGTERM): die as by default, no Interrupted traceback
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
         self.__exit__(None, None, None)  # a second Ctrl-C acts at once
         raise Interrupted(signum)  # vi.sweep stops its workers on the way out
 

@@ -34,6 +34,10 @@ from . import plan
 from .children import worker_setup
 
 
+#: what :class:`WorkerLost` says of a pool worker that died
+DIED = "a worker process died unexpectedly (killed by the system or a signal)"
+
+
 class WorkerLost(RuntimeError):
     """A worker process (or the process of the points' queue, or a Dask worker more
     often than Dask retries a task) died while the run needed it; the points finished
@@ -126,11 +130,15 @@ class Processes:
     def _loop(pool, jobs, manager, on_point, on_task):
         q = None if manager is None else manager.Queue()
         tasks = {(t.row, t.direction, t.start): t for job in jobs for t in job}
-        if q is None:
-            futures = {pool.submit(plan.run_job, job): job for job in jobs}
-        else:
-            link = QueueLink(q)
-            futures = {pool.submit(run_job_streaming, job, link): job for job in jobs}
+        try:
+            if q is None:
+                futures = {pool.submit(plan.run_job, job): job for job in jobs}
+            else:
+                link = QueueLink(q)
+                futures = {pool.submit(run_job_streaming, job, link): job
+                           for job in jobs}
+        except BrokenProcessPool as exc:  # a worker died while the jobs were handed out
+            raise WorkerLost(DIED) from exc
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
@@ -140,8 +148,7 @@ class Processes:
                     results = f.result()  # re-raises a worker's exception
                 except BrokenProcessPool as exc:
                     _drain(q, tasks, on_point)  # what the others finished meanwhile
-                    raise WorkerLost("a worker process died unexpectedly (killed by the "
-                                     "system or a signal)") from exc
+                    raise WorkerLost(DIED) from exc
                 except (EOFError, ConnectionError) as exc:  # the queue's process died
                     raise WorkerLost("the points' queue process died unexpectedly "
                                      f"({type(exc).__name__})") from exc
