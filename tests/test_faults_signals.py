@@ -190,7 +190,8 @@ def test_killed_queue_process_ends_classify_with_a_resumable_checkpoint(tmp_path
     assert status == 2 and len(lines) == 1, (status, lines)
     assert lines[0].startswith("vibimpact: error: ") and "died" in lines[0]
     assert lines[0].endswith("saved in c.nc.partial; rerun with --resume"), lines[0]
-    assert files(tmp_path) == ["c.nc.partial"] and no_temporaries(ckpt)
+    assert files(tmp_path) == ["c.nc.partial"], files(tmp_path)
+    assert no_temporaries(ckpt), sorted(p.name for p in ckpt.iterdir())
 
 
 def test_killed_worker_ends_bifurcation_with_one_line_and_no_file(tmp_path):
