@@ -47,10 +47,19 @@ sys.exit(main(sys.argv[1:]))
 """
 
 
+#: the same with the figure's save stalled instead (the data file is written before it)
+STALL_IMAGE = STALL.replace(
+    "xr.Dataset.to_netcdf = stall(xr.Dataset.to_netcdf)\n"
+    "xr.Dataset.to_zarr = stall(xr.Dataset.to_zarr)\n",
+    "import matplotlib.figure as mf\nmf.Figure.savefig = stall(mf.Figure.savefig)\n")
+
+
 def start(args, cwd, stall=False, env=None):
     """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``, ``env`` added to the
-    environment) in its own session."""
-    code = ["-c", STALL] if stall else ["-m", "vibimpact.cli"]
+    environment) in its own session; ``stall``: True stalls the dataset writes,
+    ``"image"`` the figure's."""
+    code = (["-c", STALL_IMAGE] if stall == "image" else ["-c", STALL] if stall
+            else ["-m", "vibimpact.cli"])
     err = open(Path(cwd) / "err.txt", "w")
     try:
         return subprocess.Popen([sys.executable, *code, *map(str, args)], cwd=cwd,
@@ -268,10 +277,10 @@ def test_killed_dask_worker_is_replaced_or_ends_the_map_resumably(retries, tmp_p
 
 # --- SIGTERM / SIGINT at every phase --------------------------------------------------
 
-def interrupt_while_writing(args, cwd, signum=signal.SIGTERM):
+def interrupt_while_writing(args, cwd, signum=signal.SIGTERM, stall=True):
     """Run ``args`` with its writes stalled, send ``signum`` once it writes; the exit
     status and the stderr lines."""
-    proc = start(args, cwd, stall=True)
+    proc = start(args, cwd, stall=stall)
     try:
         wait_for(lambda: "WRITING" in (Path(cwd) / "err.txt").read_text(), proc,
                  "a write")
@@ -301,6 +310,17 @@ def test_sigterm_while_writing_leaves_nothing(name, tmp_path):
     temporary file complete, not yet renamed) is handled as Ctrl-C: exit 143, the one
     line 'vibimpact: interrupted', and no file left, temporary or final."""
     status, lines = interrupt_while_writing(SIMPLE[name], tmp_path)
+    assert status == 143 and lines == ["vibimpact: interrupted"], (status, lines)
+    assert files(tmp_path) == []
+
+
+@pytest.mark.parametrize("name", ["simulate --plot", "bifurcation"])
+def test_sigterm_while_drawing_the_image_leaves_no_output(name, tmp_path):
+    """Hypothesis: a command's outputs stay together under a signal too: SIGTERM while
+    simulate --plot or bifurcation saves its image (the data file already in place)
+    removes the data file again, with the image's temporary file: exit 143, one line, no
+    file left."""
+    status, lines = interrupt_while_writing(SIMPLE[name], tmp_path, stall="image")
     assert status == 143 and lines == ["vibimpact: interrupted"], (status, lines)
     assert files(tmp_path) == []
 

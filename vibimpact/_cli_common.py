@@ -167,7 +167,8 @@ def write_outputs(*writes):
     Parameters
     ----------
     *writes : (str, callable)
-        ``(path, write)`` in order; ``write()`` writes ``path``.  When one fails, the
+        ``(path, write)`` in order; ``write()`` writes ``path``.  When one fails, or a
+        signal (Ctrl-C, SIGTERM) stops the command before the last is written, the
         outputs written before it are removed again.
 
     Raises
@@ -176,18 +177,27 @@ def write_outputs(*writes):
         The failure in one line (ValueError, OSError, a NetCDF RuntimeError).
     """
     done = []
-    try:
-        for path, write in writes:
-            write()
-            done.append(path)
-    except (ValueError, OSError, RuntimeError) as exc:
+
+    def undo():
         for path in done:
             try:
                 os.unlink(path)
             except OSError:
                 pass
+
+    try:
+        for path, write in writes:
+            write()
+            done.append(path)
+    except (ValueError, OSError, RuntimeError) as exc:
+        undo()
         written = f" ({', '.join(map(repr, done))} removed again)" if done else ""
         raise UsageError(f"{error_text(exc)}{written}") from None
+    except BaseException:
+        # Ctrl-C or SIGTERM between two outputs: none of them stays (the signal's own
+        # line and exit status follow)
+        undo()
+        raise
 
 
 def parse_analyses(text):
