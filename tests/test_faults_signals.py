@@ -502,3 +502,56 @@ def test_map_with_an_impossible_scheduler_fails_at_once(scheduler, needle, tmp_p
     assert r.stderr.startswith("vibimpact: error: --scheduler: cannot connect to the Dask "
                                f"scheduler {scheduler!r}: ") and needle in r.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["adir", "garbage.json"]
+
+
+def test_an_error_a_signal_causes_is_reported_as_that_signal(tmp_path, monkeypatch, capfd):
+    """Hypothesis: a signal that lands inside a zip write (a checkpoint entry being
+    compressed) surfaces as zipfile's ValueError "Can't close the ZIP file while there is
+    an open writing handle"; the command still reports the signal (exit 143, 'vibimpact:
+    interrupted ...', no traceback), not that error, and keeps its checkpoint.  (The
+    fault injection found it: SIGTERM to a rerun reported the zip error, exit 2.)"""
+    import zipfile
+
+    import numpy as np
+
+    from vibimpact.cli import main
+
+    calls = []
+
+    def savez_signalled(buf, **arrays):
+        calls.append(1)
+        if len(calls) < 2:  # the first entry is saved; the second is cut by SIGTERM
+            return original(buf, **arrays)
+        zf = zipfile.ZipFile(buf, "w")
+        handle = zf.open("a.npy", "w")
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)  # the handler raises here
+            time.sleep(5)
+        finally:
+            try:
+                zf.close()  # ValueError: an open writing handle (the mask)
+            finally:  # leave nothing for the garbage collector to complain about
+                handle.close()
+                zf.close()
+
+    original = np.savez_compressed
+    monkeypatch.chdir(tmp_path)
+    args = ["classify", "--eta", "1.0:1.03:0.01", "--workers", "1", "--no-progress", "-o"]
+    monkeypatch.setattr(np, "savez_compressed", savez_signalled)
+    rc = main([*args, "c.nc"])
+    err = capfd.readouterr().err
+    assert rc == 143, err
+    assert "Traceback" not in err and "ZIP" not in err
+    assert err.strip().splitlines()[-1].startswith("vibimpact: interrupted"), err
+    assert not (tmp_path / "c.nc").exists() and (tmp_path / "c.nc.partial").is_dir()
+    # the same cut in a rerun (which reports its command's failures as its own)
+    monkeypatch.setattr(np, "savez_compressed", original)
+    assert main([*args, "d.nc"]) == 0
+    calls.clear()
+    monkeypatch.setattr(np, "savez_compressed", savez_signalled)
+    rc = main(["rerun", "d.nc"])
+    err = capfd.readouterr().err
+    assert rc == 143, err
+    assert "Traceback" not in err and "ZIP" not in err
+    assert err.strip().splitlines()[-1].startswith("vibimpact: interrupted"), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.nc.partial", "d.nc"]

@@ -302,6 +302,9 @@ class StopWorkersOnSignal:
     whole command; a sweep or map enters it again around its computation.
     """
 
+    #: the signal that stopped this command, once one has (see :func:`signal_decides`)
+    received = None
+
     def __enter__(self):
         import signal
 
@@ -323,6 +326,7 @@ class StopWorkersOnSignal:
             os.kill(os.getpid(), signum)
             return
         self.__exit__(None, None, None)  # a second Ctrl-C acts at once
+        StopWorkersOnSignal.received = signum  # for every guard of this command
         raise Interrupted(signum)  # vi.sweep stops its workers on the way out
 
     def __exit__(self, *exc):
@@ -332,6 +336,20 @@ class StopWorkersOnSignal:
             signal.signal(sig, old)
         self._old = {}
         return False
+
+
+def signal_decides(exc):
+    """The interrupt to report instead of the error ``exc``, or None.
+
+    A signal that unwinds a command can surface as another error: Python's ``zipfile``
+    (a checkpoint entry being compressed) turns it into "Can't close the ZIP file while
+    there is an open writing handle", a write cut short reports its own failure.  When a
+    signal has stopped the command (:class:`StopWorkersOnSignal`), that signal decides
+    the line and the exit status, not the error it caused."""
+    signum = StopWorkersOnSignal.received
+    if signum is None or isinstance(exc, KeyboardInterrupt):
+        return None
+    return Interrupted(signum)
 
 
 def interrupt_status(exc):

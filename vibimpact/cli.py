@@ -61,7 +61,8 @@ written).
 
 from ._cli_common import (add_figure_options, check_output, figure_options,
                           interrupt_status, number, parse_sets, Parser, positive_int,
-                          set_verbosity, StopWorkersOnSignal, UsageError, verbosity)
+                          set_verbosity, signal_decides, StopWorkersOnSignal, UsageError,
+                          verbosity)
 from ._cli_common import write_outputs
 from ._text import count
 
@@ -260,9 +261,16 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     args.argv = argv
     set_verbosity(verbosity(args))
+    StopWorkersOnSignal.received = None
     try:
-        with StopWorkersOnSignal():
-            return args.func(args)
+        try:
+            with StopWorkersOnSignal():
+                return args.func(args)
+        except Exception as exc:  # an error a signal caused is that signal
+            interrupt = signal_decides(exc)
+            if interrupt is None:
+                raise
+            raise interrupt from exc
     except UsageError as exc:
         print("vibimpact: error: " + " ".join(str(exc).split()), file=sys.stderr)
         return 2
