@@ -257,6 +257,7 @@ def main(argv=None):
         interrupted or terminated command removes its temporary files and keeps its
         checkpoint (SIGTERM is handled as Ctrl-C at every phase).
     """
+    program = argv is None  # the process's own command line: it exits after this
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
@@ -278,6 +279,13 @@ def main(argv=None):
         if not getattr(exc, "reported", False):  # a command may have said more already
             print("vibimpact: interrupted", file=sys.stderr)
         return interrupt_status(exc)
+    finally:
+        if program:  # the command is over, its files in place: a signal during the
+            # interpreter's exit must not kill it silently (exit -15, no line)
+            import signal
+
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, signal.SIG_IGN)
 
 
 if __name__ == "__main__":
