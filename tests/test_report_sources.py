@@ -142,3 +142,32 @@ def test_every_package_name_the_readme_cites_exists():
         else:
             broken.append(name)
     assert broken == []
+
+
+def test_reliability_report_counts_are_its_own_cases():
+    """Hypothesis: reports/reliability.md is written by analyses/reliability.py and its
+    summary is the count of its own case table: per fault class, the cases tried, clean,
+    with a traceback, hung, with files left and with data lost are the rows of that class
+    with that verdict, and the 'all' row is the sum over the classes."""
+    import reliability
+
+    sec = _section((REPORTS / "reliability.md").read_text(), reliability.SECTION)
+    assert sec is not None
+    summary, cases = sec.split("## Every case")
+    rows = {m.group(1): [int(x) for x in m.group(2).split(" | ")]
+            for m in re.finditer(r"^\| ([^|*]+?) \| ([\d |]+?) \|$", summary, re.M)}
+    total = re.search(r"^\| \*\*all\*\* \| (.+) \|$", summary, re.M).group(1)
+    total = [int(x.strip("* ")) for x in total.split(" | ")]
+    assert rows and [sum(col) for col in zip(*rows.values())] == total
+    table = [ln.split(" | ") for ln in cases.splitlines() if ln.startswith("| ")
+             and not ln.startswith("| class") and not ln.startswith("| ---")]
+    for klass, (tried, clean, tracebacks, hangs, left, lost, not_tried) in rows.items():
+        mine = [r for r in table if r[0] == "| " + klass]
+        verdicts = [r[4] for r in mine]
+        assert len(mine) == tried + not_tried, klass
+        assert verdicts.count("not tried") == not_tried
+        assert verdicts.count("clean") == clean
+        assert verdicts.count("**traceback**") == tracebacks
+        assert verdicts.count("**hang**") == hangs
+        assert sum(r[5] != "-" for r in mine) == left
+        assert sum(r[6] == "**lost**" for r in mine) == lost
