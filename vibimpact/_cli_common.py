@@ -161,6 +161,48 @@ def error_text(exc):
     return str(exc)
 
 
+def is_store(path):
+    """A Zarr store (a directory with its ``zarr.json``), as ``map`` writes."""
+    return os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))
+
+
+def read_input(path, what="", stores=False):
+    """The dataset of an input file a command reads, or one line saying why not.
+
+    Parameters
+    ----------
+    path : str
+    what : str
+        The option or role that names the file in the messages (``"--from"``).
+    stores : bool
+        Also read a Zarr store (a map).
+
+    Raises
+    ------
+    UsageError
+        A directory, a missing file or one that cannot be read.
+    """
+    from . import io
+
+    label = f"{what} {path!r}".strip()
+    if stores and is_store(path):
+        from .maps.store import open_map
+
+        reader, kind = open_map, "a Zarr store"
+    elif os.path.isdir(path):
+        raise UsageError(f"{label} is a directory, not a NetCDF file"
+                         + (" or a Zarr store" if stores else ""))
+    elif not os.path.isfile(path):
+        raise UsageError(f"{label}: no such file")
+    else:
+        reader, kind = io.read_netcdf, "NetCDF"
+    try:
+        return reader(path)
+    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
+        raise UsageError(f"{what + ': ' if what else ''}cannot read {path!r} as {kind}: "
+                         f"{type(exc).__name__}: {exc}") from None
+
+
 def write_outputs(*writes):
     """Write a command's outputs so that they succeed or fail together.
 

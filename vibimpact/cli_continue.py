@@ -12,7 +12,7 @@ import shlex
 import time
 
 from ._cli_common import (UsageError, check_output, figure_options, image_ext_ok, number,
-                          parse_sets, positive_int)
+                          parse_sets, positive_int, read_input)
 from ._text import count
 
 _CONTINUE_EPILOG = """\
@@ -163,18 +163,11 @@ def _cmd_continue(args):
 def read_branches(paths):
     """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
     continue`` file continued in eta."""
-    from . import io
     from .branches import is_branch_dataset
 
     out = []
     for path in map(os.fspath, paths):
-        if not os.path.isfile(path):
-            raise UsageError(f"--branch {path!r}: no such file")
-        try:
-            ds = io.read_netcdf(path)
-        except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-            raise UsageError(f"--branch: cannot read {path!r} as NetCDF: "
-                             f"{type(exc).__name__}: {exc}") from None
+        ds = read_input(path, "--branch")
         if not is_branch_dataset(ds):
             raise UsageError(f"--branch {path!r} is not a 'vibimpact continue' file")
         if ds.attrs.get("continuation_param") != "eta":

@@ -14,7 +14,7 @@ import os
 import shlex
 import sys
 
-from ._cli_common import check_output, remove_paths, UsageError
+from ._cli_common import check_output, is_store, read_input, remove_paths, UsageError
 from ._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")
@@ -36,32 +36,6 @@ reading the sweep's file: that may have moved, changed or gone since.
 exit status: 0 identical ('identical: N variables'), 1 different (the differing variables
 are listed), 2 bad input (missing, foreign or damaged file, no recorded command).
 """
-
-
-def _is_store(path):
-    """A Zarr store (a directory with its ``zarr.json``), as ``map`` writes."""
-    return os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))
-
-
-def _read(path, what):
-    from . import io
-
-    if _is_store(path):
-        from .maps.store import open_map
-
-        reader, kind = open_map, "a Zarr store"
-    elif os.path.isdir(path):
-        raise UsageError(f"{what} {path!r} is a directory, not a NetCDF file or a Zarr "
-                          "store")
-    elif not os.path.isfile(path):
-        raise UsageError(f"{what} {path!r}: no such file or directory")
-    else:
-        reader, kind = io.read_netcdf, "NetCDF"
-    try:
-        return reader(path)
-    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise UsageError(f"cannot read {path!r} as {kind}: {type(exc).__name__}: "
-                          f"{exc}") from None
 
 
 def _recorded_args(path, command, build_parser):
@@ -155,9 +129,9 @@ def _cmd_rerun(args):
         new = os.fspath(args.output)
         if os.path.abspath(new) == os.path.abspath(path):
             raise UsageError("-o must differ from the file being rerun")
-        if not _is_store(new):  # an existing store: the map command checks --overwrite
+        if not is_store(new):  # an existing store: the map command checks --overwrite
             check_output(new, args.overwrite, "output file")
-    old = _read(path, "file")
+    old = read_input(path, "file", stores=True)
     parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
     if getattr(parsed, "from_sweep", None) is not None:  # simulate --from: start recorded
         from .cli_start import recorded_start
@@ -169,7 +143,7 @@ def _cmd_rerun(args):
         try:
             fd, new = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.rerun-"
                                               f"{os.getpid()}-",
-                                       suffix=".zarr" if _is_store(path) else ".nc",
+                                       suffix=".zarr" if is_store(path) else ".nc",
                                        dir=directory)
         except OSError as exc:
             raise UsageError(f"cannot create a temporary file next to {path!r} "
@@ -196,7 +170,7 @@ def _cmd_rerun(args):
                 raise UsageError(f"rerunning {old.attrs['command']!r}: {exc}") from None
         if status != 0:
             return status
-        fresh = _read(new, "rerun output")
+        fresh = read_input(new, "rerun output", stores=True)
     finally:
         remove_paths(leftovers)
 

@@ -15,7 +15,7 @@ or gone since.  Only the standard library is imported at module level.
 """
 import os
 
-from ._cli_common import parse_sets, UsageError
+from ._cli_common import parse_sets, read_input, UsageError
 
 
 def _message(exc, path):
@@ -24,20 +24,6 @@ def _message(exc, path):
     if text.startswith("ds "):
         text = "the file " + text[3:]
     return f"--from {path!r}: {text}"
-
-
-def _read_sweep(path):
-    from . import io
-
-    if os.path.isdir(path):
-        raise UsageError(f"--from {path!r} is a directory, not a sweep's NetCDF file")
-    if not os.path.isfile(path):
-        raise UsageError(f"--from {path!r}: no such file")
-    try:
-        return io.read_netcdf(path)
-    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise UsageError(f"--from {path!r}: cannot read it as NetCDF: "
-                          f"{type(exc).__name__}: {exc}") from None
 
 
 def start_of(args):
@@ -77,7 +63,7 @@ def start_of(args):
     if recorded is not None:
         start, preset = recorded
     else:
-        ds = _read_sweep(path)
+        ds = read_input(path, "--from")
         try:
             start = sweep_start(ds, args.eta, args.direction, source=path)
         except (TypeError, ValueError) as exc:

@@ -11,7 +11,7 @@ from ._cli_common import (UsageError, add_figure_options, check_checkpoint, chec
                           checkpoint_of, figure_options, finish_checkpointed,
                           image_ext_ok, parse_analyses, parse_sets, positive_int,
                           run_checkpointed)
-from ._cli_common import output_of, sweep_file_bytes, write_outputs
+from ._cli_common import output_of, read_input, sweep_file_bytes, write_outputs
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -242,15 +242,7 @@ def _cmd_plot(args):
     if args.kind == "map" or os.path.isdir(path):  # a parameter map ('vibimpact map')
         from .cli_map import plot_command
         return plot_command(args)
-    if not os.path.isfile(path):
-        raise UsageError(f"{path!r}: no such file")
-    from . import io
-
-    try:
-        ds = io.read_netcdf(path)
-    except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
-        raise UsageError(f"cannot read {path!r} as NetCDF: "
-                          f"{type(exc).__name__}: {exc}") from None
+    ds = read_input(path)
     if "map_vary" in ds.attrs:
         from .cli_map import plot_command
         return plot_command(args, ds)
