@@ -31,6 +31,12 @@ import logging
 import os
 
 from .cache_guard import current_digest
+from .dispatch import BuiltinModel
+
+try:  # numba's own type fingerprint of call arguments (what its dispatcher keys on)
+    from numba._dispatcher import compute_fingerprint
+except ImportError:  # a numba without it: the precompiled kernel is not used
+    compute_fingerprint = None
 
 log = logging.getLogger("vibimpact")
 
@@ -93,8 +99,9 @@ def _load():
     reason = mismatch(meta)
     if reason is not None:
         return None, {}, reason
+    if compute_fingerprint is None:
+        return None, {}, "this numba has no type fingerprint of arguments to check calls with"
     try:
-        from numba._dispatcher import compute_fingerprint  # noqa: F401
         module = importlib.import_module(f"{__package__}.{MODULE}")
     except ImportError as exc:
         return None, {}, f"cannot be loaded ({exc})"
@@ -110,9 +117,8 @@ def state():
     """``(exports, reason)``, loaded once per process."""
     global _state
     if _state is None:
-        module, exports, reason = _load()
-        _state = (exports, reason)
-        log.debug("precompiled kernel: %s", reason)
+        _state = _load()[1:]
+        log.debug("precompiled kernel: %s", _state[1])
     return _state
 
 
@@ -132,10 +138,6 @@ def key(args, family):
     ``family`` (a built-in model family) means the first argument is the kernel's
     ``(model, ...)`` tuple: its model must be a built-in model of that family and is left
     out of the fingerprint (numba has none for it)."""
-    from numba._dispatcher import compute_fingerprint
-
-    from .dispatch import BuiltinModel
-
     try:
         if family is not None:
             lead = args[0]
@@ -143,7 +145,7 @@ def key(args, family):
             if type(model) is not BuiltinModel or model.family != family:
                 return None
             args = (lead[1:],) + tuple(args[1:])
-        return compute_fingerprint(tuple(args))
+        return compute_fingerprint(args)
     except (ValueError, TypeError, NotImplementedError, IndexError):
         return None
 
