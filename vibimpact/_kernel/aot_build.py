@@ -45,23 +45,16 @@ def _integrate_example():
 
 def exports():
     """``{name: (dispatcher, example arguments, model family or None)}``."""
-    from . import driver, linalg, recurrence, rotor
+    from . import boundary, driver, rotor
 
-    a, v = np.eye(2), np.ones(2)
-    m = np.empty((3, 2))
-    return {
+    out = {
         "integrate": (driver.integrate, _integrate_example(), "rotor"),
         "rotor_init_mode": (rotor.init_mode, (0.0, np.zeros(4), np.zeros(
             len(rotor.PARAM_NAMES)), np.zeros(rotor.N_MODE, dtype=np.int64)), None),
-        "dot": (linalg.dot, (v, v), None),
-        "matmul": (linalg.matmul, (a, a), None),
-        "lstsq": (linalg.lstsq, (a, a, 1e-10), None),
-        "solve": (linalg.solve, (a, v), None),
-        "eigvals": (linalg.eigvals, (a,), None),
-        "suffix_lag_residuals": (recurrence.suffix_lag_residuals,
-                                 (np.zeros((3, 2)), 1, np.empty((3, 1)), m, m.copy(),
-                                  np.empty(3)), None),
     }
+    for routine, args in boundary.array_routine_calls():
+        out[routine.name] = (routine.jit, args, None)
+    return out
 
 
 @contextlib.contextmanager

@@ -398,29 +398,34 @@ def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, 
                            mode2, clock2, d0, scale, bound, n_periods, logs, count)
 
 
-def compile_array_routines():
-    """Compile (or load from numba's disk cache) the array routines the analyses call --
+def array_routine_calls():
+    """``[(routine, example arguments)]``: the array routines the analyses call --
     :func:`dot`, :func:`matmul`, :func:`lstsq`, :func:`solve`, :func:`eigvals`,
-    :func:`suffix_lag_residuals` -- for the argument types the analyses call them with
-    (C-contiguous float64 arrays, a float, an int)."""
+    :func:`suffix_lag_residuals` -- with arguments of the types the analyses pass
+    (C-contiguous float64 arrays, a float, an int).  What the warm-up compiles and the
+    install precompiles (:mod:`.aot_build`)."""
     a, v = np.eye(2), np.ones(2)
-    dot(v, v)
-    matmul(a, a)
-    lstsq(a, a, 1e-10)
-    solve(a, v)
-    eigvals(a)
-    suffix_lag_residuals(np.zeros((3, 2)), 1, np.empty((3, 1)), np.empty((3, 2)),
-                         np.empty((3, 2)), np.empty(3))
+    return [(dot, (v, v)), (matmul, (a, a)), (lstsq, (a, a, 1e-10)), (solve, (a, v)),
+            (eigvals, (a,)),
+            (suffix_lag_residuals, (np.zeros((3, 2)), 1, np.empty((3, 1)),
+                                    np.empty((3, 2)), np.empty((3, 2)), np.empty(3)))]
+
+
+def compile_array_routines():
+    """Compile (or load from numba's disk cache) the routines of
+    :func:`array_routine_calls` for their argument types."""
+    for routine, args in array_routine_calls():
+        routine(*args)
 
 
 def array_routines_compiled():
     """True when this process has every routine of :func:`compile_array_routines`,
     precompiled or compiled."""
     return all(_precompiled.available(f.name) or f.jit.signatures
-               for f in (dot, matmul, lstsq, solve, eigvals, suffix_lag_residuals))
+               for f, _ in array_routine_calls())
 
 
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_args",
            "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "compile_array_routines", "array_routines_compiled", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "array_routine_calls", "compile_array_routines", "array_routines_compiled", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
