@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from numba.extending import is_jitted
 
 from ._kernel import duffing as _duffing
 from ._kernel import dispatch as _dispatch
@@ -19,6 +20,7 @@ from ._kernel import rotor as _rotor
 from ._kernel.boundary import Problem
 from ._kernel.precompiled import routine as _precompiled
 from . import _validate as _v
+from .model_probe import check_model
 from .params import DuffingParams, Params
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -68,6 +70,11 @@ class Model:
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
+        if not isinstance(self.kernel_model, int) and not self.__dict__.get("_probed"):
+            # a user model: its sizes are checked on guarded buffers before the kernel
+            # runs its functions (once per model object)
+            check_model(self, p)
+            object.__setattr__(self, "_probed", True)
         kmodel = self.variational_kernel_model if variational else self.kernel_model
         return Problem(kmodel, self.terminal, self.n_mode, p, float(p[self.omega_index]),
                        self.init_mode)
@@ -103,15 +110,46 @@ class Model:
         omega_index : int
             Index of the forcing frequency in the parameter vector.
         """
-        term = np.asarray(terminal, dtype=np.int64)
-        if term.ndim != 1 or term.size == 0:
-            raise ValueError("terminal must list at least one switching function")
-
-        return cls(name=name, state_names=tuple(state_names), param_names=tuple(param_names),
-                   omega_index=int(omega_index), n_mode=int(n_mode), terminal=term,
-                   kernel_model=(rhs, switches, transition),
+        if not isinstance(name, str) or not name:
+            raise _v.WrongType(f"name must be a non-empty str, got {name!r}"[:200])
+        for arg, fn in (("rhs", rhs), ("jac", jac), ("switches", switches),
+                        ("transition", transition), ("init_mode", init_mode)):
+            if not is_jitted(fn):
+                what = ("a plain Python function" if callable(fn) else
+                        f"{type(fn).__name__} {fn!r}"[:80])
+                raise _v.WrongType(f"{arg} must be compiled with numba (decorate it with "
+                                   f"@numba.njit), got {what}")
+        states = _names("state_names", state_names)
+        params = _names("param_names", param_names)
+        term = _v.array1d("terminal", terminal, "0s and 1s")
+        if term.size == 0 or not np.all((term == 0) | (term == 1)):
+            raise ValueError(f"terminal must list at least one switching function, each 1 "
+                             f"(terminal) or 0 (observer), got {terminal!r}"[:200])
+        omega_index = _v.count("omega_index", omega_index, 0)
+        if omega_index >= len(params):
+            raise ValueError(f"omega_index must index param_names (0 to {len(params) - 1}), "
+                             f"got {omega_index}")
+        return cls(name=name, state_names=states, param_names=params,
+                   omega_index=omega_index, n_mode=_v.count("n_mode", n_mode, 0),
+                   terminal=term.astype(np.int64), kernel_model=(rhs, switches, transition),
                    rhs=rhs, jac=jac, switches=switches, transition=transition,
-                   init_mode=init_mode, bound=float(bound))
+                   init_mode=init_mode, bound=_v.positive("bound", bound))
+
+
+def _names(arg, value):
+    """A non-empty tuple of distinct, non-empty names."""
+    if isinstance(value, str):
+        raise _v.WrongType(f"{arg} must be a sequence of str, got the str {value!r}"[:200])
+    try:
+        names = tuple(value)
+    except TypeError:
+        raise _v.WrongType(f"{arg} must be a sequence of str, got "
+                           f"{type(value).__name__}") from None
+    if not names or not all(isinstance(v, str) and v for v in names):
+        raise ValueError(f"{arg} must be one or more non-empty str, got {names!r}"[:200])
+    if len(set(names)) != len(names):
+        raise ValueError(f"{arg} must be distinct, got {names!r}"[:200])
+    return names
 
 
 ROTOR = Model(name="rotor", state_names=("X", "Y", "dX", "dY"), param_names=_rotor.PARAM_NAMES,
