@@ -37,7 +37,10 @@ onto unstable parts, with its Floquet multipliers (variational equations with sa
 matrices) at every orbit.  It ends when it leaves the window, after --max-points
 orbits, or when the step falls below its minimum.  --ds and --ds-max are steps along
 the branch in (state, parameter): scale them to the parameter (kh ~ 100: --ds 0.5
---ds-max 2).
+--ds-max 2).  It may start on a bound of the parameter's domain (BT, f, Bh, Rr are 0
+in every preset: --param BT --stop 0.1 follows fig8 as tangential damping grows) and
+never steps past one: a branch that reaches a bound (--param B --stop 0: B = 0) ends
+on it, and the printed status says so.
 
 Where the stability changes, the interval between the two orbits is narrowed by
 bisection to --refine (Newton shooting at each midpoint) and the two orbits at its ends
@@ -63,8 +66,9 @@ def _inputs(args):
 
     try:
         base = presets.get(args.preset)
-        params = base.replace(eta=base.eta if args.eta is None else args.eta,
-                              **parse_sets(args.set))
+        sets = parse_sets(args.set)
+        _check_domains(base, args.eta, sets)
+        params = base.replace(eta=base.eta if args.eta is None else args.eta, **sets)
         system = System(params)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
@@ -76,10 +80,9 @@ def _inputs(args):
     if not math.isfinite(args.stop) or args.stop == start:
         raise UsageError(f"--stop must be finite and differ from the start value "
                          f"{args.param} = {start:g}, got {args.stop:g}")
-    try:
-        system.with_param(args.param, args.stop)
-    except ValueError as exc:
-        raise UsageError(f"--stop: {exc}") from None
+    domain = system.param_domain(args.param)
+    if args.stop not in domain:  # a branch may end on a bound (BT = 0), not beyond it
+        raise UsageError(f"--stop: {domain.rule(args.param)}, got {args.stop!r}")
     for name in ("refine", "approach"):
         value = getattr(args, name)
         if value is not None and not (math.isfinite(value) and value > 0):
@@ -99,6 +102,19 @@ def _inputs(args):
     steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds), ds_max=args.ds_max,
                   max_points=args.max_points)
     return system, steps
+
+
+def _check_domains(base, eta, sets):
+    """UsageError naming the option (``--eta``, ``--set NAME``) whose value lies outside
+    its parameter's domain (:meth:`vibimpact.Params.domain`); unknown names and values
+    that are not finite are left to ``base.replace``."""
+    given = ([("--eta", "eta", eta)] if eta is not None else []) + \
+        [(f"--set {k}", k, v) for k, v in sets.items()]
+    known = base.as_dict()
+    for option, name, value in given:
+        domain = base.domain(name) if name in known else None
+        if domain is not None and math.isfinite(value) and value not in domain:
+            raise UsageError(f"{option}: {domain.rule(name)}, got {value!r}")
 
 
 def _summary(branch):

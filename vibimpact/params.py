@@ -32,8 +32,107 @@ def _check_finite(name, value):
     return _v.finite(name, value)
 
 
+@dataclass(frozen=True)
+class Domain:
+    """The values a parameter may take: the interval from ``lo`` to ``hi``.
+
+    The one statement of a parameter's domain: :class:`Params` and
+    :class:`DuffingParams` validate against it, and
+    :meth:`vibimpact.System.param_domain` hands it to the continuation, which steps up to
+    a bound but never past it.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The bounds (``-inf``, ``inf``: none on that side).
+    lo_closed, hi_closed : bool
+        Whether the bound itself is allowed (``>= lo``) or not (``> lo``).
+
+    Examples
+    --------
+    >>> d = Domain.at_least(0.0)
+    >>> (0.0 in d, -1e-6 in d, d.rule("BT"))
+    (True, False, 'BT must be >= 0')
+    """
+
+    lo: float = -math.inf
+    hi: float = math.inf
+    lo_closed: bool = False
+    hi_closed: bool = False
+
+    @classmethod
+    def at_least(cls, lo: float) -> Domain:
+        """``[lo, inf)``: the value ``>= lo``."""
+        return cls(lo=float(lo), lo_closed=True)
+
+    @classmethod
+    def above(cls, lo: float) -> Domain:
+        """``(lo, inf)``: the value ``> lo``."""
+        return cls(lo=float(lo))
+
+    def __contains__(self, value: float) -> bool:
+        """Whether ``value`` is a finite number inside the domain."""
+        v = float(value)
+        if not math.isfinite(v):
+            return False
+        above = v >= self.lo if self.lo_closed else v > self.lo
+        below = v <= self.hi if self.hi_closed else v < self.hi
+        return above and below
+
+    @property
+    def bounded(self) -> bool:
+        """Whether the domain has a finite bound on either side."""
+        return math.isfinite(self.lo) or math.isfinite(self.hi)
+
+    def rule(self, name: str) -> str:
+        """What the domain asks of parameter ``name``, e.g. ``"eta must be > 0"``."""
+        parts = []
+        if math.isfinite(self.lo):
+            parts.append(f"{'>=' if self.lo_closed else '>'} {self.lo:g}")
+        if math.isfinite(self.hi):
+            parts.append(f"{'<=' if self.hi_closed else '<'} {self.hi:g}")
+        return f"{name} must be {' and '.join(parts) or 'finite'}"
+
+    def check(self, name: str, value: float) -> float:
+        """``value`` (a finite float); ``ValueError`` with :meth:`rule` otherwise."""
+        if value not in self:
+            raise ValueError(f"{self.rule(name)}, got {value!r}")
+        return value
+
+
+#: the domain of each rotor parameter that has one (validated in this order)
+_ROTOR_DOMAINS = {**{name: Domain.at_least(0.0) for name in _NONNEGATIVE},
+                  "eta": Domain.above(0.0)}
+#: the domain of each Duffing parameter that has one (validated in this order)
+_DUFFING_DOMAINS = {"delta": Domain.at_least(0.0), "omega": Domain.above(0.0)}
+
+
 class _ParamsMixin:
-    """`replace`, `as_array`, `as_dict` for the frozen parameter dataclasses."""
+    """`replace`, `as_array`, `as_dict`, `domain` for the frozen parameter dataclasses."""
+
+    #: {name: Domain} of the parameters that have one (the others: any finite number)
+    _DOMAINS = {}
+
+    @classmethod
+    def domain(cls, name: str) -> Domain:
+        """The :class:`Domain` of parameter ``name`` (unbounded if it has none).
+
+        Raises
+        ------
+        ValueError
+            Naming ``name`` when it is not a parameter of this model.
+        """
+        names = [f.name for f in fields(cls)]
+        if name not in names:
+            raise ValueError(f"name must be one of {', '.join(names)}, got {name!r}")
+        return cls._DOMAINS.get(name, Domain())
+
+    def _check_domains(self):
+        """Validate every field: finite, and inside its domain (in ``_DOMAINS`` order)."""
+        for fld in fields(self):
+            object.__setattr__(self, fld.name, _check_finite(fld.name, getattr(self, fld.name)))
+        for name, dom in self._DOMAINS.items():
+            dom.check(name, getattr(self, name))
 
     def replace(self, **changes):
         """A copy with some parameters changed (validated again).
@@ -115,15 +214,10 @@ class Params(_ParamsMixin):
     eta: float = 1.2
     eps: float = 0.0
 
+    _DOMAINS = _ROTOR_DOMAINS
+
     def __post_init__(self):
-        for fld in fields(self):
-            value = _check_finite(fld.name, getattr(self, fld.name))
-            object.__setattr__(self, fld.name, value)
-        for name in _NONNEGATIVE:
-            if getattr(self, name) < 0.0:
-                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
-        if self.eta <= 0.0:
-            raise ValueError(f"eta must be > 0, got {self.eta!r}")
+        self._check_domains()
 
     @property
     def period(self):
@@ -208,13 +302,10 @@ class DuffingParams(_ParamsMixin):
     gamma: float = 0.5
     omega: float = 1.2
 
+    _DOMAINS = _DUFFING_DOMAINS
+
     def __post_init__(self):
-        for fld in fields(self):
-            object.__setattr__(self, fld.name, _check_finite(fld.name, getattr(self, fld.name)))
-        if self.delta < 0.0:
-            raise ValueError(f"delta must be >= 0, got {self.delta!r}")
-        if self.omega <= 0.0:
-            raise ValueError(f"omega must be > 0, got {self.omega!r}")
+        self._check_domains()
 
     @property
     def period(self):

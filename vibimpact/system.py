@@ -25,6 +25,7 @@ import numpy as np
 from . import _validate as _v
 from ._kernel import boundary as _kb
 from .models import DUFFING, ROTOR, Model, resolve
+from .params import Domain
 from .run import Status, status_of
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -146,6 +147,42 @@ class System:
         """The value of parameter ``name`` (a field name, or an index of a user model's
         vector); ``ValueError`` naming ``param`` otherwise."""
         return float(self.p[self._index(name)])
+
+    def param_domain(self, name: str | int) -> Domain:
+        """The values parameter ``name`` may take.
+
+        The built-in models' parameter sets state their domains
+        (:meth:`vibimpact.Params.domain`: the dampings, stiffness, friction, radius,
+        eccentricity and ``eps`` ``>= 0``, ``eta > 0``; :class:`vibimpact.DuffingParams`:
+        ``delta >= 0``, ``omega > 0``); a user model's vector is unbounded but for its
+        forcing frequency (``> 0``).
+
+        Parameters
+        ----------
+        name : str or int
+            A parameter's name, or an index of a user model's vector.
+
+        Returns
+        -------
+        Domain
+            ``lo``, ``hi`` and whether each is allowed (:meth:`Domain.rule` says it in
+            words, ``value in domain`` tests a value).
+
+        Raises
+        ------
+        ValueError
+            Naming ``param`` for an unknown parameter.
+
+        Examples
+        --------
+        >>> import vibimpact as vi
+        >>> vi.System(vi.presets.get("fig8")).param_domain("BT").rule("BT")
+        'BT must be >= 0'
+        """
+        i = self._index(name)
+        if hasattr(self.params, "domain"):
+            return self.params.domain(self.model.param_names[i])
+        return Domain.above(0.0) if i == self.model.omega_index else Domain()
 
     def _index(self, name):
         names = self.model.param_names

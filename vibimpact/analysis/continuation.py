@@ -79,8 +79,11 @@ class Branch:
         ("fold (turning point)").
     status : str
         Why the continuation stopped: the end of the parameter window reached (or left,
-        when the last step could not be shortened to end there), ``max_points`` orbits,
-        or a step below ``ds_min``.
+        when the last step could not be shortened to end there), a bound of the
+        parameter's domain reached (``"reached the bound BT = 0 (BT must be >= 0)"``:
+        the last orbit lies on it; next to an open bound such as ``eta > 0``,
+        ``"reached eta = 1e-05, next to the bound (eta must be > 0)"``), ``max_points``
+        orbits, or a step below ``ds_min``.
     brackets : tuple of (float, float)
         For each of ``bifurcations``, the parameter interval it lies in: the two branch
         points around a stability change (with ``refine``, the two orbits inserted at the
@@ -110,7 +113,10 @@ class Steps:
     max_points : int
         Orbits on the branch at most (``>= 2``).
     fd_step : float
-        Relative step of the central difference of the map in the parameter.
+        Relative step ``h`` of the finite difference of the map in the parameter:
+        central, or, where ``lambda - h`` or ``lambda + h`` lies outside the parameter's
+        domain (at or next to a bound such as ``BT = 0``), one-sided of the same second
+        order into the domain.
     newton_tol : float
         Corrector tolerance on ``max |G|`` (relative to ``max(1, max |x|)``), and Newton's
         tolerance of the shooting at the start.
@@ -158,31 +164,38 @@ def _amplitude(system, x, n, names, dense=96):
 
 class _Arclength:
     """The pseudo-arclength problem of :func:`continue_orbit`: ``G(x, lambda) = P^n(x;
-    lambda) - x``, its Jacobian, the tangent and the corrector."""
+    lambda) - x``, its Jacobian, the tangent, the corrector and the march along the
+    branch, inside ``window`` (the parameter window cut to the parameter's domain,
+    :func:`_limits`)."""
 
-    def __init__(self, system, param, n, window, steps):
+    def __init__(self, system, param, n, window, steps, bounds=(None, None)):
         self.system, self.param, self.n = system, param, n
         self.window, self.steps = window, steps
         self.d = system.n_state
+        self.domain = system.param_domain(param)
+        self.bounds = bounds  # per end of window: the domain's rule if it ends there
 
     def jac(self, x, lam):
         """``(Monodromy, [G_x | G_lambda])`` at ``(x, lam)``; ``(None, None)`` where the
-        map cannot be evaluated."""
+        map cannot be evaluated (an integration that stopped, a parameter outside its
+        domain)."""
         window, steps, n = self.window, self.steps, self.n
         if not window[0] - 10.0 * steps.ds_max <= lam <= window[1] + 10.0 * steps.ds_max:
             return None, None  # a corrector iterate far outside the window
-        try:
-            m = self.system.with_param(self.param, lam).monodromy(x, n)
-        except ValueError:  # an invalid parameter value (e.g. eta <= 0)
+        if lam not in self.domain:  # a corrector iterate past a bound (e.g. eta <= 0)
             return None, None
+        m = self.system.with_param(self.param, lam).monodromy(x, n)
         if m.status is not Status.OK:
             return None, None
-        h = steps.fd_step * max(1.0, abs(lam))
-        a = self.system.with_param(self.param, lam + h).simulate(periods=n, state0=x)
-        b = self.system.with_param(self.param, lam - h).simulate(periods=n, state0=x)
-        if a.status is not Status.OK or b.status is not Status.OK:
+        return self.bordered(m, x, lam)
+
+    def bordered(self, m, x, lam):
+        """``(m, [M - I | G_lambda])`` with the monodromy ``m`` at ``(x, lam)``;
+        ``(None, None)`` where ``G_lambda`` cannot be evaluated."""
+        Gl = _map_derivative(self.system, self.param, self.domain, x, lam, self.n,
+                             self.steps.fd_step * max(1.0, abs(lam)))
+        if Gl is None:
             return None, None
-        Gl = (a.final_state - b.final_state) / (2.0 * h)
         return m, np.hstack([m.matrix - np.eye(self.d), Gl[:, None]])
 
     def tangent(self, Jg, t_prev):
@@ -220,6 +233,140 @@ class _Arclength:
                 break
         return False, u, mm, J, self.steps.max_newton
 
+    def onto_bound(self, x, lam, t, edge, ds):
+        """The step from ``(x, lam)`` that ends on the domain's bound ``lambda = edge``:
+        the predictor along ``t`` to where it meets the bound (at most ``ds``), then
+        Newton in ``x`` at ``lambda = edge`` exactly (``G_x = M - I``), so that no
+        iterate leaves the domain.  Returns as :meth:`correct`."""
+        tol, d = self.steps.newton_tol, self.d
+        s = (edge - lam) / t[-1] if t[-1] * (edge - lam) > 0.0 else ds
+        xk = x + min(s, ds) * t[:-1]
+        at_edge = self.system.with_param(self.param, edge)
+        for it in range(self.steps.max_newton):
+            mm = at_edge.monodromy(xk, self.n)
+            if mm.status is not Status.OK:
+                break
+            G = mm.end - mm.start
+            if np.abs(G).max() <= tol * max(1.0, np.abs(xk).max()) and it > 0:
+                mm, J = self.bordered(mm, xk, edge)
+                return mm is not None, np.append(xk, edge), mm, J, it
+            dx, ok = solve(mm.matrix - np.eye(d), -G)
+            if not ok:
+                break
+            xk = xk + dx
+            if not np.all(np.isfinite(xk)):
+                break
+        return False, np.append(xk, edge), None, None, self.steps.max_newton
+
+    def march(self, x, lam, t, record, count):
+        """Step along the branch from the point ``(x, lam)`` with tangent ``t``,
+        ``record(x, lam, M)`` at every new orbit, while ``count() < max_points``; the
+        status (why it stopped).
+
+        The step adapts (x1.5 after a fast corrector, /2 after a failure); a step that
+        would leave the window is shortened to end at its edge (at most 3 times); one
+        that would pass a bound of the parameter's domain ends on the bound
+        (:meth:`onto_bound`), where the branch ends."""
+        steps, (lo, hi) = self.steps, self.window
+        status = f"max_points ({steps.max_points}) reached"
+        ds = steps.ds
+        edge_tries = 0  # steps shortened to end at the window's edge
+        while count() < steps.max_points:
+            u_pred = np.append(x, lam) + ds * t
+            ok, u, mm, J, it = self.correct(u_pred, t)
+            lam_out = u[-1] if ok else u_pred[-1]
+            if not lo <= lam_out <= hi:
+                edge = hi if lam_out > hi else lo
+                rule = self.bounds[1 if lam_out > hi else 0]
+                if rule is not None:  # the domain's bound: end on it
+                    if lam == edge:
+                        status = _bound_status(self.param, edge, rule, self.domain)
+                        break
+                    ok, u, mm, J, it = self.onto_bound(x, lam, t, edge, ds)
+                else:
+                    # shorten the step to end at the edge (at most 3 times), so that the
+                    # branch reaches it and no change of stability before it is missed
+                    frac = (edge - lam) / (lam_out - lam) if lam_out != lam else 0.0
+                    if edge_tries < 3 and ds * frac >= steps.ds_min:
+                        ds *= frac
+                        edge_tries += 1
+                        continue
+                    status = (f"reached the end of the window, {self.param} = {edge:.6g}"
+                              if abs(edge - lam) <= steps.ds_min else
+                              "left the parameter window")
+                    break
+            if not ok:
+                ds *= 0.5
+                if ds < steps.ds_min:
+                    status = (f"step below ds_min ({steps.ds_min}) at {self.param} = "
+                              f"{lam:.6g}")
+                    break
+                continue
+            x, lam = u[:-1], u[-1]
+            t = self.tangent(J, t)
+            record(x, lam, mm.matrix)
+            ds = min(steps.ds_max, ds * 1.5) if it <= 3 else ds
+        return status
+
+
+def _map_derivative(system, param, domain, x, lam, n, h):
+    """``G_lambda = dP^n(x; lambda) / d lambda`` at ``lam`` by finite differences of
+    step ``h``: central, ``(P(lam + h) - P(lam - h)) / 2h``, where both values lie in the
+    parameter's ``domain``; else one-sided of the same (second) order,
+    ``s (-3 P(lam) + 4 P(lam + s h) - P(lam + 2 s h)) / 2h`` with ``s = +1`` (or ``-1``)
+    into the domain.  None where a run stops or the domain is narrower than ``2 h``."""
+    def final(value):
+        run = system.with_param(param, value).simulate(periods=n, state0=x)
+        return run.final_state if run.status is Status.OK else None
+
+    if lam - h in domain and lam + h in domain:
+        a, b = final(lam + h), final(lam - h)
+        if a is None or b is None:
+            return None
+        return (a - b) / (2.0 * h)
+    for s in (1.0, -1.0):
+        if lam + s * h in domain and lam + 2.0 * s * h in domain:
+            p0, p1, p2 = final(lam), final(lam + s * h), final(lam + 2.0 * s * h)
+            if p0 is None or p1 is None or p2 is None:
+                return None
+            return s * (-3.0 * p0 + 4.0 * p1 - p2) / (2.0 * h)
+    return None
+
+
+def _bound_status(param, edge, rule, domain):
+    """:attr:`Branch.status` of a branch that ended on a bound of ``param``'s domain
+    (``rule`` says it in words)."""
+    if edge in (domain.lo, domain.hi):
+        return f"reached the bound {param} = {edge:g} ({rule})"
+    return f"reached {param} = {edge:.6g}, next to the bound ({rule})"
+
+
+def _usable_bound(bound, closed, inward, ds_min):
+    """How far towards ``bound`` the branch may go: the bound itself when it is closed
+    (or infinite), ``ds_min`` (relative to ``max(1, |bound|)``) inside an open one."""
+    if closed or not math.isfinite(bound):
+        return bound
+    return bound + inward * ds_min * max(1.0, abs(bound))
+
+
+def _limits(system, param, window, lam0, ds_min):
+    """The window cut to the domain of ``param``, and for each end the domain's rule
+    (:meth:`~vibimpact.params.Domain.rule`) if the domain ends the window there, else
+    None: ``((lo, hi), (rule or None, rule or None))``."""
+    dom = system.param_domain(param)
+    rule = dom.rule(_name(system, param))
+    lo = min(lam0, _usable_bound(dom.lo, dom.lo_closed, 1.0, ds_min))
+    hi = max(lam0, _usable_bound(dom.hi, dom.hi_closed, -1.0, ds_min))
+    return ((max(window[0], lo), min(window[1], hi)),
+            (rule if lo >= window[0] else None, rule if hi <= window[1] else None))
+
+
+def _name(system, param):
+    """The name of parameter ``param`` (a name, or an index of a user model's vector)."""
+    if isinstance(param, str):
+        return param
+    return system.model.param_names[int(param)]
+
 
 def _window(stop, lam0):
     """The parameter window ``(lo, hi)`` of :func:`continue_orbit`."""
@@ -245,6 +392,17 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     unstable branch.  The step adapts (x1.5 after a fast corrector, /2 after a failure);
     a step that would leave the parameter window is shortened to end at its edge.
 
+    No orbit is computed outside the parameter's domain
+    (:meth:`vibimpact.System.param_domain`: e.g. ``BT >= 0``, ``eta > 0``).  A branch
+    may start on a bound (``BT = 0``, as in every preset) or run towards one: where
+    ``lambda - h`` would leave the domain, ``G_lambda`` is the one-sided second-order
+    difference ``(-3 P(lambda) + 4 P(lambda + h) - P(lambda + 2h)) / 2h`` into it; a step
+    whose predicted or corrected parameter would pass the bound is shortened to end on
+    it, and its orbit is found there by Newton in the state at the bound's value (no
+    iterate leaves the domain).  The branch then ends there, with the reason in
+    :attr:`Branch.status`.  An open bound (``eta > 0``) is not reached: the branch ends
+    ``ds_min`` (times ``max(1, |bound|)``) inside it.
+
     Parameters
     ----------
     system : System
@@ -259,12 +417,15 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         model's vector.
     stop : (float, float) or float
         The parameter window ``(lo, hi)`` (a single float: from the start value to it);
-        the continuation ends when it leaves the window.
+        the continuation ends when it leaves the window.  A window past a bound of the
+        parameter's domain (``stop=-0.1`` for ``B >= 0``) is cut there: the branch ends
+        on the bound.
     steps : Steps
         Arclength steps, points at most, the corrector's tolerance and iterations, the
         finite-difference step (:class:`Steps`).
     direction : {1, -1}
-        Initial direction in the parameter.
+        Initial direction in the parameter (from a start on a bound, into the domain:
+        pointing out of it, the branch ends at once, on the bound).
     amplitude : bool
         Compute the response amplitudes of every orbit (one dense run each).
     refine : float, optional
@@ -313,7 +474,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     mdl = system.model
     names = (("X_m", "Y_m", "R_m") if mdl.name == "rotor" else
              tuple(f"{s}_m" for s in mdl.state_names[:2]))
-    arc = _Arclength(system, param, n, window, steps)
+    window, bounds = _limits(system, param, window, lam0, steps.ds_min)
+    arc = _Arclength(system, param, n, window, steps, bounds)
     points = []  # (lambda, x, multipliers)
 
     def record(x, lam, M):
@@ -325,36 +487,7 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     t[-1] = float(direction)
     t = arc.tangent(Jg, t)
     record(x, lam, m.matrix)
-    status = f"max_points ({steps.max_points}) reached"
-    ds = steps.ds
-    edge_tries = 0  # steps shortened to end at the window's edge
-    while len(points) < steps.max_points:
-        u_pred = np.append(x, lam) + ds * t
-        ok, u, mm, J, it = arc.correct(u_pred, t)
-        lam_out = u[-1] if ok else u_pred[-1]
-        if not window[0] <= lam_out <= window[1]:
-            # shorten the step to end at the edge (at most 3 times), so that the branch
-            # reaches it and no change of stability before it is missed
-            edge = window[1] if lam_out > window[1] else window[0]
-            frac = (edge - lam) / (lam_out - lam) if lam_out != lam else 0.0
-            if edge_tries < 3 and ds * frac >= steps.ds_min:
-                ds *= frac
-                edge_tries += 1
-                continue
-            status = (f"reached the end of the window, {param} = {edge:.6g}"
-                      if abs(edge - lam) <= steps.ds_min else "left the parameter window")
-            break
-        if not ok:
-            ds *= 0.5
-            if ds < steps.ds_min:
-                status = f"step below ds_min ({steps.ds_min}) at {param} = {lam:.6g}"
-                break
-            continue
-        x_new, lam_new = u[:-1], u[-1]
-        t = arc.tangent(J, t)
-        x, lam, m = x_new, lam_new, mm
-        record(x, lam, m.matrix)
-        ds = min(steps.ds_max, ds * 1.5) if it <= 3 else ds
+    status = arc.march(x, lam, t, record, lambda: len(points))
     if refine is not None:
         points = _refined(system, param, n, points, refine, steps.newton_tol)
     vals = np.array([q[0] for q in points])
@@ -440,7 +573,8 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
     is at most ``tol`` wide, or keeps the last interval when Newton fails at a midpoint,
     lands more than a quarter of the orbit's size away from the guess (another orbit)
     or on a lower period.  The interval must not contain a turning point (there are two
-    orbits at the midpoint).
+    orbits at the midpoint).  Both ends must lie in the parameter's domain
+    (:meth:`vibimpact.System.param_domain`); every midpoint then does too.
 
     Parameters
     ----------
@@ -466,12 +600,17 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
     Raises
     ------
     ValueError
-        Naming the argument; ``values`` when both ends have the same stability.
+        Naming the argument; ``values`` when both ends have the same stability or an end
+        lies outside the parameter's domain (:meth:`vibimpact.System.param_domain`).
     """
     system = as_system(system).resolved(**CONTINUATION_SOLVER)
     tol = _v.positive("tol", tol)
     n = _v.count("n", n, 1)
     lo, hi = (float(_v.finite("values", v)) for v in values)
+    dom = system.param_domain(param)
+    for v in (lo, hi):  # the midpoints lie between the two: inside the domain too
+        if v not in dom:
+            raise ValueError(f"values: {dom.rule(_name(system, param))}, got {v!r}")
     xs = [_v.state("states", x, system.n_state) for x in states]
     mus = [shoot_periodic_orbit(system.with_param(param, v), x, n, tol=newton_tol)
            for v, x in zip((lo, hi), xs)]
