@@ -237,7 +237,7 @@ CLI_CASES = {
     "kh inf": ([*ONE, "--set", "kh=inf", "-o", "c.nc"], "kh", None),
     # absurd sizes
     "periods 1e9": (["simulate", "--periods", "1000000000", "-o", "r.nc"],
-                    "periods=1000000000", None),
+                    "--periods 1000000000 + --transient 500", None),
     "transient 1e9": (["simulate", "--transient", "1000000000", "-o", "r.nc"], "about",
                       None),
     # output

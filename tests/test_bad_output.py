@@ -110,10 +110,10 @@ LIMITS = {
                              _recorded("vibimpact simulate --eta 1.2 --periods 5 "
                                        "--transient 5 --dense 1000000000 -o c.nc")),
     "classify --blocks 1e20": ([*ONE, "--blocks", "99999999999999999999", "-o", "c.nc"],
-                               "blocks must be <= 100000", None),
+                               "argument --blocks: must be <= 100000", None),
     "bifurcation --blocks 1e20": (["bifurcation", "--eta", "1:1.01:0.01", "--blocks",
                                    "99999999999999999999", "-o", "b.png"],
-                                  "blocks must be <= 100000", None),
+                                  "argument --blocks: must be <= 100000", None),
     "resume over an unrelated output": ([*ONE, "-o", "c.nc", "--resume"], "--overwrite",
                                         _interrupted_beside("c.nc")),
     "map resume over an unrelated output": (["map", "--eta", "1,1.1", "--vary",

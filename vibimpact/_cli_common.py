@@ -1,5 +1,6 @@
 """Argument helpers shared by the command-line modules (no heavy imports here)."""
 import argparse
+import math
 import os
 import sys
 
@@ -81,7 +82,10 @@ def set_verbosity(count):
     log.setLevel(logging.INFO if count == 1 else logging.DEBUG)
 
 
-def positive_int(minimum):
+def positive_int(minimum, maximum=None):
+    """The argparse type of an integer option in ``[minimum, maximum]``: a value out of
+    range is refused as ``argument --NAME: must be >= 1, got 0``, in the option's name
+    (not as the API's argument would be, later)."""
     def convert(text):
         try:
             value = int(text)
@@ -89,16 +93,31 @@ def positive_int(minimum):
             raise argparse.ArgumentTypeError(f"invalid integer {text!r}") from None
         if value < minimum:
             raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {value}")
+        if maximum is not None and value > maximum:
+            raise argparse.ArgumentTypeError(f"must be <= {maximum}, got {value}")
         return value
     convert.__name__ = "integer"
     return convert
 
 
 def number(text):
+    """The argparse type of a number option: a finite float (no option of the command
+    line takes NaN or infinity; refused here, in the option's name)."""
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"invalid number {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
+
+
+def positive_number(text):
+    """The argparse type of a finite number > 0 (a tolerance)."""
+    value = number(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
 
 
 def parse_sets(items):
@@ -136,10 +155,9 @@ def check_output(path, overwrite, what, store=False, size=0):
 
     try:
         return check_output_path(path, overwrite, what=what, store=store,
-                                 hint="pass --overwrite to replace it",
                                  free=max(MIN_FREE, size))
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
 
 
 def sweep_file_bytes(params, points, direction="up"):
@@ -153,12 +171,37 @@ def sweep_file_bytes(params, points, direction="up"):
     return points_bytes(points, SweepSettings().n_samples, to_system(params).n_state)
 
 
-def error_text(exc):
-    """The message of a failed write for one line: an ``OSError`` as its reason and file
-    name, without the ``[Errno N]`` prefix; anything else as ``str(exc)``."""
+#: the option of the command line that sets each flag of the API a refusal names
+#: (:class:`vibimpact.io.NeedsFlag`: an existing output, an existing checkpoint)
+OPTION_OF_FLAG = {"overwrite": "--overwrite", "resume": "--resume"}
+
+
+def reason(exc):
+    """Why ``exc`` happened, in the command line's words, for one line.
+
+    A refusal that a flag of the API lifts (:class:`vibimpact.io.NeedsFlag`, known by
+    its ``flag`` and ``say``) names the option that sets it (``--overwrite``, not
+    ``overwrite=True``); an ``OSError`` is its reason without the ``[Errno N]`` prefix;
+    a ``KeyError`` names the missing key; anything else is its message.  Python's class
+    names are left out (the message says what happened); only an exception without a
+    message is named by its class.
+    """
+    flag, say = getattr(exc, "flag", None), getattr(exc, "say", None)
+    if isinstance(flag, str) and callable(say):
+        return say(OPTION_OF_FLAG.get(flag, "--" + flag.replace("_", "-")))
     if isinstance(exc, OSError) and exc.strerror:
-        return exc.strerror + (f": {exc.filename!r}" if exc.filename else "")
-    return str(exc)
+        return str(exc.strerror)
+    if isinstance(exc, KeyError) and exc.args:
+        return f"{exc.args[0]!r} is missing"
+    return " ".join(str(exc).split()) or f"unexpected {type(exc).__name__}"
+
+
+def error_text(exc):
+    """The message of a failure for one line: :func:`reason`, and the file name of an
+    ``OSError`` that has one."""
+    if isinstance(exc, OSError) and exc.strerror and exc.filename:
+        return f"{reason(exc)}: {exc.filename!r}"
+    return reason(exc)
 
 
 def is_store(path):
@@ -200,7 +243,7 @@ def read_input(path, what="", stores=False):
         return reader(path)
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
         raise UsageError(f"{what + ': ' if what else ''}cannot read {path!r} as {kind}: "
-                         f"{type(exc).__name__}: {exc}") from None
+                         f"{reason(exc)}") from None
 
 
 def write_outputs(*writes):
@@ -282,12 +325,14 @@ def _dpi(text):
 
 
 def _style(text):
-    from .plotting.style import check_style
+    from .plotting.style import STYLES, check_style
 
     try:
         return check_style(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc).replace("style must", "must")) from None
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"must be one of {', '.join(map(repr, STYLES))}, "
+                                     f"got {text!r}")
 
 
 def add_figure_options(parser, what="the figure"):
@@ -491,7 +536,7 @@ def check_checkpoint(ckpt, resume):
     try:
         ckpt.check_reusable(resume)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     if ckpt.exists():  # a resume writes into it: try that before computing
         import tempfile
 
@@ -547,7 +592,7 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
               file=sys.stderr)
         return None, 2
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     except OSError as exc:  # a checkpoint that cannot be written: disk full, read-only
         raise UsageError(f"{error_text(exc)}{_saved_line(ckpt, unit, resumable)}") \
             from None

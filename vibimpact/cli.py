@@ -63,7 +63,7 @@ from ._cli_common import (add_figure_options, check_output, figure_options,
                           interrupt_status, number, parse_sets, Parser, positive_int,
                           set_verbosity, signal_decides, StopWorkersOnSignal, UsageError,
                           verbosity)
-from ._cli_common import write_outputs
+from ._cli_common import error_text, positive_number, write_outputs
 from ._text import count
 
 
@@ -120,16 +120,13 @@ def _cmd_simulate(args):
             eta = base.eta if args.eta is None else args.eta
             params = base.replace(eta=eta, **parse_sets(args.set))
         except ValueError as exc:
-            raise UsageError(str(exc)) from None
+            raise UsageError(error_text(exc)) from None
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
     from . import _limits
     from .system import to_system
 
     n_state = to_system(params).n_state
-    try:  # before sizing the output: a request over the limits says so first
-        _limits.check_run(args.periods, args.transient, dense, n_state)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    _check_run_limits(args, dense, n_state)  # before sizing the output
     # the file holds the run's arrays once: is there room for it?
     check_output(out, args.overwrite, "output file",
                  size=_limits.run_bytes(args.periods, dense, n_state) // 2)
@@ -143,7 +140,7 @@ def _cmd_simulate(args):
                        state0=state0, method=args.method, rtol=args.rtol,
                        atol=args.atol, dense=dense)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     elapsed = time.perf_counter() - start
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = run.to_dataset(command, attrs={**attrs, "wall_time_s": round(elapsed, 3)})
@@ -161,6 +158,28 @@ def _cmd_simulate(args):
           f"status {run.status.value} ({elapsed:.1f} s)"
           + (f"; plot {args.plot}" if args.plot else "") + (f"; {note}" if note else ""))
     return 0
+
+
+def _check_run_limits(args, dense, n_state):
+    """The limits of :func:`vibimpact._limits.check_run` (forcing periods, memory),
+    checked here so that the refusal names the options (``--periods 5 with --dense
+    10``), not the API's arguments (``periods=5``)."""
+    from . import _limits
+
+    total = args.periods + args.transient
+    if total > _limits.MAX_PERIODS:
+        cost = _limits.human_duration(total * _limits.SECONDS_PER_PERIOD)
+        raise UsageError(f"--periods {args.periods} + --transient {args.transient} is "
+                         f"{total} forcing periods (about {cost} at "
+                         f"~{_limits.SECONDS_PER_PERIOD * 1e3:g} ms per period); at most "
+                         f"{_limits.MAX_PERIODS} in one run")
+    samples = (f"--dense {dense}" if args.dense is not None else
+               f"the {dense} samples per period of --plot")
+    try:
+        _limits.check_memory(_limits.run_bytes(args.periods, dense, n_state),
+                             f"--periods {args.periods} with {samples}")
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
 
 
 def build_parser():
@@ -212,10 +231,10 @@ def build_parser():
                    help="initial state at tau = 0 (default: rest, 0 0 0 0)")
     s.add_argument("--method", choices=("dop853", "dp5", "rk4"), default="dop853",
                    help="integrator (default: dop853)")
-    s.add_argument("--rtol", type=number, default=1e-9, help="relative tolerance "
-                   "(default: 1e-9)")
-    s.add_argument("--atol", type=number, default=1e-12, help="absolute tolerance "
-                   "(default: 1e-12)")
+    s.add_argument("--rtol", type=positive_number, default=1e-9, help="relative "
+                   "tolerance, > 0 (default: 1e-9)")
+    s.add_argument("--atol", type=positive_number, default=1e-12, help="absolute "
+                   "tolerance, > 0 (default: 1e-12)")
     s.add_argument("--dense", type=positive_int(0), default=None, metavar="N",
                    help="keep N evenly spaced samples per period (default: 0, or 64 with "
                         "--plot)")

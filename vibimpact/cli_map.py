@@ -6,7 +6,7 @@ instant.
 """
 import os
 
-from ._cli_common import error_text, output_of, sweep_file_bytes
+from ._cli_common import error_text, output_of, reason, sweep_file_bytes
 from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
                           checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
                           parse_analyses, parse_sets, positive_int, run_checkpointed)
@@ -72,11 +72,12 @@ def parse_vary(text, preset_params):
                           f"{', '.join(parameter_names())}")
     try:
         values = parse_range(spec, name=name, positive=False)
-        check_vary(preset_params, {name: values})
     except ValueError as exc:
-        msg = str(exc)
-        raise UsageError(f"--{msg}" if msg.startswith("vary ") else f"--vary: {msg}") \
-            from None
+        raise UsageError(f"--vary: {error_text(exc)}") from None
+    try:  # the values in the parameter's domain; the message names the option itself
+        check_vary(preset_params, {name: values}, label="--vary")
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
     return name, np.asarray(values, dtype=float)
 
 
@@ -86,7 +87,7 @@ def _check_map_output(out, overwrite, size):
     try:
         fmt = output_format(out)
     except ValueError as exc:
-        raise UsageError(f"-o: {exc}") from None
+        raise UsageError(f"-o: {error_text(exc)}") from None
     if fmt == "netcdf":
         return check_output(out, overwrite, "output file", size=size)
     if os.path.lexists(out):
@@ -112,7 +113,7 @@ def _inputs(args):
     try:
         params = presets.get(args.preset).replace(**sets)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     if len(args.vary) != 1:
         raise UsageError("give exactly one --vary NAME=START:STOP:STEP (a map varies eta "
                           "and one other parameter)")
@@ -123,7 +124,7 @@ def _inputs(args):
     try:
         check_size(etas.size, rows, name)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     return params, etas, name, values
 
 
@@ -157,7 +158,7 @@ def _cmd_map(args):
         try:
             scheduler, _ = cluster.connect(args.scheduler)
         except ValueError as exc:
-            raise UsageError(f"--scheduler: {exc}") from None
+            raise UsageError(f"--scheduler: {error_text(exc)}") from None
     workers = args.workers if args.workers is not None else min(2, os.cpu_count() or 1)
     t0 = time.perf_counter()
     try:
@@ -234,7 +235,7 @@ def plot_command(args, ds=None):
             ds = open_map(path)
         except Exception as exc:
             raise UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
-                              f"{type(exc).__name__}: {exc}") from None
+                             f"{reason(exc)}") from None
     if "map_vary" not in ds.attrs:
         raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
                           "one")
@@ -253,8 +254,7 @@ def plot_command(args, ds=None):
     try:
         plot_map(ds, path=out, **figure_options(args))
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
-        raise UsageError(f"cannot draw a map from {path!r}: {type(exc).__name__}: "
-                          f"{exc}") from None
+        raise UsageError(f"cannot draw a map from {path!r}: {reason(exc)}") from None
     print(f"wrote {out}")
     return 0
 

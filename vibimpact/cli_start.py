@@ -15,15 +15,11 @@ or gone since.  Only the standard library is imported at module level.
 """
 import os
 
-from ._cli_common import parse_sets, read_input, UsageError
+from ._cli_common import error_text, parse_sets, read_input, UsageError
 
-
-def _message(exc, path):
-    """An API error about ``ds`` reworded for the file ``path``."""
-    text = str(exc)
-    if text.startswith("ds "):
-        text = "the file " + text[3:]
-    return f"--from {path!r}: {text}"
+#: how :func:`vibimpact.sweeps.sweep_start`'s messages name what the command line gives
+#: as the file of --from and the options --eta and --direction
+_FROM_NAMES = {"ds": "the file", "eta": "--eta", "direction": "--direction"}
 
 
 def start_of(args):
@@ -65,14 +61,15 @@ def start_of(args):
     else:
         ds = read_input(path, "--from")
         try:
-            start = sweep_start(ds, args.eta, args.direction, source=path)
+            start = sweep_start(ds, args.eta, args.direction, source=path,
+                                names=_FROM_NAMES)
         except (TypeError, ValueError) as exc:
-            raise UsageError(_message(exc, path)) from None
+            raise UsageError(f"--from {path!r}: {error_text(exc)}") from None
         preset = str(ds.attrs.get("preset", ""))
     try:
         params = start.params.replace(**sets)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     changed = ", ".join(f"{k}={v:g}" for k, v in sets.items())
     note = (f"started from {path} at eta = {start.eta:.12g} ({start.direction}), where the "
             f"sweep found '{start.label}'"
@@ -87,10 +84,10 @@ def recorded_start(ds, path):
     from .sweeps.start import SweepStart
 
     try:
-        start = SweepStart.from_run_dataset(ds)
+        start = SweepStart.from_run_dataset(ds, name="it")
     except ValueError as exc:
         raise UsageError(f"{path!r} was written by 'simulate --from' but "
-                         f"{str(exc).replace('ds ', 'it ', 1)}") from None
+                         f"{error_text(exc)}") from None
     return start, str(ds.attrs.get("preset", ""))
 
 

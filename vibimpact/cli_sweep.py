@@ -11,7 +11,9 @@ from ._cli_common import (UsageError, add_figure_options, check_checkpoint, chec
                           checkpoint_of, figure_options, finish_checkpointed,
                           image_ext_ok, parse_analyses, parse_sets, positive_int,
                           run_checkpointed)
-from ._cli_common import output_of, read_input, sweep_file_bytes, write_outputs
+from ._cli_common import error_text, output_of, read_input, reason, sweep_file_bytes
+from ._cli_common import write_outputs
+from ._limits import MAX_POINTS
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -110,7 +112,7 @@ def _sweep_inputs(args):
     try:
         params = presets.get(args.preset).replace(**parse_sets(args.set))
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     return etas, params
 
 
@@ -305,8 +307,7 @@ def _cmd_plot(args):
             plotting.save_figure(fig, out)
     except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing;
         # save_figure writes atomically, so nothing partial is left
-        raise UsageError(f"cannot draw {kind} from {path!r}: "
-                          f"{type(exc).__name__}: {exc}") from None
+        raise UsageError(f"cannot draw {kind} from {path!r}: {reason(exc)}") from None
     print(f"wrote {out}")
     return 0
 
@@ -325,7 +326,7 @@ def _add_sweep_options(s, direction):
     s.add_argument("--workers", type=positive_int(1), default=_default_workers(),
                    metavar="N", help="processes computing at once (default: min(2, CPUs) "
                    f"= {_default_workers()}); does not change the result")
-    s.add_argument("--blocks", type=positive_int(1), default=16, metavar="N",
+    s.add_argument("--blocks", type=positive_int(1, MAX_POINTS), default=16, metavar="N",
                    help="seeded blocks per direction, 1 = pure serial continuation "
                         "(default: 16)")
     s.add_argument("--overwrite", action="store_true", help="replace existing output files")

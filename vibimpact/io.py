@@ -95,8 +95,57 @@ def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, An
 MIN_FREE = 1 << 20
 
 
+class NeedsFlag(ValueError):
+    """A refusal that a flag of the call lifts: an existing output without
+    ``overwrite``, an existing checkpoint without ``resume``.
+
+    It carries what was refused and the flag's name as data, so that each interface
+    names the flag in its own words: ``str(exc)`` is the API's (``...; pass
+    overwrite=True to replace it``), :meth:`say` another's (the command line's
+    ``exc.say("--overwrite")``).
+
+    Parameters
+    ----------
+    refused : str
+        What was refused ("output file 'r.nc' exists").
+    flag : str
+        The keyword argument that lifts it ("overwrite", "resume").
+    purpose : str
+        What the flag does ("to replace it").
+    message : str, optional
+        ``str(exc)``, when not the API's own words.
+    """
+
+    def __init__(self, refused: str, flag: str, purpose: str,
+                 message: str | None = None) -> None:
+        self.refused, self.flag, self.purpose = refused, flag, purpose
+        super().__init__(message or self.say(f"{flag}=True"))
+
+    def say(self, flag: str) -> str:
+        """The refusal with the flag spelled ``flag`` (``"--overwrite"``)."""
+        return f"{self.refused}; pass {flag} {self.purpose}"
+
+    def __reduce__(self):  # pickled whole (a worker's error), not as str(exc) alone
+        return (NeedsFlag, (self.refused, self.flag, self.purpose, str(self)))
+
+
+class OutputExists(NeedsFlag):
+    """An existing output path, refused without ``overwrite``: a :class:`NeedsFlag`
+    whose ``path`` and ``what`` (the role of the path, "output file") are attributes;
+    ``hint`` replaces "pass overwrite=True to replace it" in ``str(exc)``."""
+
+    def __init__(self, what: str, path: str, hint: str | None = None) -> None:
+        self.what, self.path, self.hint = what, path, hint
+        refused = f"{what} {path!r} exists"
+        super().__init__(refused, "overwrite", "to replace it",
+                         f"{refused}; {hint}" if hint else None)
+
+    def __reduce__(self):
+        return (OutputExists, (self.what, self.path, self.hint))
+
+
 def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
-                      what: str = "output", hint: str = "pass overwrite=True to replace it",
+                      what: str = "output", hint: str | None = None,
                       store: bool = False, free: int = MIN_FREE) -> str:
     """Vet an output path before anything is computed; every writer and every command
     that writes (its outputs and its checkpoint ``OUT.partial``) goes through it.
@@ -116,8 +165,10 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
         An existing regular file (or Zarr directory, with ``store``) may be replaced.
     what : str
         Names the path in the messages ("output file", "plot file", "checkpoint").
-    hint : str
-        How to allow replacing it, in the message of an existing path.
+    hint : str, optional
+        How to allow replacing it, in the message of an existing path (default: the
+        API's "pass overwrite=True to replace it"; an interface of its own can instead
+        name the flag from the :class:`OutputExists` raised, see :meth:`NeedsFlag.say`).
     store : bool
         ``path`` is a directory store (Zarr): a trailing ``/`` is allowed, an existing
         directory is not refused here.
@@ -131,6 +182,8 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
 
     Raises
     ------
+    OutputExists
+        For an existing path without ``overwrite`` (a ``ValueError``).
     ValueError
         Naming ``what``, the path and the reason.
     """
@@ -156,7 +209,7 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
         raise ValueError(f"{what} {path!r} is not a regular file (a device, pipe or "
                          "socket); not replacing it")
     if os.path.lexists(path) and not overwrite:
-        raise ValueError(f"{what} {path!r} exists; {hint}")
+        raise OutputExists(what, path, hint)
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} does "
@@ -244,9 +297,11 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     ------
     TypeError
         When ``ds`` is neither a Dataset nor a Run.
+    OutputExists
+        When ``path`` exists and not ``overwrite`` (also when it appeared while ``ds``
+        was written); a ``ValueError``.
     ValueError
-        For a path :func:`check_output_path` refuses (it exists and not ``overwrite``,
-        its directory does not exist or is not writable, a device, a dangling link, a
+        For another path :func:`check_output_path` refuses (its directory does not exist or is not writable, a device, a dangling link, a
         name that is empty, too long or not UTF-8, ...).
     OSError
         When the file cannot be written: a full disk, which NetCDF reports as
@@ -274,9 +329,8 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
         else:
             try:
                 os.link(tmp, path)  # fails if path appeared meanwhile: never clobber
-            except FileExistsError:
-                raise ValueError(f"output file {path!r} exists "
-                                 "(pass overwrite=True to replace it)") from None
+            except FileExistsError:  # made while ds was written: refused alike
+                raise OutputExists("output file", path) from None
             except OSError:  # no hard links on this file system
                 _rename(tmp, path)
     finally:

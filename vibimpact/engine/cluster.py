@@ -37,6 +37,12 @@ def _worker_version():
     return vibimpact.__version__
 
 
+def _why(exc):
+    """What went wrong, for a message: ``exc``'s text, or its class when it has none
+    (the text says it in words; the class name is Python's)."""
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
 def check_workers(client):
     """ValueError unless every worker imports the same vibimpact version as this process.
 
@@ -50,12 +56,11 @@ def check_workers(client):
     try:
         got = client.run(_worker_version, on_error="return")
     except Exception as exc:  # the scheduler went away meanwhile
-        raise ValueError(f"cannot reach the Dask workers: {type(exc).__name__}: {exc}") \
-            from None
+        raise ValueError(f"cannot reach the Dask workers: {_why(exc)}") from None
     for worker, v in sorted(got.items()):
         if isinstance(v, BaseException):
             raise ValueError(f"Dask worker {worker} cannot import vibimpact "
-                             f"({type(v).__name__}: {v}); install it in the workers' "
+                             f"({_why(v)}); install it in the workers' "
                              "environment")
         if v != __version__:
             raise ValueError(f"Dask worker {worker} runs vibimpact {v}, this process "

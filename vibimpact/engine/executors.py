@@ -150,11 +150,18 @@ class Processes:
                     _drain(q, tasks, on_point)  # what the others finished meanwhile
                     raise WorkerLost(DIED) from exc
                 except (EOFError, ConnectionError) as exc:  # the queue's process died
-                    raise WorkerLost("the points' queue process died unexpectedly "
-                                     f"({type(exc).__name__})") from exc
+                    raise _queue_died(exc) from exc
                 for task, res in zip(futures[f], results):
                     on_task(task, res)
         _drain(q, tasks, on_point)
+
+
+def _queue_died(exc):
+    """The WorkerLost of a lost connection to the points' queue process (``exc``: an
+    EOFError or a ConnectionError), said in words."""
+    why = getattr(exc, "strerror", None) or " ".join(str(exc).split()) or \
+        "its connection closed"
+    return WorkerLost(f"the points' queue process died unexpectedly ({why})")
 
 
 def _drain(q, tasks, on_point):
@@ -166,8 +173,7 @@ def _drain(q, tasks, on_point):
         except _queue.Empty:
             return
         except (EOFError, ConnectionError) as exc:  # the manager process died
-            raise WorkerLost("the points' queue process died unexpectedly "
-                             f"({type(exc).__name__})") from exc
+            raise _queue_died(exc) from exc
         on_point(tasks[(row, d, start)], i, res)
 
 

@@ -160,13 +160,20 @@ class Checkpoint:
 
     def check_reusable(self, resume):
         """ValueError unless a run may go ahead: ``path`` is absent, or (with ``resume``)
-        a directory."""
+        a directory; without ``resume``, an existing checkpoint is a
+        :class:`vibimpact.io.NeedsFlag` naming the flag ``resume``."""
         if self.exists() and not self.path.is_dir():
             raise ValueError(f"checkpoint {os.fspath(self.path)!r} exists and is not a "
                              "directory; remove it")
         if self.exists() and not resume:
-            raise ValueError(f"checkpoint {os.fspath(self.path)!r} exists (an interrupted "
-                             "run): pass --resume to continue it, or remove it")
+            raise self._exists(f"checkpoint {os.fspath(self.path)!r} exists")
+
+    def _exists(self, refused):
+        """The refusal of an existing checkpoint without ``resume``."""
+        from ..io import NeedsFlag
+
+        return NeedsFlag(f"{refused} (an interrupted run)", "resume",
+                         "to continue it, or remove it")
 
     def entries(self):
         """``[(name, row, direction, start, stop)]`` of the entry files now present."""
@@ -230,8 +237,9 @@ class Checkpoint:
         Raises
         ------
         ValueError
-            ``path`` exists without ``resume``, is not a checkpoint, or belongs to a
-            different request.
+            ``path`` exists without ``resume`` (a :class:`vibimpact.io.NeedsFlag` naming
+            the flag ``resume``), is not a checkpoint, or belongs to a different
+            request.
         """
         path, what = self.path, self.what
         self.fp = fingerprint(request)
@@ -239,8 +247,7 @@ class Checkpoint:
         self.streams = streams
         if self.exists():
             if not resume:
-                raise ValueError(f"{what} {path} already exists: pass resume=True "
-                                 "(--resume) to continue it, or remove it")
+                raise self._exists(f"{what} {path} already exists")
             self._check(kind)
             return self
         path.mkdir(parents=True)

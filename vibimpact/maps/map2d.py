@@ -73,8 +73,17 @@ def parameter_names(p: Params | DuffingParams | System | None = None) -> list[st
     return varied_names(Params() if p is None else p)
 
 
-def check_vary(p, vary):
+def check_vary(p, vary, label="vary"):
     """``(name, values)`` of a valid ``vary`` argument.
+
+    Parameters
+    ----------
+    p : Params, DuffingParams or System
+    vary : dict
+        ``{name: values}``.
+    label : str
+        How the messages name ``vary``: the argument (``"vary"``), or the option of an
+        interface that gives it otherwise (the command line's ``"--vary"``).
 
     Raises
     ------
@@ -84,7 +93,7 @@ def check_vary(p, vary):
         outside the parameter's domain (as :class:`Params` checks it).
     """
     if not isinstance(vary, Mapping) or len(vary) != 1:
-        raise ValueError("vary must be a dict with one entry {name: values}, e.g. "
+        raise ValueError(f"{label} must be a dict with one entry {{name: values}}, e.g. "
                          "{'kh': [10, 20, 40]}, got "
                          f"{vary!r}"[:200])
     (name, values), = vary.items()
@@ -92,26 +101,26 @@ def check_vary(p, vary):
     freq = to_system(p).model
     freq = freq.param_names[freq.omega_index]
     if name == freq:
-        raise ValueError(f"vary: {freq} is the map's other axis (eta=...); vary one of "
-                         f"{', '.join(names)}")
+        raise ValueError(f"{label}: {freq} is the map's other axis (eta=...); vary one "
+                         f"of {', '.join(names)}")
     if name not in names:
-        raise ValueError(f"vary: unknown parameter {name!r}; choose one of "
+        raise ValueError(f"{label}: unknown parameter {name!r}; choose one of "
                          f"{', '.join(names)}")
     if isinstance(values, np.ndarray):
         _limits.check_points(values.size, name=name)
-    arr = _v.array1d(f"vary {name}: values", values)
+    arr = _v.array1d(f"{label} {name}: values", values)
     if arr.size == 0:
-        raise ValueError(f"vary {name}: no values")
+        raise ValueError(f"{label} {name}: no values")
     _limits.check_points(arr.size, name=name)
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"vary {name}: values must be finite")
+        raise ValueError(f"{label} {name}: values must be finite")
     if arr.size > 1 and not np.all(np.diff(arr) > 0.0):
-        raise ValueError(f"vary {name}: values must be strictly increasing")
+        raise ValueError(f"{label} {name}: values must be strictly increasing")
     for v in (arr[0], arr[-1]):  # the domains are intervals: the ends decide
         try:
             with_values(p, **{name: float(v)})
         except ValueError as exc:
-            raise ValueError(f"vary {name}: {exc}") from None
+            raise ValueError(f"{label} {name}: {exc}") from None
     return name, arr
 
 
@@ -167,8 +176,9 @@ class _Rows:
             self.fill(task.row, task.direction, points)
         except Exception as exc:
             v = self.values[task.row]
+            why = " ".join(str(exc).split()) or type(exc).__name__
             raise RuntimeError(f"map row {self.name} = {v:g}, sweep {task.direction}: "
-                               f"{type(exc).__name__}: {exc}") from exc
+                               f"{why}") from exc
 
 
 def _template(p, name, values, etas, dirs, direction, settings, command):

@@ -228,7 +228,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     return ds
 
 
-def sweep_params(ds: xr.Dataset, eta: float | None = None) -> Params:
+def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") -> Params:
     """The rotor parameters a sweep dataset records (its ``params`` attribute).
 
     Parameters
@@ -238,6 +238,9 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None) -> Params:
     eta : float, optional
         The rotor speed to set (the attribute leaves it out); the default of
         :class:`~vibimpact.Params` otherwise.
+    name : str
+        How the messages name ``ds`` (an interface that reads it from a file: "the
+        file").
 
     Returns
     -------
@@ -250,13 +253,14 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None) -> Params:
     """
     from ..params import Params
 
-    _v.dataset("ds", ds, SWEEP_DATASET)
+    _v.dataset(name, ds, SWEEP_DATASET)
+    if "params" not in ds.attrs:
+        raise ValueError(f"{name} has no 'params' attribute (the sweep's parameters)")
     try:
         params = json.loads(ds.attrs["params"])
         return Params(**params) if eta is None else Params(**params, eta=eta)
-    except (KeyError, TypeError, ValueError) as exc:
-        raise ValueError(f"ds has no usable 'params' attribute ({type(exc).__name__}: "
-                         f"{exc})") from None
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} has no usable 'params' attribute ({exc})") from None
 
 
 def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:

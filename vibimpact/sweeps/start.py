@@ -35,6 +35,8 @@ from .. import _validate as _v
 from .dataset import SWEEP_DATASET, sweep_params
 
 if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Mapping
+
     import xarray as xr
 
     from ..params import Params
@@ -95,7 +97,7 @@ class SweepStart:
         return out
 
     @classmethod
-    def from_run_dataset(cls, ds: xr.Dataset) -> SweepStart:
+    def from_run_dataset(cls, ds: xr.Dataset, *, name: str = "ds") -> SweepStart:
         """The start recorded in the dataset of a run made from a sweep.
 
         Parameters
@@ -103,6 +105,8 @@ class SweepStart:
         ds : xarray.Dataset
             A file written by ``vibimpact simulate --from`` (its ``start_*``
             attributes and ``state0`` variable).
+        name : str
+            How the messages name ``ds`` (``vibimpact rerun``: "it", the file).
 
         Returns
         -------
@@ -118,14 +122,13 @@ class SweepStart:
         a = ds.attrs
         missing = [k for k in (*_ATTRS, "start_params") if k not in a]
         if missing or "state0" not in ds:
-            raise ValueError("ds records no start from a sweep (missing "
+            raise ValueError(f"{name} records no start from a sweep (missing "
                              f"{', '.join(missing + ([] if 'state0' in ds else ['state0']))})")
         try:
             params = Params(**json.loads(a["start_params"]))
             state = np.asarray(ds["state0"].values, dtype=np.float64).reshape(4)
         except (TypeError, ValueError) as exc:
-            raise ValueError(f"ds: damaged start record ({type(exc).__name__}: {exc})") \
-                from None
+            raise ValueError(f"{name} has a damaged start record ({exc})") from None
         return cls(params=params, state=state, eta=float(a["start_eta"]),
                    direction=str(a["start_direction"]), label=str(a["start_label"]),
                    source=str(a["start_sweep"]), sweep_command=str(a["start_sweep_command"]))
@@ -137,18 +140,22 @@ def _directions(ds):
     return [str(ds.attrs.get("sweep_direction", ds.attrs.get("direction", "up")))]
 
 
-def _check_sweep(ds):
+#: how the messages of :func:`sweep_start` name its arguments by default
+ARGUMENT_NAMES = {"ds": "ds", "eta": "eta", "direction": "direction"}
+
+
+def _check_sweep(ds, name="ds"):
     hint = "; a Run is one simulation, not a sweep" if hasattr(ds, "strobe") else ""
-    _v.dataset("ds", ds, SWEEP_DATASET, hint)
+    _v.dataset(name, ds, SWEEP_DATASET, hint)
     if "map_vary" in ds.attrs:
-        raise ValueError("ds is a parameter map (vibimpact map), not a sweep")
+        raise ValueError(f"{name} is a parameter map (vibimpact map), not a sweep")
     missing = [n for n in ("regime", "label", "final_state") if n not in ds]
     if "eta" not in ds.dims or missing:
         what = f"no {', '.join(missing)}" if missing else "no dimension eta"
-        raise ValueError(f"ds is not a sweep dataset ({what}); use a file from "
+        raise ValueError(f"{name} is not a sweep dataset ({what}); use a file from "
                          "'vibimpact classify' or 'vibimpact bifurcation'")
     if not set(ds["final_state"].dims) <= {"direction", "eta", "state"}:
-        raise ValueError(f"ds is not a sweep dataset (final_state has dims "
+        raise ValueError(f"{name} is not a sweep dataset (final_state has dims "
                          f"{ds['final_state'].dims})")
 
 
@@ -181,7 +188,7 @@ def grid_index(grid: np.ndarray, eta: float) -> int:
 
 
 def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None = None, *,
-                source: str = "") -> SweepStart:
+                source: str = "", names: Mapping[str, str] | None = None) -> SweepStart:
     """The parameters and state a sweep had at one grid point and direction.
 
     Parameters
@@ -198,6 +205,10 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
         sweep's own by default.
     source : str
         The sweep's file, recorded in :attr:`SweepStart.source`.
+    names : dict, optional
+        How the messages name ``ds``, ``eta`` and ``direction`` (default
+        :data:`ARGUMENT_NAMES`: as the arguments); an interface that takes them otherwise
+        names its own (the command line: "the file", "--eta", "--direction").
 
     Returns
     -------
@@ -221,24 +232,26 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     >>> start.label, start.direction
     ('chaotic, impacting, whole circle', 'up')
     """
-    _check_sweep(ds)
+    n = {**ARGUMENT_NAMES, **(names or {})}
+    _check_sweep(ds, n["ds"])
     dirs = _directions(ds)
     if direction is None:
         if len(dirs) > 1:
-            raise ValueError(f"direction: the sweep has {' and '.join(dirs)}; give one")
+            raise ValueError(f"{n['direction']}: the sweep has {' and '.join(dirs)}; give "
+                             "one")
         direction = dirs[0]
     elif not isinstance(direction, str):
-        raise _v.WrongType(f"direction must be a str, one of {', '.join(dirs)}, got "
-                           f"{type(direction).__name__} {direction!r}")
+        raise _v.WrongType(f"{n['direction']} must be a str, one of {', '.join(dirs)}, "
+                           f"got {type(direction).__name__} {direction!r}")
     elif direction not in dirs:
-        raise ValueError(f"direction {direction!r} is not in the sweep (it has "
+        raise ValueError(f"{n['direction']} {direction!r} is not in the sweep (it has "
                          f"{' and '.join(dirs)})")
     sub = ds.sel(direction=direction) if "direction" in ds.dims else ds
     grid = sub["eta"].values
     if eta is None and grid.size != 1:
-        raise ValueError(f"eta: give one of the sweep's {grid.size} grid values (from "
-                         f"{grid.min():.12g} to {grid.max():.12g})")
-    i = 0 if eta is None else grid_index(grid, _v.finite("eta", eta))
+        raise ValueError(f"{n['eta']}: give one of the sweep's {grid.size} grid values "
+                         f"(from {grid.min():.12g} to {grid.max():.12g})")
+    i = 0 if eta is None else grid_index(grid, _v.finite(n["eta"], eta))
     at = float(sub["eta"].values[i])
     where = f"eta = {at:.12g} ({direction})"
     regime = int(sub["regime"].values[i])
@@ -249,7 +262,7 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     state = np.asarray(sub["final_state"].values[i], dtype=np.float64)
     if regime not in REGIME_CODES.values() or not np.all(np.isfinite(state)):
         raise ValueError(f"the sweep did not compute {where}; no state to start from")
-    params = sweep_params(ds, eta=at)
+    params = sweep_params(ds, eta=at, name=n["ds"])
     return SweepStart(params=params, state=state.copy(), eta=at, direction=direction,
                       label=str(sub["label"].values[i]), source=str(source),
                       sweep_command=str(ds.attrs.get("command", "")))
