@@ -67,20 +67,45 @@ def names(name, value, options):
     return items
 
 
+def numeric(name, value, what="a numeric array"):
+    """``value`` as a new C-contiguous float64 array, from real numbers only.
+
+    Integers and floats (Python's or numpy's) are taken; strings (also digits such as
+    ``'0.1'``), bytes, ``None``, mappings, booleans, complex numbers (whose imaginary
+    part would be dropped) and objects that are not real numbers are
+    :class:`WrongType`.  Memory order and strides of the input do not matter."""
+    if value is None or isinstance(value, (str, bytes, dict)):
+        raise WrongType(f"{name} must be {what}, got {type(value).__name__} "
+                        f"{value!r}"[:200])
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
+        raise WrongType(f"{name} must be {what}: {exc}"[:200]) from None
+    if arr.dtype.kind == "O":
+        flat = arr.reshape(-1)
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+                   for v in flat):
+            bad = next(v for v in flat if not isinstance(v, numbers.Real)
+                       or isinstance(v, (bool, np.bool_)))
+            raise WrongType(f"{name} must hold real numbers ({what}), got an element "
+                            f"{type(bad).__name__} {bad!r}"[:200])
+    elif arr.dtype.kind not in "iuf":
+        kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes"}.get(
+            arr.dtype.kind, str(arr.dtype))
+        raise WrongType(f"{name} must hold real numbers ({what}), got {kind} values"
+                        + (" (the imaginary part would be lost)" if kind == "complex"
+                           else ""))
+    try:
+        return np.array(arr, dtype=np.float64, order="C")
+    except OverflowError:
+        raise ValueError(f"{name} must be finite") from None
+
+
 def array1d(name, value, what="numbers"):
     """``value`` as a 1-D float64 array (a single number is one element): strings, None,
     mappings and other non-numeric values are :class:`WrongType`, more than one
     dimension a ``ValueError`` with the shape."""
-    if value is None or isinstance(value, (str, bytes, dict)):
-        raise WrongType(f"{name} must be {what} (a 1-D array), got "
-                        f"{type(value).__name__} {value!r}"[:200])
-    try:
-        arr = np.array(value, dtype=np.float64)
-    except OverflowError:
-        raise ValueError(f"{name} must be finite") from None
-    except (TypeError, ValueError):
-        raise WrongType(f"{name} must be {what} (a 1-D array), got {value!r}"[:200]) \
-            from None
+    arr = numeric(name, value, f"{what}, a 1-D array")
     if arr.ndim > 1:
         raise ValueError(f"{name} must be 1-D, got shape {arr.shape}")
     return arr.reshape(-1)
@@ -139,12 +164,7 @@ def state(name, value, n):
 
 def points(value, name="points"):
     """``value`` as a finite float array of shape (m, d) (a 1-D array is one column)."""
-    if value is None or isinstance(value, (str, bytes, dict)):
-        raise WrongType(f"{name} must be a numeric array, got {type(value).__name__}")
-    try:
-        x = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise WrongType(f"{name} must be a numeric array: {exc}") from None
+    x = numeric(name, value)
     if x.ndim == 1:
         x = x[:, None]
     if x.ndim != 2:

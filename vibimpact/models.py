@@ -77,7 +77,7 @@ class Model:
             object.__setattr__(self, "_probed", True)
         kmodel = self.variational_kernel_model if variational else self.kernel_model
         return Problem(kmodel, self.terminal, self.n_mode, p, float(p[self.omega_index]),
-                       self.init_mode)
+                       self.init_mode, n_state=len(self.state_names))
 
     @property
     def variational_kernel_model(self):

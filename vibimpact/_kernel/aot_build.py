@@ -31,7 +31,7 @@ def _integrate_example():
 
     n = 4
     problem = kb.Problem(dispatch.ROTOR, rotor.TERMINAL, rotor.N_MODE,
-                         np.zeros(len(rotor.PARAM_NAMES)), 1.0)
+                         np.zeros(len(rotor.PARAM_NAMES)), 1.0, n_state=n)
     method = kb.Method.named("dop853")
     options = kb.Options(rtol=1e-9, atol=1e-12, h_fixed=0.01, max_step=0.1, bound=1e3,
                          event_tol=1e-12, max_steps_per_period=100_000)

@@ -28,6 +28,7 @@ from typing import Callable
 
 import numpy as np
 
+from . import argcheck as _check
 from . import dispatch as _dispatch
 from . import driver as _driver
 from . import integrator as _integrator
@@ -35,7 +36,7 @@ from . import linalg as _linalg
 from . import recurrence as _recurrence
 from . import tableaux as _tab
 from .driver import workspace as _workspace
-from .lyapunov import qr_growth
+from .lyapunov import qr_growth as _qr_growth
 from .lyapunov import two_trajectory as _two_trajectory
 from . import precompiled as _precompiled
 from .precompiled import routine as _routine
@@ -205,6 +206,15 @@ class Problem:
         Forcing frequency; the period is ``T = 2 pi / omega``.
     init_mode : callable
         ``init_mode(s, y, p, mode)``: the mode consistent with a state.
+    n_state : int, optional
+        Entries of the model's state (without tangent vectors); the states of every
+        kernel call are checked against it.  Required by a built-in model's sizes, given
+        by a user model's declaration (:class:`vibimpact.models.Model`).
+
+    Raises
+    ------
+    ValueError
+        For arrays of the wrong dtype, order or size (:mod:`.argcheck`).
     """
 
     model: object
@@ -213,6 +223,11 @@ class Problem:
     p: np.ndarray
     omega: float
     init_mode: Callable = field(repr=False, default=None)
+    n_state: int = None
+
+    def __post_init__(self):
+        _check.problem(self.model, self.terminal, self.p, self.n_mode, self.omega,
+                       self.n_state)
 
     @property
     def period(self):
@@ -220,10 +235,17 @@ class Problem:
         return 2.0 * math.pi / self.omega
 
     def initial_mode(self, y):
-        """The mode consistent with state ``y`` at ``tau = 0``."""
+        """The mode consistent with state ``y`` (of the model; of a variational model
+        also with its tangent vectors) at ``tau = 0``."""
+        _check.state("y", y, self.n_state, self.variational and y.size != self.n_state)
         mode = np.zeros(self.n_mode, dtype=np.int64)
         self.init_mode(0.0, y, self.p, mode)
         return mode
+
+    @property
+    def variational(self):
+        """Whether the model is the variational version of a model."""
+        return _check.variational(self.model)
 
 
 class EventLog:
@@ -356,8 +378,31 @@ def integrate_args(problem, method, options, ws, y, mode, clock, k_end, k_record
     loop (:mod:`.aot_build`): ``ws`` a :func:`.driver.workspace`, ``log_arrays`` an
     :meth:`EventLog.arrays`, ``renorm`` ``(n_state, bound, logs, states)`` of a
     Benettin run (none by default)."""
+    _check_run(problem, method, ws, y, mode, clock, count)
+    n = y.size
+    _check.integer("k_end", k_end)
+    _check.integer("k_record", k_record)
+    _check.samples(strobe, dense, n, dense_m)
+    _check.event_log(log_arrays, 0, n, problem.n_mode, problem.terminal.size)
+    _check.renorm(renorm, n)
     return (*_leading(problem, method, options), ws, y, mode, clock, k_end, k_record,
             strobe, log_arrays, 0, dense_m, dense, count, renorm)
+
+
+def _check_run(problem, method, ws, y, mode, clock, count, suffix=""):
+    """Check the arguments of a run of ``problem`` that every kernel entry point takes
+    (:mod:`.argcheck`): the problem, the method, the workspace, the state, the mode, the
+    clock and the counters."""
+    if not isinstance(problem, Problem) or not isinstance(method, Method):
+        raise ValueError("the kernel takes a boundary.Problem and a boundary.Method")
+    _check.state("y" + suffix, y, problem.n_state, problem.variational)
+    _check.mode_vector("mode" + suffix, mode, problem.n_mode)
+    _check.clock("clock" + suffix, clock)
+    if not suffix:
+        n_sw = problem.terminal.size
+        _check.workspace(ws, y.size, n_sw, problem.n_mode,
+                         _workspace(y.size, n_sw, problem.n_mode))
+        _check.counters(count)
 
 
 def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods, logs,
@@ -393,9 +438,26 @@ def two_trajectory(problem, method, options, y, mode, clock, y2, mode2, clock2, 
                    bound, n_periods, logs, count):
     """A reference and a perturbed trajectory over ``n_periods`` periods, renormalised to
     ``d0`` after each (:func:`.lyapunov.two_trajectory`).  Returns ``(status, done)``."""
-    ws = _workspace(y.size, problem.terminal.size, mode.size)
+    ws = _workspace(y.size, problem.terminal.size, problem.n_mode)
+    _check_run(problem, method, ws, y, mode, clock, count)
+    _check_run(problem, method, ws, y2, mode2, clock2, count, suffix="2")
+    _check.array("scale", scale, shape=(y.size,))
+    n_periods = _check.integer("n_periods", n_periods)
+    _check.array("logs", logs, ndim=2, writeable=True)
+    if logs.shape[0] < n_periods or logs.shape[1] < 1:
+        raise ValueError(f"kernel argument logs must have >= {n_periods} rows and a "
+                         f"column, got shape {logs.shape}")
     return _two_trajectory(*_leading(problem, method, options), ws, y, mode, clock, y2,
-                           mode2, clock2, d0, scale, bound, n_periods, logs, count)
+                           mode2, clock2, float(d0), scale, float(bound), n_periods, logs,
+                           count)
+
+
+def qr_growth(J, logs):
+    """``log |R_ii|`` of the QR re-orthonormalised product of map Jacobians ``J``
+    (shape (N, d, d)) into ``logs`` (shape (N, d)) (:func:`.lyapunov.qr_growth`),
+    arguments checked."""
+    _check.ROUTINES["qr_growth"](J, logs)
+    _qr_growth(J, logs)
 
 
 def array_routine_calls():

@@ -19,7 +19,11 @@ precompiled code when
 * the arguments have exactly the types it was compiled for (numba's type fingerprint of
   the arguments; a precompiled function does not check its arguments itself),
 
-and numba's JIT-compiled function otherwise.  ``VIBIMPACT_PRECOMPILED=0`` turns it off.
+and numba's JIT-compiled function otherwise.  Neither checks array sizes or indices:
+every call is checked first by :mod:`.argcheck` (the array routines by the
+:class:`Routine` itself, the integration loop where :mod:`.boundary` builds its
+arguments), and a wrong shape, dtype or memory order is a ``ValueError``.
+``VIBIMPACT_PRECOMPILED=0`` turns it off.
 Which of the two runs never changes a number: both are the same numba code compiled by
 the same compiler for the same processor.
 """
@@ -30,6 +34,7 @@ import json
 import logging
 import os
 
+from .argcheck import ROUTINES
 from .cache_guard import current_digest
 from .dispatch import BuiltinModel
 
@@ -157,11 +162,13 @@ class Routine:
     Attribute access falls through to the dispatcher (``.py_func``, ``.signatures``).
     """
 
-    __slots__ = ("name", "jit", "_aot")
+    __slots__ = ("name", "jit", "check", "_aot")
 
     def __init__(self, name, jit):
         self.name = name
         self.jit = jit
+        # the shapes and sizes its loops use (neither version checks indices)
+        self.check = ROUTINES.get(name)
         self._aot = False  # not looked up yet
 
     def _precompiled(self):
@@ -179,6 +186,8 @@ class Routine:
         return self.jit
 
     def __call__(self, *args):
+        if self.check is not None:
+            self.check(*args)
         return self.pick(args)(*args)
 
     def __getattr__(self, attr):

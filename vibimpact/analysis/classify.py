@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._text import count
+from .. import _validate as _v
 from .._validate import WrongType
 from .chaos01 import test01
 from .period import detect_period
@@ -263,11 +264,7 @@ def classify(points: ArrayLike, *, lyapunov: float | None = None,
                         f"{type(points).__name__}")
     if diverged:
         return Regime(Label.DIVERGED, confidence=1.0, reason="the run diverged")
-    try:
-        pts = np.asarray(points, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"points must be an array of stroboscopic samples, got "
-                        f"{type(points).__name__}") from None
+    pts = _v.numeric("points", points, "an array of stroboscopic samples")
     if pts.ndim == 1:
         pts = pts[:, None]
     if pts.ndim != 2 or pts.shape[0] < 2:

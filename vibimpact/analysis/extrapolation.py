@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import _validate as _v
 from .._kernel.boundary import lstsq, matmul
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -72,10 +73,7 @@ def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
     >>> np.allclose(extrapolate_limit(xs), np.linalg.solve(np.eye(2) - A, b))
     True
     """
-    try:
-        x = np.asarray(seq, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("seq must be an array of shape (m, d) of numbers") from None
+    x = _v.numeric("seq", seq, "an array of shape (m, d)")
     if x.ndim != 2 or not np.all(np.isfinite(x)):
         raise ValueError(f"seq must be a finite array of shape (m, d), got shape {x.shape}")
     m, d = x.shape

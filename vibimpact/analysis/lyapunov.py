@@ -82,7 +82,8 @@ def _estimate(logs, T, block):
     """Exponents, standard errors and running history from per-period log growths."""
     n = logs.shape[0]
     nb = n // block
-    means = logs[: nb * block].reshape(nb, block, -1).mean(axis=1) / T
+    # the last axis named: fewer periods than a block leave no block (and no -1 to infer)
+    means = logs[: nb * block].reshape(nb, block, logs.shape[1]).mean(axis=1) / T
     lam = logs.mean(axis=0) / T
     if nb >= 2:
         err = means.std(axis=0, ddof=1) / math.sqrt(nb)
@@ -408,7 +409,7 @@ def lyapunov_from_jacobians(jacobians: ArrayLike, dt: float = 1.0, *,
     The Hénon map (a = 1.4, b = 0.3) has exponents 0.419 and -1.623 (per iteration):
     see tests/test_analysis_lyapunov.py.
     """
-    J = np.asarray(jacobians, dtype=np.float64)
+    J = _v.numeric("jacobians", jacobians, "an array of shape (N, d, d)")
     if J.ndim != 3 or J.shape[1] != J.shape[2] or J.shape[0] < 2:
         raise ValueError(f"jacobians must have shape (N >= 2, d, d), got {J.shape}")
     if not np.all(np.isfinite(J)):
@@ -452,7 +453,7 @@ def lyapunov_from_series(series: ArrayLike, period: float = 1.0, **kwargs) -> fl
         When nolds cannot be imported: it comes with the ``crosscheck`` extra
         (``pip install "vibimpact[crosscheck]"``).
     """
-    x = np.asarray(series, dtype=np.float64).reshape(-1)
+    x = _v.array1d("series", series)
     if x.size < 50 or not np.all(np.isfinite(x)):
         raise ValueError("series must be at least 50 finite numbers")
     period = _v.positive("period", period)
@@ -499,7 +500,7 @@ def strobe_map_jacobian(system: System, state0: ArrayLike, *, n: int = 1,
         Naming the argument; ``state0`` when the map cannot be evaluated there.
     """
     system = as_system(system)
-    x0 = np.asarray(state0, dtype=np.float64).reshape(-1)
+    x0 = _v.state("state0", state0, system.n_state)
     n = _v.count("n", n, 1)
     eps = _v.positive("eps", eps)
     solver = system.solver(**FD_SOLVER)

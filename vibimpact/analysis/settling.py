@@ -144,7 +144,7 @@ def contraction_rates(points, lags):
         the steps do not determine a map: repeating or degenerate points).
     """
     z = np.asarray(points, dtype=np.float64)
-    scale = max(float(np.abs(z).max()), 1e-300)
+    scale = max(float(np.abs(z).max(initial=0.0)), 1e-300)
     out = []
     for n in lags:
         sub = z[::-1][::n][::-1]

@@ -153,10 +153,7 @@ def floquet_multipliers(M: ArrayLike) -> np.ndarray:
         M = M.matrix
     elif isinstance(M, PeriodicOrbit):
         M = M.monodromy
-    try:
-        A = np.asarray(M, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"M must be a real square matrix, got {M!r}") from None
+    A = _v.numeric("M", M, "a real square matrix")
     if A.ndim != 2 or A.shape[0] != A.shape[1] or A.shape[0] == 0:
         raise ValueError(f"M must be a square matrix, got shape {A.shape}")
     if not np.all(np.isfinite(A)):
