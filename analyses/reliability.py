@@ -16,7 +16,15 @@ what it left:
 * **foreign checkpoint entry** -- a point file of another preset's sweep copied into an
   interrupted checkpoint before ``--resume``;
 * **limits and paths** -- requests and output names that cannot work (checked before any
-  computing).
+  computing);
+* **continuation at a bound** -- ``continue`` from a parameter that is 0 in the presets
+  (BT, f, Bh, Rr) and down to B = 0: must run and write its branch;
+* **command-line wording** -- refusals (an existing output, ``--resume`` with nothing to
+  resume) must name the command line's options, never the API's keywords;
+* **user model sizes** -- user models that declare fewer state entries, parameters or
+  modes than their functions use, an ``omega_index`` outside the parameters, a plain
+  Python function, a complex state (one Python process each, through ``simulate``,
+  ``lyapunov_spectrum`` and ``sweep``): refused before the kernel runs them.
 
 Verdicts per case: *hang* (still running at its time limit: the process group is
 killed), *traceback* (``Traceback`` or ``Exception ignored`` on stderr), *clean* (no
@@ -35,6 +43,7 @@ import argparse
 import datetime
 import os
 import platform
+import re
 import shutil
 import signal
 import subprocess
@@ -95,6 +104,101 @@ BAD = {
 
 #: cases of :data:`BAD` that may also run (exit 0) as long as they say nothing misleading
 RUNS = ("--eta 1e300:1e300:1",)
+
+#: continuations that start on a parameter's bound (0 in every preset) or run down to it:
+#: they must run (exit 0) and write their branch
+BOUNDS = {
+    f"continue --param {name} from 0": ["continue", "--eta", "1.12", "--approach", "1.1",
+                                        "--param", name, "--stop", "0.1", "--max-points",
+                                        "12", "-o", "br.nc"]
+    for name in ("BT", "f", "Bh", "Rr")}
+BOUNDS["continue --param B down to 0"] = ["continue", "--eta", "1.12", "--approach", "1.1",
+                                          "--param", "B", "--stop", "0", "-o", "br.nc"]
+
+#: refusals whose line must name the command line's options: (arguments, output made
+#: beforehand; a trailing '/' makes a directory)
+WORDING = {
+    "simulate over an existing file": (["simulate", "--eta", "1.2", "-o", "s.nc"], "s.nc"),
+    "classify over an existing file": (["classify", "--eta", "1.0:1.02:0.01", "-o", "c.nc"],
+                                       "c.nc"),
+    "bifurcation over an existing image": (["bifurcation", "--eta", "1.0:1.02:0.01", "-o",
+                                            "b.png"], "b.png"),
+    "map over an existing store": (["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60",
+                                    "-o", "m.zarr"], "m.zarr"),
+    "continue over an existing file": (["continue", "--eta", "1.12", "--stop", "1.13", "-o",
+                                        "br.nc"], "br.nc"),
+    "classify beside an interrupted checkpoint": (["classify", "--eta", "1.0:1.02:0.01",
+                                                   "-o", "c.nc"], "c.nc.partial/"),
+}
+
+#: words of the Python API that a command line message must not use
+API_WORDS = re.compile(r"\b\w+=(True|False|None)\b|\bpass \w+=|\bkeyword\b|"
+                       r"\b(ValueError|TypeError|KeyError)\b")
+
+#: user models that lie about their sizes, or cannot be compiled into the kernel: each
+#: must be refused (the snippet exits 0 printing the error) before the kernel runs it
+USER_MODEL = '''
+import math, sys
+import numpy as np
+from numba import njit
+import vibimpact as vi
+
+@njit
+def rhs(s, y, p, mode, out):
+    out[0] = y[1]
+    out[1] = p[4] * math.cos(p[5] * s) - p[0] * y[1] - p[1] * y[0] - p[2] * y[0] ** 3
+
+@njit
+def jac(s, y, p, mode, J):
+    J[0, 0] = 0.0; J[0, 1] = 1.0; J[1, 0] = -p[1] - 3 * p[2] * y[0] ** 2; J[1, 1] = -p[0]
+
+@njit
+def switches(s, y, p, mode, g):
+    g[0] = y[1]
+
+@njit
+def transition(s, y, p, mode, which):
+    return
+
+@njit
+def init_mode(s, y, p, mode):
+    mode[0] = 0
+
+def plain(s, y, p, mode, out):
+    out[0] = y[1]
+
+kw = dict(rhs=rhs, jac=jac, switches=switches, transition=transition, init_mode=init_mode,
+          terminal=[0], state_names=("x", "v"), param_names=("d", "a", "b", "u", "g", "w"),
+          omega_index=5, n_mode=1)
+kw.update(CHANGES)
+p = np.array([0.1, 1.0, 0.05, 0.0, 0.5, 0.9])[:len(kw["param_names"])]
+try:
+    model = vi.Model.from_functions("duffing", **kw)
+    run = ENTRY
+except (TypeError, ValueError) as exc:
+    print(f"refused: {type(exc).__name__}: {exc}")
+    sys.exit(0)
+print(f"ran: {run!r}"[:300])
+sys.exit(3)
+'''
+USER_MODEL_CASES = {
+    "state declared too small (simulate)": ('dict(state_names=("x",))',
+                                            "vi.simulate(p, periods=20, model=model).status"),
+    "state declared too small (Lyapunov)": (
+        'dict(state_names=("x",))',
+        "vi.analysis.lyapunov_spectrum(vi.System(p, model=model)).exponents"),
+    "state declared too small (sweep)": ('dict(state_names=("x",))',
+                                         "vi.sweep(vi.System(p, model=model), [0.9, 1.0])"),
+    "n_mode = 0": ("dict(n_mode=0)", "vi.simulate(p, periods=20, model=model).status"),
+    "parameters declared too few": (
+        'dict(param_names=("d", "a", "b", "u", "g"), omega_index=4)',
+        "vi.simulate(p, periods=20, model=model).status"),
+    "omega_index -1": ("dict(omega_index=-1)", "vi.simulate(p, periods=20, model=model)"),
+    "omega_index 6": ("dict(omega_index=6)", "vi.simulate(p, periods=20, model=model)"),
+    "a plain Python rhs": ("dict(rhs=plain)", "vi.simulate(p, periods=20, model=model)"),
+    "a complex state0": ("dict()", "vi.simulate(p, periods=2, model=model, "
+                                   "state0=[1j, 0.0]).strobe"),
+}
 
 
 @dataclass
@@ -213,8 +317,11 @@ def judge(klass, case, rc, err, seconds, expect, cwd, keep=()):
                 files_left=_left(cwd, keep))
     warnings = [ln for ln in lines if "Warning:" in ln]
     o.message = (errors[-1] if errors else (warnings or lines or [""])[-1])[:160]
+    api = [ln for ln in errors if API_WORDS.search(ln)]
+    if api:
+        o.message = f"API wording: {api[0]}"[:160]
     o.clean = (not o.hang and not o.traceback and rc in expect and len(errors) <= 1
-               and not warnings)
+               and not warnings and not api)
     return o
 
 
@@ -387,6 +494,58 @@ def bad_input_cases(base, timeout):
     return out
 
 
+def bound_cases(base, timeout):
+    """Continuations from (or down to) a parameter's bound: they run and write."""
+    out = []
+    for case, argv in BOUNDS.items():
+        d = _fresh(base, "bound")
+        rc, stdout, err, sec = run(argv, d, timeout)
+        o = judge("continuation at a bound", case, rc, err, sec, {0}, d, keep=("br.nc",))
+        o.clean = o.clean and (d / "br.nc").exists()
+        o.message = o.message or (stdout.strip().splitlines() or [""])[0][:160]
+        out.append(o)
+    return out
+
+
+def wording_cases(base, timeout):
+    """Refusals that must name the command line's options (--overwrite, --resume)."""
+    out = []
+    for case, (argv, existing) in WORDING.items():
+        d = _fresh(base, "words")
+        name = existing.rstrip("/")
+        if existing.endswith((".zarr", "/")):
+            (d / name).mkdir()
+        else:
+            (d / name).write_bytes(b"old")
+        rc, _, err, sec = run(argv, d, timeout)
+        o = judge("command-line wording", case, rc, err, sec, {2}, d, keep=(name,))
+        flag = "--resume" if name.endswith(".partial") else "--overwrite"
+        o.clean = o.clean and flag in err
+        out.append(o)
+    return out
+
+
+def user_model_cases(base, timeout):
+    """User models that lie about their sizes (API, one Python process each): refused
+    before the kernel runs them."""
+    out = []
+    for case, (changes, entry) in USER_MODEL_CASES.items():
+        d = _fresh(base, "model")
+        code = USER_MODEL.replace("CHANGES", changes).replace("ENTRY", entry)
+        t0 = time.perf_counter()
+        try:
+            proc = subprocess.run([sys.executable, "-c", code], cwd=d, env=_env(),
+                                  capture_output=True, text=True, timeout=timeout)
+            rc, stdout, err = proc.returncode, proc.stdout, proc.stderr
+        except subprocess.TimeoutExpired:
+            rc, stdout, err = None, "", ""
+        o = judge("user model sizes", case, rc, err, time.perf_counter() - t0, {0}, d)
+        o.message = (stdout.strip().splitlines() or [""])[-1][:160]
+        o.clean = o.clean and o.message.startswith("refused:")
+        out.append(o)
+    return out
+
+
 def measure(quick=False, timeout=300):
     """Every case's :class:`Outcome`, and the reference wall times."""
     moments = (0.5,) if quick else (0.1, 0.5, 0.95)
@@ -400,6 +559,9 @@ def measure(quick=False, timeout=300):
         out += vanished_cases(base, ref, wall, timeout)
         out += foreign_cases(base, ref, wall, timeout)
         out += bad_input_cases(base, timeout)
+        out += bound_cases(base, timeout)
+        out += wording_cases(base, timeout)
+        out += user_model_cases(base, timeout)
         return out, wall
     finally:
         subprocess.run(["umount", str(base / "small")], capture_output=True)
