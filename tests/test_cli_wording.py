@@ -151,6 +151,19 @@ def _recorded(command):
     return lambda d: tiny_sweep_file(Path(d) / "c.nc", command=command)
 
 
+def _damaged_branch(d):
+    """A file that says it is a 'vibimpact continue' branch but holds none of its
+    variables: drawing it fails inside the plotting function."""
+    import xarray as xr
+
+    from vibimpact import branches
+    from vibimpact.io import write_netcdf
+
+    ds = xr.Dataset(coords={"eta": ("point", [1.1, 1.2])},
+                    attrs={"title": branches._TITLE, "continuation_param": "eta"})
+    write_netcdf(ds, Path(d) / "b.nc")
+
+
 BIF = ["bifurcation", "--eta", "1:1.01:0.01", "--no-progress"]
 MAP = ["map", "--eta", "1,1.1", "--vary", "kh=10,20", "--workers", "1", "--no-progress"]
 REC = "vibimpact simulate --eta 1.2 --periods 5 --transient 5"
@@ -236,7 +249,8 @@ EXTRA = {
                                       _file("n.nc")(d))),
     "rerun: recorded --state0 NaN": (["rerun", "c.nc"],
                                      _recorded(f"{REC} --state0 nan 0 0 0 -o c.nc")),
-    "rerun: recorded --rtol < 0": (["rerun", "c.nc"], _recorded(f"{REC} --rtol -1 -o c.nc")),
+    "rerun: recorded --rtol < 0": (["rerun", "c.nc"],
+                                   _recorded(f"{REC} --rtol -1 -o c.nc")),
     "rerun: recorded --periods over the limit": (
         ["rerun", "c.nc"], _recorded("vibimpact simulate --periods 1000000000 -o c.nc")),
     "rerun: recorded --blocks over the limit": (
@@ -261,6 +275,7 @@ EXTRA = {
                                               "zarr.json").write_text("{ not json"))),
     "plot: --kind map of a sweep": (["plot", "c.nc", "--kind", "map"], sweep_as("c.nc")),
     "plot: --kind xy of a sweep": (["plot", "c.nc", "--kind", "xy"], sweep_as("c.nc")),
+    "plot: a damaged branch file": (["plot", "b.nc", "-o", "b.png"], _damaged_branch),
 }
 
 ALL = {**_tabled(), **{f"extra: {k}": v for k, v in EXTRA.items()}}
@@ -277,7 +292,15 @@ def _run(argv, setup, d, monkeypatch, capfd):
             (d / "ro").chmod(0o700)
 
 
-@pytest.mark.parametrize("case", list(ALL))
+CONTINUE_FILE = pytest.mark.xfail(
+    strict=True, reason="vibimpact/cli_continue.py (not part of this change) says "
+                        "str(exc) or type(exc).__name__, the API's words")
+#: cases whose wording is cli_continue.py's
+IN_CLI_CONTINUE = {"extra: plot: a damaged branch file"}
+
+
+@pytest.mark.parametrize("case", [
+    pytest.param(c, marks=CONTINUE_FILE if c in IN_CLI_CONTINUE else ()) for c in ALL])
 def test_a_refusal_names_options_not_api_arguments(case, tmp_path, monkeypatch, capfd):
     """Every refusal of every command (exit status 2) says it in the command line's
     words: no keyword argument, no 'pass X=', no Python name, no traceback."""
@@ -318,7 +341,8 @@ def _store_appears_on_compute(monkeypatch, name):
     """The Zarr store ``name`` appears while the map computes."""
     import importlib
 
-    m = importlib.import_module("vibimpact.maps.map2d")  # the package's name is the function
+    # vibimpact.maps.map2d is also the name of the function the package exports
+    m = importlib.import_module("vibimpact.maps.map2d")
     original = m.map2d
 
     def map2d(*args, **kwargs):
@@ -339,10 +363,6 @@ def _checkpoint_appears_after_the_check(monkeypatch, name):
         os.makedirs(name, exist_ok=True)
     monkeypatch.setattr(Checkpoint, "check_reusable", check_reusable)
 
-
-CONTINUE_FILE = pytest.mark.xfail(
-    strict=True, reason="vibimpact/cli_continue.py (not part of this change) turns the "
-                        "writer's refusal into str(exc), the API's words")
 
 RACES = {
     "simulate": ([*SIM, "-o", "r.nc"], _output_appears_on_write, "r.nc"),
@@ -382,9 +402,10 @@ def test_a_refusal_at_write_time_names_options(argv, appear, name, tmp_path, mon
 
 # --- the API keeps its own words ------------------------------------------------------
 
-def test_the_api_still_says_overwrite_true(tmp_path):
+def test_the_api_still_says_overwrite_true(tmp_path, monkeypatch):
     """The writers' refusal, called from Python, names the keyword argument: an API
-    caller reads overwrite=True, not --overwrite."""
+    caller reads overwrite=True, not --overwrite (also when the file appeared while
+    the dataset was written)."""
     import xarray as xr
 
     from vibimpact.io import check_output_path, write_netcdf
@@ -398,6 +419,11 @@ def test_the_api_still_says_overwrite_true(tmp_path):
                  lambda: check_output_path(tmp_path / "x.nc")):
         with pytest.raises(ValueError, match=r"exists; pass overwrite=True to replace it"):
             call()
+    monkeypatch.chdir(tmp_path)
+    _output_appears_on_write(monkeypatch, "late.nc")
+    with pytest.raises(ValueError, match=r"'late.nc' exists; pass overwrite=True"):
+        write_netcdf(ds, "late.nc")
+    assert (tmp_path / "late.nc").read_text() == "someone else's"
 
 
 def test_the_api_still_says_resume_true(tmp_path):

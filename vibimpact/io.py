@@ -301,8 +301,9 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
         When ``path`` exists and not ``overwrite`` (also when it appeared while ``ds``
         was written); a ``ValueError``.
     ValueError
-        For another path :func:`check_output_path` refuses (its directory does not exist or is not writable, a device, a dangling link, a
-        name that is empty, too long or not UTF-8, ...).
+        For another path :func:`check_output_path` refuses (its directory does not
+        exist or is not writable, a device, a dangling link, a name that is empty, too
+        long or not UTF-8, ...).
     OSError
         When the file cannot be written: a full disk, which NetCDF reports as
         ``RuntimeError: NetCDF: HDF error``, included (:func:`write_failed`; the
