@@ -87,12 +87,12 @@ def numeric(name, value, what="a numeric array"):
                    for v in flat):
             bad = next(v for v in flat if not isinstance(v, numbers.Real)
                        or isinstance(v, (bool, np.bool_)))
-            raise WrongType(f"{name} must hold real numbers ({what}), got an element "
+            raise WrongType(f"{name} must be {what} of real numbers, got an element "
                             f"{type(bad).__name__} {bad!r}"[:200])
     elif arr.dtype.kind not in "iuf":
         kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes"}.get(
             arr.dtype.kind, str(arr.dtype))
-        raise WrongType(f"{name} must hold real numbers ({what}), got {kind} values"
+        raise WrongType(f"{name} must be {what} of real numbers, got {kind} values"
                         + (" (the imaginary part would be lost)" if kind == "complex"
                            else ""))
     try:
@@ -105,7 +105,7 @@ def array1d(name, value, what="numbers"):
     """``value`` as a 1-D float64 array (a single number is one element): strings, None,
     mappings and other non-numeric values are :class:`WrongType`, more than one
     dimension a ``ValueError`` with the shape."""
-    arr = numeric(name, value, f"{what}, a 1-D array")
+    arr = numeric(name, value, f"{what} (a 1-D array)")
     if arr.ndim > 1:
         raise ValueError(f"{name} must be 1-D, got shape {arr.shape}")
     return arr.reshape(-1)
