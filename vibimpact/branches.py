@@ -93,9 +93,13 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     system : System or parameter set
         The start: its value of ``param`` is where the branch begins.
     stop : float
-        The other end of the parameter window.
+        The other end of the parameter window.  Past a bound of the parameter's domain
+        (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
+        window is cut there: the branch ends on the bound, and its ``status`` says so.
     param : str
-        The parameter continued (``"eta"``: the rotor speed).
+        The parameter continued (``"eta"``: the rotor speed).  Its start value may lie
+        on a bound of its domain (``BT = 0``, as in every preset): the branch then
+        steps into the domain (towards ``stop``).
     n : int
         Period of the orbit in forcing periods.
     state0 : array_like, optional
@@ -106,6 +110,7 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         Step the forcing frequency from this value to the system's in steps of 0.02,
         ``transient`` periods each, every step from the previous one's final state
         (:func:`vibimpact.sweeps.continued_state`): the orbit a sweep from there follows.
+        Every step lies between two positive values, inside ``eta``'s domain.
     steps : Steps, optional
         Step controls of :func:`~vibimpact.analysis.continue_orbit`.
     refine : float or None

@@ -3,6 +3,9 @@
 :class:`Params` holds the ten dimensionless parameters of eq. (5) of Pust & Kozanek
 ("Vibrations of rotor supported in magnetic bearings with impacts"), with the conventions the paper leaves open fixed below.
 :class:`DuffingParams` holds the forced Duffing oscillator, the kernel's second model.
+The values each parameter may take are stated once, as a :class:`Domain` per parameter
+(``Params.domain(name)``): the sets validate against them, and the continuation reads
+them (:meth:`vibimpact.System.param_domain`) to step up to a bound but never past it.
 """
 from __future__ import annotations
 
@@ -78,11 +81,6 @@ class Domain:
         above = v >= self.lo if self.lo_closed else v > self.lo
         below = v <= self.hi if self.hi_closed else v < self.hi
         return above and below
-
-    @property
-    def bounded(self) -> bool:
-        """Whether the domain has a finite bound on either side."""
-        return math.isfinite(self.lo) or math.isfinite(self.hi)
 
     def rule(self, name: str) -> str:
         """What the domain asks of parameter ``name``, e.g. ``"eta must be > 0"``."""
