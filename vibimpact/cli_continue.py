@@ -11,8 +11,9 @@ import os
 import shlex
 import time
 
-from ._cli_common import (UsageError, check_output, figure_options, image_ext_ok, number,
-                          parse_sets, positive_int, read_input)
+from ._cli_common import (UsageError, check_output, error_text, figure_options,
+                          image_ext_ok, number, parse_sets, positive_int, read_input,
+                          reason)
 from ._text import count
 
 _CONTINUE_EPILOG = """\
@@ -71,7 +72,7 @@ def _inputs(args):
         params = base.replace(eta=base.eta if args.eta is None else args.eta, **sets)
         system = System(params)
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     try:
         start = system.param(args.param)
     except ValueError:
@@ -93,7 +94,7 @@ def _inputs(args):
     try:
         _limits.check_points(args.max_points, "--max-points")
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     for name in ("ds", "ds_max"):
         value = getattr(args, name)
         if not (math.isfinite(value) and value > 0):
@@ -147,6 +148,7 @@ def _cmd_continue(args):
     system, steps = _inputs(args)
 
     from . import io
+    from .analysis.continuation import StartFailed
     from .branches import branch_to_dataset, follow_branch
 
     t0 = time.perf_counter()
@@ -155,14 +157,13 @@ def _cmd_continue(args):
                                    n=args.period, state0=args.state0,
                                    transient=args.transient, approach=args.approach,
                                    steps=steps, refine=args.refine)
+    except StartFailed as exc:  # the API's argument state0: say it in the CLI's words
+        raise UsageError(f"no period-{args.period} orbit found at {args.param} = "
+                         f"{system.param(args.param):g}: Newton shooting from the state "
+                         f"reached failed ({exc.reason}); try --approach, a longer "
+                         "--transient, --state0 or another --period") from None
     except ValueError as exc:
-        text = str(exc)
-        if text.startswith("state0: shooting failed"):  # the API's argument: say it here
-            text = (f"no period-{args.period} orbit found at {args.param} = "
-                    f"{system.param(args.param):g}: Newton shooting from the state reached "
-                    f"failed{text[len('state0: shooting failed at the start'):]}; try "
-                    "--approach, a longer --transient, --state0 or another --period")
-        raise UsageError(text) from None
+        raise UsageError(error_text(exc)) from None
     elapsed = time.perf_counter() - t0
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = branch_to_dataset(branch, system, start_state=x0, command=command,
@@ -170,7 +171,7 @@ def _cmd_continue(args):
     try:
         io.write_netcdf(ds, out, overwrite=args.overwrite)
     except (ValueError, OSError) as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(error_text(exc)) from None
     print("\n".join(_summary(branch)))
     print(f"wrote {out} ({elapsed:.1f} s)")
     return 0
@@ -210,8 +211,7 @@ def plot_command(args, ds):
     try:
         plot_branch_figure(ds, out, **figure_options(args))
     except Exception as exc:  # a damaged file can fail anywhere in drawing
-        raise UsageError(f"cannot draw a branch from {path!r}: {type(exc).__name__}: "
-                         f"{exc}") from None
+        raise UsageError(f"cannot draw a branch from {path!r}: {reason(exc)}") from None
     print(f"wrote {out}")
     return 0
 

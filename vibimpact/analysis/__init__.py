@@ -50,8 +50,8 @@ from .settling import Contraction, TorusEvidence, contraction_rate, torus_eviden
 from .period import detect_period, impact_map, poincare_section
 from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
                        monodromy, shoot_periodic_orbit)
-from .continuation import (Bifurcation, Branch, StabilityChange, Steps, continue_orbit,
-                           locate_bifurcation, refine_stability_change)
+from .continuation import (Bifurcation, Branch, StabilityChange, StartFailed, Steps,
+                           continue_orbit, locate_bifurcation, refine_stability_change)
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -63,6 +63,6 @@ __all__ = [
     "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
     "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
     "contraction_rate", "torus_evidence", "Averaging", "Steps", "refine_stability_change",
-    "StabilityChange",
+    "StabilityChange", "StartFailed",
 ]
 

@@ -102,6 +102,16 @@ class Branch:
     brackets: tuple = ()
 
 
+class StartFailed(ValueError):
+    """No periodic orbit at the start of a continuation: Newton shooting from ``state0``
+    failed.  ``reason`` says why (the shooting's own reason), so that a caller can say
+    it in its own words without reading the message."""
+
+    def __init__(self, reason):
+        self.reason = str(reason)
+        super().__init__(f"state0: shooting failed at the start ({self.reason})")
+
+
 @dataclass(frozen=True)
 class Steps:
     """Step controls of :func:`continue_orbit`.
@@ -470,7 +480,7 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         refine = _v.positive("refine", refine)
     orb = shoot_periodic_orbit(system, state0, n, tol=steps.newton_tol)
     if not orb.converged:
-        raise ValueError(f"state0: shooting failed at the start ({orb.reason})")
+        raise StartFailed(orb.reason)
     mdl = system.model
     names = (("X_m", "Y_m", "R_m") if mdl.name == "rotor" else
              tuple(f"{s}_m" for s in mdl.state_names[:2]))
