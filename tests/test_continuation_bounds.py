@@ -12,21 +12,20 @@ Known values: the map's derivative in the damping of a linear oscillator (Duffin
 ``beta = 0``) is analytic (Van Loan's block exponential of the forced system), at the
 bound ``delta = 0`` as inside.
 """
-import contextlib
-import io as stdio
 import math
 
 import numpy as np
 import pytest
 import scipy.linalg
-from numba import njit
 
 import vibimpact as vi
 from vibimpact.analysis import Steps, continue_orbit, refine_stability_change
 from vibimpact.analysis.bifurcation import CONTINUATION_SOLVER
 from vibimpact.analysis.continuation import _map_derivative
-from vibimpact.cli import main
 from vibimpact.params import Domain
+
+from test_continue_cli import run as run_cli
+from test_user_model import _init_mode, _jac, _rhs, _switches, _transition
 
 #: fig8 at the issue's start: eta = 1.12, reached by stepping eta up from 1.1
 ETA, APPROACH = 1.12, 1.1
@@ -177,35 +176,6 @@ def test_a_start_on_the_bound_pointing_out_of_the_domain_ends_at_once():
     assert br.status == "reached the bound delta = 0 (delta must be >= 0)"
 
 
-@njit
-def _rhs(s, y, p, mode, out):
-    out[0] = y[1]
-    out[1] = p[2] * math.cos(p[3] * s) - p[0] * y[1] - p[1] * y[0]
-
-
-@njit
-def _jac(s, y, p, mode, J):
-    J[0, 0] = 0.0
-    J[0, 1] = 1.0
-    J[1, 0] = -p[1]
-    J[1, 1] = -p[0]
-
-
-@njit
-def _switches(s, y, p, mode, g):
-    g[0] = y[1]
-
-
-@njit
-def _transition(k, s, y, p, mode):
-    return False
-
-
-@njit
-def _init_mode(s, y, p, mode):
-    mode[0] = 0
-
-
 def test_param_domain_reads_each_models_own_statement():
     """Hypothesis: System.param_domain gives the rotor's and the Duffing oscillator's
     domains as their parameter sets validate them (the same words in the error), and a
@@ -242,17 +212,6 @@ def test_refine_refuses_an_end_outside_the_domain():
 
 # --- the command line ---------------------------------------------------------------------
 
-def _run(*args):
-    """``vibimpact ARGS`` in this process: ``(status, stdout, stderr)``."""
-    out, err = stdio.StringIO(), stdio.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            rc = main([str(a) for a in args])
-        except SystemExit as exc:
-            rc = exc.code
-    return rc, out.getvalue(), err.getvalue()
-
-
 def test_the_issue_command_continues_BT_from_zero(tmp_path):
     """Hypothesis: the issue's command, ``vibimpact continue --eta 1.12 --approach 1.1
     --param BT --stop 0.1``, exits 0 and prints a branch from BT = 0 to 0.1, and its
@@ -260,8 +219,8 @@ def test_the_issue_command_continues_BT_from_zero(tmp_path):
     import xarray as xr
 
     out = tmp_path / "bt.nc"
-    rc, text, err = _run("continue", "--eta", "1.12", "--approach", "1.1", "--param", "BT",
-                         "--stop", "0.1", "-o", out)
+    rc, text, err = run_cli("continue", "--eta", "1.12", "--approach", "1.1", "--param",
+                            "BT", "--stop", "0.1", "-o", out)
     assert rc == 0, err
     assert text.startswith("P1 branch in BT from 0 to 0.1: "), text
     with xr.open_dataset(out) as ds:
@@ -280,7 +239,7 @@ def test_a_start_or_stop_outside_the_domain_is_one_line_naming_the_option(tmp_pa
     """Hypothesis: a --stop, --set or --eta outside the parameter's domain is refused
     before any computation: exit 2, one line naming the option and the rule, nothing
     written."""
-    rc, text, err = _run("continue", *args, "-o", tmp_path / "x.nc")
+    rc, text, err = run_cli("continue", *args, "-o", tmp_path / "x.nc")
     assert rc == 2 and text == ""
     assert err.splitlines() == [f"vibimpact: error: {needle}"], err
     assert not list(tmp_path.iterdir())
