@@ -41,6 +41,8 @@ from .._kernel.boundary import dot, solve
 from .bifurcation import (CONTINUATION_SOLVER, KIND_BY_MULTIPLIER, Bifurcation,
                           locate_bifurcation, orbit_signature, grazing_gap)
 from .shooting import critical_multiplier, floquet_multipliers, shoot_periodic_orbit
+from .stability_change import (StabilityChange, multiplier_crossing, param_name,
+                               refine_stability_change)
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
@@ -49,7 +51,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
            "refine_stability_change", "StabilityChange", "orbit_signature", "grazing_gap",
-           "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER", "FOLD_TURNING"]
+           "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER", "FOLD_TURNING", "StartFailed"]
 
 #: the kind of a turning point of a branch (the parameter reverses)
 FOLD_TURNING = "fold (turning point)"
@@ -107,7 +109,7 @@ class StartFailed(ValueError):
     failed.  ``reason`` says why (the shooting's own reason), so that a caller can say
     it in its own words without reading the message."""
 
-    def __init__(self, reason):
+    def __init__(self, reason: str) -> None:
         self.reason = str(reason)
         super().__init__(f"state0: shooting failed at the start ({self.reason})")
 
@@ -364,18 +366,11 @@ def _limits(system, param, window, lam0, ds_min):
     (:meth:`~vibimpact.params.Domain.rule`) if the domain ends the window there, else
     None: ``((lo, hi), (rule or None, rule or None))``."""
     dom = system.param_domain(param)
-    rule = dom.rule(_name(system, param))
+    rule = dom.rule(param_name(system, param))
     lo = min(lam0, _usable_bound(dom.lo, dom.lo_closed, 1.0, ds_min))
     hi = max(lam0, _usable_bound(dom.hi, dom.hi_closed, -1.0, ds_min))
     return ((max(window[0], lo), min(window[1], hi)),
             (rule if lo >= window[0] else None, rule if hi <= window[1] else None))
-
-
-def _name(system, param):
-    """The name of parameter ``param`` (a name, or an index of a user model's vector)."""
-    if isinstance(param, str):
-        return param
-    return system.model.param_names[int(param)]
 
 
 def _window(stop, lam0):
@@ -537,116 +532,6 @@ def _refined(system, param, n, points, tol, newton_tol):
     return out
 
 
-@dataclass(frozen=True)
-class StabilityChange:
-    """Where a branch changes stability (:func:`refine_stability_change`).
-
-    Attributes
-    ----------
-    value : float
-        ``|mu|max - 1`` interpolated linearly to zero in ``bracket``.
-    kind : str
-        :data:`KIND_BY_MULTIPLIER` of the unstable end's multipliers (``"?"`` if none
-        fits).
-    bracket : (float, float)
-        The final interval, its first end on the side of the first given end.
-    states : ndarray, shape (2, d)
-        The orbit's stroboscopic point at each end of ``bracket``.
-    multipliers : ndarray of complex, shape (2, d)
-        Its Floquet multipliers there.
-    """
-
-    value: float
-    kind: str
-    bracket: tuple
-    states: np.ndarray
-    multipliers: np.ndarray
-
-
-def _crossing(lo, hi, mu_lo, mu_hi):
-    """Where ``|mu|max - 1`` crosses zero between ``lo`` and ``hi``, by linear
-    interpolation of its values ``mu_lo``, ``mu_hi`` (multipliers) at the two ends."""
-    g0 = float(np.abs(mu_lo).max()) - 1.0
-    g1 = float(np.abs(mu_hi).max()) - 1.0
-    w = g0 / (g0 - g1) if g0 != g1 else 0.5
-    return float(lo + w * (hi - lo))
-
-
-def refine_stability_change(system: System, param: str, n: int, values: tuple,
-                            states: tuple, *, tol: float = 1e-6,
-                            newton_tol: float = 1e-9) -> StabilityChange:
-    """Narrow the parameter interval in which a period-``n`` orbit changes stability.
-
-    Bisection: the orbit is shot (:func:`shoot_periodic_orbit`) at the midpoint from the
-    state interpolated linearly between the two ends; the end with the same stability
-    (``|mu|max < 1``) as the midpoint's orbit moves there.  It stops when the interval
-    is at most ``tol`` wide, or keeps the last interval when Newton fails at a midpoint,
-    lands more than a quarter of the orbit's size away from the guess (another orbit)
-    or on a lower period.  The interval must not contain a turning point (there are two
-    orbits at the midpoint).  Both ends must lie in the parameter's domain
-    (:meth:`vibimpact.System.param_domain`); every midpoint then does too.
-
-    Parameters
-    ----------
-    system : System
-        Model, parameters and solver settings (defaults :data:`CONTINUATION_SOLVER`).
-    param : str or int
-    n : int
-    values : (float, float)
-        The parameter at the two ends: two neighbouring points of a
-        :class:`Branch` of different stability.
-    states : (array_like, array_like)
-        The orbit's stroboscopic point at each end.
-    tol : float
-        Width of the final interval.
-    newton_tol : float
-        Newton's tolerance of the shootings.
-
-    Returns
-    -------
-    StabilityChange
-        The value, kind and final interval, with the orbits at its ends.
-
-    Raises
-    ------
-    ValueError
-        Naming the argument; ``values`` when both ends have the same stability or an end
-        lies outside the parameter's domain (:meth:`vibimpact.System.param_domain`).
-    """
-    system = as_system(system).resolved(**CONTINUATION_SOLVER)
-    tol = _v.positive("tol", tol)
-    n = _v.count("n", n, 1)
-    lo, hi = (float(_v.finite("values", v)) for v in values)
-    dom = system.param_domain(param)
-    for v in (lo, hi):  # the midpoints lie between the two: inside the domain too
-        if v not in dom:
-            raise ValueError(f"values: {dom.rule(_name(system, param))}, got {v!r}")
-    xs = [_v.state("states", x, system.n_state) for x in states]
-    mus = [shoot_periodic_orbit(system.with_param(param, v), x, n, tol=newton_tol)
-           for v, x in zip((lo, hi), xs)]
-    stable = [bool(m.abs_max < 1.0) for m in mus]
-    if not all(m.converged for m in mus) or stable[0] == stable[1]:
-        raise ValueError(f"values: no change of stability between {param} = {lo} and "
-                         f"{hi} (orbits found {[m.converged for m in mus]}, stable "
-                         f"{stable})")
-    mus = [m.multipliers for m in mus]
-    while abs(hi - lo) > tol:
-        mid = 0.5 * (lo + hi)
-        guess = xs[0] + (xs[1] - xs[0]) * ((mid - lo) / (hi - lo))
-        orb = shoot_periodic_orbit(system.with_param(param, mid), guess, n, tol=newton_tol)
-        scale = max(1.0, float(np.abs(guess).max()))
-        if not orb.converged or orb.minimal_period < n or \
-                float(np.abs(orb.state - guess).max()) > 0.25 * scale:
-            break
-        side = 0 if bool(orb.abs_max < 1.0) == stable[0] else 1
-        (lo, hi) = (mid, hi) if side == 0 else (lo, mid)
-        xs[side], mus[side] = orb.state, orb.multipliers
-    unstable = mus[1] if stable[0] else mus[0]
-    kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
-    return StabilityChange(_crossing(lo, hi, mus[0], mus[1]), kind, (lo, hi),
-                           np.array(xs), np.array(mus))
-
-
 def _branch_events(vals, stab, mults):
     """``(index, kind, value)`` of the turning points and stability changes of a branch
     (:attr:`Branch.bifurcations`)."""
@@ -659,6 +544,6 @@ def _branch_events(vals, stab, mults):
             kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
             if kind == "fold" and any(abs(i - j) <= 1 for j in turns):
                 continue  # the turning point itself is listed
-            bif.append((i, kind, _crossing(vals[i - 1], vals[i], mults[i - 1], mults[i])))
+            bif.append((i, kind, multiplier_crossing(vals[i - 1], vals[i], mults[i - 1], mults[i])))
     bif.sort()
     return bif
