@@ -19,6 +19,10 @@ import pytest
 
 from test_cli_sweep import _env, _points, assert_same_data, cli
 
+#: real processes killed and signalled at moments of their runs: a long study, run by CI
+#: on a line of its own (pyproject.toml, .ci/run)
+pytestmark = pytest.mark.slow
+
 #: a classify sweep long enough (about 3 s on two workers) to be killed at three moments
 SWEEP = ["--eta", "0.95:1.25:0.002", "--preset", "fig8", "--direction", "both",
          "--no-progress"]

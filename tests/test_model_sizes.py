@@ -9,6 +9,8 @@ from numba import njit
 
 import vibimpact as vi
 
+from test_user_model import _linear, _rhs
+
 
 @njit
 def _duffing_rhs(s, y, p, mode, out):
@@ -58,10 +60,13 @@ def _model(**changes):
 
 
 def test_a_model_of_the_right_sizes_runs_and_its_probe_changes_nothing():
-    """The probe accepts a model whose functions stay inside the declared arrays, and a
-    run after it equals a run of a fresh model object (the probe leaves no state)."""
-    a = vi.simulate(P6, periods=5, model=_model())
-    b = vi.simulate(P6, periods=5, model=_model())
+    """The probe accepts a model whose functions stay inside the declared arrays (the
+    linear oscillator of tests/test_user_model.py, whose kernel is compiled once for
+    both files), and a run after it equals a run of a fresh model object (the probe
+    leaves no state)."""
+    p = np.array([0.3, 1.0, 0.5, 1.7])
+    a = vi.simulate(p, periods=5, model=_linear(_rhs))
+    b = vi.simulate(p, periods=5, model=_linear(_rhs))
     assert a.ok and np.all(np.isfinite(a.strobe))
     np.testing.assert_array_equal(a.strobe, b.strobe)
 
