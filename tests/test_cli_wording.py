@@ -447,3 +447,24 @@ def test_a_failed_start_of_continuation_is_structured_not_parsed():
                        steps=Steps(max_points=2))
     assert str(info.value).startswith("state0: shooting failed at the start (")
     assert info.value.reason and info.value.reason in str(info.value)
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--eta", "1.2", "--set", "BT=-1", "-o", "x.nc"],
+    ["classify", "--eta", "1.0:1.1:0.05", "--set", "BT=-1", "-o", "x.nc"],
+    ["bifurcation", "--eta", "1.0:1.1:0.05", "--set", "BT=-1", "-o", "x.png"],
+    ["map", "--eta", "1.0:1.1:0.05", "--vary", "kh=50,60", "--set", "BT=-1", "-o", "x.zarr"],
+    ["continue", "--eta", "1.12", "--stop", "1.2", "--set", "BT=-1", "-o", "x.nc"],
+], ids=["simulate", "classify", "bifurcation", "map", "continue"])
+def test_a_set_value_outside_its_domain_names_the_option_in_every_command(argv, tmp_path,
+                                                                          monkeypatch):
+    """Every command that takes --set refuses a value outside its parameter's domain in
+    one line naming the option and the rule (one helper, _cli_common.with_sets, for
+    all), before any work: nothing is written."""
+    from test_continue_cli import run
+
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = run(*argv)
+    assert rc == 2 and out == ""
+    assert err.splitlines() == ["vibimpact: error: --set BT: BT must be >= 0, got -1.0"]
+    assert not list(tmp_path.iterdir())

@@ -243,3 +243,16 @@ def test_a_start_or_stop_outside_the_domain_is_one_line_naming_the_option(tmp_pa
     assert rc == 2 and text == ""
     assert err.splitlines() == [f"vibimpact: error: {needle}"], err
     assert not list(tmp_path.iterdir())
+
+
+def test_a_plain_vector_of_the_rotor_has_the_rotors_domains():
+    """Hypothesis: the domains belong to the model, not to the type of its parameters:
+    a System of the rotor built from a plain parameter vector (model=vi.ROTOR) has the
+    same domains as one built from Params, so its continuation from BT = 0 stays in
+    BT >= 0 as well."""
+    p = vi.presets.get("fig8")
+    plain, typed = vi.System(p.as_array(), model=vi.ROTOR), vi.System(p)
+    for name in vi.ROTOR.param_names:
+        assert plain.param_domain(name) == typed.param_domain(name), name
+    assert vi.System(np.ones(5), model=vi.DUFFING).param_domain("delta") == \
+        Domain.at_least(0.0)

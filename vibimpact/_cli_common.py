@@ -120,6 +120,22 @@ def positive_number(text):
     return value
 
 
+def with_sets(base, sets, eta=None):
+    """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``)
+    replaced; UsageError naming the option whose value lies outside its parameter's
+    domain (:meth:`vibimpact.Params.domain`), or saying what else is wrong."""
+    given = ([("--eta", "eta", eta)] if eta is not None else []) + \
+        [(f"--set {k}", k, v) for k, v in sets.items()]
+    known = base.as_dict()
+    for option, name, value in given:
+        if name in known and math.isfinite(value) and value not in base.domain(name):
+            raise UsageError(f"{option}: {base.domain(name).rule(name)}, got {value!r}")
+    try:
+        return base.replace(**({} if eta is None else {"eta": eta}), **sets)
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
+
+
 def parse_sets(items):
     """``["k=v", ...]`` -> ``{k: float(v)}``; raises UsageError naming the bad item."""
     out = {}

@@ -63,7 +63,7 @@ from ._cli_common import (add_figure_options, check_output, figure_options,
                           interrupt_status, number, parse_sets, Parser, positive_int,
                           set_verbosity, signal_decides, StopWorkersOnSignal, UsageError,
                           verbosity)
-from ._cli_common import error_text, positive_number, write_outputs
+from ._cli_common import error_text, positive_number, with_sets, write_outputs
 from ._text import count
 
 
@@ -117,10 +117,9 @@ def _cmd_simulate(args):
     else:
         try:
             base = presets.get(attrs["preset"])
-            eta = base.eta if args.eta is None else args.eta
-            params = base.replace(eta=eta, **parse_sets(args.set))
         except ValueError as exc:
             raise UsageError(error_text(exc)) from None
+        params = with_sets(base, parse_sets(args.set), args.eta)
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
     from . import _limits
     from .system import to_system

@@ -13,7 +13,7 @@ import time
 
 from ._cli_common import (UsageError, check_output, error_text, figure_options,
                           image_ext_ok, number, parse_sets, positive_int, read_input,
-                          reason)
+                          reason, with_sets)
 from ._text import count
 
 _CONTINUE_EPILOG = """\
@@ -67,12 +67,9 @@ def _inputs(args):
 
     try:
         base = presets.get(args.preset)
-        sets = parse_sets(args.set)
-        _check_domains(base, args.eta, sets)
-        params = base.replace(eta=base.eta if args.eta is None else args.eta, **sets)
-        system = System(params)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
+    system = System(with_sets(base, parse_sets(args.set), args.eta))
     try:
         start = system.param(args.param)
     except ValueError:
@@ -103,19 +100,6 @@ def _inputs(args):
     steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds), ds_max=args.ds_max,
                   max_points=args.max_points)
     return system, steps
-
-
-def _check_domains(base, eta, sets):
-    """UsageError naming the option (``--eta``, ``--set NAME``) whose value lies outside
-    its parameter's domain (:meth:`vibimpact.Params.domain`); unknown names and values
-    that are not finite are left to ``base.replace``."""
-    given = ([("--eta", "eta", eta)] if eta is not None else []) + \
-        [(f"--set {k}", k, v) for k, v in sets.items()]
-    known = base.as_dict()
-    for option, name, value in given:
-        domain = base.domain(name) if name in known else None
-        if domain is not None and math.isfinite(value) and value not in domain:
-            raise UsageError(f"{option}: {domain.rule(name)}, got {value!r}")
 
 
 def _summary(branch):

@@ -6,7 +6,7 @@ instant.
 """
 import os
 
-from ._cli_common import error_text, output_of, reason, sweep_file_bytes
+from ._cli_common import error_text, output_of, reason, sweep_file_bytes, with_sets
 from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
                           checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
                           parse_analyses, parse_sets, positive_int, run_checkpointed)
@@ -111,9 +111,10 @@ def _inputs(args):
         raise UsageError(f"--eta: {exc}") from None
     sets = parse_sets(args.set)
     try:
-        params = presets.get(args.preset).replace(**sets)
+        base = presets.get(args.preset)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
+    params = with_sets(base, sets)
     if len(args.vary) != 1:
         raise UsageError("give exactly one --vary NAME=START:STOP:STEP (a map varies eta "
                           "and one other parameter)")

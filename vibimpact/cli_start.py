@@ -15,7 +15,7 @@ or gone since.  Only the standard library is imported at module level.
 """
 import os
 
-from ._cli_common import error_text, parse_sets, read_input, UsageError
+from ._cli_common import error_text, parse_sets, read_input, UsageError, with_sets
 
 #: how :func:`vibimpact.sweeps.sweep_start`'s messages name what the command line gives
 #: as the file of --from and the options --eta and --direction
@@ -66,10 +66,7 @@ def start_of(args):
         except (TypeError, ValueError) as exc:
             raise UsageError(f"--from {path!r}: {error_text(exc)}") from None
         preset = str(ds.attrs.get("preset", ""))
-    try:
-        params = start.params.replace(**sets)
-    except ValueError as exc:
-        raise UsageError(error_text(exc)) from None
+    params = with_sets(start.params, sets)
     changed = ", ".join(f"{k}={v:g}" for k, v in sets.items())
     note = (f"started from {path} at eta = {start.eta:.12g} ({start.direction}), where the "
             f"sweep found '{start.label}'"

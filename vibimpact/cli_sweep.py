@@ -12,7 +12,7 @@ from ._cli_common import (UsageError, add_figure_options, check_checkpoint, chec
                           image_ext_ok, parse_analyses, parse_sets, positive_int,
                           run_checkpointed)
 from ._cli_common import error_text, output_of, read_input, reason, sweep_file_bytes
-from ._cli_common import write_outputs
+from ._cli_common import with_sets, write_outputs
 from ._limits import MAX_POINTS
 
 #: the main job
@@ -110,10 +110,10 @@ def _sweep_inputs(args):
     except ValueError as exc:
         raise UsageError(f"--eta: {exc}") from None
     try:
-        params = presets.get(args.preset).replace(**parse_sets(args.set))
+        base = presets.get(args.preset)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
-    return etas, params
+    return etas, with_sets(base, parse_sets(args.set))
 
 
 def _command_line(args):

@@ -51,6 +51,10 @@ class Model:
     rhs, jac, switches, transition, init_mode : numba functions
     bound : float
         A state component larger than this in magnitude ends the run as DIVERGED.
+    param_set : type, optional
+        A built-in model's parameter set (:class:`~vibimpact.params.Params`,
+        :class:`~vibimpact.params.DuffingParams`): where its parameters' domains are
+        stated, also for a plain parameter vector of the model.
     """
 
     name: str
@@ -66,6 +70,7 @@ class Model:
     transition: Callable
     init_mode: Callable
     bound: float = 1e3
+    param_set: type = None
 
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
@@ -156,13 +161,14 @@ ROTOR = Model(name="rotor", state_names=("X", "Y", "dX", "dY"), param_names=_rot
               omega_index=_rotor.I_ETA, n_mode=_rotor.N_MODE, terminal=_rotor.TERMINAL,
               kernel_model=_dispatch.ROTOR, rhs=_rotor.rhs, jac=_rotor.jac,
               switches=_rotor.switches, transition=_rotor.transition,
-              init_mode=_precompiled("rotor_init_mode", _rotor.init_mode), bound=1e3)
+              init_mode=_precompiled("rotor_init_mode", _rotor.init_mode), bound=1e3,
+              param_set=Params)
 
 DUFFING = Model(name="duffing", state_names=("x", "dx"), param_names=_duffing.PARAM_NAMES,
                 omega_index=4, n_mode=_duffing.N_MODE, terminal=_duffing.TERMINAL,
                 kernel_model=_dispatch.DUFFING, rhs=_duffing.rhs, jac=_duffing.jac,
                 switches=_duffing.switches, transition=_duffing.transition,
-                init_mode=_duffing.init_mode, bound=1e6)
+                init_mode=_duffing.init_mode, bound=1e6, param_set=DuffingParams)
 
 
 def resolve(p, model=None):

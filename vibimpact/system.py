@@ -180,8 +180,8 @@ class System:
         'BT must be >= 0'
         """
         i = self._index(name)
-        if hasattr(self.params, "domain"):
-            return self.params.domain(self.model.param_names[i])
+        if self.model.param_set is not None:  # also for a plain vector of the rotor
+            return self.model.param_set.domain(self.model.param_names[i])
         return Domain.above(0.0) if i == self.model.omega_index else Domain()
 
     def _index(self, name):
