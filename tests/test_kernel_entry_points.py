@@ -227,6 +227,8 @@ RUN_CASES = {
     "dense rows of 2 columns": dict(dense_m=4, dense=np.empty((9, 2))),
     "a log of 5 state columns": dict(log_arrays=kb.EventLog(64, 5, 2).arrays()),
     "short counters": dict(count=np.zeros(3, dtype=np.int64)),
+    "a workspace of another size": dict(ws=workspace(5, 3, 2)),
+    "a workspace of fewer switches": dict(ws=workspace(4, 2, 2)),
 }
 
 

@@ -10,10 +10,12 @@ built (:mod:`.boundary`).
 """
 from __future__ import annotations
 
+import functools
 import numbers
 
 import numpy as np
 
+from . import driver as _driver
 from . import duffing, rotor
 from .dispatch import BuiltinModel, FAMILY, ROTOR, DUFFING
 from .integrator import N_COUNTERS, N_OPTS
@@ -109,12 +111,21 @@ def state(name, y, n_state, var):
                          f"{y.size}")
 
 
-def workspace(ws, n, n_switch, n_mode, template):
-    """Check a :func:`.driver.workspace` against a fresh one's shapes and dtypes."""
-    if type(ws) is not type(template):
-        raise ValueError("kernel argument ws must be a driver.workspace")
-    for field, a, b in zip(template._fields, ws, template):
-        array(f"ws.{field}", a, b.dtype, b.ndim, b.shape, writeable=True)
+@functools.lru_cache(maxsize=64)
+def _layout(n, n_switch, n_mode):
+    """``(dtype, shape)`` of every array of a fresh :func:`.driver.workspace`."""
+    return tuple((a.dtype, a.shape) for a in _driver.workspace(n, n_switch, n_mode))
+
+
+def workspace(ws, n, n_switch, n_mode):
+    """Check a :func:`.driver.workspace` for a state of ``n`` entries, ``n_switch``
+    switching functions and ``n_mode`` mode entries: the dtypes and shapes of a fresh
+    one, C-contiguous and writeable."""
+    if type(ws) is not _driver.Workspace or \
+            tuple((a.dtype, a.shape) for a in ws) != _layout(n, n_switch, n_mode) or \
+            not all(a.flags.c_contiguous and a.flags.writeable for a in ws):
+        raise ValueError(f"kernel argument ws must be a driver.workspace({n}, {n_switch}, "
+                         f"{n_mode})")
 
 
 def mode_vector(name, mode, n_mode):

@@ -400,8 +400,7 @@ def _check_run(problem, method, ws, y, mode, clock, count, suffix=""):
     _check.clock("clock" + suffix, clock)
     if not suffix:
         n_sw = problem.terminal.size
-        _check.workspace(ws, y.size, n_sw, problem.n_mode,
-                         _workspace(y.size, n_sw, problem.n_mode))
+        _check.workspace(ws, y.size, n_sw, problem.n_mode)
         _check.counters(count)
 
 
