@@ -131,21 +131,18 @@ class NeedsFlag(ValueError):
 
 class OutputExists(NeedsFlag):
     """An existing output path, refused without ``overwrite``: a :class:`NeedsFlag`
-    whose ``path`` and ``what`` (the role of the path, "output file") are attributes;
-    ``hint`` replaces "pass overwrite=True to replace it" in ``str(exc)``."""
+    whose ``path`` and ``what`` (the role of the path, "output file") are attributes."""
 
-    def __init__(self, what: str, path: str, hint: str | None = None) -> None:
-        self.what, self.path, self.hint = what, path, hint
-        refused = f"{what} {path!r} exists"
-        super().__init__(refused, "overwrite", "to replace it",
-                         f"{refused}; {hint}" if hint else None)
+    def __init__(self, what: str, path: str) -> None:
+        self.what, self.path = what, path
+        super().__init__(f"{what} {path!r} exists", "overwrite", "to replace it")
 
     def __reduce__(self):
-        return (OutputExists, (self.what, self.path, self.hint))
+        return (OutputExists, (self.what, self.path))
 
 
 def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
-                      what: str = "output", hint: str | None = None,
+                      what: str = "output",
                       store: bool = False, free: int = MIN_FREE) -> str:
     """Vet an output path before anything is computed; every writer and every command
     that writes (its outputs and its checkpoint ``OUT.partial``) goes through it.
@@ -165,10 +162,6 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
         An existing regular file (or Zarr directory, with ``store``) may be replaced.
     what : str
         Names the path in the messages ("output file", "plot file", "checkpoint").
-    hint : str, optional
-        How to allow replacing it, in the message of an existing path (default: the
-        API's "pass overwrite=True to replace it"; an interface of its own can instead
-        name the flag from the :class:`OutputExists` raised, see :meth:`NeedsFlag.say`).
     store : bool
         ``path`` is a directory store (Zarr): a trailing ``/`` is allowed, an existing
         directory is not refused here.
@@ -209,7 +202,7 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
         raise ValueError(f"{what} {path!r} is not a regular file (a device, pipe or "
                          "socket); not replacing it")
     if os.path.lexists(path) and not overwrite:
-        raise OutputExists(what, path, hint)
+        raise OutputExists(what, path)
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} does "
