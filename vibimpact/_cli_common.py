@@ -4,7 +4,7 @@ import math
 import os
 import sys
 
-from ._text import count
+from ._text import count, one_line
 
 
 class UsageError(Exception):
@@ -209,7 +209,7 @@ def reason(exc):
         return str(exc.strerror)
     if isinstance(exc, KeyError) and exc.args:
         return f"{exc.args[0]!r} is missing"
-    return " ".join(str(exc).split()) or f"unexpected {type(exc).__name__}"
+    return one_line(exc)
 
 
 def error_text(exc):
@@ -603,8 +603,8 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
         return None, report_interrupt(
             exc, "vibimpact: interrupted" + _saved_line(ckpt, unit, resumable))
     except WorkerLost as exc:
-        text = " ".join(str(exc).split())  # Dask's KilledWorker spans lines
-        print(f"vibimpact: error: {text}{_saved_line(ckpt, unit, resumable)}",
+        # one_line: Dask's KilledWorker spans lines
+        print(f"vibimpact: error: {one_line(exc)}{_saved_line(ckpt, unit, resumable)}",
               file=sys.stderr)
         return None, 2
     except ValueError as exc:

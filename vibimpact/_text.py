@@ -1,4 +1,5 @@
-"""Counts in words: the one place a number and its noun are made to agree."""
+"""Words for messages: a count and its noun made to agree (:func:`count`), an
+exception said on one line (:func:`one_line`)."""
 from __future__ import annotations
 
 import numbers
@@ -29,3 +30,10 @@ def count(n, noun, plural=None):
     else:
         text = f"{float(n):g}"
     return f"{text} {noun if text == '1' else (plural or noun + 's')}"
+
+
+def one_line(exc):
+    """What an exception says, on one line (its text with every run of white space one
+    blank), or its class name when it says nothing (a message never shows Python's
+    class name otherwise)."""
+    return " ".join(str(exc).split()) or type(exc).__name__

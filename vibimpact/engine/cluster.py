@@ -17,6 +17,8 @@ import logging
 import os
 import uuid
 
+from .._text import one_line
+
 #: seconds to wait for a remote scheduler (and for the workers of a local cluster)
 CONNECT_TIMEOUT = 20
 
@@ -37,12 +39,6 @@ def _worker_version():
     return vibimpact.__version__
 
 
-def _why(exc):
-    """What went wrong, for a message: ``exc``'s text, or its class when it has none
-    (the text says it in words; the class name is Python's)."""
-    return " ".join(str(exc).split()) or type(exc).__name__
-
-
 def check_workers(client):
     """ValueError unless every worker imports the same vibimpact version as this process.
 
@@ -56,11 +52,11 @@ def check_workers(client):
     try:
         got = client.run(_worker_version, on_error="return")
     except Exception as exc:  # the scheduler went away meanwhile
-        raise ValueError(f"cannot reach the Dask workers: {_why(exc)}") from None
+        raise ValueError(f"cannot reach the Dask workers: {one_line(exc)}") from None
     for worker, v in sorted(got.items()):
         if isinstance(v, BaseException):
             raise ValueError(f"Dask worker {worker} cannot import vibimpact "
-                             f"({_why(v)}); install it in the workers' "
+                             f"({one_line(v)}); install it in the workers' "
                              "environment")
         if v != __version__:
             raise ValueError(f"Dask worker {worker} runs vibimpact {v}, this process "
@@ -107,8 +103,8 @@ def connect(scheduler, timeout=CONNECT_TIMEOUT):
         client.__init__(**kw, timeout=timeout, set_as_default=False)
     except Exception as exc:  # OSError, TimeoutError, ValueError for a bad address, ...
         _abandon(client)
-        msg = " ".join(str(exc).split()) or type(exc).__name__
-        raise ValueError(f"cannot connect to the Dask scheduler {what!r}: {msg}") from None
+        raise ValueError(f"cannot connect to the Dask scheduler {what!r}: "
+                         f"{one_line(exc)}") from None
     try:
         check_workers(client)
     except BaseException:

@@ -39,6 +39,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .. import _limits
+from .._text import one_line
 from .. import _validate as _v
 from ..params import DuffingParams, Params
 from ..system import (System, param_dict, to_system, varied_names, with_frequency,
@@ -176,9 +177,8 @@ class _Rows:
             self.fill(task.row, task.direction, points)
         except Exception as exc:
             v = self.values[task.row]
-            why = " ".join(str(exc).split()) or type(exc).__name__
             raise RuntimeError(f"map row {self.name} = {v:g}, sweep {task.direction}: "
-                               f"{why}") from exc
+                               f"{one_line(exc)}") from exc
 
 
 def _template(p, name, values, etas, dirs, direction, settings, command):
