@@ -1,5 +1,5 @@
-"""Tests of the calibration's pure pieces (``analyses/calibrate_search.py``) and one smoke
-run of ``analyses/calibrate.py --quick`` on a tiny eta grid."""
+"""Tests of the calibration's pure pieces (``analyses/paper/calibrate_search.py``) and one smoke
+run of ``analyses/paper/calibrate.py --quick`` on a tiny eta grid."""
 import itertools
 import json
 import math
@@ -9,11 +9,11 @@ from pathlib import Path
 
 import pytest
 
-ANALYSES = Path(__file__).resolve().parents[1] / "analyses"
+ANALYSES = Path(__file__).resolve().parents[1] / "analyses" / "paper"
 sys.path.insert(0, str(ANALYSES))
 
 import calibrate_search as S  # noqa: E402
-from vibimpact import claims as C  # noqa: E402
+from vibimpact.paper import claims as C  # noqa: E402
 
 CLAIMS = tuple(c for c in C.CLAIMS if c.preset in S.FIT_PRESETS)
 

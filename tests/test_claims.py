@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from vibimpact import claims as C
+from vibimpact.paper import claims as C
 
 STEP = 0.005
 ETA = np.round(np.arange(1.0, 1.5 + 1e-9, STEP), 6)

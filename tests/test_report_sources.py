@@ -16,7 +16,8 @@ from vibimpact import params
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORTS = ROOT / "reports"
-sys.path.insert(0, str(ROOT / "analyses"))
+for _kind in ("paper", "performance", "reliability"):
+    sys.path.insert(0, str(ROOT / "analyses" / _kind))
 
 
 def _winner():
@@ -81,7 +82,7 @@ def test_paper_report_counts_are_its_data_and_describe_the_shipped_defaults():
 
 def test_performance_report_has_the_low_damping_timing():
     """Hypothesis: the performance report carries the measured low-damping ratio section,
-    written by analyses/benchmark_sweep.py, for the shipped defaults."""
+    written by analyses/performance/benchmark_sweep.py, for the shipped defaults."""
     sec = _section((REPORTS / "performance.md").read_text(), "low-damping")
     assert sec is not None
     assert f"| shipped defaults | {params.DEFAULT_B:g} | {params.DEFAULT_EC:g} |" in sec
@@ -89,7 +90,7 @@ def test_performance_report_has_the_low_damping_timing():
 
 def test_performance_report_judges_the_cold_first_run_by_its_own_numbers():
     """Hypothesis: the performance report carries the first-run section written by
-    analyses/first_run.py, timing the default classify grid and simulate cold and warm with
+    analyses/performance/first_run.py, timing the default classify grid and simulate cold and warm with
     the precompiled kernel and JIT only; JIT only, the cold run pays for compilation
     (cold >= warm, cache files written); and its verdicts on the 10 s target are the ones
     its cold classify times imply."""
@@ -145,7 +146,7 @@ def test_every_package_name_the_readme_cites_exists():
 
 
 def test_reliability_report_counts_are_its_own_cases():
-    """Hypothesis: reports/reliability.md is written by analyses/reliability.py and its
+    """Hypothesis: reports/reliability.md is written by analyses/reliability/reliability.py and its
     summary is the count of its own case table: per fault class, the cases tried, clean,
     with a traceback, hung, with files left and with data lost are the rows of that class
     with that verdict, and the 'all' row is the sum over the classes."""

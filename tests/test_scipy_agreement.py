@@ -2,7 +2,7 @@
 
 Acceptance criterion: "Agreement with SciPy solve_ivp (DOP853, rtol 1e-12, restarted at
 every switch) over 20 periods to 1e-8 on fig8, fig10 and rr10 states with impacts; fig11
-(stick phases) to 1e-6".  The reference (:func:`vibimpact.reference.solve_reference`)
+(stick phases) to 1e-6".  The reference (:func:`vibimpact.testing.reference.solve_reference`)
 shares only the model functions with the kernel; steps, error control and event location
 are SciPy's.  Initial states lie on impacting attractors of the upper branch (reached from
 ``(1.1, 0, 0, 1.3)`` after 200 periods), and every test asserts that impacts really occur.
@@ -15,7 +15,7 @@ import pytest
 
 import vibimpact as vi
 from conftest import preset
-from vibimpact.reference import solve_reference, strobe_times
+from vibimpact.testing.reference import solve_reference, strobe_times
 
 PERIODS = 20
 

@@ -1,6 +1,6 @@
 """What the shipped defaults produce: the paper's claims the report says agree do agree.
 
-``reports/paper.json`` (written by ``analyses/paper.py``) lists the verdict of every
+``reports/paper.json`` (written by ``analyses/paper/paper.py``) lists the verdict of every
 interval claim of the paper at the shipped defaults.  These tests sweep the presets again,
 as the report does, and check each claim it calls "agree" on the fresh sweep: a change of
 the code or of the defaults that breaks an agreement fails here, not silently in the next
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact import claims as C
+from vibimpact.paper import claims as C
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = json.loads((ROOT / "reports" / "paper.json").read_text())

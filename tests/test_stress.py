@@ -1,4 +1,4 @@
-"""Numerical stress tests (fast versions of ``analyses/stress.py``): extreme stiffness,
+"""Numerical stress tests (fast versions of ``analyses/performance/stress.py``): extreme stiffness,
 damping, friction, grazing, forcing frequency and long runs must end sane, or stop with a
 clear label -- never with silent garbage."""
 import numpy as np
@@ -58,7 +58,7 @@ def test_extreme_hertz_stiffness_on_fig8_gives_finite_impacting_run(kh):
 def test_large_hertz_damping_with_negative_factor_is_integrated_through(Bh):
     """Hypothesis: with Bh so large that 1 + Bh R' < 0 during restitution (the paper's
     formula, not clipped), fig8 at eta = 1 is still integrated through: the run ends OK
-    (``analyses/stress.py`` measures OK at both Bh), with finite data, the negative factor
+    (``analyses/performance/stress.py`` measures OK at both Bh), with finite data, the negative factor
     really reached at contact exits, and every switch on the circle.  A run that stops
     (DIVERGED/FAILED) fails this test with its reason; it is not an accepted outcome here,
     because the stress table reports these cases as OK."""

@@ -3,7 +3,7 @@
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
 preset uses :data:`vibimpact.params.DEFAULT_B` and :data:`vibimpact.params.DEFAULT_EC`,
 **calibrated** by ``analyses/calibrate.py`` against the paper's interval claims
-(``vibimpact.claims``); they are not values from the paper, and the fit is partial: no
+(``vibimpact.paper.claims``); they are not values from the paper, and the fit is partial: no
 pair reproduces every claim (``reports/calibration.md``, ``reports/paper.md``).
 
 Where the paper is silent about a figure's contact dampings, the presets switch ``Bh``,

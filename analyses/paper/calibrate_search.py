@@ -182,7 +182,7 @@ def evaluate(reading, B, Ec, rows, claims):
     B, Ec : float
     rows : dict
         Row key -> ``{claim key: ClaimResult}``.
-    claims : sequence of vibimpact.claims.Claim
+    claims : sequence of vibimpact.paper.claims.Claim
         The fitted claims (with ``key``, ``preset``, ``weight``).
 
     Returns

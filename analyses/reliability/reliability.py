@@ -1,6 +1,6 @@
 """Fault injection against the command line: what a fault does to every command.
 
-Run as ``python analyses/reliability.py [--quick] [--no-report]`` (about 5 minutes on 2
+Run as ``python analyses/reliability/reliability.py [--quick] [--no-report]`` (about 5 minutes on 2
 cores; ``--quick`` runs one moment per fault).  Every case runs ``python -m vibimpact``
 in a fresh directory as a subprocess of its own session, injects one fault and judges
 what it left:
@@ -55,9 +55,10 @@ from pathlib import Path
 
 from _reliability_cases import (API_WORDS, BOUNDS, USER_MODEL, USER_MODEL_CASES,
                                WORDING)
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "reliability.md"
 SECTION = "reliability"
 
@@ -477,7 +478,7 @@ def report(outcomes, wall, quick):
     """The section text of ``reports/reliability.md``."""
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     L = ["# Reliability under faults", "",
-         f"Written by `python analyses/reliability.py{' --quick' if quick else ''}` on {now}"
+         f"Written by `python analyses/reliability/reliability.py{' --quick' if quick else ''}` on {now}"
          f" ({os.cpu_count()} CPUs, Python {platform.python_version()}); every number below "
          "is counted by it.  Reference runs (uninterrupted): " + ", ".join(
              f"{k} {v:.1f} s" for k, v in wall.items()) + ".  Moments are fractions of the "

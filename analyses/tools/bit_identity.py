@@ -7,8 +7,8 @@ sweep (serial and on two workers) and a small map, and writes the SHA-256 of eve
 resulting array (its bytes, shape and dtype) to a JSON file.  Run it on two versions of
 the code and compare the files::
 
-    python analyses/bit_identity.py -o before.json      # on the old checkout
-    python analyses/bit_identity.py -o after.json --compare before.json
+    python analyses/tools/bit_identity.py -o before.json      # on the old checkout
+    python analyses/tools/bit_identity.py -o after.json --compare before.json
 
 ``--compare`` prints the entries that differ and exits 1 if any does.
 """

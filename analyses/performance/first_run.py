@@ -11,7 +11,7 @@ Every pair runs twice: with the precompiled kernel the install built (the defaul
 install without a C compiler gets); the report also gives the install-time build's
 duration and the numba cache files each cold run wrote (0: it compiled nothing).
 
-Run as ``python analyses/first_run.py [--repeat N] [--no-report]``: it prints the times
+Run as ``python analyses/performance/first_run.py [--repeat N] [--no-report]``: it prints the times
 and replaces the section ``first_run`` of ``reports/performance.md`` (the target, 10 s for
 the cold ``classify``, is judged there); :func:`measure` returns the times as a dict.
 """
@@ -27,9 +27,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 SECTION = "first_run"
 #: the acceptance target of the cold first ``classify`` (seconds, this 2-core machine)
@@ -158,7 +159,7 @@ def report(res, help_s, help_files, repeat, status, build_s):
     cold = res["classify"]["cold_s"]
     jit_cold = res["classify"]["jit_cold_s"]
     L = ["## First run (cold numba cache)", "",
-         f"Written by `python analyses/first_run.py` on {now}; {os.cpu_count()} CPUs "
+         f"Written by `python analyses/performance/first_run.py` on {now}; {os.cpu_count()} CPUs "
          f"({_cpu()}), Python {platform.python_version()}, numba {numba.__version__}, "
          f"load average {os.getloadavg()[0]:.2f} at the end.  Each command runs as a fresh "
          "`python -m vibimpact` process, timed from start to exit (interpreter start-up, "

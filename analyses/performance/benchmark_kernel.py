@@ -1,6 +1,6 @@
 """First kernel benchmark: throughput of the RK methods and work-precision against SciPy.
 
-Run as ``python analyses/benchmark_kernel.py``; writes ``reports/performance.md`` and
+Run as ``python analyses/performance/benchmark_kernel.py``; writes ``reports/performance.md`` and
 ``reports/work_precision_fig8.png`` (both replaced atomically).  Every number in the report
 is measured by this script on the machine it states; nothing is copied in by hand.
 
@@ -16,7 +16,7 @@ report.
 (b) Work-precision on it over 20 periods: max abs stroboscopic
     error against our dop853 at rtol = atol = 1e-13 (itself cross-checked against SciPy
     DOP853 at 1e-13), versus run time, for our dop853 and for SciPy DOP853 restarted at
-    every switch (:mod:`vibimpact.reference`), both at rtol = atol = 1e-6 ... 1e-12; then
+    every switch (:mod:`vibimpact.testing.reference`), both at rtol = atol = 1e-6 ... 1e-12; then
     the speed ratio at equal error (log time interpolated linearly in log error along the
     Pareto front of each method's runs).
 """
@@ -28,7 +28,8 @@ import time
 from pathlib import Path
 
 import matplotlib
-from _report import best_time, write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import best_time, write_section  # noqa: E402
 import numba
 import numpy as np
 import scipy
@@ -39,9 +40,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import vibimpact as vi  # noqa: E402
 from vibimpact.analysis import Label  # noqa: E402
 from vibimpact.points import classify_params  # noqa: E402
-from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
+from vibimpact.testing.reference import solve_reference, strobe_times  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 FIGURE = ROOT / "reports" / "work_precision_fig8.png"
 
@@ -219,7 +220,7 @@ def plot(series, path):
 def report(s0, n_imp, rows, cross, series, rat):
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     L = ["# Kernel performance", "",
-         "Written by `python analyses/benchmark_kernel.py`; every number below is measured "
+         "Written by `python analyses/performance/benchmark_kernel.py`; every number below is measured "
          "by that script (nothing typed in by hand).", "",
          f"- date: {now}",
          f"- machine: `{platform.platform()}`, processor `{platform.processor() or '?'}`, "
@@ -249,7 +250,7 @@ def report(s0, n_imp, rows, cross, series, rat):
           f"reference: SciPy DOP853 at rtol = atol = {REF_TOL:g} (restarted at switches) "
           f"differs from it by **{cross:.2e}**.",
           "Both integrators at rtol = atol = tol; SciPy is restarted at every switch and "
-          "stops at every strobe time (`vibimpact.reference.solve_reference`, compiled RHS). "
+          "stops at every strobe time (`vibimpact.testing.reference.solve_reference`, compiled RHS). "
           f"Time: best of {REPEATS}.", "",
           "| tol | " + " | ".join(f"{n} error | {n} time [s] | {n} RHS" for n in series)
           + " | time ratio SciPy/dop853 at equal tol |",

@@ -11,7 +11,7 @@ walks the call stack back to the command line and keeps the files of the frames 
 hold the requested ``eta`` in their arguments (a float, an array, a parameter set, a
 system, a kernel problem, a task tuple, the command line's text).  Each kernel call gives
 one path (the jitted loop the boundary calls is its last file); the report is the longest
-path and the union of all.  ``python analyses/eta_path.py`` prints them.
+path and the union of all.  ``python analyses/tools/eta_path.py`` prints them.
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ import numpy as np
 
 ETA_TEXT = "1.23456:1.23556:0.001"
 ETAS = (1.23456, 1.23556)
-PKG = pathlib.Path(__file__).resolve().parents[1] / "vibimpact"
+PKG = pathlib.Path(__file__).resolve().parents[2] / "vibimpact"
 
 
 def _bare(value):

@@ -1,8 +1,8 @@
 """The type of every interval boundary of fig8, fig10 and fig11, and the checks behind it.
 
-Run as ``python analyses/transitions.py`` (about 5 minutes on 2 cores); writes
+Run as ``python analyses/paper/transitions.py`` (about 5 minutes on 2 cores); writes
 ``reports/transitions.md`` and ``reports/figures/branches_fig8.png``.  The sweeps are the
-paper report's (``analyses/paper.py``: eta = 0.9:1.5:0.005, up and down, pure
+paper report's (``analyses/paper/paper.py``: eta = 0.9:1.5:0.005, up and down, pure
 continuation): read from its cache ``.paper-cache/`` when there, else computed and put
 there, so the interval boundaries typed here are those of ``reports/paper.md``.
 
@@ -28,7 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 from vibimpact.analysis import (Averaging, Steps, continue_orbit, locate_bifurcation,
@@ -36,7 +37,7 @@ from vibimpact.analysis import (Averaging, Steps, continue_orbit, locate_bifurca
 from vibimpact.sweeps import continued_state, parse_range
 from vibimpact.sweeps.transitions import format_transitions, transition_types
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "transitions.md"
 FIGURES = ROOT / "reports" / "figures"
 CACHE = ROOT / ".paper-cache"
@@ -279,7 +280,7 @@ def main():
         res = {name: (ds, tt, ts, tr) for name, ds, tt, ts, tr in
                pool.imap_unordered(_types, PRESETS)}
     head = ["# Transition types of the interval maps (issue 8)", "",
-            "Written by `python analyses/transitions.py`; every number is measured by it.",
+            "Written by `python analyses/paper/transitions.py`; every number is measured by it.",
             f"Date {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC.", "",
             "At each boundary of `vi.intervals` (sweep order, up and down) "
             "`vi.transition_types` follows the periodic orbit of the from side by Newton "

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._kernel import rotor as _rotor
+from .._kernel.boundary import rotor as _rotor
 
 #: terminal switches of the rotor (contact, friction); index 2 is an observer
 _TERMINAL = tuple(int(i) for i in np.flatnonzero(_rotor.TERMINAL))
@@ -147,7 +147,7 @@ def solve_reference(p, t_end, state0, rtol=1e-12, atol=1e-12, method="DOP853",
     Examples
     --------
     >>> import numpy as np, vibimpact as vi
-    >>> from vibimpact.reference import solve_reference
+    >>> from vibimpact.testing.reference import solve_reference
     >>> p = vi.presets.get("fig8").replace(eta=1.0)
     >>> T = 2 * np.pi / p.eta
     >>> ref = solve_reference(p, 2 * T, [0.0, 1.05, 0.0, 0.0], t_eval=[0.0, T, 2 * T])

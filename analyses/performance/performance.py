@@ -1,6 +1,6 @@
 """Regenerate the whole of ``reports/performance.md`` with one command.
 
-Run as ``python analyses/performance.py [--no-full-map]`` (about 15 minutes on 2 cores,
+Run as ``python analyses/performance/performance.py [--no-full-map]`` (about 15 minutes on 2 cores,
 6 of them the 30,000-point map).  Each benchmark is its own script, run here in a
 fresh process one after the other (never two at once: they time the machine), and each
 replaces its own section of the report:
@@ -34,7 +34,7 @@ def main(argv):
             args.append("--no-full")
         t0 = time.perf_counter()
         print(f"== {name}", flush=True)
-        rc = subprocess.run(args, cwd=HERE.parent, stdout=subprocess.DEVNULL).returncode
+        rc = subprocess.run(args, cwd=HERE.parents[1], stdout=subprocess.DEVNULL).returncode
         print(f"   exit {rc}, {time.perf_counter() - t0:.0f} s", flush=True)
         if rc:
             failed.append(name)

@@ -1,6 +1,6 @@
 """Work-precision against SciPy, integrator overhead against the RHS floor, and start-up.
 
-Run as ``python analyses/work_precision.py``; writes the section ``work_precision`` of
+Run as ``python analyses/performance/work_precision.py``; writes the section ``work_precision`` of
 ``reports/performance.md`` and ``reports/work_precision.png`` (both replaced atomically).
 Every number in the section is measured by this script in the same run (issue 6, parts
 1, 2 and 5).
@@ -16,7 +16,7 @@ Every number in the section is measured by this script in the same run (issue 6,
     max abs stroboscopic error against our dop853 at rtol = atol = 1e-13 (cross-checked
     with SciPy DOP853 at 1e-13) versus wall time, for our rk4 / dp5 / dop853 and for SciPy
     ``solve_ivp`` RK45 / DOP853 / LSODA restarted at every switch with the compiled
-    right-hand side (:func:`vibimpact.reference.solve_reference`), and numbalsoda LSODA
+    right-hand side (:func:`vibimpact.testing.reference.solve_reference`), and numbalsoda LSODA
     called from numba when it is installed (given the switch times: ``_lsoda_baseline``).
     Ratio table: SciPy
     DOP853 time / our dop853 time at equal error (log time interpolated linearly in log
@@ -25,7 +25,7 @@ Every number in the section is measured by this script in the same run (issue 6,
     ['rhs_evals']``) against a bare compiled loop calling ``vibimpact._kernel.rotor.rhs``
     as many times on states sampled along the same trajectory (with their modes); and the
     RHS evaluations per forcing period each method needs at a fixed error.
-The first (cold) run of the command line is measured by ``analyses/first_run.py``.
+The first (cold) run of the command line is measured by ``analyses/performance/first_run.py``.
 """
 import datetime
 import os
@@ -35,7 +35,8 @@ import time
 from pathlib import Path
 
 import matplotlib
-from _report import best_time, write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import best_time, write_section  # noqa: E402
 import numba
 import numpy as np
 import scipy
@@ -47,13 +48,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import _lsoda_baseline as lsoda_baseline  # noqa: E402
 import vibimpact as vi  # noqa: E402
 from vibimpact._kernel import rotor  # noqa: E402
-from vibimpact.reference import solve_reference, strobe_times  # noqa: E402
+from vibimpact.testing.reference import solve_reference, strobe_times  # noqa: E402
 from vibimpact.sweeps import continued_state as _continued  # noqa: E402
 from benchmark_kernel import (LABEL_PERIODS, LABEL_TRANSIENT, describe,  # noqa: E402
                               is_impacting_chaotic, is_impacting_periodic, label_orbit,
                               pick_orbit)
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 FIGURE = ROOT / "reports" / "work_precision.png"
 SECTION = "work_precision"
@@ -280,7 +281,7 @@ def numbalsoda_note():
         return ("not importable here, so not benchmarked (`pip install numbalsoda` builds "
                 "C++ and Fortran sources and needs gfortran)")
     return (f"{v}: LSODA called from an `@njit` driver with a `@cfunc` right-hand side "
-            "(`analyses/_lsoda_baseline.py`); it has no event location, so it is given the "
+            "(`analyses/performance/_lsoda_baseline.py`); it has no event location, so it is given the "
             "reference's switch times and modes and restarted at each (its times include "
             "no event location, ours do)")
 
@@ -288,7 +289,7 @@ def numbalsoda_note():
 def report(results, ov, load, elapsed):
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     L = ["# Work-precision and overhead (issue 6)", "",
-         "Written by `python analyses/work_precision.py`; every number below is measured by "
+         "Written by `python analyses/performance/work_precision.py`; every number below is measured by "
          "that script in one run (nothing typed in by hand).", "",
          f"- date: {now}; script wall time {elapsed:.0f} s",
          f"- machine: `{platform.platform()}`, `os.cpu_count()` = {os.cpu_count()}; "
@@ -306,7 +307,7 @@ def report(results, ov, load, elapsed):
          f"period, dp5 and dop853 at rtol = atol = {_span(OUR_TOLS)} (best of "
          f"{OUR_REPEATS} after a warm-up). SciPy `solve_ivp` (scipy "
          f"{scipy.__version__}) RK45, DOP853, LSODA with the compiled model RHS, restarted "
-         "at every switch and stopped at every strobe time (`vibimpact.reference."
+         "at every switch and stopped at every strobe time (`vibimpact.testing.reference."
          "solve_reference`), rtol = atol = "
          + ", ".join(f"{m} {_span(t)}" for m, t in SCIPY_TOLS.items())
          + f", best of {SCIPY_REPEATS}.", "",

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import vibimpact as vi
-from vibimpact import claims as C
+from vibimpact.paper import claims as C
 
 from calibrate_search import DAMPINGS, FIT_PRESETS, ClaimResult, damping_values
 
@@ -56,9 +56,9 @@ def row_params(key):
 def row_results(ds, claims=None):
     """``{claim key: ClaimResult}`` of one row (a sweep dataset with both directions).
 
-    The score is :func:`vibimpact.claims.claim_score`; the claim agrees when a compared
+    The score is :func:`vibimpact.paper.claims.claim_score`; the claim agrees when a compared
     direction's detected interval has both ends within one sweep step of the paper's
-    (:attr:`vibimpact.claims.Detection.agree`); start and end are those of the best
+    (:attr:`vibimpact.paper.claims.Detection.agree`); start and end are those of the best
     direction.
     """
     out = {}
@@ -138,7 +138,7 @@ class Engine:
         return vi.map2d(row_params((name, min(Bs), Ec)), self.eta,
                         vary={"B": np.array(sorted(Bs))}, direction="both",
                         analyses=ANALYSES, scheduler=self.scheduler, workers=1,
-                        command="analyses/calibrate.py")
+                        command="analyses/paper/calibrate.py")
 
     def _store(self, job, ds):
         (name, Ec), Bs = job

@@ -1,12 +1,12 @@
 """The README's summary of the calibration and of the agreement with the paper.
 
 Every number in it is read from the files the reports' scripts wrote:
-``reports/calibration.nc`` and ``.md`` (``analyses/calibrate.py``: the winning reading and
+``reports/calibration.nc`` and ``.md`` (``analyses/paper/calibrate.py``: the winning reading and
 pair, its objective and count, whether the optimum is interior and converged, the run's
 time) and
-``reports/paper.json`` (``analyses/paper.py``: the claims that agree at the shipped and at
-the previous defaults).  ``python analyses/readme_summary.py`` rewrites the README's
-``summary`` section; ``analyses/paper.py`` calls it after the report, and
+``reports/paper.json`` (``analyses/paper/paper.py``: the claims that agree at the shipped and at
+the previous defaults).  ``python analyses/paper/readme_summary.py`` rewrites the README's
+``summary`` section; ``analyses/paper/paper.py`` calls it after the report, and
 ``tests/test_report_sources.py`` fails when the README no longer matches the files.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import json
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SECTION = "summary"
 
 
@@ -61,7 +61,7 @@ def summary_text(root=ROOT):
         f"interval claims, reading ({win['reading']}), {win['text']} (contact dampings "
         f"{damp}); objective {win['objective']:.3f}, {win['agree_count']} of "
         f"{win['claims']} fitted claims agree; optimum {conv} after "
-        f"{win['refinements']} refinements (`python analyses/calibrate.py`{minutes}; "
+        f"{win['refinements']} refinements (`python analyses/paper/calibrate.py`{minutes}; "
         "[reports/calibration.md](reports/calibration.md)).",
         f"* **Agreement with the paper** ([reports/paper.md](reports/paper.md)): "
         f"{pap['agree']} of {pap['claims']} interval claims agree within one sweep step at "
@@ -74,8 +74,8 @@ def summary_text(root=ROOT):
 
 
 def main():
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from _report import write_section
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+    from _common.report import write_section
 
     text = summary_text()
     write_section(ROOT / "README.md", SECTION, text)

@@ -1,6 +1,6 @@
 """Throughput of parameter maps (issue 9): points per second on 1 and 2 local workers.
 
-Run as ``python analyses/benchmark_map.py [--no-full]``; replaces the "map" section of
+Run as ``python analyses/performance/benchmark_map.py [--no-full]``; replaces the "map" section of
 ``reports/performance.md``.  Every number written is measured here.
 
 * the issue's example map, ``vibimpact map --eta 0.9:1.5:0.005 --vary kh=10:120:10`` on
@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 import vibimpact.maps
@@ -34,7 +35,7 @@ from vibimpact.maps.map2d import DONE
 from vibimpact.sweeps import parse_range
 from vibimpact.points.point import REGIME_CODES, SweepSettings, analyse_point
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 PRESET = "fig8"
 ETA, VARY = "0.9:1.5:0.005", "kh=10:120:10"
@@ -108,7 +109,7 @@ def load_sentence(load0, load1, busy0, own0, wall):
                 f"machine was {'**shared**' if shared else 'not measurably shared'}.")
     other = max(0.0, (busy1 - busy0) - (_own_cpu() - own0)) / wall
     # the measured CPU time decides; a load average is a decaying 1-minute mean that
-    # still carries the benchmarks run just before this one (analyses/performance.py)
+    # still carries the benchmarks run just before this one (analyses/performance/performance.py)
     shared = other >= SHARED_CORES
     verdict = ("**the machine was shared**: wall-clock figures are conservative, the "
                "CPU-time figures are not affected" if shared else
@@ -284,7 +285,7 @@ def main(argv):
                               time.perf_counter() - wall0)
     st = SweepSettings()
     L = ["# Parameter map throughput (issue 9)", "",
-         "Written by `python analyses/benchmark_map.py`; every number is measured by it.",
+         "Written by `python analyses/performance/benchmark_map.py`; every number is measured by it.",
          load_line, "",
          f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
          f"- machine: `{platform.platform()}`, `os.cpu_count()` = {os.cpu_count()}",

@@ -1,6 +1,6 @@
 """Where the fig8 sweep spends its time, and what the transient extrapolation removed.
 
-Run as ``python analyses/profile_sweep.py``; replaces the "profile" section of
+Run as ``python analyses/performance/profile_sweep.py``; replaces the "profile" section of
 ``reports/performance.md``.  The main job's sweep (``vibimpact classify --eta
 0.9:1.5:0.002`` on fig8, all analyses) runs serially under cProfile twice: without and with
 the extrapolation of transients (``SweepSettings(extrapolate=0)`` and the default), after
@@ -14,11 +14,13 @@ import datetime
 import platform
 import pstats
 import time
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 from vibimpact.analysis import Label
@@ -29,7 +31,7 @@ from vibimpact.points.transient import CHUNK_AFTER_JUMP
 from benchmark_kernel import (CANDIDATE_ETAS, describe, is_impacting_periodic,  # noqa: E402
                               pick_orbit)
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 ETA = np.round(np.arange(0.9, 1.5 + 1e-9, 0.002), 6)
 
@@ -109,7 +111,7 @@ def main():
                       ("with extrapolation (default)", SweepSettings())):
         runs[label] = _profile(st)
     L = ["# Profile of the main job's sweep (issue 6, part 4)", "",
-         "Written by `python analyses/profile_sweep.py`; every number is measured by it.", "",
+         "Written by `python analyses/performance/profile_sweep.py`; every number is measured by it.", "",
          f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
          f"- machine: `{platform.platform()}`; serial (one process), warm numba cache",
          "- request: fig8, eta = 0.9:1.5:0.002 (301 points), direction up, all analyses, "

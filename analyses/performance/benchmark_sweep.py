@@ -1,6 +1,6 @@
 """Time the main job: the 301-point fig8 classify sweep, serial and on 2 cores.
 
-Run as ``python analyses/benchmark_sweep.py``; replaces the "sweep" and "low-damping"
+Run as ``python analyses/performance/benchmark_sweep.py``; replaces the "sweep" and "low-damping"
 sections of ``reports/performance.md``.  The low-damping section times the same request
 at the shipped defaults and at B = 0.005 against the previous defaults (B = 0.07,
 Ec = 0.11) in the same run: each must take at most twice as long, with the same transient
@@ -18,14 +18,15 @@ from pathlib import Path
 
 import numpy as np
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 from vibimpact.params import DEFAULT_B, DEFAULT_EC
 from vibimpact.sweeps import format_intervals, parse_range
 from vibimpact.points.point import REGIME_CODES
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 GRID = "0.9:1.5:0.002"
 REPEATS = 3
@@ -153,7 +154,7 @@ def main():
     iv = vi.intervals(ds1)
     chaos = iv.where(iv["regime"] == 3, drop=True)
     L = ["# Sweep performance (the main job)", "",
-         "Written by `python analyses/benchmark_sweep.py`; every number is measured by it.",
+         "Written by `python analyses/performance/benchmark_sweep.py`; every number is measured by it.",
          "",
          f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
          f"- machine: `{platform.platform()}`, `os.cpu_count()` = {os.cpu_count()}",

@@ -1,6 +1,6 @@
 """Lyapunov exponents with the tangent vectors' error test loosened, against the full test.
 
-Run as ``python analyses/lyapunov_error_control.py``; replaces the section
+Run as ``python analyses/performance/lyapunov_error_control.py``; replaces the section
 "lyapunov-error-control" of ``reports/performance.md``.  Every number written is measured
 here.
 
@@ -22,17 +22,19 @@ the state), 1e3 (the default of :func:`vibimpact.analysis.lyapunov_spectrum`) or
 import datetime
 import math
 import platform
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from _report import write_section
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 from vibimpact.analysis import Averaging, lyapunov_spectrum, monodromy, shoot_periodic_orbit
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 TOL = dict(rtol=1e-8, atol=1e-11)
 REF = dict(rtol=1e-12, atol=1e-14)
@@ -158,7 +160,7 @@ def main():
                                               block=2, align=0))
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = ["# Lyapunov exponents: the tangent vectors' error test", "",
-             "Written by `python analyses/lyapunov_error_control.py`; every number is "
+             "Written by `python analyses/performance/lyapunov_error_control.py`; every number is "
              "measured by it.  `tangent_tol`: the tangent vectors' local errors are tested "
              "at that many times the tolerances (1: as the state; inf: not at all).", "",
              f"- date: {now}; machine: `{platform.platform()}`",
