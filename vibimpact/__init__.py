@@ -25,6 +25,8 @@ _EXPORTS = {
     "Status": ("run", "Status"),
     "Model": ("models", "Model"),
     "System": ("system", "System"),
+    "SolverSettings": ("solver", "SolverSettings"),
+    "Solver": ("solver", "Solver"),
     "ROTOR": ("models", "ROTOR"),
     "DUFFING": ("models", "DUFFING"),
     "Regime": ("analysis.classify", "Regime"),
@@ -35,6 +37,11 @@ _EXPORTS = {
     "classify_params": ("points.pipeline", "classify_params"),
     "transition_types": ("sweeps.transitions", "transition_types"),
     "map2d": ("maps.map2d", "map2d"),
+    "Execution": ("engine.execution", "Execution"),
+    "Continuation": ("engine.policy", "Continuation"),
+    "Independent": ("engine.policy", "Independent"),
+    "Interrupted": ("engine.signals", "Interrupted"),
+    "engine": ("engine", None),
     # subpackages a user reaches as attributes (vi.maps.open_map(...)) without importing
     # them first
     "maps": ("maps", None),
@@ -44,10 +51,11 @@ _EXPORTS = {
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
-           "System",
+           "System", "SolverSettings", "Solver",
            "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "maps", "plotting", "sweeps", "io", "__version__"]
+           "map2d", "maps", "plotting", "sweeps", "io", "__version__",
+           "Execution", "Continuation", "Independent", "Interrupted", "engine"]
 
 
 def _load(name):

@@ -59,11 +59,12 @@ written).
 """
 
 
-from ._cli_common import (add_figure_options, check_output, figure_options,
-                          interrupt_status, number, parse_sets, Parser, positive_int,
-                          set_verbosity, signal_decides, StopWorkersOnSignal, UsageError,
-                          verbosity)
-from ._cli_common import error_text, positive_number, with_sets, write_outputs
+from .cli_args import (number, parse_sets, Parser, positive_int, positive_number,
+                       set_verbosity, verbosity, with_sets)
+from .cli_errors import error_text, UsageError
+from .cli_figures import add_figure_options, figure_options
+from .cli_files import check_output, write_outputs
+from .engine.signals import interrupt_status, signal_decides, StopWorkersOnSignal
 from ._text import count
 
 

@@ -11,9 +11,10 @@ import os
 import shlex
 import time
 
-from ._cli_common import (UsageError, check_output, error_text, figure_options,
-                          image_ext_ok, number, parse_sets, positive_int, read_input,
-                          reason, with_sets)
+from .cli_args import number, parse_sets, positive_int, with_sets
+from .cli_errors import error_text, reason, UsageError
+from .cli_figures import figure_options, image_ext_ok
+from .cli_files import check_output, read_input
 from ._text import count
 
 _CONTINUE_EPILOG = """\

@@ -6,10 +6,13 @@ instant.
 """
 import os
 
-from ._cli_common import error_text, output_of, reason, sweep_file_bytes, with_sets
-from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
-                          checkpoint_of, figure_options, finish_checkpointed, image_ext_ok,
-                          parse_analyses, parse_sets, positive_int, run_checkpointed)
+from .cli_args import parse_analyses, parse_sets, positive_int, with_sets
+from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
+                              run_checkpointed)
+from .cli_errors import error_text, reason, UsageError
+from .cli_figures import add_figure_options, figure_options, image_ext_ok
+from .cli_files import check_output, sweep_file_bytes
+from .engine.leftovers import output_of
 from ._text import count
 
 DEFAULT_ETA = "0.9:1.5:0.005"
@@ -151,6 +154,7 @@ def _cmd_map(args):
     check_checkpoint(ckpt, args.resume)
 
     from .engine import cluster
+    from .engine.execution import Execution
     from .maps import store
     from .maps.map2d import map2d
 
@@ -163,20 +167,21 @@ def _cmd_map(args):
     workers = args.workers if args.workers is not None else min(2, os.cpu_count() or 1)
     t0 = time.perf_counter()
     try:
+        run = Execution(workers=1 if scheduler is not None else workers,
+                        scheduler=scheduler, task_points=args.task_points,
+                        checkpoint=ckpt.path, resume=args.resume,
+                        progress=not args.no_progress and "map")
         ds, status = run_checkpointed(ckpt, "rows", lambda: map2d(
             params, etas, {name: values}, direction=args.direction, analyses=analyses,
-            scheduler=scheduler, workers=workers, task_points=args.task_points,
-            store=ckpt.path, resume=args.resume,
-            progress=not args.no_progress and "map",
-            command=shlex.join(["vibimpact"] + list(args.argv))),
-            resumable=resumable)
+            execution=run), resumable=resumable)
     finally:
         if scheduler is not None:
             scheduler.close()
     if ds is None:
         return status
     elapsed = time.perf_counter() - t0
-    ds.attrs.update(preset=args.preset, eta_range=args.eta, vary_range=args.vary[0])
+    ds.attrs.update(command=shlex.join(["vibimpact"] + list(args.argv)), preset=args.preset,
+                    eta_range=args.eta, vary_range=args.vary[0])
     # with --plot the checkpoint goes only once the image is written too
     loaded = finish_checkpointed(ds, out, ckpt, store.write_map, resuming=resuming,
                                  keep=args.keep_checkpoint or args.plot is not None,

@@ -14,7 +14,9 @@ import os
 import shlex
 import sys
 
-from ._cli_common import check_output, is_store, read_input, remove_paths, UsageError
+from .cli_errors import UsageError
+from .cli_files import check_output, is_store, read_input
+from .engine.leftovers import remove_paths
 from ._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")

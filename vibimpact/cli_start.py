@@ -15,7 +15,9 @@ or gone since.  Only the standard library is imported at module level.
 """
 import os
 
-from ._cli_common import error_text, parse_sets, read_input, UsageError, with_sets
+from .cli_args import parse_sets, with_sets
+from .cli_errors import error_text, UsageError
+from .cli_files import read_input
 
 #: how :func:`vibimpact.sweeps.sweep_start`'s messages name what the command line gives
 #: as the file of --from and the options --eta and --direction

@@ -7,12 +7,13 @@ instant.
 """
 import os
 
-from ._cli_common import (UsageError, add_figure_options, check_checkpoint, check_output,
-                          checkpoint_of, figure_options, finish_checkpointed,
-                          image_ext_ok, parse_analyses, parse_sets, positive_int,
-                          run_checkpointed)
-from ._cli_common import error_text, output_of, read_input, reason, sweep_file_bytes
-from ._cli_common import with_sets, write_outputs
+from .cli_args import parse_analyses, parse_sets, positive_int, with_sets
+from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
+                              run_checkpointed)
+from .cli_errors import error_text, reason, UsageError
+from .cli_figures import add_figure_options, figure_options, image_ext_ok
+from .cli_files import check_output, read_input, sweep_file_bytes, write_outputs
+from .engine.leftovers import output_of
 from ._limits import MAX_POINTS
 
 #: the main job
@@ -139,14 +140,15 @@ def _cmd_classify(args):
     from . import io
     from .sweeps import format_intervals
 
+    run = vi.Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
+                       progress=not args.no_progress and "classify")
     ds, status = run_checkpointed(ckpt, "points", lambda: vi.sweep(
-        params, etas, direction=args.direction, analyses=analyses, blocks=args.blocks,
-        workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-        progress=not args.no_progress and "classify", command=_command_line(args)),
+        params, etas, direction=args.direction, analyses=analyses,
+        continuation=vi.Continuation(blocks=args.blocks), execution=run),
         resumable=resumable)
     if ds is None:
         return status
-    ds.attrs.update(preset=args.preset, eta_range=args.eta)
+    ds.attrs.update(command=_command_line(args), preset=args.preset, eta_range=args.eta)
     finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
                         keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points",
                         resumable=resumable)
@@ -174,13 +176,14 @@ def _cmd_bifurcation(args):
     from . import io
     from .plotting import plot_bifurcation
 
+    run = vi.Execution(workers=args.workers,
+                       progress=not args.no_progress and "bifurcation")
     ds, status = run_checkpointed(None, "points", lambda: vi.sweep(
         params, etas, direction=args.direction, analyses=("period", "poincare"),
-        blocks=args.blocks, workers=args.workers,
-        progress=not args.no_progress and "bifurcation", command=_command_line(args)))
+        continuation=vi.Continuation(blocks=args.blocks), execution=run))
     if ds is None:
         return status
-    ds.attrs.update(preset=args.preset, eta_range=args.eta)
+    ds.attrs.update(command=_command_line(args), preset=args.preset, eta_range=args.eta)
     writes = [(data, lambda: io.write_netcdf(ds, data, overwrite=args.overwrite))]
     if data_only is None:
         writes.append((image, lambda: plot_bifurcation(ds, path=image,

@@ -6,6 +6,7 @@ import logging
 import time
 
 from .progress import nothing
+from .signals import StopWorkersOnSignal
 
 log = logging.getLogger(__name__)
 
@@ -28,7 +29,9 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
     Parameters
     ----------
     tasks : list of Task
-    executor : Serial, Processes or Dask
+    executor : Executor
+        Serial, Processes, Dask or a user's (:class:`vibimpact.engine.executors.
+        Executor`).
     on_task : callable
         ``on_task(task, [(position, result)])`` with every point of the task, the ones
         loaded from the checkpoint included.
@@ -42,6 +45,13 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
         True: every point is saved (as its own entry) and counted as soon as it is
         finished, where the executor can report points; False: a task's points are saved
         together (one entry) and counted when the task finishes.
+
+    Raises
+    ------
+    Interrupted
+        SIGINT or SIGTERM during the run (:class:`vibimpact.engine.signals.
+        StopWorkersOnSignal`): the executor has stopped its workers; the points finished
+        before are saved in ``store``.
     """
     if make_jobs is None:
         def make_jobs(slots):
@@ -66,7 +76,8 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
     todo = sum(getattr(t, "todo", 0) for t in tasks)
     log.info("%d tasks (%d points to compute) on %s", len(tasks), todo, executor_name(executor))
     t0 = time.perf_counter()
-    executor.run(make_jobs, on_point if stream else None, finished)
+    with StopWorkersOnSignal():
+        executor.run(make_jobs, on_point if stream else None, finished)
     log.info("%d tasks done in %.1f s", len(tasks), time.perf_counter() - t0)
 
 

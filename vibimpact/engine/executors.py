@@ -1,15 +1,27 @@
-"""Executors: where the jobs of a plan run.  Every executor has one method,
+"""Executors: where the jobs of a plan run.
 
-``run(make_jobs, on_point, on_task)``
+The executor protocol
+---------------------
+An executor is any object with one method (:class:`Executor`)::
+
+    run(make_jobs, on_point, on_task)
 
 ``make_jobs(slots)``
     The jobs (lists of :class:`~vibimpact.engine.plan.Task`), given the number of worker
     threads (None when the executor does not know it), so that jobs can be sized to it.
 ``on_point(task, position, result)`` or None
     Called in this process for every point as soon as it is finished (None: only whole
-    tasks are reported).
+    tasks are reported).  An executor that cannot report single points may ignore it.
 ``on_task(task, results)``
-    Called in this process for every finished task with its ``[(position, result)]``.
+    Called in this process for every finished task with its ``[(position, result)]``:
+    what :func:`vibimpact.engine.plan.run_task` returns for it, wherever it ran.
+
+``run`` returns when every task is reported; it may run the tasks in any order, in any
+process, grouped as it likes (tasks are pure functions of their fields).  When it is
+interrupted (an exception, Ctrl-C) it stops its workers and lets the exception through.
+An ensemble or GPU backend is such an object: it needs no change to
+:mod:`vibimpact.points` or to the engine.  Pass one as
+``vi.Execution(executor=...)``.
 
 * :class:`Serial`: in this process, in order.
 * :class:`Processes`: local worker processes (``concurrent.futures.ProcessPoolExecutor``,
@@ -30,6 +42,8 @@ import sys
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
+from typing import Protocol, runtime_checkable
+
 from . import plan
 from .children import worker_setup
 
@@ -42,6 +56,15 @@ class WorkerLost(RuntimeError):
     """A worker process (or the process of the points' queue, or a Dask worker more
     often than Dask retries a task) died while the run needed it; the points finished
     before it are reported, the ones in flight are lost."""
+
+
+@runtime_checkable
+class Executor(Protocol):
+    """The executor protocol (see the module docstring): one method, ``run``."""
+
+    def run(self, make_jobs, on_point, on_task):
+        """Run every job of ``make_jobs(slots)``; report points and tasks as they
+        finish."""
 
 
 class Serial:

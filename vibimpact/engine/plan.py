@@ -1,13 +1,23 @@
-"""The plan: a sweep or map request cut into independent tasks, and how a task runs.
+"""The plan: a request cut into independent tasks, and how a task runs.
 
-A request is a stack of *rows* (one :class:`~vibimpact.Params` each; a sweep is the
-one-row case of a map), every row swept along eta in one or two *directions*: each
-``(row, direction)`` is a *stream* of points with continuation, every point starting from
-the previous point's final state.  A stream is cut into ``blocks`` contiguous blocks; a
-block starts from a *seed*, the state a cheap serial pass (:func:`seed_states`) reaches
-at its first point, so blocks do not depend on each other.  A :class:`Task` is one block
-with its seed: what an executor runs.  Tasks are pure functions of their fields, so which
-process runs them, in which order and in which group never changes a number.
+A task is parameter points x starting states x a continuation policy
+(:mod:`vibimpact.engine.policy`).  Two kinds of request are planned here:
+
+* :func:`plan`: a stack of *rows* (one :class:`~vibimpact.Params` each; a sweep is the
+  one-row case of a map), every row swept along eta in one or two *directions*: each
+  ``(row, direction)`` is a *stream* of points.  With the :class:`~vibimpact.engine.
+  policy.Continuation` policy every point starts from the previous point's final state
+  and the stream is cut into ``blocks`` contiguous blocks, each starting from a *seed*,
+  the state a cheap serial pass reaches at its first point, so blocks do not depend on
+  each other; with :class:`~vibimpact.engine.policy.Independent` every point starts from
+  ``state0``.
+* :func:`plan_states`: many starting states at one parameter point (an attractor
+  census), every state its own point, with the :class:`~vibimpact.engine.policy.
+  Independent` policy.
+
+A :class:`Task` is one block: what an executor runs (:func:`run_task`).  Tasks are pure
+functions of their fields, so which process runs them, in which order and in which group
+never changes a number.
 
 Positions along a stream are in sweep order (position ``i`` of a "down" stream is grid
 point ``n - 1 - i``).
@@ -18,42 +28,41 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.classify import DecisionRule, Label
-from ..run import Status
-from ..points.point import REGIME_CODES, SweepSettings, analyse_point
-from ..points.predict import extrapolate_branch
-from ..system import to_system, with_frequency
+from ..analysis.classify import DecisionRule
+from ..points.point import SweepSettings
 from . import warmup
+from .policy import Continuation, Independent
 
-PERIODIC = REGIME_CODES[Label.PERIODIC]
-
-#: the predictor is used only when its step is at most this many times the branch's last
-#: step (beyond a fold the extrapolated branch has no orbit to land on)
-PREDICT_MAX_STEP = 2.0
+#: the direction of the streams of :func:`plan_states` (positions are states, not a
+#: sweep of eta)
+STATES = "states"
 
 
 @dataclass(frozen=True, eq=False)
 class Task:
-    """One block of one stream: positions ``start .. stop - 1`` in sweep order.
+    """One block of one stream: positions ``start .. stop - 1``.
 
     Attributes
     ----------
     row : int
         Index of the row (0 for a sweep).
-    direction : {"up", "down"}
+    direction : {"up", "down", "states"}
     start, stop : int
-        The block's positions in sweep order.
-    p : Params
-        The row's parameters (``eta`` is set per point).
+        The block's positions (sweep order for "up" and "down").
+    p : Params or System
+        The row's parameters (the forcing frequency is set per point).
     etas : ndarray
-        The row's grid in sweep order.
+        The forcing frequency at every position of the stream.
     settings : SweepSettings
     seed : ndarray or None
         State at ``start`` (None: rest).
-    fixed : bool
-        Every point starts from ``seed`` (no continuation).
+    policy : Continuation, Independent or a user's policy
+        How the points follow each other (:mod:`vibimpact.engine.policy`).
     done : dict
         ``{position: result}`` loaded from a checkpoint: not recomputed.
+    states : ndarray or None
+        Shape ``(positions, d)``: the starting state of every position of the stream,
+        for a policy without continuation (None: every point starts from ``seed``).
     """
 
     row: int
@@ -64,8 +73,9 @@ class Task:
     etas: np.ndarray
     settings: object
     seed: np.ndarray | None
-    fixed: bool
+    policy: object
     done: dict = field(default_factory=dict)
+    states: np.ndarray | None = None
 
     @property
     def stream(self):
@@ -80,6 +90,15 @@ class Task:
     def todo(self):
         """Points this task computes (the others are loaded)."""
         return self.size - len(self.done)
+
+    @property
+    def fixed(self):
+        """True when every point starts from its own given state (no continuation)."""
+        return not getattr(self.policy, "continued", True)
+
+    def state_at(self, position):
+        """The given starting state of ``position`` (policies without continuation)."""
+        return self.seed if self.states is None else self.states[position]
 
 
 def settings_from_attrs(attrs):
@@ -114,28 +133,12 @@ def block_starts(n, blocks):
     return [int(round(b * n / blocks)) for b in range(blocks)] + [n]
 
 
-def seed_states(p, etas, starts, state0, seed_periods):
-    """States at the block starts from a cheap continuation pass over the grid ``etas``
-    (sweep order): ``seed_periods`` forcing periods per point, no analyses."""
-    seeds = {0: None if state0 is None else np.array(state0, dtype=np.float64)}
-    x = seeds[0]
-    last = max(starts[:-1])
-    for i in range(1, last + 1):
-        run = to_system(with_frequency(p, etas[i - 1])).simulate(
-            periods=1, transient=seed_periods - 1, state0=x)
-        x = run.final_state if run.status is Status.OK else None
-        if i in starts[:-1]:
-            seeds[i] = None if x is None else x.copy()
-    return seeds
-
-
-def plan(rows, etas, dirs, settings, state0, *, blocks=1, continuation=True,
-         seed_periods=10, done=None):
-    """The tasks of a request.
+def plan(rows, etas, dirs, settings, state0, policy=None, *, done=None):
+    """The tasks of a request of rows swept along eta.
 
     Parameters
     ----------
-    rows : sequence of Params
+    rows : sequence of Params or System
         One per row.
     etas : ndarray
         The increasing grid.
@@ -143,12 +146,9 @@ def plan(rows, etas, dirs, settings, state0, *, blocks=1, continuation=True,
         Directions of every row's streams.
     settings : SweepSettings
     state0 : ndarray or None
-        State at the first point of every stream.
-    blocks : int
-        Blocks per stream.
-    continuation : bool
-        False: every point starts from ``state0`` (no seeds needed).
-    seed_periods : int
+        State at the first point of every stream (every point's, without continuation).
+    policy : Continuation, Independent or a user's policy
+        :class:`~vibimpact.engine.policy.Continuation` by default (16 blocks).
     done : dict, optional
         ``{(row, direction): {position: result}}`` loaded from a checkpoint.
 
@@ -159,9 +159,10 @@ def plan(rows, etas, dirs, settings, state0, *, blocks=1, continuation=True,
         out (and need no seed).
     """
     warmup.start()  # the points' array routines compile on another core meanwhile
+    policy = Continuation() if policy is None else policy
     done = done or {}
     n = etas.size
-    starts = block_starts(n, blocks)
+    starts = block_starts(n, policy.blocks)
     tasks = []
     for r, p in enumerate(rows):
         for d in dirs:
@@ -169,36 +170,53 @@ def plan(rows, etas, dirs, settings, state0, *, blocks=1, continuation=True,
             have = done.get((r, d), {})
             spans = [(a, b) for a, b in zip(starts[:-1], starts[1:])
                      if any(i not in have for i in range(a, b))]
-            if not continuation:
-                seeds = {a: state0 for a in starts}
+            if spans and any(a > 0 for a, _ in spans):
+                seeds = policy.seeds(p, order, starts, state0)
             else:
-                seeds = {0: state0}
-                if any(a > 0 for a, _ in spans):
-                    seeds.update(seed_states(p, order, starts, state0, seed_periods))
+                seeds = {a: state0 for a in starts}
             for a, b in spans:
-                tasks.append(Task(r, d, a, b, p, order, settings, seeds.get(a),
-                                  not continuation,
+                tasks.append(Task(r, d, a, b, p, order, settings, seeds.get(a), policy,
                                   {i: have[i] for i in range(a, b) if i in have}))
     return tasks
 
 
-def predicted(branch, eta, m):
-    """The continuation predictor's guess at ``eta`` from the last ``m`` period-1 points
-    of ``branch`` (``[(eta, orbit_point)]``), or None (fewer points, or a step out of line
-    with the branch's)."""
-    if m < 2 or len(branch) < m:
-        return None
-    e, xs = zip(*branch[-m:])
-    guess = extrapolate_branch(e, xs, eta)
-    last = float(np.abs(xs[-1] - xs[-2]).max())
-    if not np.all(np.isfinite(guess)) or \
-            float(np.abs(guess - xs[-1]).max()) > PREDICT_MAX_STEP * last:
-        return None
-    return guess
+def plan_states(p, eta, states, settings, *, blocks=1, done=None):
+    """The tasks of many starting states at one parameter point (an attractor census).
+
+    Every state is its own point (policy :class:`~vibimpact.engine.policy.Independent`),
+    position ``k`` starting from ``states[k]``; the stream ``(0, "states")`` is cut into
+    ``blocks`` tasks, which never changes a number.
+
+    Parameters
+    ----------
+    p : Params or System
+    eta : float
+        The forcing frequency of every point.
+    states : array_like, shape (m, d)
+    settings : SweepSettings
+    blocks : int
+    done : dict, optional
+        ``{position: result}`` loaded from a checkpoint.
+
+    Returns
+    -------
+    list of Task
+    """
+    warmup.start()
+    states = np.array(states, dtype=np.float64, ndmin=2)
+    m = states.shape[0]
+    etas = np.full(m, float(eta))
+    policy = Independent(blocks=blocks)
+    starts = block_starts(m, policy.blocks)
+    have = done or {}
+    return [Task(0, STATES, a, b, p, etas, settings, states[a], policy,
+                 {i: have[i] for i in range(a, b) if i in have}, states)
+            for a, b in zip(starts[:-1], starts[1:])
+            if any(i not in have for i in range(a, b))]
 
 
 def run_task(task, on_point=None):
-    """Compute one task's points in order.
+    """Compute one task's points in order (its policy decides how they follow).
 
     Parameters
     ----------
@@ -212,30 +230,7 @@ def run_task(task, on_point=None):
     list of (int, dict)
         ``(position, result)`` of every point of the block, loaded ones included.
     """
-    settings = task.settings
-    out = []
-    x = task.seed
-    branch = []  # (eta, orbit_point) of the latest consecutive period-1 points
-    for i in range(task.start, task.stop):
-        res = task.done.get(i)
-        if res is None:
-            eta = float(task.etas[i])
-            s0 = task.seed if task.fixed else x
-            guess = None if task.fixed else predicted(branch, eta, settings.predict)
-            res = analyse_point(with_frequency(task.p, eta), s0, settings,
-                                guess=guess).as_dict()
-            if on_point is not None:
-                on_point(task, i, res)
-        out.append((i, res))
-        fs = res["final_state"]
-        x = None if not np.all(np.isfinite(fs)) else np.asarray(fs)
-        orbit = res.get("orbit_point")
-        if res["regime"] == PERIODIC and res["period"] == 1 and orbit is not None \
-                and np.all(np.isfinite(orbit)) and settings.predict > 1:
-            branch = branch[-(settings.predict - 1):] + [(float(task.etas[i]), orbit)]
-        else:
-            branch = []
-    return out
+    return task.policy.run(task, on_point)
 
 
 def run_job(job, on_point=None):

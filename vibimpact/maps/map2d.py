@@ -21,11 +21,12 @@ Engine and checkpoints
 ----------------------
 The work is done by :mod:`vibimpact.engine`: every ``(row, direction)`` is one task of
 the plan (one block: ``blocks=1``), tasks are grouped into jobs of at least
-``task_points`` points and run in this process or on Dask
-(:class:`vibimpact.engine.cluster.Dask`).  With ``store=`` every finished row is saved
-at once as one entry of the checkpoint (:mod:`vibimpact.engine.store`, the format of a
-sweep's checkpoint), by this process as the results arrive, and ``resume=True`` loads
-the saved rows instead of recomputing them.  :func:`partial_map` reads a checkpoint as
+``task_points`` points and run by the executor of the :class:`~vibimpact.Execution`: this
+process, Dask (:class:`vibimpact.engine.cluster.Dask`) or a user's.  With
+``vi.Execution(checkpoint=...)`` every finished row is saved at once as one entry of the
+checkpoint (:mod:`vibimpact.engine.store`, the format of a sweep's checkpoint), by this
+process as the results arrive, and ``resume=True`` loads the saved rows instead of
+recomputing them.  :func:`partial_map` reads a checkpoint as
 the map so far.
 """
 from __future__ import annotations
@@ -45,11 +46,10 @@ from ..params import DuffingParams, Params
 from ..system import (System, param_dict, to_system, varied_names, with_frequency,
                       with_values)
 from ..sweeps.sweep import check_grid, check_request
+from ..engine.execution import Execution, as_execution, refuse_moved
 
 if TYPE_CHECKING:  # names of the annotations only
-    import os
-    from collections.abc import Callable, Sequence
-    from typing import Any
+    from collections.abc import Sequence
 
     import xarray as xr
     from numpy.typing import ArrayLike
@@ -61,9 +61,6 @@ if TYPE_CHECKING:  # names of the annotations only
 MAP_ANALYSES = ("period", "impacts", "lyapunov")
 #: most points of one map (about 2 hours on one core at ~3 ms per point)
 MAX_MAP_POINTS = 2_000_000
-#: least points per task (~1 s or more of work at 200-400 points per second and core,
-#: reports/performance.md)
-DEFAULT_TASK_POINTS = 300
 #: the flag variable of :func:`partial_map`
 DONE = "row_done"
 
@@ -220,19 +217,18 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
     return ds, shapes
 
 
+@refuse_moved
 def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str, ArrayLike],
           direction: str = "up", analyses: Sequence[str] = MAP_ANALYSES, *,
           settings: SweepSettings | None = None, state0: ArrayLike | None = None,
-          scheduler: Any = None, workers: int = 1, task_points: int = DEFAULT_TASK_POINTS,
-          store: str | os.PathLike[str] | None = None, resume: bool = False,
-          progress: bool | str | Callable[[int], object] = False,
-          command: str | None = None) -> xr.Dataset:
+          execution: Execution | None = None) -> xr.Dataset:
     """Regime map over eta and one other parameter, rows computed on Dask.
 
     Parameters
     ----------
-    p : Params
-        All other parameters (its ``eta`` and its value of the varied one are ignored).
+    p : System, Params or DuffingParams
+        The system, or the parameters of a built-in model (its forcing frequency and
+        its value of the varied parameter are ignored).
     eta : array_like, shape (n,)
         Strictly increasing grid of the forcing frequency ratio.
     vary : dict
@@ -247,25 +243,16 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
         Transients, record lengths, exponent and classifier settings of every point.
     state0 : array_like, shape (4,), optional
         State at the first point of every row (rest by default).
-    scheduler : optional
-        None: run here (``workers == 1``) or on a ``LocalCluster`` of ``workers``
-        processes.  Otherwise a Dask scheduler address (``tcp://host:8786``), a scheduler
-        file, a ``distributed.Client`` or a cluster object (``LocalCluster``,
-        dask-jobqueue's ``SLURMCluster``, ...); ``workers`` is then ignored.
-    workers : int
-        Local processes when ``scheduler`` is None.
-    task_points : int
-        Least points per Dask task (rows are grouped up to this); never changes results.
-    store : path, optional
-        Checkpoint directory: every finished row is saved in it at once
-        (:mod:`vibimpact.engine.store`).
-    resume : bool
-        Continue the map saved in ``store``: its rows are loaded, not recomputed.
-    progress : bool, str or callable
-        A progress bar (points) on stderr, named "map" (True) or by the text given; a
-        callable is called as ``progress(k)`` with every ``k`` points finished instead.
-    command : str, optional
-        The command line to record in the attributes.
+    execution : Execution, optional
+        Where and how it runs, none of which changes a number (:class:`vibimpact.
+        Execution`).  ``workers`` (1: in this process; more: a Dask ``LocalCluster``),
+        ``scheduler`` (a Dask address, scheduler file, ``distributed.Client`` or cluster
+        object), or a user's ``executor``; ``task_points``: least points per job (rows
+        are grouped up to this); ``checkpoint``: directory where every finished row is
+        saved at once, and ``resume`` to load its rows instead of recomputing them;
+        ``progress``: a bar named "map" (True) or by the text given, or a callable
+        ``progress(k)``.  SIGINT and SIGTERM stop the workers and raise
+        :class:`vibimpact.Interrupted`; the saved rows stay in the checkpoint.
 
     Returns
     -------
@@ -278,8 +265,10 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     Raises
     ------
     ValueError
-        For invalid input (naming it), a scheduler that cannot be reached, or a ``store``
-        of a different request.
+        For invalid input (naming it), a scheduler that cannot be reached, or a
+        checkpoint of a different request; a ``TypeError`` (also a ``ValueError``) for
+        the keywords of the former signature (``workers=``, ``store=``, ...), saying
+        where each went.
 
     Examples
     --------
@@ -289,16 +278,14 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     >>> ds.regime.dims                                                # doctest: +SKIP
     ('kh', 'eta')
     """
-    from ..engine import executors, plan, progress as prog
-    from ..engine.cluster import Dask
+    from ..engine import plan, progress as prog
     from ..engine.compute import compute
-    from ..engine.store import Checkpoint
+    from ..engine.policy import Continuation
 
     if not isinstance(p, (Params, DuffingParams, System)):
-        raise _v.WrongType(f"p must be vibimpact.Params, DuffingParams or System, got "
+        raise _v.WrongType(f"p must be vibimpact.System, Params or DuffingParams, got "
                            f"{type(p).__name__}")
-    resume = _v.flag("resume", resume)
-    store = None if store is None else _v.path("store", store)
+    execution = as_execution(execution)
     name, values = check_vary(p, vary)
     etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0,
@@ -308,30 +295,25 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
         etas.size * values.size * (2 if direction == "both" else 1), settings.n_samples,
         to_system(p).n_state), f"a map of eta x {name} with {settings.n_samples} "
         "Poincare samples per point")
-    workers = _v.count("workers", workers, 1)
-    task_points = _v.count("task_points", task_points, 1)
+    task_points = execution.task_points
     p = with_values(with_frequency(p, 1.0), **{name: float(values[0])})
     dirs = plan.directions(direction)
 
-    ds, shapes = _template(p, name, values, etas, dirs, direction, settings, command)
+    ds, shapes = _template(p, name, values, etas, dirs, direction, settings, None)
     rows = _Rows(ds, p, name, values, etas, dirs, settings, shapes)
-    done = {}
-    ckpt = None
-    if store is not None:
-        ckpt = Checkpoint(store, what="map checkpoint").open(
-            "map", _request(p, name, values, etas, dirs, settings, state0),
-            dict(rows=int(values.size), directions=list(dirs), points=int(etas.size)),
-            resume)
-        done = ckpt.load() if resume else {}
+    ckpt, done = execution.open_checkpoint(
+        "map", _request(p, name, values, etas, dirs, settings, state0),
+        dict(rows=int(values.size), directions=list(dirs), points=int(etas.size)),
+        what="map checkpoint")
     done = {k: v for k, v in done.items() if len(v) == etas.size}  # whole rows only
     for (r, d), points in done.items():
         rows.fill(r, d, points)
     params = [with_values(p, **{name: float(v)}) for v in values]
-    tasks = plan.plan(params, etas, dirs, settings, state0, done=done)
-    executor = executors.Serial() if scheduler is None and workers == 1 else \
-        Dask(scheduler, workers, prefix="vibimpact-map")
-    with prog.callback(progress, sum(t.todo for t in tasks), "map") as report:
-        compute(tasks, executor, rows.on_task, store=ckpt, progress=report, stream=False,
+    tasks = plan.plan(params, etas, dirs, settings, state0, Continuation(blocks=1),
+                      done=done)
+    with prog.callback(execution.progress, sum(t.todo for t in tasks), "map") as report:
+        compute(tasks, execution.map_executor(), rows.on_task, store=ckpt,
+                progress=report, stream=False,
                 make_jobs=lambda slots: plan.group(tasks, task_points, slots))
     return ds
 

@@ -4,18 +4,21 @@ Continuation and parallelism
 ----------------------------
 Each point starts from the previous point's final state (in sweep order), so hysteresis
 and jumps show as in the paper.  To use several cores without breaking that, the sweep
-order is cut into ``blocks`` contiguous blocks.  Block ``b`` starts from a *seed*: the
-state reached by a cheap serial pass that continues through every grid point before it
-(``seed_periods`` forcing periods per point, no analyses).  Blocks then run
-independently, so ``workers`` only decides how many run at once: the result depends on
-``blocks`` (1 = pure serial continuation), never on ``workers``, and serial and parallel
-runs are bit-identical.  With ``direction="both"`` the up and down sweeps are independent
+order is cut into ``blocks`` contiguous blocks (``vi.Continuation(blocks=...)``).  Block
+``b`` starts from a *seed*: the state reached by a cheap serial pass that continues
+through every grid point before it (``seed_periods`` forcing periods per point, no
+analyses).  Blocks then run independently, so the executor (``vi.Execution(workers=...)``
+or any other) only decides where and when they run: the result depends on ``blocks``
+(1 = pure serial continuation), never on the execution, and serial and parallel runs are
+bit-identical.  With ``direction="both"`` the up and down sweeps are independent
 streams as well.
 
 The work is done by :mod:`vibimpact.engine` (a sweep is the one-row case of a map): the
-request is planned into tasks (:mod:`vibimpact.engine.plan`), run in this process or on
-``workers`` local processes (:mod:`vibimpact.engine.executors`), every finished point
-saved at once in the checkpoint (:mod:`vibimpact.engine.store`).
+request is planned into tasks (:mod:`vibimpact.engine.plan`) under a continuation policy
+(:mod:`vibimpact.engine.policy`), run by the executor of its
+:class:`~vibimpact.Execution` (this process, local processes, Dask or a user's:
+:mod:`vibimpact.engine.executors`), every finished point saved at once in the checkpoint
+(:mod:`vibimpact.engine.store`).
 """
 from __future__ import annotations
 
@@ -32,10 +35,11 @@ from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
+from ..engine.execution import Execution, as_execution, refuse_moved
+from ..engine.policy import Continuation, Independent, as_policy
 
 if TYPE_CHECKING:  # names of the annotations only
-    import os
-    from collections.abc import Callable, Sequence
+    from collections.abc import Sequence
 
     import xarray as xr
     from numpy.typing import ArrayLike
@@ -116,59 +120,60 @@ def check_request(direction, analyses, settings, state0, n_state=4):
     return settings, state0
 
 
+@refuse_moved
 def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "up",
           analyses: Sequence[str] = ANALYSES, *, state0: ArrayLike | None = None,
-          continuation: bool = True, settings: SweepSettings | None = None,
-          blocks: int = 16, workers: int = 1, seed_periods: int = 10,
-          checkpoint: str | os.PathLike[str] | None = None, resume: bool = False,
-          progress: bool | str | Callable[[int], object] = False,
-          command: str | None = None) -> xr.Dataset:
+          settings: SweepSettings | None = None,
+          continuation: bool | Continuation | Independent = True,
+          execution: Execution | None = None) -> xr.Dataset:
     """Sweep the forcing frequency ``eta`` and classify the motion at every point.
 
     Parameters
     ----------
-    p : Params, DuffingParams or System
-        All other parameters (its forcing frequency is ignored); a :class:`System` of
-        any model (a user model too), whose solver settings, where set, override
-        ``settings``'.
+    p : System, Params or DuffingParams
+        The system (any model, a user model too; its solver settings, where set,
+        override ``settings``'), or the parameters of a built-in model; its forcing
+        frequency is ignored.
     eta : array_like, shape (n,)
         Strictly increasing grid of the forcing frequency (``eta`` of the rotor, the
         model's frequency parameter otherwise); ``direction`` decides the order it is
         swept in.
     direction : {"up", "down", "both"}
     analyses : sequence of str
-        Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01")``;
-        only these are computed ("period" always runs, it ends the transients).
+        Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
+        "floquet")``; only these are computed ("period" always runs, it ends the
+        transients).
     state0 : array_like, shape (d,), optional
         State at the first point of each direction (rest by default).
-    continuation : bool
-        True: each point starts from the previous point's final state.  False: every
-        point starts from ``state0`` (a fixed initial state).
     settings : SweepSettings, optional
         Transient, record length, Lyapunov and classifier settings.
-    blocks : int
-        Contiguous blocks per direction (see the module docstring); the result depends on
-        it, not on ``workers``.  At most :data:`vibimpact._limits.MAX_POINTS` (more
-        blocks than points are as many blocks as points).
-    workers : int
-        Processes that compute blocks at once (1: in this process).
-    seed_periods : int
-        Forcing periods per grid point of the seeding pass.
-    checkpoint : path, optional
-        Directory where every finished point is saved at once
-        (:mod:`vibimpact.engine.store`); with ``resume=True`` the points found there are
-        loaded instead of recomputed.
-    progress : bool, str or callable
-        A progress bar on stderr, named "sweep" (True) or by the text given (the
-        command's name, say); a callable is called as ``progress(k)`` with every ``k``
-        points finished instead.
-    command : str, optional
-        Command line to record in the attributes.
+    continuation : bool, Continuation or Independent
+        The continuation policy (:mod:`vibimpact.engine.policy`).  True (default):
+        ``vi.Continuation()``, each point starts from the previous point's final state,
+        the sweep cut into 16 seeded blocks (see the module docstring; the result depends
+        on ``blocks``, 1 = pure serial continuation).  ``vi.Continuation(blocks=1,
+        seed_periods=10)`` sets them.  False (``vi.Independent()``): every point starts
+        from ``state0``.
+    execution : Execution, optional
+        Where and how it runs, none of which changes a number (:class:`vibimpact.
+        Execution`: ``workers``, ``executor``, ``scheduler``, ``checkpoint``,
+        ``resume``, ``progress``).  With a ``checkpoint`` every finished point is saved
+        at once; SIGINT and SIGTERM stop the workers and raise
+        :class:`vibimpact.Interrupted`, and ``resume=True`` then completes the same
+        result.
 
     Returns
     -------
     xarray.Dataset
-        See :func:`vibimpact.sweeps.dataset.to_dataset`.
+        See :func:`vibimpact.sweeps.dataset.to_dataset`; its ``command`` attribute is
+        this process's command line (set another after the call).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument; a ``TypeError`` (also a ``ValueError``) for the keywords
+        of the former signature (``workers=``, ``blocks=``, ``checkpoint=``, ...), saying
+        where each went.
 
     Examples
     --------
@@ -176,42 +181,38 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     >>> ds = vi.sweep(vi.presets.get("fig8"), eta=np.arange(1.0, 1.1, 0.02))
     >>> ds.regime.dims
     ('eta',)
+    >>> run = vi.Execution(workers=2)
+    >>> ds = vi.sweep(vi.presets.get("fig8"), np.arange(1.0, 1.1, 0.02),
+    ...               continuation=vi.Continuation(blocks=2), execution=run)
     """
-    from ..engine import executors, plan, progress as prog
+    from ..engine import plan, progress as prog
     from ..engine.compute import compute
-    from ..engine.store import Checkpoint
     from .dataset import to_dataset
 
     if not isinstance(p, (Params, DuffingParams, System)):
-        raise _v.WrongType(f"p must be vibimpact.Params, DuffingParams or System, got "
+        raise _v.WrongType(f"p must be vibimpact.System, Params or DuffingParams, got "
                            f"{type(p).__name__}")
-    continuation = _v.flag("continuation", continuation)
-    resume = _v.flag("resume", resume)
-    checkpoint = None if checkpoint is None else _v.path("checkpoint", checkpoint)
+    policy = as_policy(continuation)
+    execution = as_execution(execution)
     etas = check_grid(eta)
     settings, state0 = check_request(direction, analyses, settings, state0,
                                      to_system(p).n_state)
-    blocks = _v.count("blocks", blocks, 1, _limits.MAX_POINTS)
-    workers = _v.count("workers", workers, 1)
-    seed_periods = _v.count("seed_periods", seed_periods, 1, _limits.MAX_PERIODS)
+    blocks = policy.blocks
+    seed_periods = getattr(policy, "seed_periods", 10)
     dirs = plan.directions(direction)
     n = etas.size
     _limits.check_memory(_limits.points_bytes(n * len(dirs), settings.n_samples,
                                               to_system(p).n_state),
                          f"a sweep of {count(n * len(dirs), 'point')} with "
                          f"{count(settings.n_samples, 'Poincare sample')} each")
-    done = {}
-    store = None
-    if checkpoint:
-        request = dict(params=param_dict(with_frequency(p, 1.0)), eta=etas.tolist(),
-                       directions=dirs, settings=settings.as_attrs(),
-                       state0=None if state0 is None else state0.tolist(),
-                       continuation=continuation, blocks=blocks, seed_periods=seed_periods)
-        store = Checkpoint(checkpoint).open("sweep", request, dict(
-            rows=1, directions=list(dirs), points=n), resume)
-        done = store.load() if resume else {}
-    tasks = plan.plan([p], etas, dirs, settings, state0, blocks=blocks,
-                      continuation=continuation, seed_periods=seed_periods, done=done)
+    request = dict(params=param_dict(with_frequency(p, 1.0)), eta=etas.tolist(),
+                   directions=dirs, settings=settings.as_attrs(),
+                   state0=None if state0 is None else state0.tolist(),
+                   continuation=bool(getattr(policy, "continued", True)), blocks=blocks,
+                   seed_periods=seed_periods)
+    store, done = execution.open_checkpoint("sweep", request, dict(
+        rows=1, directions=list(dirs), points=n))
+    tasks = plan.plan([p], etas, dirs, settings, state0, policy, done=done)
     results = {d: [None] * n for d in dirs}
     for (_, d), points in done.items():
         for i, res in points.items():
@@ -221,11 +222,12 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         for i, res in points:
             results[task.direction][i] = res
 
-    with prog.callback(progress, sum(t.todo for t in tasks), "sweep") as report:
-        compute(tasks, executors.choose(workers, len(tasks)), on_task, store=store,
+    with prog.callback(execution.progress, sum(t.todo for t in tasks), "sweep") as report:
+        compute(tasks, execution.sweep_executor(len(tasks)), on_task, store=store,
                 progress=report, stream=True)
     return to_dataset(p, etas, dirs, results, settings, direction=direction,
-                      continuation=continuation, blocks=blocks, command=command)
+                      continuation=bool(getattr(policy, "continued", True)),
+                      blocks=blocks, command=None)
 
 
 def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarray:
