@@ -11,7 +11,9 @@ Branch back.
 
 Dimensions: ``point`` (the orbits, in continuation order: the parameter is not monotonic
 past a fold), ``state``, ``multiplier`` and ``bifurcation`` (the events found along the
-branch, possibly none).
+branch, possibly none).  The kind of each event is stored as the ``code`` of its
+:class:`~vibimpact.bifurcation_kinds.BifurcationKind` (the codes of files written before
+grazing joined are unchanged).
 """
 from __future__ import annotations
 
@@ -21,6 +23,7 @@ import numpy as np
 
 from . import _validate as _v
 from ._fill import complex_parts
+from .bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
@@ -33,16 +36,9 @@ if TYPE_CHECKING:  # names of the annotations only
     from .params import DuffingParams, Params
     from .system import System
 
-__all__ = ["BIFURCATION_CODES", "BIFURCATION_FLAGS", "STABLE_FLAGS", "branch_from_dataset",
-           "branch_to_dataset", "follow_branch", "is_branch_dataset", "stretches"]
+__all__ = ["STABLE_FLAGS", "branch_from_dataset", "branch_to_dataset", "follow_branch",
+           "is_branch_dataset", "stretches"]
 
-#: bifurcation kind (:attr:`vibimpact.analysis.Branch.bifurcations`) -> flag value of the
-#: ``bifurcation_kind`` variable
-BIFURCATION_CODES = {"?": 0, "fold (turning point)": 1, "fold": 2, "period doubling": 3,
-                     "Neimark-Sacker": 4}
-#: (flag_values, flag_meanings) of ``bifurcation_kind``
-BIFURCATION_FLAGS = ((0, 1, 2, 3, 4),
-                     "unknown turning_point fold period_doubling Neimark-Sacker")
 #: (flag_values, flag_meanings) of ``stable``
 STABLE_FLAGS = ((0, 1), "unstable stable")
 
@@ -79,6 +75,16 @@ def stretches(stable: ArrayLike) -> list[tuple[int, int, bool]]:
 
 def _flags(values, meanings, dtype):
     return dict(flag_values=np.array(values, dtype=dtype), flag_meanings=meanings)
+
+
+def _kind_code(kind):
+    """The stored code of a branch's bifurcation kind (a BifurcationKind or its short
+    name); 0 (unknown) for one a branch file cannot hold."""
+    try:
+        kind = BifurcationKind(kind)
+    except ValueError:
+        return BifurcationKind.UNKNOWN.code
+    return kind.code if kind in BRANCH_KINDS else BifurcationKind.UNKNOWN.code
 
 
 def follow_branch(system: System | Params | DuffingParams, *, stop: float,
@@ -172,6 +178,12 @@ def _point_vars(branch, names):
                    dict(long_name="orbit stable (every |mu| < 1)",
                         **_flags(*STABLE_FLAGS, "i1"))),
     }
+    impacts = getattr(branch, "impacts_per_period", None)
+    if impacts is not None:
+        out["impacts_per_period"] = (
+            "point", np.asarray(impacts, dtype="i4"),
+            dict(units="1", long_name="impacts (contact entries) per period of the orbit "
+                                      "(-1: not counted)"))
     for key, values in branch.amplitude.items():
         long_name = (f"response amplitude max |{key[:-2]}| of the orbit" if key != "R_m"
                      else "largest radial displacement max R of the orbit / clearance")
@@ -189,13 +201,26 @@ def _event_vars(branch):
     lower = dict(units="1", long_name="lower end of the parameter interval holding the "
                                       "bifurcation")
     value = dict(units="1", long_name="parameter value of the bifurcation (|mu|max - 1 "
-                                      "interpolated in its interval)")
+                                      "interpolated in its interval; a grazing: the "
+                                      "interval's midpoint)")
+    impacts = tuple(getattr(branch, "event_impacts", ()) or ())
+    if len(impacts) != len(events):
+        impacts = ((-1, -1),) * len(events)
     return {
         "bifurcation_kind": ("bifurcation", np.array(
-            [BIFURCATION_CODES.get(k, 0) for _, k, _ in events], dtype="i1"),
+            [_kind_code(k) for _, k, _ in events], dtype="i1"),
             dict(long_name="kind of bifurcation: the multiplier leaving the unit circle "
-                           "(-1 period doubling, +1 fold, complex pair Neimark-Sacker) or "
-                           "the parameter turning", **_flags(*BIFURCATION_FLAGS, "i1"))),
+                           "(-1 period doubling, +1 fold, complex pair Neimark-Sacker), "
+                           "the parameter turning, or the impacts per period changing "
+                           "(grazing)", **_flags(*branch_flags(), "i1"))),
+        "bifurcation_impacts_before": (
+            "bifurcation", np.array([a for a, _ in impacts], dtype="i4"),
+            dict(units="1", long_name="impacts per period of the orbit before the "
+                                      "bifurcation (-1: not counted)")),
+        "bifurcation_impacts_after": (
+            "bifurcation", np.array([b for _, b in impacts], dtype="i4"),
+            dict(units="1", long_name="impacts per period of the orbit after the "
+                                      "bifurcation (-1: not counted)")),
         "bifurcation_value": ("bifurcation", np.array([v for _, _, v in events], float),
                               value),
         "bifurcation_lower": ("bifurcation", np.array(lo, dtype=np.float64), lower),
@@ -230,10 +255,12 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     xarray.Dataset
         Coordinates: the parameter (named after it) and ``state``; variables
         ``orbit_state``, ``floquet_real``, ``floquet_imag``, ``floquet_abs_max``,
-        ``stable`` (flag), the amplitudes (``X_m``, ``Y_m``, ``R_m`` for the rotor) on
-        ``point``; ``bifurcation_kind`` (flag), ``bifurcation_value``,
-        ``bifurcation_lower``, ``bifurcation_upper``, ``bifurcation_point`` on
-        ``bifurcation``.  Global attributes: ``continuation_param``, ``period``,
+        ``stable`` (flag), ``impacts_per_period``, the amplitudes (``X_m``, ``Y_m``,
+        ``R_m`` for the rotor) on ``point``; ``bifurcation_kind`` (flag: the
+        :attr:`~vibimpact.bifurcation_kinds.BifurcationKind.code`),
+        ``bifurcation_value``, ``bifurcation_lower``, ``bifurcation_upper``,
+        ``bifurcation_point``, ``bifurcation_impacts_before``,
+        ``bifurcation_impacts_after`` on ``bifurcation``.  Global attributes: ``continuation_param``, ``period``,
         ``status``, ``param_<name>``, ``solver_<key>``, ``command``.
 
     Raises
@@ -245,7 +272,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
 
     from .analysis import Branch
     from .analysis.bifurcation import CONTINUATION_SOLVER
-    from .system import param_dict, to_system
+    from .system import SOLVER_FIELDS, param_dict, to_system
 
     if not isinstance(branch, Branch):
         raise _v.WrongType(f"branch must be a vibimpact.analysis.Branch, got "
@@ -267,8 +294,8 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     glob = {"title": _TITLE, "model": system.model.name, "continuation_param": param,
             "period": int(branch.n), "status": branch.status, "command": command}
     glob.update({f"param_{k}": v for k, v in param_dict(system).items()})
-    glob.update({f"solver_{k}": v
-                 for k, v in system.solver(**CONTINUATION_SOLVER).items()})
+    glob.update({f"solver_{k}": v for k, v in system.settings(
+        **CONTINUATION_SOLVER).as_dict(SOLVER_FIELDS).items()})
     glob.update(attrs or {})
     # NetCDF attributes: no None (a solver setting left to the integrator, no command)
     ds.attrs.update({k: "" if v is None else v for k, v in glob.items()})
@@ -296,16 +323,21 @@ def branch_from_dataset(ds: xr.Dataset) -> Branch:
     _v.dataset("ds", ds, "the xarray.Dataset of a continued branch (branch_to_dataset)")
     if not is_branch_dataset(ds):
         raise ValueError("ds is not a continued branch (a 'vibimpact continue' file)")
-    kinds = {v: k for k, v in BIFURCATION_CODES.items()}
     param = str(ds.attrs["continuation_param"])
     amp = {str(k): ds[k].values.copy() for k in ds.data_vars
            if str(k).endswith("_m") and ds[k].dims == ("point",)}
-    events = tuple((int(i), kinds[int(k)], float(v)) for i, k, v in zip(
+    events = tuple((int(i), BifurcationKind.from_code(k), float(v)) for i, k, v in zip(
         ds["bifurcation_point"].values, ds["bifurcation_kind"].values,
         ds["bifurcation_value"].values))
     brackets = tuple((float(a), float(b)) for a, b in zip(
         ds["bifurcation_lower"].values, ds["bifurcation_upper"].values))
     mu = ds["floquet_real"].values + 1j * ds["floquet_imag"].values
+    # files written before the impacts per period were counted: -1 (not counted)
+    impacts = (ds["impacts_per_period"].values.astype(np.int64)
+               if "impacts_per_period" in ds else np.full(ds.sizes["point"], -1, np.int64))
+    around = (tuple((int(a), int(b)) for a, b in zip(
+        ds["bifurcation_impacts_before"].values, ds["bifurcation_impacts_after"].values))
+        if "bifurcation_impacts_before" in ds else ((-1, -1),) * len(events))
     return Branch(param, ds[param].values.copy(), ds["orbit_state"].values.copy(), mu,
                   ds["stable"].values.astype(bool), amp, int(ds.attrs["period"]), events,
-                  str(ds.attrs.get("status", "")), brackets)
+                  str(ds.attrs.get("status", "")), brackets, impacts, around)

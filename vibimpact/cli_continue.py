@@ -48,12 +48,17 @@ Where the stability changes, the interval between the two orbits is narrowed by
 bisection to --refine (Newton shooting at each midpoint) and the two orbits at its ends
 join the branch; the kind comes from the multiplier leaving the unit circle: -1 period
 doubling, +1 fold, a complex pair Neimark-Sacker; a turning point of the parameter is a
-fold (turning point).
+fold (turning point).  Where the impacts per period of two neighbouring orbits differ
+(counted in the event log of one period of each), the orbit grazes the contact
+surface (touches it with zero normal velocity; no multiplier crosses the unit circle):
+a grazing, narrowed to --refine by bisection on the impacts of orbits shot in between,
+printed with the impacts before and after.
 
 The NetCDF file holds per orbit (dimension point): the parameter (a coordinate named
 after it), orbit_state, floquet_real, floquet_imag, floquet_abs_max, stable (flag),
-X_m, Y_m, R_m; per bifurcation: bifurcation_kind (flag), bifurcation_value,
-bifurcation_lower, bifurcation_upper, bifurcation_point; the start state, every
+impacts_per_period, X_m, Y_m, R_m; per bifurcation: bifurcation_kind (flag),
+bifurcation_value, bifurcation_lower, bifurcation_upper, bifurcation_point,
+bifurcation_impacts_before, bifurcation_impacts_after; the start state, every
 parameter, the solver settings and the command line ('vibimpact rerun' repeats it).
 
 exit status: 0 written, 2 bad input or no orbit at the start (nothing written).
@@ -117,11 +122,18 @@ def _summary(branch):
     for i, j, stable in stretches(branch.stable):
         lines.append(f"  {'stable' if stable else 'unstable':9s}{p} {x[i]:.7g} .. "
                      f"{x[j]:.7g}")
+    from .bifurcation_kinds import BifurcationKind
+
     mu = np.abs(np.asarray(branch.multipliers)).max(axis=1)
-    for (i, kind, value), (lo, hi) in zip(branch.bifurcations, branch.brackets):
+    around = tuple(branch.event_impacts) or ((-1, -1),) * len(branch.bifurcations)
+    for (i, kind, value), (lo, hi), (before, after) in zip(branch.bifurcations,
+                                                             branch.brackets, around):
         where = f" in [{min(lo, hi):.8g}, {max(lo, hi):.8g}]" if lo != hi else ""
-        lines.append(f"  {kind} at {p} = {value:.7g}{where}; |mu|max {mu[i - 1]:.6f} -> "
-                     f"{mu[i]:.6f}" if i > 0 else f"  {kind} at {p} = {value:.7g}")
+        line = (f"  {kind} at {p} = {value:.7g}{where}; |mu|max {mu[i - 1]:.6f} -> "
+                f"{mu[i]:.6f}" if i > 0 else f"  {kind} at {p} = {value:.7g}")
+        if kind == BifurcationKind.GRAZING:
+            line += f"; impacts per period {before} -> {after}"
+        lines.append(line)
     if not branch.bifurcations:
         lines.append("  no bifurcation found")
     return lines
@@ -238,7 +250,8 @@ def add_parser(sub, fmt):
     c.add_argument("--max-points", type=positive_int(2), default=400, metavar="N",
                    help="orbits on the branch at most (default: 400)")
     c.add_argument("--refine", type=number, default=1e-6, metavar="TOL",
-                   help="narrow every stability change to this width (default: 1e-6)")
+                   help="narrow every stability change and grazing to this width "
+                        "(default: 1e-6)")
     c.add_argument("-o", "--output", default="branch.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: branch.nc)")
     c.add_argument("--overwrite", action="store_true", help="replace an existing file")

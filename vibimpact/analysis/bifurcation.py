@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..bifurcation_kinds import BifurcationKind
 from ..run import Status
 from .. import _validate as _v
 from ..system import as_system
@@ -44,10 +45,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..system import System
 
 __all__ = ["Bifurcation", "locate_bifurcation", "orbit_signature", "grazing_gap",
-           "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER"]
-
-#: bifurcation named by the multiplier that leaves the unit circle
-KIND_BY_MULTIPLIER = {"-1": "period doubling", "+1": "fold", "complex": "Neimark-Sacker"}
+           "CONTINUATION_SOLVER"]
 
 #: solver defaults of every integration here (shooting, monodromy, signatures, amplitudes;
 #: the rest as :func:`vibimpact.simulate`)
@@ -74,7 +72,7 @@ def orbit_signature(system, state, n):
     x = _v.state("state0", state, system.n_state)
     mode = np.zeros(mdl.n_mode, dtype=np.int64)
     mdl.init_mode(0.0, x.copy(), system.p, mode)
-    run = system.simulate(periods=n, state0=x, **system.solver(**CONTINUATION_SOLVER))
+    run = system.simulate(periods=n, state0=x, solver=system.settings(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return ("diverged",)
     w = np.asarray(run.events["which"])
@@ -99,7 +97,7 @@ def grazing_gap(system, state, n):
     system = as_system(system)
     if system.model.name != "rotor":
         return math.nan
-    run = system.simulate(periods=n, state0=state, **system.solver(**CONTINUATION_SOLVER))
+    run = system.simulate(periods=n, state0=state, solver=system.settings(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return math.nan
     ext = np.asarray(run.events["which"]) == 2
@@ -121,10 +119,12 @@ class Bifurcation:
         (``kind == "none"``).
     bracket : (float, float)
         Last value where the orbit persists, first where it does not.
-    kind : str
-        ``"period doubling"``, ``"fold"``, ``"Neimark-Sacker"``, ``"grazing"`` (the
-        contact events of the orbit change), ``"stick-slip"`` (its friction events
-        change) or ``"none"``.
+    kind : BifurcationKind
+        :attr:`~BifurcationKind.PERIOD_DOUBLING`, :attr:`~BifurcationKind.FOLD`,
+        :attr:`~BifurcationKind.NEIMARK_SACKER`, :attr:`~BifurcationKind.GRAZING` (the
+        contact events of the orbit change), :attr:`~BifurcationKind.STICK_SLIP` (its
+        friction events change) or :attr:`~BifurcationKind.NONE` (a ``str``: equal to
+        its short name, ``"period doubling"``).
     detail : str
         The evidence in words.
     orbit : PeriodicOrbit
@@ -144,7 +144,7 @@ class Bifurcation:
     param: object
     value: float
     bracket: tuple
-    kind: str
+    kind: BifurcationKind
     detail: str
     orbit: PeriodicOrbit
     beyond: object = None
@@ -212,17 +212,17 @@ def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
                 f"orbit there: mu = {ml.real:+.4f}{ml.imag:+.4f}j (|mu| {abs(ml):.4f}, "
                 f"arg {math.degrees(math.atan2(ml.imag, ml.real)):.1f} deg)")
         if ratio == 2:
-            return "period doubling", text, False
+            return BifurcationKind.PERIOD_DOUBLING, text, False
         # a period-k orbit, k > 2, born from a period-1 orbit: a resonance of a complex
         # pair of multipliers (Kuznetsov 2004, sec. 9.5), or a fold of the k-cycle
         crit = critical_multiplier(orb_hi.multipliers)
-        kind = ("Neimark-Sacker" if crit == "complex" else
-                KIND_BY_MULTIPLIER.get(crit, "fold"))
+        kind = (BifurcationKind.by_multiplier(crit) if crit in ("+1", "-1", "complex")
+                else BifurcationKind.FOLD)
         return kind, text + f" (resonance 1:{ratio})", False
     if why == "unstable":
         crit = critical_multiplier(orb_hi.multipliers)
         mh = orb_hi.multipliers[0]
-        return (KIND_BY_MULTIPLIER[crit],
+        return (BifurcationKind.by_multiplier(crit),
                 f"multiplier leaves the unit circle through {crit}: {at} before, "
                 f"mu = {mh.real:+.4f}{mh.imag:+.4f}j after", False)
     if why == "fold":
@@ -234,14 +234,14 @@ def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
             text += f"; at grazing (gap {gap:.1e} at the bracket)"
         elif crit != "+1":
             text += " (non-smooth: no multiplier approaches +1)"
-        return "fold", text, at_grazing
+        return BifurcationKind.FOLD, text, at_grazing
     # the switching events changed
     (cl, ml), (ch, mh) = sig_lo, (sig_hi if len(sig_hi) == 2 else ((), ()))
     first = [m[0] for m in ml], [m[0] for m in mh]
     if (cl[:1] != ch[:1]) or sorted(set(first[0])) != sorted(set(first[1])):
-        return ("grazing", f"contact events per orbit {cl[0] if cl else '?'} -> "
+        return (BifurcationKind.GRAZING, f"contact events per orbit {cl[0] if cl else '?'} -> "
                            f"{ch[0] if ch else '?'}, modes {ml} -> {mh}; {at}", True)
-    return ("stick-slip", f"friction events per orbit {cl[1:]} -> {ch[1:]}, modes {ml} "
+    return (BifurcationKind.STICK_SLIP, f"friction events per orbit {cl[1:]} -> {ch[1:]}, modes {ml} "
                           f"-> {mh}; {at}", False)
 
 
@@ -289,7 +289,8 @@ def locate_bifurcation(system: System, state0: ArrayLike, n: int = 1, *, param: 
     Returns
     -------
     Bifurcation
-        ``kind == "none"`` (value NaN) when the orbit persists up to ``stop``.
+        ``kind`` :attr:`BifurcationKind.NONE` (value NaN) when the orbit persists up
+        to ``stop``.
 
     Raises
     ------
@@ -306,7 +307,7 @@ def locate_bifurcation(system: System, state0: ArrayLike, n: int = 1, *, param: 
     >>> from vibimpact.analysis import locate_bifurcation
     >>> b = locate_bifurcation(vi.System(vi.DuffingParams(gamma=0.25)), [1.0, 0.0],
     ...                        param="gamma", start=0.25, stop=0.28, tol=1e-5)
-    >>> b.kind
+    >>> str(b.kind)
     'period doubling'
     """
     start = float(_v.finite("start", start))
@@ -344,7 +345,7 @@ def locate_bifurcation(system: System, state0: ArrayLike, n: int = 1, *, param: 
             lo, lo_orb = nxt, o
             if nxt == stop:
                 gap = grazing_gap(system.with_param(param, lo), lo_orb.state, n)
-                return Bifurcation(param, math.nan, (lo, lo), "none",
+                return Bifurcation(param, math.nan, (lo, lo), BifurcationKind.NONE,
                                    f"the orbit persists up to {param} = {stop}", lo_orb,
                                    None, sig, sig, gap)
             h = min(2.0 * h, step)

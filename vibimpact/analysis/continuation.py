@@ -8,7 +8,11 @@ Two tools on top of :func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`:
 * :func:`continue_orbit` -- pseudo-arclength continuation (Keller 1977; Seydel 2010,
   sec. 4.4; Allgower & Georg 2003) of ``G(x, lambda) = P^n(x; lambda) - x = 0`` in
   ``(x, lambda)``.  It goes round folds, so it follows the *unstable* branches that a
-  brute-force sweep, which only ever sees attractors, misses.
+  brute-force sweep, which only ever sees attractors, misses; along the branch it finds
+  the stability changes, the turning points and the grazings (the orbit's impacts per
+  period change; no multiplier crosses the unit circle there).
+
+Every kind is a :class:`~vibimpact.bifurcation_kinds.BifurcationKind`.
 
 References
 ----------
@@ -34,15 +38,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..bifurcation_kinds import BifurcationKind
 from ..run import Status
 from .. import _validate as _v
 from ..system import as_system
 from .._kernel.boundary import dot, solve
-from .bifurcation import (CONTINUATION_SOLVER, KIND_BY_MULTIPLIER, Bifurcation,
-                          locate_bifurcation, orbit_signature, grazing_gap)
+from .bifurcation import (CONTINUATION_SOLVER, Bifurcation, locate_bifurcation,
+                          orbit_signature, grazing_gap)
 from .shooting import critical_multiplier, floquet_multipliers, shoot_periodic_orbit
-from .stability_change import (StabilityChange, multiplier_crossing, param_name,
-                               refine_stability_change)
+from .stability_change import (Grazing, StabilityChange, branch_grazings,
+                               impacts_per_period, multiplier_crossing, param_name,
+                               refine_grazing, refine_stability_change)
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
@@ -50,11 +56,9 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..system import System
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
-           "refine_stability_change", "StabilityChange", "orbit_signature", "grazing_gap",
-           "KIND_BY_MULTIPLIER", "CONTINUATION_SOLVER", "FOLD_TURNING", "StartFailed"]
-
-#: the kind of a turning point of a branch (the parameter reverses)
-FOLD_TURNING = "fold (turning point)"
+           "refine_stability_change", "StabilityChange", "refine_grazing", "Grazing",
+           "impacts_per_period", "orbit_signature", "grazing_gap", "CONTINUATION_SOLVER",
+           "StartFailed"]
 
 @dataclass(frozen=True)
 class Branch:
@@ -73,12 +77,15 @@ class Branch:
         Response measures of each orbit (rotor: ``X_m``, ``Y_m``, ``R_m``; any model:
         ``<state>_m`` for the first two states), from densely sampled motion.
     n : int
-    bifurcations : tuple of (int, str, float)
+    bifurcations : tuple of (int, BifurcationKind, float)
         ``(index, kind, value)``: between point ``index - 1`` and ``index`` the stability
-        changed (kind from the multiplier crossing; value by linear interpolation of
+        changed (kind from the multiplier crossing,
+        :meth:`BifurcationKind.by_multiplier`; value by linear interpolation of
         ``|mu|max - 1``, so to about the square of the step; refine with
-        :func:`locate_bifurcation`), or at point ``index`` the parameter turned
-        ("fold (turning point)").
+        :func:`locate_bifurcation`), or the impacts per period changed
+        (:attr:`BifurcationKind.GRAZING`; value the midpoint of its bracket), or at
+        point ``index`` the parameter turned (:attr:`BifurcationKind.TURNING_POINT`).
+        In order of ``index`` (then kind).
     status : str
         Why the continuation stopped: the end of the parameter window reached (or left,
         when the last step could not be shortened to end there), a bound of the
@@ -89,7 +96,16 @@ class Branch:
     brackets : tuple of (float, float)
         For each of ``bifurcations``, the parameter interval it lies in: the two branch
         points around a stability change (with ``refine``, the two orbits inserted at the
-        ends of the narrowed interval), ``(value, value)`` at a turning point.
+        ends of the narrowed interval), or around a grazing (with ``refine``, narrowed by
+        :func:`refine_grazing`; no orbit inserted), ``(value, value)`` at a turning point.
+    impacts_per_period : ndarray of int, shape (k,)
+        Impacts (contact entries) per period of each orbit, from the event log of one
+        run over its ``n`` forcing periods (:func:`impacts_per_period`; 0 for a model
+        without contacts, -1 where the run stopped or the branch was read from a file
+        that did not hold them).
+    event_impacts : tuple of (int, int)
+        For each of ``bifurcations``, the impacts per period before and after it (at
+        the two points around it; at the ends of a grazing's bracket).
     """
 
     param: object
@@ -102,6 +118,8 @@ class Branch:
     bifurcations: tuple = ()
     status: str = ""
     brackets: tuple = ()
+    impacts_per_period: np.ndarray | None = None
+    event_impacts: tuple = ()
 
 
 class StartFailed(ValueError):
@@ -440,7 +458,11 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         (:func:`refine_stability_change`); the orbits at the two ends of the final
         interval join the branch as points.  Without it the value is interpolated
         between two branch points a step apart, which can be off by up to the step
-        where the multipliers move non-smoothly (at grazing).
+        where the multipliers move non-smoothly (at grazing).  Every grazing (two
+        neighbouring orbits with different impacts per period) is narrowed to this
+        width too, by bisection on the impacts per period of orbits shot in between
+        (:func:`refine_grazing`; no orbit joins the branch); without it its bracket is
+        the two points.
 
     Returns
     -------
@@ -449,7 +471,10 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     Raises
     ------
     ValueError
-        Naming the argument; ``state0`` when the shooting at the start fails.
+        Naming the argument.
+    StartFailed
+        A ValueError naming ``state0``: the shooting at the start failed (its reason in
+        ``reason``).
 
     Examples
     --------
@@ -502,11 +527,20 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     if amplitude:
         amps = [_amplitude(system.with_param(param, q[0]), q[1], n, names) for q in points]
         amp = {k: np.array([a[k] for a in amps]) for k in names}
-    events = _branch_events(vals, stab, mults)
-    brackets = tuple((v, v) if kind == FOLD_TURNING else
-                     (float(vals[i - 1]), float(vals[i])) for i, kind, v in events)
-    return Branch(param, vals, np.array([q[1] for q in points]), mults, stab, amp, n,
-                  tuple(events), status, brackets)
+    states = np.array([q[1] for q in points])
+    impacts = np.array([impacts_per_period(system.with_param(param, q[0]), q[1], n)
+                        for q in points], dtype=np.int64)
+    rows = [(i, kind, v, (v, v) if kind is BifurcationKind.TURNING_POINT else
+             (float(vals[i - 1]), float(vals[i])),
+             (int(impacts[i - 1]), int(impacts[min(i + 1, vals.size - 1)]))
+             if kind is BifurcationKind.TURNING_POINT else
+             (int(impacts[i - 1]), int(impacts[i])))
+            for i, kind, v in _branch_events(vals, stab, mults)]
+    rows += branch_grazings(system, param, n, vals, states, impacts, refine, steps.newton_tol)
+    rows.sort(key=lambda row: row[:3])
+    return Branch(param, vals, states, mults, stab, amp, n,
+                  tuple(row[:3] for row in rows), status, tuple(row[3] for row in rows),
+                  impacts, tuple(row[4] for row in rows))
 
 
 def _refined(system, param, n, points, tol, newton_tol):
@@ -518,7 +552,7 @@ def _refined(system, param, n, points, tol, newton_tol):
     stab = np.array([bool(np.abs(mu).max() < 1.0) for mu in mults])
     out = list(points)
     for i, kind, _ in reversed(_branch_events(vals, stab, mults)):
-        if kind == FOLD_TURNING:
+        if kind is BifurcationKind.TURNING_POINT:
             continue
         try:
             ch = refine_stability_change(system, param, n, (vals[i - 1], vals[i]),
@@ -537,12 +571,12 @@ def _branch_events(vals, stab, mults):
     (:attr:`Branch.bifurcations`)."""
     turns = [i for i in range(1, vals.size - 1)
              if (vals[i] - vals[i - 1]) * (vals[i + 1] - vals[i]) < 0]
-    bif = [(i, FOLD_TURNING, float(vals[i])) for i in turns]
+    bif = [(i, BifurcationKind.TURNING_POINT, float(vals[i])) for i in turns]
     for i in range(1, vals.size):
         if stab[i] != stab[i - 1]:
             unstable = mults[i] if not stab[i] else mults[i - 1]
-            kind = KIND_BY_MULTIPLIER.get(critical_multiplier(unstable), "?")
-            if kind == "fold" and any(abs(i - j) <= 1 for j in turns):
+            kind = BifurcationKind.by_multiplier(critical_multiplier(unstable))
+            if kind is BifurcationKind.FOLD and any(abs(i - j) <= 1 for j in turns):
                 continue  # the turning point itself is listed
             bif.append((i, kind, multiplier_crossing(vals[i - 1], vals[i], mults[i - 1], mults[i])))
     bif.sort()

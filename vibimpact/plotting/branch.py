@@ -13,13 +13,16 @@ marked.
 Stable solid and unstable dashed is the usual convention of bifurcation diagrams (Seydel
 2010, sec. 2.2).  Every line style and marker drawn gets a legend entry: the stable and
 unstable parts of each branch, and each kind of bifurcation found (open black markers,
-:data:`BIFURCATION_MARKERS`, placed at the bifurcation's parameter value).
+:data:`BIFURCATION_MARKERS`, placed at the bifurcation's parameter value, with the kind's
+:attr:`~vibimpact.bifurcation_kinds.BifurcationKind.words` in the legend).
 """
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from ..bifurcation_kinds import BifurcationKind
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -32,17 +35,13 @@ if TYPE_CHECKING:  # names of the annotations only
     from ..analysis import Branch
 
 __all__ = ["plot_branch", "plot_branch_figure", "overlay_branches", "BIFURCATION_MARKERS",
-           "BIFURCATION_LABELS", "BRANCH_COLORS"]
+           "BRANCH_COLORS"]
 
-#: marker of each bifurcation kind found along a branch
-BIFURCATION_MARKERS = {"period doubling": "o", "fold": "^", "fold (turning point)": "s",
-                       "Neimark-Sacker": "D", "?": "*"}
-#: legend entry of each marker
-BIFURCATION_LABELS = {"period doubling": "period doubling (μ = −1)",
-                      "fold": "fold (μ = +1)",
-                      "fold (turning point)": "fold (turning point)",
-                      "Neimark-Sacker": "Neimark–Sacker (complex pair |μ| = 1)",
-                      "?": "stability change of unknown kind"}
+#: marker of each bifurcation kind found along a branch (any other: UNKNOWN's)
+BIFURCATION_MARKERS = {BifurcationKind.PERIOD_DOUBLING: "o", BifurcationKind.FOLD: "^",
+                       BifurcationKind.TURNING_POINT: "s",
+                       BifurcationKind.NEIMARK_SACKER: "D", BifurcationKind.GRAZING: "v",
+                       BifurcationKind.UNKNOWN: "*"}
 #: colours of successive branches on one figure
 BRANCH_COLORS = ("k", "tab:purple", "tab:brown", "tab:olive", "tab:cyan")
 
@@ -66,6 +65,16 @@ def _as_branch(branch):
     return branch
 
 
+def _branch_kind(kind):
+    """The :class:`BifurcationKind` of a branch's event (a kind or its short name) that
+    has a marker; UNKNOWN for anything else."""
+    try:
+        kind = BifurcationKind(kind)
+    except ValueError:
+        return BifurcationKind.UNKNOWN
+    return kind if kind in BIFURCATION_MARKERS else BifurcationKind.UNKNOWN
+
+
 def _labelled(ax):
     """The legend labels already on ``ax``."""
     return set(ax.get_legend_handles_labels()[1])
@@ -74,7 +83,7 @@ def _labelled(ax):
 def _event_xy(x, y, idx, kind, value):
     """Where the marker of a bifurcation goes: at its value, on the segment before
     point ``idx`` (at the point itself for a turning point)."""
-    if kind != "fold (turning point)" and 0 < idx < x.size and x[idx] != x[idx - 1] \
+    if kind != BifurcationKind.TURNING_POINT and 0 < idx < x.size and x[idx] != x[idx - 1] \
             and np.isfinite(value):
         w = (value - x[idx - 1]) / (x[idx] - x[idx - 1])
         return value, y[idx - 1] + w * (y[idx] - y[idx - 1])
@@ -100,8 +109,10 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
         Legend entry of the stable part (the unstable part gets "<label> (unstable)").
     lw : float
     markers : bool
-        Mark the bifurcations of the branch (:data:`BIFURCATION_MARKERS`), each kind
-        with a legend entry (:data:`BIFURCATION_LABELS`) unless ``ax`` has one already.
+        Mark the bifurcations of the branch (:data:`BIFURCATION_MARKERS`), grazings
+        included, each kind with a legend entry (its
+        :attr:`~vibimpact.bifurcation_kinds.BifurcationKind.words`) unless ``ax`` has one
+        already.
 
     Returns
     -------
@@ -152,10 +163,11 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
                            ls="-" if s else "--", label=lab)
     if markers:
         for idx, kind, value in getattr(branch, "bifurcations", ()):
-            m = BIFURCATION_MARKERS.get(kind, BIFURCATION_MARKERS["?"])
+            kind = _branch_kind(kind)
+            m = BIFURCATION_MARKERS[kind]
             if not 0 <= idx < x.size:
                 continue
-            text = BIFURCATION_LABELS.get(kind, BIFURCATION_LABELS["?"])
+            text = kind.words
             bx, by = _event_xy(x, y, idx, kind, value)
             artists += ax.plot([bx], [by], ls="none", marker=m, ms=6, color="k",
                                mfc="white", mec="k", mew=1.0, zorder=5,
