@@ -151,7 +151,7 @@ def _sweep_ds(direction):
     if direction not in _SWEEPS:
         _SWEEPS[direction] = vi.sweep(vi.presets.get("fig8"), [1.1, 1.25],
                                       direction=direction, analyses=("period",),
-                                      workers=1, progress=False)
+                                      execution=vi.Execution(workers=1, progress=False))
     return _SWEEPS[direction].copy(deep=True)
 
 

@@ -39,10 +39,22 @@ def _sweep(eta, **kw):
     return vi.sweep(vi.presets.get("fig8"), eta, **kw)
 
 
+def _execution(**kw):
+    import vibimpact as vi
+
+    return vi.Execution(**kw)
+
+
 def _simulate(**kw):
     import vibimpact as vi
 
     return vi.simulate(vi.presets.get("fig8"), **kw)
+
+
+def _settings(**kw):
+    import vibimpact as vi
+
+    return vi.simulate(vi.presets.get("fig8"), periods=1, solver=vi.SolverSettings(**kw))
 
 
 def _preset(name):
@@ -271,12 +283,12 @@ CONTRACT_CASES = {
     "Params kh bool": (lambda: _params(kh=True), TypeError, "kh"),
     "Params kh string": (lambda: _params(kh="120"), TypeError, "kh"),
     "replace Ec string": (lambda: _replace(Ec="0.1"), TypeError, "Ec"),
-    "simulate method list": (lambda: _simulate(method=["dp5"], periods=1), TypeError,
-                             "method"),
-    "simulate method int": (lambda: _simulate(method=5, periods=1), TypeError, "method"),
-    "simulate rtol string": (lambda: _simulate(rtol="1e-6", periods=1), TypeError, "rtol"),
-    "simulate atol None": (lambda: _simulate(atol=None, periods=1), TypeError, "atol"),
-    "simulate max_step string": (lambda: _simulate(max_step="0.1", periods=1), TypeError,
+    "simulate method list": (lambda: _settings(method=["dp5"]), TypeError, "method"),
+    "simulate method int": (lambda: _settings(method=5), TypeError, "method"),
+    "simulate rtol string": (lambda: _settings(rtol="1e-6"), TypeError, "rtol"),
+    "simulate old keyword rtol": (lambda: _simulate(rtol=1e-6, periods=1), TypeError,
+                                  "rtol"),
+    "simulate max_step string": (lambda: _settings(max_step="0.1"), TypeError,
                                  "max_step"),
     "simulate state0 (2, 2)": (lambda: _simulate(state0=np.zeros((2, 2)), periods=1),
                                ValueError, "state0"),
@@ -299,7 +311,8 @@ CONTRACT_CASES = {
     "sweep state0 (2, 2)": (lambda: _sweep([1.0], state0=np.zeros((2, 2))), ValueError,
                             "state0"),
     "sweep direction int": (lambda: _sweep([1.0], direction=5), TypeError, "direction"),
-    "sweep workers float": (lambda: _sweep([1.0], workers=1.5), TypeError, "workers"),
+    "sweep workers float": (lambda: _sweep([1.0], execution=_execution(workers=1.5)),
+                            TypeError, "workers"),
     "sweep settings dict": (lambda: _sweep([1.0], settings={}), TypeError, "settings"),
     "map2d eta 2-D": (lambda: _map(eta=np.array([[1.0, 1.1]])), ValueError, "eta"),
     "map2d vary values 2-D": (lambda: _map(vary={"kh": [[40.0, 80.0]]}), ValueError, "kh"),
@@ -331,11 +344,14 @@ CONTRACT_CASES = {
     "sweep p None": (lambda: __import__("vibimpact").sweep(None, [1.0]), TypeError, "p "),
     "sweep continuation string": (lambda: _sweep([1.0], continuation="no"), TypeError,
                                   "continuation"),
-    "sweep resume 1": (lambda: _sweep([1.0], resume=1), TypeError, "resume"),
-    "sweep checkpoint int": (lambda: _sweep([1.0], checkpoint=5), TypeError, "checkpoint"),
+    "sweep resume 1": (lambda: _sweep([1.0], execution=_execution(resume=1)), TypeError,
+                       "resume"),
+    "sweep checkpoint int": (lambda: _sweep([1.0], execution=_execution(checkpoint=5)),
+                             TypeError, "checkpoint"),
     "map2d p None": (lambda: __import__("vibimpact").map2d(None, [1.0], {"kh": [1.0]}),
                      TypeError, "p "),
-    "map2d store int": (lambda: _map(store=5), TypeError, "store"),
+    "map2d checkpoint int": (lambda: _map(execution=_execution(checkpoint=5)), TypeError,
+                             "checkpoint"),
     "System model string": (lambda: _system(model="rotor"), TypeError, "model"),
     "System.param None": (lambda: _system().param(None), TypeError, "param"),
     "System.param unknown": (lambda: _system().param("kq"), ValueError, "param"),
@@ -355,7 +371,8 @@ CONTRACT_CASES = {
                          "path"),
     "write_netcdf path None": (lambda: __import__("vibimpact").io.write_netcdf(
         __import__("xarray").Dataset(), None), TypeError, "path"),
-    "sweep progress int": (lambda: _sweep([1.0], progress=5), TypeError, "progress"),
+    "sweep progress int": (lambda: _sweep([1.0], execution=_execution(progress=5)),
+                           TypeError, "progress"),
     "sweep_start eta string": (lambda: _sweep_start(eta="1.0"), TypeError, "eta"),
     "sweep_start direction int": (lambda: _sweep_start(direction=1), TypeError,
                                   "direction"),

@@ -144,7 +144,8 @@ def test_request_over_a_limit_is_refused_before_computing(case, tmp_path, monkey
 API_LIMITS = {
     "simulate dense": (lambda vi, p: vi.simulate(p, periods=5, transient=5,
                                                  dense=10 ** 9), "dense=1000000000"),
-    "sweep blocks": (lambda vi, p: vi.sweep(p, [1.0], blocks=10 ** 20), "blocks"),
+    "sweep blocks": (lambda vi, p: vi.sweep(
+        p, [1.0], continuation=vi.Continuation(blocks=10 ** 20)), "blocks"),
     "sweep samples": (lambda vi, p: vi.sweep(p, np.linspace(1.0, 1.1, 1000), settings=
                                              vi.sweeps.SweepSettings(n_samples=10 ** 6)),
                       "Poincare sample"),

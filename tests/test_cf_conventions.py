@@ -258,11 +258,12 @@ def test_resumed_map_store_sees_every_row(tmp_path):
     args = (vi.presets.get("fig8"), np.array([1.0, 1.02, 1.04]), {"kh": [40.0, 80.0, 120.0]})
     ref = vi.map2d(*args, settings=fast)
     store = tmp_path / "ckpt"
-    vi.map2d(*args, settings=fast, store=store)
+    vi.map2d(*args, settings=fast, execution=vi.Execution(checkpoint=store))
     entries = Checkpoint(store).entries()
     assert len(entries) == 3
     (store / entries[1][0]).unlink()
-    resumed = vi.map2d(*args, settings=fast, store=store, resume=True)
+    resumed = vi.map2d(*args, settings=fast,
+                       execution=vi.Execution(checkpoint=store, resume=True))
     vi.maps.write_map(resumed, tmp_path / "m.zarr")
     with xr.open_zarr(tmp_path / "m.zarr", consolidated=True, chunks=None) as back:
         back = back.load()

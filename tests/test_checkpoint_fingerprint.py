@@ -99,13 +99,15 @@ def test_a_map_row_from_another_map_is_recomputed(tmp_path):
     under one of its row names sets it aside as foreign, computes that row again (1 row
     counted) and gives the uninterrupted map bit for bit."""
     eta, vary = np.array([1.0, 1.02]), {"kh": np.array([40.0, 80.0])}
-    kw = dict(analyses=("period", "impacts"), workers=1)
-    own = vi.map2d(vi.presets.get("fig8"), eta=eta, vary=vary, store=tmp_path / "a", **kw)
-    vi.map2d(vi.presets.get("fig10"), eta=eta, vary=vary, store=tmp_path / "b", **kw)
+    kw = dict(analyses=("period", "impacts"))
+    own = vi.map2d(vi.presets.get("fig8"), eta=eta, vary=vary,
+                   execution=vi.Execution(checkpoint=tmp_path / "a"), **kw)
+    vi.map2d(vi.presets.get("fig10"), eta=eta, vary=vary,
+             execution=vi.Execution(checkpoint=tmp_path / "b"), **kw)
     name = entry_name(1, "up", 0, 2)
     shutil.copy(tmp_path / "b" / name, tmp_path / "a" / name)
-    again = vi.map2d(vi.presets.get("fig8"), eta=eta, vary=vary, store=tmp_path / "a",
-                     resume=True, **kw)
+    again = vi.map2d(vi.presets.get("fig8"), eta=eta, vary=vary,
+                     execution=vi.Execution(checkpoint=tmp_path / "a", resume=True), **kw)
     last = Checkpoint(tmp_path / "a").last_resume()
     assert last["reasons"] == {name + ".corrupt": "foreign"}
     assert (last["streams"], last["recomputed_streams"]) == (1, 1)

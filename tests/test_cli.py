@@ -307,7 +307,7 @@ def test_verbose_counts_before_and_after_the_command(argv, count):
     """Hypothesis: argparse copies a command parser's own namespace over the main one, so
     `-v classify -v` would count 1 (INFO) instead of 2 (DEBUG); every -v counts wherever
     it stands."""
-    from vibimpact._cli_common import verbosity
+    from vibimpact.cli_args import verbosity
     from vibimpact.cli import build_parser
 
     args = [*argv, "--eta", "1.0"] if "classify" in argv else argv
@@ -321,7 +321,7 @@ def test_verbosity_does_not_outlive_an_in_process_run(tmp_path, monkeypatch, cap
     import contextlib
     import io
 
-    from vibimpact._cli_common import set_verbosity
+    from vibimpact.cli_args import set_verbosity
     from vibimpact.cli import main
 
     monkeypatch.chdir(tmp_path)

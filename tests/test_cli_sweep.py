@@ -139,7 +139,8 @@ def test_classify_file_is_the_api_sweep_lossless(classified):
     from vibimpact.sweeps import parse_range
 
     d, _, _ = classified
-    mem = vi.sweep(vi.presets.get("fig8"), parse_range("1.0:1.02:0.01"), workers=1)
+    mem = vi.sweep(vi.presets.get("fig8"), parse_range("1.0:1.02:0.01"),
+                   execution=vi.Execution(workers=1))
     back = read_netcdf(d / "c.nc")
     with xr.open_dataset(d / "c.nc") as plain:
         assert_same_data(plain, back)
@@ -159,7 +160,7 @@ def test_eta_list_sweeps_exactly_the_listed_values(tmp_path):
     ds = read_netcdf(tmp_path / "c.nc")
     assert ds["eta"].values.tolist() == [1.0, 1.03]
     mem = vi.sweep(vi.presets.get("fig8"), [1.0, 1.03], analyses=("period", "impacts"),
-                   workers=1)
+                   execution=vi.Execution(workers=1))
     assert list(ds["label"].values) == list(mem["label"].values)
 
 

@@ -425,10 +425,11 @@ def test_the_api_still_says_resume_true(tmp_path):
 
     (tmp_path / "ck").mkdir()
     with pytest.raises(ValueError, match=r"already exists.*pass resume=True"):
-        vi.sweep(vi.presets.get("fig8"), [1.0], checkpoint=tmp_path / "ck")
+        vi.sweep(vi.presets.get("fig8"), [1.0],
+                 execution=vi.Execution(checkpoint=tmp_path / "ck"))
     with pytest.raises(ValueError, match=r"already exists.*pass resume=True"):
         vi.map2d(vi.presets.get("fig8"), [1.0], {"kh": np.array([10.0])},
-                 store=tmp_path / "ck")
+                 execution=vi.Execution(checkpoint=tmp_path / "ck"))
 
 
 def test_a_failed_start_of_continuation_is_structured_not_parsed():
@@ -459,7 +460,7 @@ def test_a_failed_start_of_continuation_is_structured_not_parsed():
 def test_a_set_value_outside_its_domain_names_the_option_in_every_command(argv, tmp_path,
                                                                           monkeypatch):
     """Every command that takes --set refuses a value outside its parameter's domain in
-    one line naming the option and the rule (one helper, _cli_common.with_sets, for
+    one line naming the option and the rule (one helper, cli_args.with_sets, for
     all), before any work: nothing is written."""
     from test_continue_cli import run
 

@@ -56,7 +56,8 @@ def test_duffing_map_and_classification_agree_with_the_sweep():
     system = vi.System(vi.DuffingParams())
     etas = np.array([1.32, 1.33, 1.34])
     m = vi.map2d(system, etas, {"gamma": [0.30, 0.35]})
-    row = vi.sweep(system.with_params(gamma=0.35), etas, blocks=1)
+    row = vi.sweep(system.with_params(gamma=0.35), etas,
+                   continuation=vi.Continuation(blocks=1))
     np.testing.assert_array_equal(m.period.values[1], row.period.values)
     assert m.period.values[0, 1] == 1 and m.period.values[1, 1] == 2
     reg, res = classify_params(system.with_params(gamma=0.35, omega=1.33),

@@ -22,8 +22,8 @@ def test_energy_is_conserved_through_1000_contacts():
     1/2|v|^2 + 1/2 R^2 + 1/4 k3 R^4 + 2/5 kh (R-1)^(5/2) H(R-1) drifts < 1e-9 relative
     over more than 1,000 contacts."""
     p = vi.Params(B=0.0, Bh=0.0, BT=0.0, f=0.0, Ec=0.0, G=0.0, kh=120.0, eta=1.0)
-    run = vi.simulate(p, periods=340, state0=[0.0, 0.0, 1.3, 0.4], rtol=1e-13, atol=1e-15,
-                      dense=4)
+    run = vi.simulate(p, periods=340, state0=[0.0, 0.0, 1.3, 0.4],
+                      dense=4, solver=vi.SolverSettings(rtol=1e-13, atol=1e-15))
     assert run.ok
     assert len(run.impacts) >= 1000
     pa = p.as_array()
@@ -35,7 +35,8 @@ def test_every_contact_entry_lies_on_the_retainer_circle(contact_case):
     """Event location refines every contact entry and exit to |R - 1| < 1e-10."""
     p, s0, ref = contact_case
     for method in ("dop853", "dp5", "rk4"):
-        run = vi.simulate(p, periods=4, state0=s0, method=method)
+        run = vi.simulate(p, periods=4, state0=s0,
+                          solver=vi.SolverSettings(method=method))
         sw = run.events["state"][run.events["which"] == 0]
         assert len(sw) >= 10
         assert np.abs(np.hypot(sw[:, 0], sw[:, 1]) - 1.0).max() < 1e-10
@@ -65,8 +66,8 @@ def test_rk4_converges_at_fourth_order_across_contacts(contact_case):
     stepping blindly across the switch would give order 1."""
     p, s0, ref = contact_case
     ns = [400, 800, 1600, 3200]
-    err = [np.abs(vi.simulate(p, periods=4, state0=s0, method="rk4",
-                              steps_per_period=n).strobe - ref.strobe).max() for n in ns]
+    err = [np.abs(vi.simulate(p, periods=4, state0=s0, solver=vi.SolverSettings(
+        method="rk4", steps_per_period=n)).strobe - ref.strobe).max() for n in ns]
     order = -_slope(ns, err)
     assert 3.5 <= order <= 4.5, order
 
@@ -81,7 +82,8 @@ def test_adaptive_methods_keep_their_order_across_contacts(contact_case):
     for method, lo, hi in (("dp5", 4.5, np.inf), ("dop853", 7.5, np.inf)):
         work, err = [], []
         for tol in tols:
-            run = vi.simulate(p, periods=4, state0=s0, method=method, rtol=tol, atol=tol)
+            run = vi.simulate(p, periods=4, state0=s0,
+                              solver=vi.SolverSettings(method=method, rtol=tol, atol=tol))
             work.append(run.counters["rhs_evals"])
             err.append(np.abs(run.strobe - ref.strobe).max())
         order = -_slope(work, err)
@@ -98,8 +100,8 @@ def test_global_error_stays_proportional_to_tolerance_across_contacts(contact_ca
     to 1e-11: 15 for DOP853, 45 for DP5 (more steps, more accumulated local error).  With
     the steps found by the error estimate alone the worst ratios were 51 and 87."""
     p, s0, ref = contact_case
-    ratios = [np.abs(vi.simulate(p, periods=4, state0=s0, method=method, rtol=tol,
-                                 atol=tol).strobe - ref.strobe).max() / tol
+    ratios = [np.abs(vi.simulate(p, periods=4, state0=s0, solver=vi.SolverSettings(
+        method=method, rtol=tol, atol=tol)).strobe - ref.strobe).max() / tol
               for tol in (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)]
     assert max(ratios) < bound, (method, ratios)
 
@@ -107,7 +109,8 @@ def test_global_error_stays_proportional_to_tolerance_across_contacts(contact_ca
 def test_error_is_proportional_to_tolerance(contact_case):
     """Tolerance proportionality: lowering rtol by 1e4 lowers the DOP853 error by >= 1e3."""
     p, s0, ref = contact_case
-    e = [np.abs(vi.simulate(p, periods=4, state0=s0, rtol=t, atol=t).strobe
+    e = [np.abs(vi.simulate(p, periods=4, state0=s0,
+                            solver=vi.SolverSettings(rtol=t, atol=t)).strobe
                 - ref.strobe).max() for t in (1e-7, 1e-11)]
     assert e[1] < e[0] / 1e3
 
@@ -151,7 +154,7 @@ def test_a_stable_impacting_orbit_is_found_periodic_within_the_transient():
     to B = 0.07, Ec = 0.11 (the defaults when written), where the orbit contracts that
     fast."""
     p = vi.presets.get("fig8").replace(B=0.07, Ec=0.11)
-    ds = vi.sweep(p, [1.12, 1.125, 1.13], workers=1)
+    ds = vi.sweep(p, [1.12, 1.125, 1.13], execution=vi.Execution(workers=1))
     assert ds.label.values[-1] == "P1, 2 impacts, 2 small arcs"
     assert int(ds.transient.values[-1]) <= 60
 
@@ -171,7 +174,8 @@ def test_stable_impacting_orbit_repeats_at_the_sweeps_tolerance():
     p = vi.presets.get("fig8").replace(eta=1.085, B=0.07, Ec=0.11)
     orb = shoot_periodic_orbit(vi.System(p), continued_state(p, 1.085), 1)
     assert orb.converged and orb.minimal_period == 1 and orb.abs_max < 0.9
-    run = vi.simulate(p, periods=30, state0=orb.state, rtol=1e-8, atol=1e-11)
+    run = vi.simulate(p, periods=30, state0=orb.state,
+                      solver=vi.SolverSettings(rtol=1e-8, atol=1e-11))
     assert run.ok and len(run.impacts) == 60
     scale = np.abs(run.strobe).max()
     assert np.ptp(run.strobe, axis=0).max() < 2e-7 * scale

@@ -101,7 +101,8 @@ def impacting_branch(request):
     B, Ec = CASES[preset]
     p = vi.presets.get(preset).replace(B=B, Ec=Ec)
     eta = np.round(np.arange(1.0, 1.19 + 1e-9, 0.005), 6)
-    ds = vi.sweep(p, eta, blocks=1, analyses=("period", "impacts", "floquet"))
+    ds = vi.sweep(p, eta, analyses=("period", "impacts", "floquet"),
+                  continuation=vi.Continuation(blocks=1))
     return p, ds.sel(eta=slice(1.06, None))
 
 
@@ -135,7 +136,8 @@ def test_impacting_orbits_multipliers_match_a_long_run(impacting_branch):
         pe = p.replace(eta=float(ds.eta.values[k]))
         orb = shoot_periodic_orbit(vi.System(pe, rtol=1e-11, atol=1e-13),
                                    ds.final_state.values[k], 1, tol=1e-11)
-        run = vi.simulate(pe, periods=600, state0=orb.state + 1e-4, rtol=1e-11, atol=1e-13)
+        run = vi.simulate(pe, periods=600, state0=orb.state + 1e-4,
+                          solver=vi.SolverSettings(rtol=1e-11, atol=1e-13))
         c = contraction_rate(run.strobe[:400], 1)
         assert c is not None and c.contracting
         assert abs(c.rate / math.log(orb.abs_max) - 1.0) < 0.05

@@ -90,7 +90,7 @@ def test_map_rows_are_the_one_dimensional_sweeps(serial):
     assert (reg == 1).any() and (reg >= 2).any()
     assert serial["regime"].dims == ("direction", "kh", "eta")
     row = vi.sweep(P.replace(kh=120.0), ETA, direction="both", analyses=M.MAP_ANALYSES,
-                   settings=FAST, blocks=1)
+                   settings=FAST, continuation=vi.Continuation(blocks=1))
     assert np.isnan(row["poincare_X"].values).all()  # not computed: the map leaves it out
     assert_same(serial.sel(kh=120.0, drop=True),
                 row.drop_vars(["poincare_X", "poincare_Y"]))
@@ -109,7 +109,7 @@ def test_cluster_survives_a_killed_worker_and_equals_serial(serial, cluster):
     def run():
         try:
             out["ds"] = vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
-                                 scheduler=client, task_points=1)
+                                 execution=vi.Execution(scheduler=client, task_points=1))
         except BaseException as exc:  # reported by the assertion below
             out["exc"] = exc
 
@@ -144,7 +144,7 @@ def test_scheduler_address_and_task_grouping_do_not_change_the_map(serial, clust
     map as serial: which rows share a task never changes a number."""
     cl, client = cluster
     ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
-                  scheduler=cl.scheduler_address, task_points=40)
+                  execution=vi.Execution(scheduler=cl.scheduler_address, task_points=40))
     assert_same(ds, serial)
     assert [len(job) for job in plan.group(fake_tasks(6, 16), 40, None)] == [3, 3]
 
@@ -152,8 +152,8 @@ def test_scheduler_address_and_task_grouping_do_not_change_the_map(serial, clust
 def test_local_processes_equal_serial(serial):
     """Hypothesis: the default local execution (workers=2: a LocalCluster of two
     processes started for the run) gives the serial map bit for bit."""
-    ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST, workers=2,
-                  task_points=1)
+    ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
+                  execution=vi.Execution(workers=2, task_points=1))
     assert_same(ds, serial)
 
 
@@ -182,7 +182,8 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
 
     monkeypatch.setattr(plan, "run_job", dying)
     with pytest.raises(KeyboardInterrupt):
-        vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, task_points=1)
+        vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
+                 execution=vi.Execution(checkpoint=store, task_points=1))
     assert saved_rows(store) == 2
     part = open_map(store)
     done = part["row_done"].values == 1
@@ -206,8 +207,8 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
         return real(job, on_point)
 
     monkeypatch.setattr(plan, "run_job", counting)
-    ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST, store=store, resume=True,
-                  task_points=1)
+    ds = vi.map2d(P, ETA, VARY, direction="both", settings=FAST,
+                  execution=vi.Execution(checkpoint=store, resume=True, task_points=1))
     assert len(computed) == 6 - 1
     assert all(f.stat().st_mtime_ns == t for f, t in kept.items())
     assert Checkpoint(store).last_resume()["damaged"] == [victim.name + ".corrupt"]
@@ -215,7 +216,7 @@ def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path
     assert_same(ds, serial)
     with pytest.raises(ValueError, match="different map request"):
         vi.map2d(P, ETA, {"kh": [40.0, 81.0, 120.0]}, direction="both", settings=FAST,
-                 store=store, resume=True)
+                 execution=vi.Execution(checkpoint=store, resume=True))
 
 
 def test_foreign_directory_is_not_taken_for_a_checkpoint(tmp_path):
@@ -226,10 +227,11 @@ def test_foreign_directory_is_not_taken_for_a_checkpoint(tmp_path):
     store.mkdir()
     (store / "row_up_000000.npz").write_bytes(b"old")
     with pytest.raises(ValueError, match="is not a vibimpact map checkpoint"):
-        vi.map2d(P, ETA, VARY, settings=FAST, store=store, resume=True)
+        vi.map2d(P, ETA, VARY, settings=FAST,
+                 execution=vi.Execution(checkpoint=store, resume=True))
     assert [f.name for f in store.iterdir()] == ["row_up_000000.npz"]
     with pytest.raises(ValueError, match="already exists"):
-        vi.map2d(P, ETA, VARY, settings=FAST, store=store)
+        vi.map2d(P, ETA, VARY, settings=FAST, execution=vi.Execution(checkpoint=store))
 
 
 @pytest.mark.parametrize("fmt", ["zarr", "nc"])

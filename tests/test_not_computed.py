@@ -133,7 +133,7 @@ def files(tmp_path_factory):
     ckpt = d / "p.partial"
     p = vi.presets.get("fig8").replace(Ec=3.0)
     vi.map2d(p, eta=np.array([0.9, 0.95]), vary={"kh": np.array([0.0, 10.0])},
-             analyses=ANALYSES, store=ckpt, workers=1)
+             analyses=ANALYSES, execution=vi.Execution(checkpoint=ckpt, workers=1))
     for f in ckpt.glob("up_000001_*.npz"):
         f.unlink()
     out["partial"] = open_map(ckpt)

@@ -43,9 +43,9 @@ def branch_sweeps():
     p = FIG8.replace(kh=54.0)
     eta = np.round(1.3 + 0.004 * np.arange(40), 6)
     an = ("period", "impacts", "lyapunov")
-    on = vi.sweep(p, eta, analyses=an, blocks=1)
-    off = vi.sweep(p, eta, analyses=an, blocks=1, settings=SweepSettings(analyses=an,
-                                                                          predict=0))
+    on = vi.sweep(p, eta, analyses=an, continuation=vi.Continuation(blocks=1))
+    off = vi.sweep(p, eta, analyses=an, settings=SweepSettings(analyses=an, predict=0),
+                   continuation=vi.Continuation(blocks=1))
     return on, off
 
 

@@ -31,7 +31,8 @@ def sweeps():
         if preset not in cache:
             eta = np.round(np.arange(0.9, 1.5 + 1e-9, STEP), 6)
             cache[preset] = vi.sweep(vi.presets.get(preset), eta, direction="both",
-                                     analyses=ANALYSES, blocks=1)
+                                     analyses=ANALYSES,
+                                     continuation=vi.Continuation(blocks=1))
         return cache[preset]
     return get
 

@@ -30,20 +30,24 @@ def _same(a, b):
 
 @pytest.fixture(scope="module")
 def serial():
-    return vi.sweep(FIG8, GRID, state0=X0, blocks=3, workers=1, seed_periods=10)
+    return vi.sweep(FIG8, GRID, state0=X0,
+                    continuation=vi.Continuation(blocks=3, seed_periods=10),
+                    execution=vi.Execution(workers=1))
 
 
 def test_parallel_sweep_is_bit_identical_to_serial(serial):
     """Blocks are seeded by the same serial pass, so 2 worker processes give exactly the
     serial numbers."""
-    par = vi.sweep(FIG8, GRID, state0=X0, blocks=3, workers=2, seed_periods=10)
+    par = vi.sweep(FIG8, GRID, state0=X0,
+                   continuation=vi.Continuation(blocks=3, seed_periods=10),
+                   execution=vi.Execution(workers=2))
     assert _same(serial, par)
 
 
 def test_one_block_is_plain_continuation():
     """blocks=1: every point starts from the previous point's final state."""
     grid = GRID[:4]
-    ds = vi.sweep(FIG8, grid, blocks=1)
+    ds = vi.sweep(FIG8, grid, continuation=vi.Continuation(blocks=1))
     x = None
     for k, eta in enumerate(grid):
         r = analyse_point(FIG8.replace(eta=float(eta)), x, SweepSettings())
@@ -58,7 +62,8 @@ def test_continuation_reaches_impacting_branch_that_rest_start_misses():
     bottom impacts A and B), while starting every point from rest lands on the impactless
     low branch."""
     grid = np.round(np.arange(1.0, 1.18 + 1e-9, 0.02), 12)
-    cont = vi.sweep(FIG8, grid, blocks=1, analyses=("period", "impacts"))
+    cont = vi.sweep(FIG8, grid, analyses=("period", "impacts"),
+                    continuation=vi.Continuation(blocks=1))
     fixed = vi.sweep(FIG8, grid, continuation=False, analyses=("period", "impacts"))
     assert cont["impacts_per_period"].values[-1] == 2.0
     assert cont["label"].values[-1].startswith("P1, 2 impacts")
@@ -94,7 +99,8 @@ def test_both_directions_have_their_own_dimension_and_order():
     """direction='both' gives a direction dim; the down sweep starts at the top eta from
     rest, so its first point equals a fixed-state point there."""
     grid = GRID[:3]
-    ds = vi.sweep(FIG8, grid, direction="both", blocks=1, analyses=("period", "impacts"))
+    ds = vi.sweep(FIG8, grid, direction="both", analyses=("period", "impacts"),
+                  continuation=vi.Continuation(blocks=1))
     assert ds["regime"].dims == ("direction", "eta")
     top = analyse_point(FIG8.replace(eta=float(grid[-1])), None,
                         SweepSettings(analyses=("period", "impacts")))
@@ -143,13 +149,15 @@ def test_resumed_sweep_equals_uninterrupted_and_reuses_saved_points(serial, tmp_
     """A checkpointed sweep whose last points were lost (as after a kill) resumes from the
     saved points without recomputing them and gives the uninterrupted numbers."""
     ckdir = tmp_path / "ck"
-    vi.sweep(FIG8, GRID, state0=X0, blocks=3, checkpoint=ckdir)
+    vi.sweep(FIG8, GRID, state0=X0, continuation=vi.Continuation(blocks=3),
+             execution=vi.Execution(checkpoint=ckdir))
     files = sorted(ckdir.glob("up_*.npz"))  # one entry per point, in sweep order
     assert len(files) == GRID.size
     for f in files[5:]:
         f.unlink()
     kept = {f.name: f.stat().st_mtime_ns for f in files[:5]}
-    again = vi.sweep(FIG8, GRID, state0=X0, blocks=3, checkpoint=ckdir, resume=True)
+    again = vi.sweep(FIG8, GRID, state0=X0, continuation=vi.Continuation(blocks=3),
+                     execution=vi.Execution(checkpoint=ckdir, resume=True))
     assert _same(serial, again)
     assert {f.name: f.stat().st_mtime_ns for f in files[:5]} == kept
 
@@ -158,11 +166,11 @@ def test_checkpoint_refuses_other_request_or_missing_resume(tmp_path):
     """A checkpoint belongs to one request: reusing it without resume, or for another
     grid, raises ValueError naming the checkpoint."""
     ckdir = tmp_path / "ck"
-    vi.sweep(FIG8, GRID[:2], checkpoint=ckdir)
+    vi.sweep(FIG8, GRID[:2], execution=vi.Execution(checkpoint=ckdir))
     with pytest.raises(ValueError, match="checkpoint"):
-        vi.sweep(FIG8, GRID[:2], checkpoint=ckdir)
+        vi.sweep(FIG8, GRID[:2], execution=vi.Execution(checkpoint=ckdir))
     with pytest.raises(ValueError, match="checkpoint"):
-        vi.sweep(FIG8, GRID[:3], checkpoint=ckdir, resume=True)
+        vi.sweep(FIG8, GRID[:3], execution=vi.Execution(checkpoint=ckdir, resume=True))
     assert fingerprint({"a": 1}) != fingerprint({"a": 2})
 
 
@@ -192,7 +200,7 @@ def test_eta_list_is_taken_as_written():
 @pytest.mark.parametrize("kwargs, name", [
     (dict(eta=[1.2, 1.1]), "eta"), (dict(eta=[]), "eta"), (dict(eta=[1.0, np.nan]), "eta"),
     (dict(direction="sideways"), "direction"), (dict(analyses=("fft",)), "analyses"),
-    (dict(blocks=0), "blocks"), (dict(workers=0), "workers"),
+    (dict(continuation="yes"), "continuation"), (dict(execution="2 workers"), "execution"),
     (dict(state0=[1.0, 2.0]), "state0")])
 def test_bad_arguments_raise_value_error_naming_them(kwargs, name):
     """Invalid sweep arguments raise ValueError naming the argument."""
@@ -234,7 +242,7 @@ def test_runs_joined_from_chunks_equal_one_run():
     from vibimpact.sweeps import continued_state
 
     p = FIG8.replace(eta=1.185)  # two bottom impacts per period (paper, fig. 8)
-    kw = dict(rtol=1e-10, atol=1e-13)
+    kw = dict(solver=vi.SolverSettings(rtol=1e-10, atol=1e-13))
     x0 = continued_state(p, 1.185)
     whole = vi.simulate(p, periods=30, state0=x0, dense=16, **kw)
     chunks, x = [], x0
@@ -260,13 +268,17 @@ def test_progress_is_a_callback_counting_every_point_once(tmp_path):
     finished, every computed point once (and loaded points not at all)."""
     got = []
     grid = GRID[:3]
-    ds = vi.sweep(FIG8, grid, direction="both", blocks=2, workers=2, progress=got.append,
-                  checkpoint=tmp_path / "ck", settings=SweepSettings(transient_max=60))
+    ds = vi.sweep(FIG8, grid, direction="both",
+                  settings=SweepSettings(transient_max=60),
+                  continuation=vi.Continuation(blocks=2),
+                  execution=vi.Execution(workers=2, progress=got.append,
+                                         checkpoint=tmp_path / "ck"))
     assert sum(got) == 2 * grid.size and set(got) == {1}
     again = []
-    vi.sweep(FIG8, grid, direction="both", blocks=2, workers=2, progress=again.append,
-             checkpoint=tmp_path / "ck", resume=True,
-             settings=SweepSettings(transient_max=60))
+    vi.sweep(FIG8, grid, direction="both", settings=SweepSettings(transient_max=60),
+             continuation=vi.Continuation(blocks=2),
+             execution=vi.Execution(workers=2, progress=again.append,
+                                    checkpoint=tmp_path / "ck", resume=True))
     assert sum(again) == 0
     assert ds.sizes["direction"] == 2
 
@@ -276,11 +288,12 @@ def test_a_dead_worker_process_is_an_error_not_a_hang(monkeypatch):
     RuntimeError saying so, instead of waiting for it forever."""
     import os
 
-    from vibimpact.engine import plan
+    from vibimpact.engine import policy
 
     def die(*args, **kwargs):
         os._exit(3)
 
-    monkeypatch.setattr(plan, "analyse_point", die)  # forked workers inherit it
+    monkeypatch.setattr(policy, "analyse_point", die)  # forked workers inherit it
     with pytest.raises(RuntimeError, match="worker process died"):
-        vi.sweep(FIG8, GRID[:4], blocks=2, workers=2)
+        vi.sweep(FIG8, GRID[:4], continuation=vi.Continuation(blocks=2),
+                 execution=vi.Execution(workers=2))

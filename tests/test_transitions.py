@@ -21,7 +21,7 @@ FIG8 = preset("fig8")
 def _contacts(eta, state, periods=50):
     """Contact entries of the attractor reached from ``state`` at ``eta``."""
     run = vi.simulate(FIG8.replace(eta=eta), periods=periods, transient=400, state0=state,
-                      rtol=1e-10)
+                      solver=vi.SolverSettings(rtol=1e-10))
     return run.impacts.size
 
 
@@ -29,7 +29,8 @@ def test_grazing_of_the_low_branch_is_found_and_confirmed_by_simulation():
     """Sweeping up from rest, the impactless period-1 orbit first touches the retainer
     (grazing); simulation 2e-4 below the refined eta shows no contact, 2e-4 above it
     contacts."""
-    ds = vi.sweep(FIG8, np.array([0.945, 0.95, 0.955, 0.96]), blocks=1)
+    ds = vi.sweep(FIG8, np.array([0.945, 0.95, 0.955, 0.96]),
+                  continuation=vi.Continuation(blocks=1))
     tt = transition_types(ds, tol=1e-4)
     assert tt.sizes["boundary"] == 1
     assert str(tt["type"].values[0]) == "grazing"
@@ -45,7 +46,8 @@ def test_period_doubling_after_a_second_contact_is_found():
     """Between eta = 0.970 and 0.975 the period-1 orbit first gains a contact (grazing),
     then doubles its period; plain simulation (detect_period after 3000 periods) sees
     period 1 just below the located doubling and period 2 just above it."""
-    ds = vi.sweep(FIG8, np.array([0.965, 0.97, 0.975]), blocks=1)
+    ds = vi.sweep(FIG8, np.array([0.965, 0.97, 0.975]),
+                  continuation=vi.Continuation(blocks=1))
     tt = transition_types(ds, tol=1e-4)
     assert str(tt["type"].values[0]) == "grazing + period doubling"
     ev = str(tt["evidence"].values[0])
@@ -55,7 +57,7 @@ def test_period_doubling_after_a_second_contact_is_found():
     periods = []
     for eta in (eta_pd - 3e-4, eta_pd + 3e-4):
         run = vi.simulate(FIG8.replace(eta=eta), periods=64, transient=3000, state0=x,
-                          rtol=1e-10)
+                          solver=vi.SolverSettings(rtol=1e-10))
         periods.append(detect_period(run.strobe, tol=1e-6))
     assert periods == [1, 2]
 
@@ -65,8 +67,8 @@ def test_fold_at_grazing_with_hysteresis_on_the_down_sweep():
     vanishes (fold at grazing, eta ~ 1.0575): the motion jumps to the impacting branch,
     which coexists with the low orbit just above the fold (hysteresis)."""
     x = vi.simulate(FIG8.replace(eta=1.3), periods=1, transient=300).final_state
-    ds = vi.sweep(FIG8, np.array([1.055, 1.06, 1.065]), direction="down", blocks=1,
-                  state0=x)
+    ds = vi.sweep(FIG8, np.array([1.055, 1.06, 1.065]), direction="down", state0=x,
+                  continuation=vi.Continuation(blocks=1))
     tt = transition_types(ds, tol=1e-4)
     assert str(tt["type"].values[0]) == "grazing + fold"
     assert 1.055 < float(tt["eta"].values[0]) < 1.06
@@ -83,9 +85,10 @@ def floquet_sweep():
     and the largest Lyapunov exponent at every point."""
     x0 = continued_state("fig8", 1.16)
     grid = np.round(np.arange(1.16, 1.19 + 1e-9, 0.01), 12)
-    return vi.sweep(FIG8, grid, state0=x0, blocks=1,
+    return vi.sweep(FIG8, grid, state0=x0,
                     settings=SweepSettings(lyapunov="always", lyap_target=1e-3,
-                                           lyap_min=300))
+                                           lyap_min=300),
+                    continuation=vi.Continuation(blocks=1))
 
 
 def test_floquet_multipliers_are_stored_and_agree_with_the_lyapunov_exponent(

@@ -34,7 +34,8 @@ print(f"{compared} variables compared, {len(diffs)} differ")
 # is identical to an uninterrupted run.
 p = vi.presets.get("fig8")
 eta = np.round(np.arange(1.1, 1.2 + 1e-9, 0.01), 6)
-first = vi.sweep(p, eta, checkpoint=tmp / "sweep.partial")
-again = vi.sweep(p, eta, checkpoint=tmp / "sweep.partial", resume=True)
+first = vi.sweep(p, eta, execution=vi.Execution(checkpoint=tmp / "sweep.partial"))
+again = vi.sweep(p, eta,
+                 execution=vi.Execution(checkpoint=tmp / "sweep.partial", resume=True))
 diffs, compared = differences(first, again)
 print(f"{compared} variables compared, {len(diffs)} differ")
