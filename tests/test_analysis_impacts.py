@@ -158,13 +158,15 @@ def test_contact_still_open_at_the_end_of_the_window_keeps_its_peak_penetration(
     """A window with one contact entry, an extremum of R inside it and no exit (the contact
     is still open when the run ends) gives one impact with that extremum's penetration and
     an undefined duration; it used to index an empty array of exits."""
-    from vibimpact.run import impacts_from_events
+    from vibimpact.contact import impacts_from_events
+    from vibimpact.models import ROTOR
 
     t = np.array([1.0, 1.2])
     which = np.array([0, 2])                      # contact entry, extremum of R
     mode_before = np.array([[0, 0], [1, 0]])      # free before the entry, in contact after
     state = np.array([[1.0, 0.0, 0.5, 0.0], [1.003, 0.0, 0.0, 0.1]])
-    imp = impacts_from_events(t, which, mode_before, state, t0=0.0, period=2.0)
+    imp = impacts_from_events(ROTOR.contact, ROTOR.param_set().as_array(), t, which,
+                              mode_before, state, t0=0.0, period=2.0)
     assert imp.size == 1
     assert imp["penetration"][0] == pytest.approx(0.003)
     assert np.isnan(imp["duration"][0])

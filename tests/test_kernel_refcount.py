@@ -46,7 +46,6 @@ def test_stage_step_and_event_functions_do_no_reference_counting(model, n):
     wraps every call it does not inline in an atomic increment and decrement per array
     argument, which cost more than the rotor's right-hand side itself.  A function that
     starts to allocate, or loses its LEAF options, fails here."""
-    model = dispatch.builtin(model)  # as the kernel receives it (kernel_model)
     args, (method, E, E3) = _stage_args(model, n)
     _, pvec, mode, A, B, C, n_stages, fsal, s0, y, h, K, ytmp, y1 = args
     K[0] = 0.1

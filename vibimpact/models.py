@@ -1,30 +1,36 @@
-"""Models known to the kernel: the rotor of eq. (5), the forced Duffing oscillator, and
-user models built from numba functions.
+"""Models as data, and the one registry of them.
 
-A model is its right-hand side, Jacobian, switching surfaces and mode transitions (all
-``@njit``, signatures in :mod:`vibimpact._kernel.integrator`) plus a little metadata.
+A :class:`Model` is its right-hand side, Jacobian, switching surfaces and mode transitions
+(all ``@njit``, signatures in :mod:`vibimpact._kernel.integrator`) and what it declares
+about itself: its state layout and parameter table (:attr:`Model.param_set`), its contact
+(:class:`vibimpact.contact.Contact`: geometry and law; every impact analysis follows from
+it), what XY plots draw (:class:`PlotSpec`), its presets and its bound.
+
+The built-in models (the rotor of eq. (5), the forced Duffing oscillator, the soft-impact
+oscillator, ...) are each one module of :mod:`vibimpact.builtin_models` declaring a
+:class:`Model` with :meth:`Model.builtin_model` over the kernel module of the same family,
+found and registered by :func:`get`, :func:`names` and :func:`of_params`; user models come
+from :meth:`Model.from_functions`.  Nothing in the package branches on which model it
+runs: it asks the model.
 """
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, fields
 from typing import Callable
 
 import numpy as np
 from numba.extending import is_jitted
 
-from ._kernel import duffing as _duffing
-from ._kernel import dispatch as _dispatch
-from ._kernel import rotor as _rotor
+from ._kernel import boundary as _kb
 from ._kernel.boundary import Problem
-from ._kernel.precompiled import routine as _precompiled
 from . import _validate as _v
+from .contact import Contact
 from .model_probe import check_model
-from .params import DuffingParams, Params
 
 if TYPE_CHECKING:  # names of the annotations only
-    from collections.abc import Sequence
+    from collections.abc import Mapping, Sequence
 
     from numpy.typing import ArrayLike
 
@@ -45,8 +51,8 @@ class Model:
         Length of the discrete-mode vector.
     terminal : ndarray of int64, shape (n_switch,)
         1 for a mode-changing switching function, 0 for an observer.
-    kernel_model : int or tuple
-        What the kernel receives as ``model``: a built-in id or ``(rhs, switches,
+    kernel_model : BuiltinModel or tuple
+        What the kernel receives as ``model``: a built-in family or ``(rhs, switches,
         transition)``.
     rhs, jac, switches, transition, init_mode : numba functions
     bound : float
@@ -55,6 +61,14 @@ class Model:
         A built-in model's parameter set (:class:`~vibimpact.params.Params`,
         :class:`~vibimpact.params.DuffingParams`): where its parameters' domains are
         stated, also for a plain parameter vector of the model.
+    contact : Contact, optional
+        Where and how the model's body meets its obstacle (impacts, arcs and contact
+        statistics follow from it); None: the model has no contact.
+    plot : PlotSpec, optional
+        What XY plots draw.
+    presets : mapping, optional
+        ``{name: (parameter values, description)}``: the model's named parameter sets
+        (:func:`vibimpact.presets.get`).
     """
 
     name: str
@@ -62,20 +76,71 @@ class Model:
     param_names: tuple
     omega_index: int
     n_mode: int
-    terminal: np.ndarray
-    kernel_model: object
-    rhs: Callable
-    jac: Callable
-    switches: Callable
-    transition: Callable
-    init_mode: Callable
+    terminal: np.ndarray = field(repr=False)
+    kernel_model: object = field(repr=False)
+    rhs: Callable = field(repr=False)
+    jac: Callable = field(repr=False)
+    switches: Callable = field(repr=False)
+    transition: Callable = field(repr=False)
+    init_mode: Callable = field(repr=False)
     bound: float = 1e3
     param_set: type = None
+    contact: Contact = field(default=None, repr=False)
+    plot: PlotSpec = field(default=None, repr=False)
+    presets: Mapping = field(default_factory=dict, repr=False)
+
+    @property
+    def builtin(self):
+        """Whether this is a built-in model (kernel functions compiled once and cached)."""
+        return isinstance(self.kernel_model, _kb.BuiltinModel)
+
+    @classmethod
+    def builtin_model(cls, name: str, family: str, state_names: Sequence[str],
+                      omega_index: int, param_set: type, *, bound: float = 1e3,
+                      contact: Contact | None = None, plot: PlotSpec | None = None,
+                      presets: Mapping | None = None, init_mode: Callable | None = None
+                      ) -> Model:
+        """A built-in model: the kernel module ``family`` (its ``KERNEL_MODEL``) and
+        what the model declares about itself.
+
+        Parameters
+        ----------
+        name : str
+        family : str
+            The kernel module (:mod:`vibimpact._kernel.registry`).
+        state_names : sequence of str
+        omega_index : int
+            Index of the forcing frequency in the parameter vector.
+        param_set : type
+            The frozen parameter dataclass (its fields in the kernel's order).
+        bound, contact, plot, presets
+            As the attributes.
+        init_mode : callable, optional
+            A precompiled version of the kernel's ``init_mode``.
+
+        Raises
+        ------
+        ValueError
+            When the declaration does not fit the kernel module's sizes.
+        """
+        km = _kb.kernel_family(family)
+        names = tuple(f.name for f in fields(param_set))
+        if names != tuple(km.param_names) or len(state_names) != km.n_state:
+            raise ValueError(f"model {name!r}: the parameter set or state layout does not "
+                             f"match the kernel module {family!r}")
+        if contact is not None:
+            contact.check(km.n_state, km.terminal.size, km.n_mode, names)
+        return cls(name=name, state_names=tuple(state_names), param_names=names,
+                   omega_index=omega_index, n_mode=km.n_mode, terminal=km.terminal,
+                   kernel_model=_kb.builtin(family), rhs=km.rhs, jac=km.jac,
+                   switches=km.switches, transition=km.transition,
+                   init_mode=init_mode or km.init_mode, bound=bound, param_set=param_set,
+                   contact=contact, plot=plot, presets=dict(presets or {}))
 
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
-        if not isinstance(self.kernel_model, int) and not self.__dict__.get("_probed"):
+        if not self.builtin and not self.__dict__.get("_probed"):
             # a user model: its sizes are checked on guarded buffers before the kernel
             # runs its functions (once per model object)
             check_model(self, p)
@@ -91,8 +156,8 @@ class Model:
         The state followed by tangent vectors, mapped by saltation matrices at every
         switch (:mod:`vibimpact._kernel.variational`).
         """
-        if isinstance(self.kernel_model, int):
-            return self.kernel_model + _dispatch.VAR_OFFSET
+        if self.builtin:
+            return _kb.builtin(self.kernel_model.family, variational=True)
         rhs, switches, transition = self.kernel_model
         return (rhs, switches, transition, self.jac, len(self.state_names),
                 int(self.terminal.size))
@@ -101,7 +166,8 @@ class Model:
     def from_functions(cls, name: str, rhs: Callable, jac: Callable, switches: Callable,
                        transition: Callable, init_mode: Callable, terminal: Callable,
                        state_names: Sequence[str], param_names: Sequence[str],
-                       omega_index: int, n_mode: int = 1, bound: float = 1e3) -> Model:
+                       omega_index: int, n_mode: int = 1, bound: float = 1e3,
+                       contact: Contact | None = None) -> Model:
         """A user model from numba functions (compiled on first use, not cached on disk).
 
         Parameters
@@ -114,6 +180,14 @@ class Model:
         state_names, param_names : sequence of str
         omega_index : int
             Index of the forcing frequency in the parameter vector.
+        n_mode : int
+            Length of the mode vector.
+        bound : float
+            A state component larger than this in magnitude ends a run as DIVERGED.
+        contact : Contact, optional
+            The model's contact (:class:`vibimpact.contact.Contact`): with it the model
+            gets impact records, impacts per period, contact arcs and contact statistics
+            in runs, sweeps and maps.
         """
         if not isinstance(name, str) or not name:
             raise _v.WrongType(f"name must be a non-empty str, got {name!r}"[:200])
@@ -134,11 +208,17 @@ class Model:
         if omega_index >= len(params):
             raise ValueError(f"omega_index must index param_names (0 to {len(params) - 1}), "
                              f"got {omega_index}")
+        n_mode = _v.count("n_mode", n_mode, 0)
+        if contact is not None:
+            if not isinstance(contact, Contact):
+                raise _v.WrongType(f"contact must be a vibimpact.contact.Contact, got "
+                                   f"{type(contact).__name__}")
+            contact.check(len(states), term.size, n_mode, params)
         return cls(name=name, state_names=states, param_names=params,
-                   omega_index=omega_index, n_mode=_v.count("n_mode", n_mode, 0),
+                   omega_index=omega_index, n_mode=n_mode,
                    terminal=term.astype(np.int64), kernel_model=(rhs, switches, transition),
                    rhs=rhs, jac=jac, switches=switches, transition=transition,
-                   init_mode=init_mode, bound=_v.positive("bound", bound))
+                   init_mode=init_mode, bound=_v.positive("bound", bound), contact=contact)
 
 
 def _names(arg, value):
@@ -157,18 +237,84 @@ def _names(arg, value):
     return names
 
 
-ROTOR = Model(name="rotor", state_names=("X", "Y", "dX", "dY"), param_names=_rotor.PARAM_NAMES,
-              omega_index=_rotor.I_ETA, n_mode=_rotor.N_MODE, terminal=_rotor.TERMINAL,
-              kernel_model=_dispatch.ROTOR, rhs=_rotor.rhs, jac=_rotor.jac,
-              switches=_rotor.switches, transition=_rotor.transition,
-              init_mode=_precompiled("rotor_init_mode", _rotor.init_mode), bound=1e3,
-              param_set=Params)
+@dataclass(frozen=True)
+class PlotSpec:
+    """What XY plots of a model draw.
 
-DUFFING = Model(name="duffing", state_names=("x", "dx"), param_names=_duffing.PARAM_NAMES,
-                omega_index=4, n_mode=_duffing.N_MODE, terminal=_duffing.TERMINAL,
-                kernel_model=_dispatch.DUFFING, rhs=_duffing.rhs, jac=_duffing.jac,
-                switches=_duffing.switches, transition=_duffing.transition,
-                init_mode=_duffing.init_mode, bound=1e6, param_set=DuffingParams)
+    Parameters
+    ----------
+    xy : tuple of str
+        The two states drawn against each other (``("X", "Y")`` for the rotor).
+    circle : float, optional
+        Radius of a circular obstacle centred at the origin, drawn with the orbit (the
+        rotor's retainer: 1); None: none.
+    """
+
+    xy: tuple
+    circle: float | None = None
+
+
+# --- the registry ---------------------------------------------------------------------
+
+_REGISTRY: dict[str, Model] = {}
+
+
+def register(model: Model) -> Model:
+    """Add a built-in model to the registry (by :mod:`vibimpact.builtin_models`).
+
+    Raises
+    ------
+    ValueError
+        For a second model of the same name or parameter set.
+    """
+    if model.name in _REGISTRY and _REGISTRY[model.name] is not model:
+        raise ValueError(f"a model named {model.name!r} is registered already")
+    if model.param_set is not None and any(m.param_set is model.param_set and m is not model
+                                           for m in _REGISTRY.values()):
+        raise ValueError(f"the parameter set {model.param_set.__name__} has a model already")
+    _REGISTRY[model.name] = model
+    return model
+
+
+_LOADING = []
+
+
+def _loaded():
+    if not _REGISTRY and not _LOADING:
+        _LOADING.append(True)
+        try:
+            from . import builtin_models
+            builtin_models.load()
+        finally:
+            _LOADING.clear()
+    return _REGISTRY
+
+
+def names() -> list[str]:
+    """Names of the built-in models."""
+    return list(_loaded())
+
+
+def get(name: str) -> Model:
+    """The built-in model ``name``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``model`` for an unknown name.
+    """
+    models = _loaded()
+    if not isinstance(name, str) or name not in models:
+        raise ValueError(f"model must be one of {', '.join(models)}, got {name!r}"[:200])
+    return models[name]
+
+
+def of_params(p) -> Model | None:
+    """The built-in model whose parameter set ``p`` is an instance of (None: none)."""
+    for model in _loaded().values():
+        if model.param_set is not None and type(p) is model.param_set:
+            return model
+    return None
 
 
 def resolve(p, model=None):
@@ -176,8 +322,9 @@ def resolve(p, model=None):
 
     Parameters
     ----------
-    p : Params, DuffingParams or array_like
-        Parameters; a plain vector needs ``model``.
+    p : parameter set of a built-in model, or array_like
+        Parameters (:class:`~vibimpact.Params`, :class:`~vibimpact.DuffingParams`, ...);
+        a plain vector needs ``model``.
     model : Model, optional
         A user model; ``p`` is then its parameter vector.
 
@@ -200,9 +347,20 @@ def resolve(p, model=None):
             raise ValueError(f"p must have {len(model.param_names)} parameters "
                              f"{model.param_names}")
         return model, vec
-    if isinstance(p, Params):
-        return ROTOR, p.as_array()
-    if isinstance(p, DuffingParams):
-        return DUFFING, p.as_array()
-    raise _v.WrongType(f"p must be vibimpact.Params or DuffingParams, got "
+    model = of_params(p)
+    if model is not None:
+        return model, p.as_array()
+    sets = ", ".join(m.param_set.__name__ for m in _loaded().values() if m.param_set)
+    raise _v.WrongType(f"p must be the parameter set of a model ({sets}), got "
                        f"{type(p).__name__}")
+
+
+def __getattr__(name):
+    # ROTOR, DUFFING, SOFT_IMPACT, ...: the built-in models by their constant names
+    if not name.isupper():
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    models = _loaded()
+    for model in models.values():
+        if model.name.upper() == name:
+            return model
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

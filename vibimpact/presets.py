@@ -1,4 +1,5 @@
-"""The paper's parameter sets, one per figure.
+"""Named parameter sets: the paper's, one per figure, and those of the other built-in
+models (each model declares its own: :attr:`vibimpact.models.Model.presets`).
 
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
 preset uses :data:`vibimpact.params.DEFAULT_B` and :data:`vibimpact.params.DEFAULT_EC`,
@@ -41,13 +42,36 @@ DEFAULT = "fig8"
 DEFAULT_ETA = 1.0
 
 
-def names() -> list[str]:
-    """Names of all presets, in figure order."""
+def paper_names() -> list[str]:
+    """Names of the paper's presets (the rotor's), in figure order."""
     return list(_TABLE)
 
 
+def paper_values(name: str) -> dict:
+    """The rotor parameters of the paper's preset ``name`` as ``{name: value}``."""
+    kh, G, Bh, BT, f, Rr, _ = _TABLE[name]
+    return dict(B=DEFAULT_B, k3=-0.002, kh=kh, Bh=Bh, BT=BT, f=f, Rr=Rr, Ec=DEFAULT_EC, G=G,
+                eta=DEFAULT_ETA)
+
+
+def _others():
+    """``{preset: model}`` of the presets of the built-in models other than the rotor."""
+    from . import models
+
+    return {name: model for mname in models.names() if mname != "rotor"
+            for model in (models.get(mname),) for name in model.presets}
+
+
+def names() -> list[str]:
+    """Names of all presets: the paper's in figure order, then those of the other built-in
+    models."""
+    return list(_TABLE) + [n for n in _others() if n not in _TABLE]
+
+
 def describe(name: str) -> str:
-    """One line on what the paper shows for a preset."""
+    """One line on what a preset shows."""
+    if isinstance(name, str) and name not in _TABLE and name in _others():
+        return _others()[name].presets[name][1]
     return _row(name)[6]
 
 
@@ -55,20 +79,26 @@ def _row(name):
     if not isinstance(name, str):
         raise WrongType(f"name must be a preset's name (str), got {type(name).__name__}")
     if name not in _TABLE:
-        raise ValueError(f"unknown preset {name!r}; choose from {', '.join(_TABLE)}")
+        raise ValueError(f"unknown preset {name!r}; choose from {', '.join(names())}")
     return _TABLE[name]
 
 
-def get(name: str = DEFAULT) -> Params:
-    """The :class:`~vibimpact.Params` of a preset.
+def get(name: str = DEFAULT):
+    """The parameter set of a preset: :class:`~vibimpact.Params` for the paper's, the
+    model's own parameter set for another built-in model's.
 
-    ``B`` and ``Ec`` are our defaults, not values from the paper (see the module docstring).
+    ``B`` and ``Ec`` of the paper's presets are our defaults, not values from the paper
+    (see the module docstring).
 
     Raises
     ------
     ValueError
         For an unknown preset name.
     """
-    kh, G, Bh, BT, f, Rr, _ = _row(name)
-    return Params(B=DEFAULT_B, k3=-0.002, kh=kh, Bh=Bh, BT=BT, f=f, Rr=Rr, Ec=DEFAULT_EC, G=G,
-                  eta=DEFAULT_ETA)
+    if isinstance(name, str) and name not in _TABLE:
+        others = _others()
+        if name in others:
+            model = others[name]
+            return model.param_set(**model.presets[name][0])
+    _row(name)
+    return Params(**paper_values(name))

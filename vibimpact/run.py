@@ -16,8 +16,8 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from numpy.typing import ArrayLike
 
-from ._kernel import integrator as _k
-from ._kernel import rotor as _rotor
+from . import contact as _contact
+from ._kernel import boundary as _k
 
 
 class Status(enum.Enum):
@@ -45,16 +45,8 @@ def status_of(code):
     return _REASONS[int(code)]
 
 
-#: fields of :attr:`Run.impacts`, one record per contact
-IMPACT_DTYPE = np.dtype([
-    ("t_entry", "f8"),      # dimensionless time of contact entry (R = 1)
-    ("theta", "f8"),        # angle atan2(Y, X) at entry, degrees in (-180, 180]; +90 = bottom
-    ("v_impact", "f8"),     # normal impact speed dR/dtau at entry (> 0)
-    ("penetration", "f8"),  # maximum R - 1 during the contact
-    ("duration", "f8"),     # t_exit - t_entry; NaN while the contact is still open at the end
-    ("t_exit", "f8"),       # time of contact exit (R = 1); NaN: still open at the end
-    ("period", "i8"),       # forcing period of the entry, counted from the recorded start
-])
+#: fields of :attr:`Run.impacts`, one record per contact (:mod:`vibimpact.contact`)
+IMPACT_DTYPE = _contact.IMPACT_DTYPE
 
 #: fields of :attr:`Run.events`, one record per located switching event
 EVENT_DTYPE_FIELDS = ("t", "which", "mode_before", "mode_after", "state")
@@ -119,6 +111,9 @@ class Run:
     periods: int | None = None
     transient: int = 0
     dense_per_period: int = 0
+    #: the model's contact declaration (:class:`vibimpact.contact.Contact`; None: the
+    #: model declares none), to rebuild the impact records of joined runs
+    contact: object = field(default=None, repr=False, compare=False)
 
     @property
     def ok(self):
@@ -159,58 +154,28 @@ class Run:
         return run_to_dataset(self, command, attrs=attrs)
 
 
-def impacts_from_events(t, which, mode_before, state, t0, period):
-    """Contact records of the rotor from its event log (vectorised).
+def impacts_of(contact, p, events, t0, period):
+    """The impact records of an event log: :func:`vibimpact.contact.impacts_from_events`
+    for a model that declares a contact, none otherwise.
 
     Parameters
     ----------
-    t, which : ndarray, shape (m,)
-    mode_before : ndarray, shape (m, 2)
-    state : ndarray, shape (m, 4)
-    t0 : float
-        Start of the recorded window.
-    period : float
-        Forcing period (for the ``period`` field).
+    contact : Contact or None
+    p : ndarray
+        Parameter vector.
+    events : dict
+        The event log (:attr:`Run.events`).
+    t0, period : float
+        Start of the recorded window, forcing period.
 
     Returns
     -------
     ndarray of :data:`IMPACT_DTYPE`
     """
-    contact = which == _rotor.SW_CONTACT
-    entry = np.flatnonzero(contact & (mode_before[:, 0] == 0))
-    exits = np.flatnonzero(contact & (mode_before[:, 0] == 1))
-    out = np.zeros(entry.size, dtype=IMPACT_DTYPE)
-    if entry.size == 0:
-        return out
-    X, Y, U, V = (state[entry, j] for j in range(4))
-    R = np.hypot(X, Y)
-    out["t_entry"] = t[entry]
-    out["theta"] = np.degrees(np.arctan2(Y, X))
-    out["v_impact"] = (X * U + Y * V) / R
-    out["period"] = np.floor((t[entry] - t0) / period + 1e-12).astype(np.int64)
-    # the exit of each contact is the first exit event after its entry
-    j = np.searchsorted(exits, entry)
-    has_exit = j < exits.size
-    t_exit = np.full(entry.size, np.nan)
-    t_exit[has_exit] = t[exits[j[has_exit]]]
-    out["t_exit"] = t_exit
-    out["duration"] = t_exit - out["t_entry"]
-    # peak penetration: the largest R - 1 at extrema of R inside the contact
-    ext = np.flatnonzero((which == _rotor.SW_EXTREMUM) & (mode_before[:, 0] == 1))
-    pen = np.zeros(entry.size)
-    if ext.size:
-        owner = np.searchsorted(entry, ext) - 1
-        keep = owner >= 0
-        owner = owner[keep]
-        ext = ext[keep]
-        if exits.size:
-            inside = ~(has_exit[owner] & (exits[np.minimum(j[owner], exits.size - 1)] < ext))
-        else:  # no contact ends inside the window: every extremum is inside its contact
-            inside = np.ones(owner.size, dtype=bool)
-        rr = np.hypot(state[ext, 0], state[ext, 1]) - 1.0
-        np.maximum.at(pen, owner[inside], rr[inside])
-    out["penetration"] = pen
-    return out
+    if contact is None:
+        return np.zeros(0, dtype=IMPACT_DTYPE)
+    return _contact.impacts_from_events(contact, p, events["t"], events["which"],
+                                        events["mode_before"], events["state"], t0, period)
 
 
 def join_runs(runs, period):
@@ -240,11 +205,7 @@ def join_runs(runs, period):
     strobe = np.concatenate([first.strobe] + [r.strobe[1:] for r in runs[1:]])
     events = {k: np.concatenate([r.events[k] for r in runs]) for k in EVENT_DTYPE_FIELDS}
     events["t"] = np.concatenate([r.events["t"] + o for r, o in zip(runs, offs)])
-    if first.model == "rotor":
-        impacts = impacts_from_events(events["t"], events["which"], events["mode_before"],
-                                      events["state"], 0.0, period)
-    else:
-        impacts = np.zeros(0, dtype=IMPACT_DTYPE)
+    impacts = impacts_of(first.contact, _vector(first.params), events, 0.0, period)
     dense = t_dense = None
     if first.dense is not None:
         dense = np.concatenate([first.dense] + [r.dense[1:] for r in runs[1:]])
@@ -257,7 +218,7 @@ def join_runs(runs, period):
                counters=counters, final_state=runs[-1].final_state.copy(),
                solver=dict(first.solver), state0=first.state0,
                periods=strobe.shape[0] - 1, transient=first.transient,
-               dense_per_period=first.dense_per_period)
+               dense_per_period=first.dense_per_period, contact=first.contact)
 
 
 #: model name -> state variable names (a user model gets x0, x1, ...)
@@ -279,6 +240,11 @@ _IMPACT_ATTRS = {
 }
 
 _TAU = "dimensionless time tau = omega_0 t"
+
+
+def _vector(params):
+    """A run's parameters as the vector the kernel read."""
+    return params.as_array() if hasattr(params, "as_array") else np.asarray(params, float)
 
 
 def _attr_value(value):

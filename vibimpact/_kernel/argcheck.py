@@ -16,15 +16,9 @@ import numbers
 import numpy as np
 
 from . import driver as _driver
-from . import duffing, rotor
-from .dispatch import BuiltinModel, FAMILY, ROTOR, DUFFING
+from . import registry
+from .dispatch import BuiltinModel
 from .integrator import N_COUNTERS, N_OPTS
-
-#: ``(n_state, n_param, n_mode, n_switch)`` of the built-in families
-BUILTIN_SIZES = {
-    "rotor": (4, len(rotor.PARAM_NAMES), rotor.N_MODE, rotor.TERMINAL.size),
-    "duffing": (2, len(duffing.PARAM_NAMES), duffing.N_MODE, duffing.TERMINAL.size),
-}
 
 
 def array(name, a, dtype=np.float64, ndim=1, shape=None, writeable=False):
@@ -68,7 +62,7 @@ def problem(model, terminal, p, n_mode, omega, n_state):
         raise ValueError(f"kernel argument omega must be a finite float > 0, got {omega!r}")
     family = _family(model)
     if family is not None:
-        n, n_p, n_m, n_sw = BUILTIN_SIZES[family]
+        n, n_p, n_m, n_sw = registry.family(family).sizes
         got = (n_state, p.size, n_mode, terminal.size)
         if got != (n, n_p, n_m, n_sw):
             raise ValueError(f"kernel: a {family} problem has (state, parameters, modes, "
@@ -80,19 +74,16 @@ def problem(model, terminal, p, n_mode, omega, n_state):
 def _family(model):
     if isinstance(model, BuiltinModel):
         return model.family
-    if isinstance(model, (int, np.integer)) and not isinstance(model, bool):
-        if int(model) not in FAMILY:
-            raise ValueError(f"kernel argument model: no built-in model {model}")
-        return FAMILY[int(model)]
-    return None
+    if isinstance(model, tuple) and len(model) in (3, 6):
+        return None
+    raise ValueError(f"kernel argument model must be a built-in model or a user model's "
+                     f"tuple of functions, got {type(model).__name__}")
 
 
 def variational(model):
-    """Whether ``model`` is the variational version of a model (built-in id or tuple)."""
+    """Whether ``model`` is the variational version of a model (built-in or tuple)."""
     if isinstance(model, BuiltinModel):
-        return model.id not in (ROTOR, DUFFING)
-    if isinstance(model, (int, np.integer)):
-        return int(model) not in (ROTOR, DUFFING)
+        return model.variational
     return len(model) == 6
 
 
@@ -239,13 +230,19 @@ def _qr_growth(jacobians, logs):
     array("logs", logs, ndim=2, shape=(m, d), writeable=True)
 
 
-def _rotor_init_mode(s, y, p, mode):
-    array("y", y)
-    if y.size < 4 or y.size % 4:
-        raise ValueError(f"kernel argument y of the rotor must have 4 (1 + m) entries, "
-                         f"got {y.size}")
-    array("p", p, shape=(len(rotor.PARAM_NAMES),))
-    mode_vector("mode", mode, rotor.N_MODE)
+def init_mode_check(family):
+    """The argument check of the built-in family's ``init_mode`` (its sizes from
+    :mod:`.registry`)."""
+    n, n_p, n_m, _ = registry.family(family).sizes
+
+    def check(s, y, p, mode):
+        array("y", y)
+        if y.size < n or y.size % n:
+            raise ValueError(f"kernel argument y of the {family} model must have {n} "
+                             f"(1 + m) entries, got {y.size}")
+        array("p", p, shape=(n_p,))
+        mode_vector("mode", mode, n_m)
+    return check
 
 
 #: the argument check of each array routine, by its exported name
@@ -257,5 +254,5 @@ ROUTINES = {
     "eigvals": lambda a: _square("a", a),
     "suffix_lag_residuals": _suffix_lag_residuals,
     "qr_growth": _qr_growth,
-    "rotor_init_mode": _rotor_init_mode,
+    "rotor_init_mode": init_mode_check("rotor"),
 }

@@ -1,18 +1,19 @@
 """Calls from the generic kernel into a model's functions (resolved at compile time).
 
 The kernel's functions take a ``model`` argument.  For a built-in model it is a
-:class:`BuiltinModel` (:func:`builtin` of :data:`ROTOR`, :data:`DUFFING`, ...), which numba
-types by its *family*: the rotor and its variational equations are one type, the Duffing
-oscillator and its variational equations another.  The calls below branch at compile time
-on the family (a rotor run compiles no Duffing code) and at run time on the model id
-within it (a classify run integrates the rotor and its variational equations with one
-compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
+:class:`BuiltinModel` (:func:`builtin` of a family name, :data:`ROTOR`, :data:`DUFFING`,
+...), which numba types by its *family*: the rotor and its variational equations are one
+type, the Duffing oscillator and its variational equations another.  A family is a module
+of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry
+at compile time (a rotor run compiles no Duffing code) and branch at run time on the
+model's id within the family, 0 for the model and 1 for its variational equations (a
+classify run integrates the rotor and its variational equations with one compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
 user model ``model`` is a tuple ``(rhs, switches, transition)`` of numba functions, called
 directly (compiled per process: numba cannot cache functions passed as arguments).
 
 The *variational* versions of the models (state followed by tangent vectors, saltation at
-every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR` and
-:data:`DUFFING_VAR`, or the tuple ``(rhs, switches, transition, jac, n_state, n_switch)``
+every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
+:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple ``(rhs, switches, transition, jac, n_state, n_switch)``
 for a user model.  Their switching functions are the base model's (they read the first
 ``n_state`` entries only).
 """
@@ -22,7 +23,7 @@ from numba.core import cgutils
 from numba.extending import (NativeValue, intrinsic, models, overload, register_model,
                              typeof_impl, unbox)
 
-from . import duffing, rotor, variational
+from . import registry, variational
 from .jitopts import ALLOC, LEAF
 
 #: overloads take numba's options less ``cache`` (they are cached with their callers)
@@ -36,21 +37,9 @@ def _user_call(f, s, y, p, mode, arg):
     f(s, y, p, mode, arg)
 
 
-ROTOR = 0
-DUFFING = 1
-ROTOR_VAR = 2
-DUFFING_VAR = 3
-
-#: offset from a built-in model id to the id of its variational version
-VAR_OFFSET = 2
-
-#: the family of each built-in model id
-FAMILY = {ROTOR: "rotor", ROTOR_VAR: "rotor", DUFFING: "duffing", DUFFING_VAR: "duffing"}
-
-
 class BuiltinModel:
-    """A built-in model as the kernel receives it: its id and its family (see the
-    module's docstring).  Use :func:`builtin`."""
+    """A built-in model as the kernel receives it: its family and its id within the
+    family, 0 (the model) or 1 (its variational equations).  Use :func:`builtin`."""
 
     __slots__ = ("id", "family")
 
@@ -58,26 +47,56 @@ class BuiltinModel:
         self.id = int(model_id)
         self.family = family
 
+    @property
+    def variational(self):
+        """Whether this is the variational version of the model."""
+        return self.id == 1
+
     def __reduce__(self):
-        return builtin, (self.id,)
+        return builtin, (self.family, self.variational)
 
     def __repr__(self):
         return f"BuiltinModel({self.id}, {self.family!r})"
 
+    def __eq__(self, other):
+        return (type(other) is BuiltinModel and other.id == self.id
+                and other.family == self.family)
 
-_BUILTIN = {i: BuiltinModel(i, f) for i, f in FAMILY.items()}
+    def __hash__(self):
+        return hash((self.id, self.family))
 
 
-def builtin(model_id):
-    """The :class:`BuiltinModel` of a built-in model id."""
-    return _BUILTIN[int(model_id)]
+_BUILTIN = {}
+
+
+def builtin(family, variational=False):
+    """The :class:`BuiltinModel` of the built-in family ``family`` (a module of this
+    package with a ``KERNEL_MODEL``), or of its variational equations.
+
+    Raises
+    ------
+    ValueError
+        For an unknown family.
+    """
+    key = (family, bool(variational))
+    model = _BUILTIN.get(key)
+    if model is None:
+        registry.family(family)
+        model = _BUILTIN[key] = BuiltinModel(int(bool(variational)), family)
+    return model
+
+
+#: the built-in models of the rotor of eq. (5) and of the Duffing oscillator, and their
+#: variational equations
+ROTOR = builtin("rotor")
+DUFFING = builtin("duffing")
+ROTOR_VAR = builtin("rotor", True)
+DUFFING_VAR = builtin("duffing", True)
 
 
 def kernel_model(model):
-    """What the kernel receives for ``model``: the :class:`BuiltinModel` of a built-in
-    model id, a user model's tuple unchanged."""
-    if isinstance(model, (int, BuiltinModel)):
-        return builtin(model.id if isinstance(model, BuiltinModel) else model)
+    """What the kernel receives for ``model``: a :class:`BuiltinModel` or a user model's
+    tuple, unchanged."""
     return model
 
 
@@ -138,22 +157,24 @@ def model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_
     the rotor's Hertz contact (:func:`.rotor.step_cap`), none for other models."""
 
 
+def _entry(model):
+    """The :class:`.registry.KernelModel` of a built-in family type (None: a user model)."""
+    fam = _family(model)
+    return None if fam is None else registry.family(fam)
+
+
 @overload(model_rhs, jit_options=_LEAF)
 def _ol_rhs(model, s, y, p, mode, out):
-    if _family(model) == "rotor":
-        def impl_rotor(model, s, y, p, mode, out):
-            if model_id(model) == ROTOR:
-                rotor.rhs(s, y, p, mode, out)
+    entry = _entry(model)
+    if entry is not None:
+        base, var = entry.rhs, entry.var_rhs
+
+        def impl_builtin(model, s, y, p, mode, out):
+            if model_id(model) == 0:
+                base(s, y, p, mode, out)
             else:
-                variational.rotor_rhs(s, y, p, mode, out)
-        return impl_rotor
-    if _family(model) == "duffing":
-        def impl_duffing(model, s, y, p, mode, out):
-            if model_id(model) == DUFFING:
-                duffing.rhs(s, y, p, mode, out)
-            else:
-                variational.duffing_rhs(s, y, p, mode, out)
-        return impl_duffing
+                var(s, y, p, mode, out)
+        return impl_builtin
     if len(model.types) == 6:
         def impl_var(model, s, y, p, mode, out):
             variational.user_rhs(model[0], model[3], model[4], s, y, p, mode, out)
@@ -166,14 +187,14 @@ def _ol_rhs(model, s, y, p, mode, out):
 
 @overload(model_switches, jit_options=_LEAF)
 def _ol_switches(model, s, y, p, mode, g):
-    if _family(model) == "rotor":
-        def impl_rotor(model, s, y, p, mode, g):
-            rotor.switches(s, y, p, mode, g)
-        return impl_rotor
-    if _family(model) == "duffing":
-        def impl_duffing(model, s, y, p, mode, g):
-            duffing.switches(s, y, p, mode, g)
-        return impl_duffing
+    entry = _entry(model)
+    if entry is not None:
+        switches = entry.switches
+
+        def impl_builtin(model, s, y, p, mode, g):
+            switches(s, y, p, mode, g)
+        return impl_builtin
+
     def impl_user(model, s, y, p, mode, g):
         _user_call(model[1], s, y, p, mode, g)
     return impl_user
@@ -181,17 +202,16 @@ def _ol_switches(model, s, y, p, mode, g):
 
 @overload(model_transition, jit_options=_ALLOC)
 def _ol_transition(model, s, y, p, mode, which):
-    if _family(model) == "rotor":
-        def impl_rotor(model, s, y, p, mode, which):
-            if model_id(model) == ROTOR:
-                rotor.transition(s, y, p, mode, which)
+    entry = _entry(model)
+    if entry is not None:
+        base, var = entry.transition, entry.var_transition
+
+        def impl_builtin(model, s, y, p, mode, which):
+            if model_id(model) == 0:
+                base(s, y, p, mode, which)
             else:
-                variational.rotor_transition(s, y, p, mode, which)
-        return impl_rotor
-    if _family(model) == "duffing":
-        def impl_duffing(model, s, y, p, mode, which):
-            duffing.transition(s, y, p, mode, which)
-        return impl_duffing
+                var(s, y, p, mode, which)
+        return impl_builtin
     if len(model.types) == 6:
         def impl_var(model, s, y, p, mode, which):
             variational.user_transition(model[0], model[1], model[2], model[4], model[5], s,
@@ -205,11 +225,14 @@ def _ol_transition(model, s, y, p, mode, which):
 
 @overload(model_step_cap, jit_options=_LEAF)
 def _ol_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
-    if _family(model) == "rotor":
-        def impl_rotor(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
-            return rotor.step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in,
-                                  g_out)
-        return impl_rotor
-    def impl_user(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+    entry = _entry(model)
+    if entry is not None and entry.step_cap is not None:
+        cap = entry.step_cap
+
+        def impl_capped(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+            return cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out)
+        return impl_capped
+
+    def impl_none(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
         return 1e300
-    return impl_user
+    return impl_none

@@ -13,7 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .jitopts import LEAF
+from .jitopts import INNER, LEAF
+from .registry import KernelModel
 
 PARAM_NAMES = ("delta", "alpha", "beta", "gamma", "omega")
 N_STATE = 2
@@ -60,3 +61,25 @@ def init_mode(s, y, p, mode):
 def transition(s, y, p, mode, which):
     """No terminal switches: nothing to do."""
     return
+
+
+# --- the variational equations (smooth: no saltation) -----------------------------------
+
+@njit(**INNER)
+def var_rhs(s, y, p, mode, out):
+    """Duffing state and tangent vectors (``y.size = 2 (1 + m)``)."""
+    rhs(s, y, p, mode, out)
+    j10, j11 = jac_row(s, y, p)
+    m = (y.size - 2) // 2
+    for c in range(m):
+        b = 2 + 2 * c
+        v0 = y[b]
+        v1 = y[b + 1]
+        out[b] = v1
+        out[b + 1] = j10 * v0 + j11 * v1
+
+
+KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
+                           init_mode=init_mode, var_rhs=var_rhs, var_transition=transition,
+                           step_cap=None, n_state=N_STATE, n_mode=N_MODE, terminal=TERMINAL,
+                           param_names=PARAM_NAMES)

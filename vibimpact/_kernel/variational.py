@@ -24,7 +24,6 @@ Everything here is ``@njit`` over plain arrays.
 import numpy as np
 from numba import njit
 
-from . import duffing, rotor
 from .jitopts import INNER, INNER_ALLOC
 
 
@@ -70,78 +69,6 @@ def apply_saltation(y, n, fm, fp, grad, g_s):
 def fd_step(v):
     """Central-difference step for a variable of size ``v``."""
     return 1e-6 * max(1.0, abs(v))
-
-
-# --- the rotor -------------------------------------------------------------------------
-
-@njit(**INNER)
-def rotor_rhs(s, y, p, mode, out):
-    """Rotor state and tangent vectors (``y.size = 4 (1 + m)``)."""
-    rotor.rhs(s, y, p, mode, out)
-    # the Jacobian as scalars (no array allocated per evaluation: this runs at every
-    # stage of the Lyapunov and Floquet integrations)
-    j20, j21, j22, j23, j30, j31, j32, j33 = rotor.jac_rows(s, y, p, mode)
-    m = (y.size - 4) // 4
-    for c in range(m):
-        b = 4 + 4 * c
-        v0 = y[b]
-        v1 = y[b + 1]
-        v2 = y[b + 2]
-        v3 = y[b + 3]
-        out[b] = v2
-        out[b + 1] = v3
-        out[b + 2] = j20 * v0 + j21 * v1 + j22 * v2 + j23 * v3
-        out[b + 3] = j30 * v0 + j31 * v1 + j32 * v2 + j33 * v3
-
-
-@njit(**INNER_ALLOC)
-def rotor_transition(s, y, p, mode, which):
-    """Mode change of the rotor plus the saltation map of the tangent vectors."""
-    n = np.int64(4)  # not a literal: apply_saltation would be compiled for it alone
-    x = y[:n].copy()
-    fm = np.empty(n)
-    rotor.rhs(s, x, p, mode, fm)
-    grad = np.empty(n)
-    g = np.empty(rotor.N_SWITCH)
-    xp = x.copy()
-    for j in range(n):
-        d = fd_step(x[j])
-        xp[j] = x[j] + d
-        rotor.switches(s, xp, p, mode, g)
-        gp = g[which]
-        xp[j] = x[j] - d
-        rotor.switches(s, xp, p, mode, g)
-        grad[j] = (gp - g[which]) / (2.0 * d)
-        xp[j] = x[j]
-    d = fd_step(s)
-    rotor.switches(s + d, x, p, mode, g)
-    gp = g[which]
-    rotor.switches(s - d, x, p, mode, g)
-    g_s = (gp - g[which]) / (2.0 * d)
-    old0 = mode[0]
-    old1 = mode[1]
-    rotor.transition(s, y, p, mode, which)
-    if mode[0] == old0 and mode[1] == old1:
-        return
-    fp = np.empty(n)
-    rotor.rhs(s, x, p, mode, fp)
-    apply_saltation(y, n, fm, fp, grad, g_s)
-
-
-# --- the Duffing oscillator (smooth: no terminal switches) ------------------------------
-
-@njit(**INNER)
-def duffing_rhs(s, y, p, mode, out):
-    """Duffing state and tangent vectors (``y.size = 2 (1 + m)``)."""
-    duffing.rhs(s, y, p, mode, out)
-    j10, j11 = duffing.jac_row(s, y, p)
-    m = (y.size - 2) // 2
-    for c in range(m):
-        b = 2 + 2 * c
-        v0 = y[b]
-        v1 = y[b + 1]
-        out[b] = v1
-        out[b + 1] = j10 * v0 + j11 * v1
 
 
 # --- user models (functions passed in; compiled per process) ----------------------------
@@ -190,3 +117,57 @@ def user_transition(rhs, switches, transition, n, n_switch, s, y, p, mode, which
     rhs(s, x, p, mode, fp)
     apply_saltation(y, n, fm, fp, grad, g_s)
 
+
+
+# --- built-in models without hand-written variational equations -------------------------
+
+def tangent_rhs(rhs, jac, n):
+    """The variational right-hand side of a built-in model from its ``rhs`` and analytic
+    ``jac`` (``n`` state entries): an ``@njit`` function for its ``KERNEL_MODEL``."""
+    @njit(**INNER_ALLOC)
+    def var_rhs(s, y, p, mode, out):
+        rhs(s, y, p, mode, out)
+        J = np.empty((n, n))
+        jac(s, y, p, mode, J)
+        tangent_product(J, y, n, out)
+    return var_rhs
+
+
+def saltation_transition(rhs, switches, transition, n, n_switch):
+    """The variational mode change of a built-in model (its ``transition`` plus the
+    saltation map of the tangent vectors): an ``@njit`` function for its
+    ``KERNEL_MODEL``."""
+    @njit(**INNER_ALLOC)
+    def var_transition(s, y, p, mode, which):
+        x = y[:n].copy()
+        fm = np.empty(n)
+        rhs(s, x, p, mode, fm)
+        grad = np.empty(n)
+        g = np.empty(n_switch)
+        xp = x.copy()
+        for j in range(n):
+            d = fd_step(x[j])
+            xp[j] = x[j] + d
+            switches(s, xp, p, mode, g)
+            gp = g[which]
+            xp[j] = x[j] - d
+            switches(s, xp, p, mode, g)
+            grad[j] = (gp - g[which]) / (2.0 * d)
+            xp[j] = x[j]
+        d = fd_step(s)
+        switches(s + d, x, p, mode, g)
+        gp = g[which]
+        switches(s - d, x, p, mode, g)
+        g_s = (gp - g[which]) / (2.0 * d)
+        old = mode.copy()
+        transition(s, y, p, mode, which)
+        same = True
+        for i in range(mode.size):
+            if mode[i] != old[i]:
+                same = False
+        if same:
+            return
+        fp = np.empty(n)
+        rhs(s, x, p, mode, fp)
+        apply_saltation(y, n, fm, fp, grad, g_s)
+    return var_transition

@@ -21,7 +21,6 @@ from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import lyapunov_spectrum
 from ..analysis.period import detect_period
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
-from ..models import ROTOR
 from ..run import Status
 from .codes import CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERMANENT, REGIME_CODES
 
@@ -80,15 +79,15 @@ def floquet(system, x, n, settings):
                 stable=int(orb.abs_max < 1.0))
 
 
-def _impacts(res, run, n, rec, r_start):
-    """Impacts per period, contact, arcs and impact statistics of the rotor's record."""
+def _impacts(res, run, n, rec, start_inside, contact):
+    """Impacts per period, contact, arcs and impact statistics of the record."""
     imp = run.impacts
     cnt = impact_count(imp["period"], rec, period=max(n, 1))
     res.impacts_per_period = cnt.per_period
     res.impacts_constant = int(cnt.constant)
-    switched = np.any(run.events["which"] == 0)
+    switched = np.any(run.events["which"] == contact.switch)
     res.contact = (CONTACT_IMPACTING if imp.size else
-                   CONTACT_PERMANENT if (r_start > 1.0 and not switched) else CONTACT_NONE)
+                   CONTACT_PERMANENT if (start_inside and not switched) else CONTACT_NONE)
     arcs = contact_arcs(imp["theta"])
     res.arcs = arcs.summary
     res.n_arcs = arcs.n_arcs
@@ -100,17 +99,19 @@ def _impacts(res, run, n, rec, r_start):
         res.v_impact_max = res.v_impact_mean = res.penetration_max = 0.0
 
 
-def describe(res, run, n, rec, r_start, settings, rotor=True):
-    """Fill the record's results: impacts and arcs, response maxima (the rotor's),
-    Poincaré samples."""
+def describe(res, run, n, rec, start_inside, settings, contact=None):
+    """Fill the record's results: impacts and arcs (a model with a contact), response
+    maxima (a model with a planar contact: the largest displacements and radius), Poincaré
+    samples.  ``start_inside``: whether the record started in contact."""
     st = settings
     want = st.analyses
     pts = run.strobe[1:]
-    if rotor and ("impacts" in want or "response" in want):
-        _impacts(res, run, n, rec, r_start)
-    if rotor and "response" in want and run.dense is not None and run.dense.size:
+    if contact is not None and ("impacts" in want or "response" in want):
+        _impacts(res, run, n, rec, start_inside, contact)
+    if contact is not None and len(contact.positions) == 2 and "response" in want and \
+            run.dense is not None and run.dense.size:
         Xm, Ym, Rm = maxima(run.dense)
-        ext = run.events["which"] == 2  # exact extrema of R from the event log
+        ext = run.events["which"] == contact.extremum  # exact extrema of R from the log
         if np.any(ext):
             Rm = max(Rm, float(np.hypot(*run.events["state"][ext, :2].T).max()))
         res.X_m, res.Y_m, res.R_m = Xm, Ym, Rm
@@ -222,9 +223,10 @@ def measure(system, settled, settings, res):
     """
     st, rule, T = settings, settings.rule, system.period
     run, n, rec, ev = settled.run, settled.n, settled.rec, settled.evidence
-    rotor = system.model is ROTOR
+    contact = system.model.contact
     res.transient = settled.transient
-    r_start = math.hypot(settled.x_start[0], settled.x_start[1])
+    start_inside = contact is not None and bool(
+        contact.penetration(settled.x_start[None, :], system.p)[0] > 0.0)
     res.recorded = rec
     x = run.final_state
     res.final_state = x.copy()
@@ -235,7 +237,7 @@ def measure(system, settled, settings, res):
     res.period = n
     if n == 1:
         res.orbit_point = orbit_point(run.strobe)
-    describe(res, run, n, rec, r_start, st, rotor)
+    describe(res, run, n, rec, start_inside, st, contact)
     _settling(res, system, settled, x, n, st)
     tests = _chaos_tests(res, system, pts, x, n, st)
     if tests is None:
@@ -255,7 +257,7 @@ def measure(system, settled, settings, res):
             res.transient += 3 * LONG_SEARCH * rule.max_period + 1
             res.recorded = rec = long_run.strobe.shape[0] - 1
             res.final_state = long_run.final_state.copy()
-            describe(res, long_run, long_n, rec, r_start, st, rotor)
+            describe(res, long_run, long_n, rec, start_inside, st, contact)
             label, n_out, conf = Label.PERIODIC, long_n, 1.0
             reason = f"recurrence found by a search up to {LONG_SEARCH * rule.max_period}"
     if ev is not None:
