@@ -135,10 +135,11 @@ class Engine:
 
     def _map(self, job):
         (name, Ec), Bs = job
-        return vi.map2d(row_params((name, min(Bs), Ec)), self.eta,
-                        vary={"B": np.array(sorted(Bs))}, direction="both",
-                        analyses=ANALYSES, scheduler=self.scheduler, workers=1,
-                        command="analyses/paper/calibrate.py")
+        ds = vi.map2d(row_params((name, min(Bs), Ec)), self.eta,
+                      vary={"B": np.array(sorted(Bs))}, direction="both",
+                      analyses=ANALYSES, execution=vi.Execution(scheduler=self.scheduler))
+        ds.attrs["command"] = "analyses/paper/calibrate.py"
+        return ds
 
     def _store(self, job, ds):
         (name, Ec), Bs = job

@@ -78,9 +78,9 @@ def _sweep_one(task):
         return name, xr.load_dataset(path), 0.0
     t = time.perf_counter()
     eta = np.round(np.arange(0.9, 1.5 + 1e-9, step), 6)
-    ds = vi.sweep(p, eta, direction="both", analyses=ANALYSES, blocks=1,
-                  command=f"analyses/paper/paper.py ({name})")
-    ds.attrs["preset"] = name
+    ds = vi.sweep(p, eta, direction="both", analyses=ANALYSES,
+                  continuation=vi.Continuation(blocks=1))
+    ds.attrs.update(command=f"analyses/paper/paper.py ({name})", preset=name)
     tmp = path.with_suffix(".tmp")
     ds.to_netcdf(tmp)
     os.replace(tmp, path)
@@ -530,7 +530,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
 
 
 def main(argv=None):
-    from vibimpact._cli_common import parse_sets
+    from vibimpact.cli_args import parse_sets
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--step", type=float, default=0.005)

@@ -54,7 +54,8 @@ def _sweep(name):
         return _sweep_one((name, STEP, str(CACHE), False, {}))[1]
     except ImportError:
         eta = np.round(np.arange(0.9, 1.5 + 1e-9, STEP), 6)
-        return vi.sweep(vi.presets.get(name), eta, direction="both", blocks=1)
+        return vi.sweep(vi.presets.get(name), eta, direction="both",
+                        continuation=vi.Continuation(blocks=1))
 
 
 def _types(name):
@@ -204,7 +205,8 @@ def _floquet_cost():
     pt.floquet = timed
     try:
         t = time.process_time()
-        ds = vi.sweep(vi.presets.get("fig8"), parse_range("0.9:1.5:0.002"), workers=1)
+        ds = vi.sweep(vi.presets.get("fig8"), parse_range("0.9:1.5:0.002"),
+                      execution=vi.Execution(workers=1))
         total = time.process_time() - t
     finally:
         pt.floquet = orig

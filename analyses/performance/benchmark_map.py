@@ -164,7 +164,8 @@ def _rows_by_point(p, etas, name, values):
         sweep_module.analyse_point = timed_point
         stack.callback(setattr, sweep_module, "analyse_point", inner)
         for v in values:
-            vi.sweep(p.replace(**{name: float(v)}), etas, analyses=ANALYSES, blocks=1)
+            vi.sweep(p.replace(**{name: float(v)}), etas, analyses=ANALYSES,
+                     continuation=vi.Continuation(blocks=1))
     cost["no_transient"] = no_transient[0]
     return cost
 
@@ -241,13 +242,16 @@ def main(argv):
     _warm()
 
     c0 = time.process_time()
-    t1, ds1 = timed(lambda: vi.map2d(p, etas, {name: values}, workers=1))
+    t1, ds1 = timed(lambda: vi.map2d(p, etas, {name: values},
+                                     execution=vi.Execution(workers=1)))
     c1 = time.process_time() - c0
     c0 = time.process_time()
-    t1n, _ = timed(lambda: vi.map2d(p, etas, {name: values}, analyses=("period", "impacts"),
-                                    workers=1))
+    t1n, _ = timed(lambda: vi.map2d(p, etas, {name: values},
+                                    analyses=("period", "impacts"),
+                                    execution=vi.Execution(workers=1)))
     c1n = time.process_time() - c0
-    t2, ds2 = timed(lambda: vi.map2d(p, etas, {name: values}, workers=2))
+    t2, ds2 = timed(lambda: vi.map2d(p, etas, {name: values},
+                                     execution=vi.Execution(workers=2)))
 
     import dask
     from distributed import Client, LocalCluster
@@ -263,7 +267,8 @@ def main(argv):
         client.run(_warm)
         t_up = time.perf_counter() - t_up
         cw = client.run(_cpu)
-        t2w, ds2w = timed(lambda: vi.map2d(p, etas, {name: values}, scheduler=client))
+        t2w, ds2w = timed(lambda: vi.map2d(p, etas, {name: values},
+                                           execution=vi.Execution(scheduler=client)))
         c2w = sum(client.run(_cpu).values()) - sum(cw.values())
     identical = same(ds1, ds2) and same(ds1, ds2w)
 

@@ -65,7 +65,7 @@ def low_damping_section():
              ("B = 0.005", base.replace(B=0.005))]
     rows = []
     for name, p in cases:
-        t, ds = timed(p, workers=2)
+        t, ds = timed(p, execution=vi.Execution(workers=2))
         rows.append((name, p, t, ds))
     t0 = rows[0][2]
     st = SweepSettings()
@@ -127,7 +127,8 @@ def compare_with_paper(chaos):
     grid = ((B0, 0.8 * E0), (B0, E0), (B0, 1.2 * E0), (B0 / 1.5, E0), (B0 * 1.5, E0))
     for B, Ec in ((float(f"{b:.3g}"), float(f"{e:.3g}")) for b, e in grid):
         p = vi.presets.get("fig8").replace(B=B, Ec=Ec)
-        ds = vi.sweep(p, parse_range("1.0:1.4:0.004"), workers=2)
+        ds = vi.sweep(p, parse_range(SENSITIVITY_GRID),
+                      execution=vi.Execution(workers=2))
         iv = vi.intervals(ds)
         sp = chaotic_span(iv)
         if sp is None:
@@ -143,9 +144,9 @@ def compare_with_paper(chaos):
 def main():
     vi.sweep(vi.presets.get("fig8"), [1.0, 1.2])  # warm: load the cache in this process
     cpu0 = time.process_time()
-    t1, ds1 = timed(workers=1)
+    t1, ds1 = timed(execution=vi.Execution(workers=1))
     cpu = (time.process_time() - cpu0) / REPEATS
-    t2, ds2 = timed(workers=2)
+    t2, ds2 = timed(execution=vi.Execution(workers=2))
     same = all(np.array_equal(ds1[v].values, ds2[v].values, equal_nan=True)
                if ds1[v].dtype.kind == "f" else bool((ds1[v].values == ds2[v].values).all())
                for v in ds1.data_vars)

@@ -57,8 +57,9 @@ def _sweep(preset):
     presets' sweeps reach by continuation (from rest the motion may settle on another)."""
     if preset not in _SWEEPS:
         etas = np.round(np.arange(0.9, 1.31 + 1e-9, 0.01), 6)
-        _SWEEPS[preset] = vi.sweep(vi.presets.get(preset), etas, blocks=1,
-                                   analyses=("period", "impacts", "lyapunov"))
+        _SWEEPS[preset] = vi.sweep(vi.presets.get(preset), etas,
+                                   analyses=("period", "impacts", "lyapunov"),
+                                   continuation=vi.Continuation(blocks=1))
     return _SWEEPS[preset]
 
 

@@ -59,7 +59,8 @@ def _profile(settings):
     pr = cProfile.Profile()
     t0 = time.perf_counter()
     pr.enable()
-    ds = vi.sweep(vi.presets.get("fig8"), ETA, workers=1, settings=settings)
+    ds = vi.sweep(vi.presets.get("fig8"), ETA, settings=settings,
+                  execution=vi.Execution(workers=1))
     pr.disable()
     wall = time.perf_counter() - t0
     stats = pstats.Stats(pr).stats
@@ -99,13 +100,20 @@ def fig11_label_changes():
     """Points of the fig11 sweep (same grid) whose label differs with and without the
     extrapolation of transients."""
     p = vi.presets.get("fig11")
-    a = vi.sweep(p, ETA, workers=1, settings=SweepSettings(extrapolate=0))
-    b = vi.sweep(p, ETA, workers=1, settings=SweepSettings())
+    a = vi.sweep(p, ETA, settings=SweepSettings(extrapolate=0),
+                 execution=vi.Execution(workers=1))
+    b = vi.sweep(p, ETA, settings=SweepSettings(), execution=vi.Execution(workers=1))
     return int((a.label.values != b.label.values).sum()), ETA.size
 
 
-def main():
-    vi.sweep(vi.presets.get("fig8"), ETA[:6], workers=1)  # warm-up (numba cache, imports)
+def main(argv=None):
+    global REPORT
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT = smoke.moved(REPORT, out)
+    # periodic and chaotic speeds of fig8 (continued from 1.0): every profiled part runs
+    smoke.shrink(globals(), out, ETA=np.round(np.arange(1.0, 1.26, 0.05), 6), COUNT_PERIODS=20)
+    # warm-up (numba cache, imports)
+    vi.sweep(vi.presets.get("fig8"), ETA[:6], execution=vi.Execution(workers=1))
     runs = {}
     for label, st in (("without extrapolation", SweepSettings(extrapolate=0)),
                       ("with extrapolation (default)", SweepSettings())):

@@ -96,12 +96,16 @@ def results():
             out[f"continue_orbit/{f}"] = np.asarray(getattr(br, f))
     out["classify_params/regime"] = np.array([str(cp[0] if isinstance(cp, tuple) else cp)])
 
-    ds = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both", blocks=4)
-    ds2 = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both", blocks=4, workers=2)
+    ds = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both",
+                  continuation=vi.Continuation(blocks=4))
+    ds2 = vi.sweep(fig8, np.arange(1.10, 1.30, 0.01), direction="both",
+                   continuation=vi.Continuation(blocks=4),
+                   execution=vi.Execution(workers=2))
     for name in sorted(ds.data_vars):
         out[f"sweep/{name}"] = ds[name].values
         out[f"sweep_workers2/{name}"] = ds2[name].values
-    m = vi.map2d(fig8, np.arange(1.1, 1.3, 0.02), {"kh": [10.0, 40.0]}, workers=1)
+    m = vi.map2d(fig8, np.arange(1.1, 1.3, 0.02), {"kh": [10.0, 40.0]},
+                 execution=vi.Execution(workers=1))
     for name in sorted(m.data_vars):
         out[f"map/{name}"] = m[name].values
     return out
