@@ -17,9 +17,10 @@ def test_dense_samples_match_a_tight_reference_at_every_sample_time(method, step
     p = vi.presets.get("fig11").replace(eta=1.06)
     m = 16
     kw = dict(periods=20, transient=30, dense=m)
-    run = vi.simulate(p, method=method, steps_per_period=steps_per_period,
-                      adaptive=method != "rk4" and steps_per_period == 400, **kw)
-    ref = vi.simulate(p, rtol=1e-12, atol=1e-14, **kw)
+    run = vi.simulate(p, **kw, solver=vi.SolverSettings(
+        method=method, steps_per_period=steps_per_period,
+        adaptive=method != "rk4" and steps_per_period == 400))
+    ref = vi.simulate(p, **kw, solver=vi.SolverSettings(rtol=1e-12, atol=1e-14))
     assert run.ok and ref.ok
     assert run.dense.shape == ref.dense.shape == (20 * m + 1, 4)
     assert np.all(np.isfinite(run.dense))
@@ -35,7 +36,8 @@ def test_fixed_step_samples_on_step_ends_are_all_written():
     """The case that found the bug: RK4 with its default fixed step, 16 samples a period;
     80 of 641 rows were left unwritten."""
     p = vi.presets.get("fig11").replace(eta=1.06)
-    run = vi.simulate(p, periods=40, transient=100, method="rk4", dense=16)
+    run = vi.simulate(p, periods=40, transient=100, dense=16,
+                      solver=vi.SolverSettings(method="rk4"))
     assert run.ok
     assert run.dense.shape == (641, 4)
     assert np.all(np.isfinite(run.dense))

@@ -171,10 +171,13 @@ def test_blow_up_is_reported_as_diverged_not_as_data():
 
 
 def test_simulate_rejects_bad_arguments_by_name():
-    """simulate raises ValueError naming a bad argument."""
+    """simulate (and the solver settings it takes) raise ValueError naming a bad
+    argument."""
     p = vi.presets.get("fig8")
     for kw, name in ((dict(periods=0), "periods"), (dict(transient=-1), "transient"),
-                     (dict(method="euler"), "method"), (dict(rtol=0.0), "rtol"),
                      (dict(state0=[1, 2]), "state0"), (dict(periods=2.5), "periods")):
         with pytest.raises(ValueError, match=name):
             vi.simulate(p, **kw)
+    for kw, name in ((dict(method="euler"), "method"), (dict(rtol=0.0), "rtol")):
+        with pytest.raises(ValueError, match=name):
+            vi.simulate(p, solver=vi.SolverSettings(**kw))

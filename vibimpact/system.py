@@ -9,9 +9,11 @@ takes a :class:`System` and only the parameters of the analysis itself::
     run = sys.simulate(periods=200, transient=500)
     lyapunov_spectrum(sys.with_params(eta=1.185))
 
-A solver setting left ``None`` means "the analysis' own default" (e.g. tolerances of
-1e-9 for :meth:`System.simulate`, 1e-10 for the variational equations), so that a
-default ``System`` runs every analysis as it was designed and tested.
+The solver settings are one :class:`~vibimpact.SolverSettings` (``System(p,
+solver=vi.SolverSettings(rtol=1e-10))``); a setting left ``None`` means "the analysis' own
+default" (e.g. tolerances of 1e-9 for :meth:`System.simulate`, 1e-10 for the variational
+equations), so that a default ``System`` runs every analysis as it was designed and
+tested.  Runs go through a :class:`~vibimpact.Solver` (:mod:`vibimpact.solver`).
 """
 from __future__ import annotations
 
@@ -23,21 +25,22 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import _validate as _v
-from ._kernel import boundary as _kb
-from .models import DUFFING, ROTOR, Model, resolve
+from .models import Model, resolve
 from .params import Domain
 from .run import Status, status_of
+from .solver import SETTINGS, Solver, SolverSettings, as_settings
 
 if TYPE_CHECKING:  # names of the annotations only
-    from typing import Any
-
     from numpy.typing import ArrayLike
 
-    from ._kernel.boundary import Method, Options
     from .run import Run
 
-#: solver settings a System carries (None: the analysis' default)
+#: the solver settings a System also takes as keywords (the rest only in ``solver``)
 SOLVER_FIELDS = ("method", "rtol", "atol", "max_step", "event_tol")
+
+
+#: the relative tolerance of :meth:`System.monodromy` when the system sets none
+MONODROMY_RTOL = 1e-10
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,7 +89,10 @@ class System:
         Duffing oscillator is taken from the type of ``params`` otherwise.
     method : {"dop853", "dp5", "rk4"}, optional
     rtol, atol, max_step, event_tol : float, optional
-        Solver settings; ``None`` leaves each analysis its own default.
+        Solver settings as keywords; each given one replaces the same setting of
+        ``solver``.
+    solver : SolverSettings, optional
+        The solver settings; ``None`` entries leave each analysis its own default.
 
     Raises
     ------
@@ -101,18 +107,18 @@ class System:
     atol: float = None
     max_step: float = None
     event_tol: float = None
+    solver: SolverSettings = None
     p: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         mdl, vec = resolve(self.params, self.model)
         object.__setattr__(self, "model", mdl)
         object.__setattr__(self, "p", vec)
-        if self.method is not None:
-            _kb.Method.named(_v.choice("method", self.method, _kb.METHODS))
-        for name in ("rtol", "atol", "max_step", "event_tol"):
-            value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, _v.positive(name, value))
+        keywords = {k: getattr(self, k) for k in SOLVER_FIELDS}
+        settings = SolverSettings(**keywords).over(as_settings(self.solver))
+        object.__setattr__(self, "solver", settings)
+        for name in SOLVER_FIELDS:  # the keywords' attributes say the settings
+            object.__setattr__(self, name, getattr(settings, name))
         if not math.isfinite(self.omega) or self.omega <= 0.0:
             raise ValueError(f"the forcing frequency {mdl.param_names[mdl.omega_index]} "
                              f"must be finite and > 0, got {self.omega!r}")
@@ -135,8 +141,8 @@ class System:
 
     @property
     def builtin(self):
-        """Whether the model is the built-in rotor or Duffing oscillator."""
-        return self.model is ROTOR or self.model is DUFFING
+        """Whether the model is a built-in one (:func:`vibimpact.models.names`)."""
+        return self.model.builtin
 
     @property
     def user_model(self):
@@ -220,35 +226,35 @@ class System:
         return replace(self, params=vec)
 
     def with_solver(self, **settings) -> System:
-        """The same system with other solver settings (``method``, ``rtol``, ...)."""
-        unknown = set(settings) - set(SOLVER_FIELDS)
-        if unknown:
-            raise ValueError(f"solver settings are {', '.join(SOLVER_FIELDS)}, got "
-                             f"{', '.join(sorted(unknown))}")
-        return replace(self, **settings)
+        """The same system with other solver settings (``method``, ``rtol``, ... of
+        :class:`~vibimpact.SolverSettings`); ``ValueError`` for an unknown one."""
+        return self._with_settings(self.solver.replace(**settings))
 
-    def solver(self, **defaults) -> dict[str, Any]:
+    def _with_settings(self, settings):
+        return replace(self, solver=settings, **dict.fromkeys(SOLVER_FIELDS))
+
+    def settings(self, **defaults) -> SolverSettings:
         """The solver settings, each ``None`` replaced by the caller's default (then by
-        :func:`vibimpact.simulate`'s)."""
-        base = dict(method="dop853", rtol=1e-9, atol=1e-12, max_step=None, event_tol=1e-12)
-        base.update(defaults)
-        return {k: getattr(self, k) if getattr(self, k) is not None else base[k]
-                for k in SOLVER_FIELDS}
+        :func:`vibimpact.simulate`'s, :data:`vibimpact.solver.SIMULATE_DEFAULTS`)."""
+        unknown = set(defaults) - set(SETTINGS)
+        if unknown:
+            raise ValueError(f"solver settings are {', '.join(SETTINGS)}, got "
+                             f"{', '.join(sorted(unknown))}")
+        return self.solver.filled(**defaults)
 
     # --- runs ---------------------------------------------------------------------------
     def simulate(self, periods: int = 100, transient: int = 0,
-                 state0: ArrayLike | None = None, *, dense: int = 0, **solver) -> Run:
-        """:func:`vibimpact.simulate` of this system (``solver`` overrides its settings).
+                 state0: ArrayLike | None = None, *, dense: int = 0,
+                 solver: SolverSettings | None = None) -> Run:
+        """:func:`vibimpact.simulate` of this system (the settings of ``solver`` that
+        are not None replace the system's).
 
         Returns
         -------
         Run
         """
         from .simulation import simulate
-        kw = self.solver()
-        kw.update(solver)
-        return simulate(self.params, periods, transient, state0, dense=dense,
-                        model=self.user_model, **kw)
+        return simulate(self, periods, transient, state0, dense=dense, solver=solver)
 
     def strobe(self, periods: int, state0: ArrayLike,
                **defaults) -> tuple[Status, str, np.ndarray]:
@@ -261,10 +267,9 @@ class System:
         strobe : ndarray, shape (rows, n)
             Rows 0..periods, fewer when the run stopped early.
         """
-        from .simulation import strobe_only
-        kw = self.solver(**defaults)
-        return strobe_only(self.model, self.p, periods, state0, kw["method"], kw["rtol"],
-                           kw["atol"])
+        seg = Solver(self, state0, self.settings(**defaults), check=False).advance(
+            periods, events=False)
+        return seg.status, seg.reason, seg.strobe
 
     def monodromy(self, state0: ArrayLike, n: int = 1, *,
                   tangent_tol: float = 1.0) -> Monodromy:
@@ -291,68 +296,28 @@ class System:
         Monodromy
             ``status`` DIVERGED/FAILED with a NaN matrix when the integration stopped.
         """
-        meth, options = self.variational(tangent_tol)
         d = self.n_state
         if state0 is None:
             raise ValueError(f"state0 must be {d} finite numbers, got None")
-        x0 = _v.state("state0", state0, d)
         n = _v.count("n", n, 1)
-        y = np.zeros(d * (1 + d))
-        y[:d] = x0
-        for c in range(d):
-            y[d + c * d + c] = 1.0
-        problem = self.model.problem(self.p, variational=True)
-        mode = problem.initial_mode(x0.copy())
-        clock = _kb.new_clock(problem, options, steps=False)
-        # nothing is recorded before k_record = n, so the event log never fills
-        status, _ = _kb.integrate(problem, meth, options, y, mode, clock, n, k_record=n,
-                                  log=_kb.EventLog(64, y.size, self.model.n_mode))
+        solver = Solver.variational(self, state0, self.settings(rtol=MONODROMY_RTOL),
+                                    tangents=d, tangent_tol=tangent_tol)
+        x0 = solver.y[:d].copy()
+        seg = solver.advance(0, skip=n)
         T = self.period
-        st, reason = status_of(status)
-        if st is not Status.OK:
-            return Monodromy(np.full((d, d), np.nan), x0, np.full(d, np.nan), n, n * T, st,
-                             f"{reason} in forcing period {int(clock[0])}")
+        if seg.status is not Status.OK:
+            return Monodromy(np.full((d, d), np.nan), x0, np.full(d, np.nan), n, n * T,
+                             seg.status, f"{status_of(seg.code)[1]} in forcing period "
+                                         f"{int(solver.clock[0])}")
+        y = solver.y
         M = y[d:].reshape(d, d).T.copy()  # column c is the tangent vector started at e_c
         return Monodromy(M, x0, y[:d].copy(), n, n * T)
-
-    def variational(self, tangent_tol: float | None = None,
-                    **defaults) -> tuple[Method, Options]:
-        """Method and kernel options of the variational equations (and of the
-        two-trajectory runs, ``tangent_tol`` None): adaptive methods only, the bound on
-        the model state only, the tangent entries' local errors tested at ``tangent_tol``
-        times the tolerances (``inf``: not tested; None: as the state's).
-
-        ``defaults`` are the analysis' solver defaults for the settings left None
-        (``rtol = 1e-10`` unless given; :meth:`solver`); ``max_step`` None means
-        ``T / 4``.
-        """
-        kw = self.solver(**{"rtol": 1e-10, **defaults})
-        if kw["method"] not in ("dop853", "dp5"):
-            raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), "
-                             f"got {kw['method']!r}")
-        T = self.period
-        options = _kb.Options(rtol=kw["rtol"], atol=kw["atol"], h_fixed=T / 400.0,
-                              max_step=T / 4.0 if kw["max_step"] is None else kw["max_step"],
-                              bound=self.model.bound, event_tol=kw["event_tol"],
-                              max_steps_per_period=10**6, adaptive=True,
-                              n_bound=self.n_state)
-        if tangent_tol is not None:
-            try:
-                f = float(tangent_tol)
-            except (TypeError, ValueError):
-                f = float("nan")
-            if not f >= 1.0:
-                raise ValueError(f"tangent_tol must be a number >= 1 or inf, "
-                                 f"got {tangent_tol!r}")
-            options = options.with_(n_err=self.n_state,
-                                    tangent_factor=0.0 if math.isinf(f) else f)
-        return _kb.Method.named(kw["method"]), options
 
     def resolved(self, **defaults) -> System:
         """The same system with every solver setting fixed: the caller's ``defaults``
         (then :func:`vibimpact.simulate`'s) for those left None, so that the analyses it
         is passed on to use the caller's defaults, not their own."""
-        return replace(self, **self.solver(**defaults))
+        return self._with_settings(self.settings(**defaults))
 
 
 def as_system(system, name="system"):

@@ -46,6 +46,7 @@ import numpy as np
 from .._kernel import boundary as _kb
 from ..run import Status, status_of
 from .. import _validate as _v
+from ..solver import Solver
 from ..system import as_system
 from .exponents import KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, Averaging, LyapunovResult
 from .floquet import floquet_lyapunov
@@ -70,11 +71,12 @@ FD_SOLVER = dict(rtol=1e-12, atol=1e-14)
 
 
 def _start(system, state0, transient, solver):
-    """State at the start of a forcing period after ``transient`` periods."""
+    """State at the start of a forcing period after ``transient`` periods (``solver``:
+    the settings)."""
     y = _v.state("state0", state0, system.n_state)
     if transient == 0:
         return y, Status.OK, ""
-    run = system.simulate(periods=1, transient=transient - 1, state0=y, **solver)
+    run = system.simulate(periods=1, transient=transient - 1, state0=y, solver=solver)
     return run.final_state, run.status, run.reason
 
 
@@ -237,7 +239,8 @@ def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
     (4,)
     """
     system = as_system(system)
-    meth, options = system.variational(tangent_tol, **SPECTRUM_SOLVER)
+    settings = system.settings(**SPECTRUM_SOLVER)
+    Solver.check_tangents(settings, tangent_tol)
     n = system.n_state
     m = n if n_exponents is None else _v.count("n_exponents", n_exponents, 1)
     if m > n:
@@ -248,7 +251,7 @@ def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
         floquet_tol = _v.positive("floquet_tol", floquet_tol)
     T = system.period
     kind = KIND_FLOW_PHASE if include_phase else KIND_FLOW
-    x0, st, reason = _start(system, state0, avg.transient, system.solver(**SPECTRUM_SOLVER))
+    x0, st, reason = _start(system, state0, avg.transient, settings)
     if st is not Status.OK:
         return LyapunovResult(np.full(m, np.nan), np.full(m, np.nan), T, 0, False,
                               "variational", kind, st, "transient: " + reason)
@@ -260,7 +263,9 @@ def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
         watch = _period_watch(states, lambda x, k: shoot_periodic_orbit(newton, x, k, tol=tol),
                               floquet_tol, floquet_max_period,
                               max(avg.block, 3 * floquet_max_period + 1))
-    logs, status = _benettin_blocks(system, meth, options, x0, m, states, avg, watch)
+    solver = Solver.variational(system, x0, settings, tangents=m, tangent_tol=tangent_tol,
+                                first_step=system.period / 50.0)
+    logs, status = _benettin_blocks(solver, states, avg, watch)
     res = _result(logs, status, T, avg.block, avg.target_stderr, "variational", kind)
     if include_phase and res.status is Status.OK:
         res = _with_phase(res)
@@ -285,28 +290,20 @@ def _averaging(averaging):
     return averaging
 
 
-def _benettin_blocks(system, meth, options, x0, m, states, avg, watch):
-    """The tangent vectors' log growths per period (QR after each), and the status; the
-    state at the start of each period goes into ``states``."""
-    n = system.n_state
-    y = np.zeros(n * (1 + m))
-    y[:n] = x0
-    for c in range(m):
-        y[n + c * n + c] = 1.0
-    problem = system.model.problem(system.p, variational=True)
-    mode = problem.initial_mode(x0)
-    ks = _kb.new_clock(problem, options, h0=system.period / 50.0, steps=False)
-    counters = _kb.counters()
+def _benettin_blocks(solver, states, avg, watch):
+    """The tangent vectors' log growths per period (QR after each) of the variational
+    ``solver``, and the status; the state at the start of each period goes into
+    ``states``."""
+    n = solver.system.n_state
+    m = solver.y.size // n - 1
     pos = [0]
-    bound = system.model.bound
 
     def step(count, out):
-        st_, got = _kb.benettin(problem, meth, options, y, mode, ks, n, bound, count,
-                                out, states[pos[0]:pos[0] + count], counters)
+        st_, got = solver.benettin(count, out, states[pos[0]:pos[0] + count])
         pos[0] += got
         return st_, got
 
-    return _run_blocks(step, m, system.period, avg, watch)
+    return _run_blocks(step, m, solver.system.period, avg, watch)
 
 
 def _with_phase(res):
@@ -351,32 +348,23 @@ def largest_lyapunov(system: System, state0: ArrayLike | None = None, *, d0: flo
         One exponent, ``method`` "two-trajectory".
     """
     system = as_system(system)
-    meth, options = system.variational(None, **TWO_TRAJECTORY_SOLVER)
+    settings = system.settings(**TWO_TRAJECTORY_SOLVER)
+    Solver.check_tangents(settings)
     d0 = _v.positive("d0", d0)
     n = system.n_state
     avg = _averaging(averaging)
     T = system.period
-    x0, st, reason = _start(system, state0, avg.transient,
-                            system.solver(**TWO_TRAJECTORY_SOLVER))
+    x0, st, reason = _start(system, state0, avg.transient, settings)
     if st is not Status.OK:
         return LyapunovResult(np.full(1, np.nan), np.full(1, np.nan), T, 0, False,
                               "two-trajectory", KIND_FLOW, st, "transient: " + reason)
-    y = x0.copy()
     y2 = x0.copy()
     y2 += d0 / math.sqrt(n)
-    problem = system.model.problem(system.p)
-    mode = problem.initial_mode(y)
-    mode2 = problem.initial_mode(y2)
-    ks = _kb.new_clock(problem, options, h0=T / 50.0, steps=False)
-    ks2 = ks.copy()
+    ref, perturbed = Solver.pair(system, x0, y2, settings, first_step=T / 50.0)
     scale = np.ones(n)
-    options = options.with_(n_bound=0)
-    counters = _kb.counters()
-    bound = system.model.bound
 
     def step(count, out):
-        return _kb.two_trajectory(problem, meth, options, y, mode, ks, y2, mode2, ks2, d0,
-                                  scale, bound, count, out, counters)
+        return ref.two_trajectory(perturbed, d0, scale, count, out)
 
     logs, status = _run_blocks(step, 1, T, avg)
     return _result(logs, status, T, avg.block, avg.target_stderr, "two-trajectory",
@@ -503,7 +491,7 @@ def strobe_map_jacobian(system: System, state0: ArrayLike, *, n: int = 1,
     x0 = _v.state("state0", state0, system.n_state)
     n = _v.count("n", n, 1)
     eps = _v.positive("eps", eps)
-    solver = system.solver(**FD_SOLVER)
+    solver = system.settings(**FD_SOLVER)
     d = x0.size
     M = np.empty((d, d))
     for j in range(d):
@@ -511,7 +499,7 @@ def strobe_map_jacobian(system: System, state0: ArrayLike, *, n: int = 1,
         for sgn in (1.0, -1.0):
             x = x0.copy()
             x[j] += sgn * eps
-            run = system.simulate(periods=n, state0=x, **solver)
+            run = system.simulate(periods=n, state0=x, solver=solver)
             if run.status is not Status.OK:
                 raise ValueError(f"state0: the map could not be evaluated ({run.reason})")
             cols.append(run.final_state)

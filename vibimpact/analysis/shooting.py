@@ -248,7 +248,7 @@ def monodromy(system: System, state0: ArrayLike, n: int = 1, *,
 
 def _cycle(system, x, n):
     """Stroboscopic points of ``n`` periods from ``x`` (rows 0..n), or None."""
-    run = system.simulate(periods=n, state0=x, **system.solver(**SHOOTING_SOLVER))
+    run = system.simulate(periods=n, state0=x, solver=system.settings(**SHOOTING_SOLVER))
     return run.strobe if run.status is Status.OK else None
 
 
