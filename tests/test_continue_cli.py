@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
+from vibimpact.bifurcation_kinds import BifurcationKind
 from vibimpact.cli import main
 
 START = ["--preset", "fig8", "--eta", "1.12", "--approach", "1.1", "--transient", "200"]
@@ -63,9 +64,7 @@ def files(tmp_path_factory):
 
 def _ns(ds):
     """The one Neimark-Sacker bifurcation of a branch file: (value, lower, upper)."""
-    from vibimpact.branches import BIFURCATION_CODES
-
-    sel = ds["bifurcation_kind"].values == BIFURCATION_CODES["Neimark-Sacker"]
+    sel = ds["bifurcation_kind"].values == BifurcationKind.NEIMARK_SACKER.code
     assert sel.sum() == 1, ds["bifurcation_kind"].values
     return tuple(float(ds[v].values[sel][0]) for v in
                  ("bifurcation_value", "bifurcation_lower", "bifurcation_upper"))
@@ -74,7 +73,8 @@ def _ns(ds):
 def test_cli_finds_the_neimark_sacker_point_the_api_finds(files):
     """Hypothesis: the command continues the same orbit as the API does from the same
     start (the state reached by continued_state from 1.1), so its file holds the same
-    Neimark-Sacker value bit for bit, and the printed summary names it."""
+    Neimark-Sacker value bit for bit (after the grazing where the orbit gains its
+    third impact), and the printed summary names both."""
     from vibimpact.analysis import continue_orbit
     from vibimpact.sweeps import continued_state
 
@@ -85,12 +85,15 @@ def test_cli_finds_the_neimark_sacker_point_the_api_finds(files):
     np.testing.assert_array_equal(ds["start_state"].values, x0)
     br = continue_orbit(vi.System(p), x0, param="eta", stop=1.25, refine=1e-6)
     kinds = [k for _, k, _ in br.bifurcations]
-    assert kinds == ["Neimark-Sacker"]
+    assert kinds == [BifurcationKind.GRAZING, BifurcationKind.NEIMARK_SACKER]
     value, lo, hi = _ns(ds)
-    assert value == br.bifurcations[0][2]
-    assert (lo, hi) == tuple(sorted(br.brackets[0]))
+    assert value == br.bifurcations[1][2]
+    assert (lo, hi) == tuple(sorted(br.brackets[1]))
     np.testing.assert_array_equal(ds["eta"].values, br.values)
     assert f"Neimark-Sacker at eta = {value:.7g}" in out
+    graze = br.bifurcations[0][2]
+    assert f"grazing at eta = {graze:.7g}" in out
+    assert "impacts per period 2 -> 3" in out
 
 
 def test_the_bifurcation_is_where_the_multipliers_leave_the_unit_circle(files):
@@ -218,8 +221,11 @@ def test_dataset_round_trip_gives_the_branch_back(files):
     first = vi.io.read_netcdf(d / "p1.nc")
     for name in again.data_vars:
         np.testing.assert_array_equal(again[name].values, first[name].values, name)
-    assert back.param == "eta" and back.n == 1 and back.bifurcations[0][1] == \
-        "Neimark-Sacker"
+    assert back.param == "eta" and back.n == 1
+    assert [k for _, k, _ in back.bifurcations] == [BifurcationKind.GRAZING,
+                                                    BifurcationKind.NEIMARK_SACKER]
+    assert back.event_impacts[0] == (2, 3)
+    np.testing.assert_array_equal(back.impacts_per_period, first["impacts_per_period"])
 
 
 def test_refine_off_gives_the_interpolated_value_of_the_plain_branch():
@@ -234,8 +240,10 @@ def test_refine_off_gives_the_interpolated_value_of_the_plain_branch():
     plain = continue_orbit(vi.System(p), x0, param="eta", stop=1.25)
     np.testing.assert_array_equal(br.values, plain.values)
     fine = continue_orbit(vi.System(p), x0, param="eta", stop=1.25, refine=1e-6)
-    (i, kind, v), (_, _, vf) = br.bifurcations[0], fine.bifurcations[0]
-    assert kind == "Neimark-Sacker" and br.values[i - 1] < v < br.values[i]
+    [(i, v)] = [(i, v) for i, k, v in br.bifurcations
+                if k is BifurcationKind.NEIMARK_SACKER]
+    [vf] = [v for _, k, v in fine.bifurcations if k is BifurcationKind.NEIMARK_SACKER]
+    assert br.values[i - 1] < v < br.values[i]
     assert abs(v - vf) < 0.02 and fine.values.size == br.values.size + 2
 
 
@@ -246,7 +254,7 @@ def test_folds_of_a_duffing_branch_are_turning_points_in_file_and_figure():
     outer parts stable; refinement leaves turning points alone; the branch figure (no
     rotor amplitudes: x_m and |mu|max) explains both line styles and the fold marker."""
     from vibimpact.analysis import Steps, continue_orbit
-    from vibimpact.branches import BIFURCATION_CODES, branch_to_dataset
+    from vibimpact.branches import branch_to_dataset
     from vibimpact.plotting.branch import plot_branch_figure
 
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=0.8)
@@ -255,7 +263,7 @@ def test_folds_of_a_duffing_branch_are_turning_points_in_file_and_figure():
                         steps=Steps(ds=0.02, ds_max=0.05), refine=1e-6)
     ds = branch_to_dataset(br, vi.System(p))
     kinds = ds["bifurcation_kind"].values
-    assert list(kinds) == [BIFURCATION_CODES["fold (turning point)"]] * 2
+    assert list(kinds) == [BifurcationKind.TURNING_POINT.code] * 2
     np.testing.assert_array_equal(ds["bifurcation_lower"].values,
                                   ds["bifurcation_upper"].values)
     i, j = ds["bifurcation_point"].values

@@ -11,7 +11,8 @@ import pytest
 import vibimpact as vi
 from vibimpact.analysis import detect_period
 from vibimpact.sweeps import SweepSettings
-from vibimpact.sweeps.transitions import TYPES, format_transitions, transition_types
+from vibimpact.bifurcation_kinds import BifurcationKind, kinds_in
+from vibimpact.sweeps.transitions import format_transitions, transition_types
 from conftest import continued_state, preset
 
 #: fig8 at B = Ec = 0.1, the configuration the expected transitions were measured at
@@ -79,6 +80,32 @@ def test_fold_at_grazing_with_hysteresis_on_the_down_sweep():
     assert _contacts(eta, ds["final_state"].values[0]) > 0  # from the jumped-to motion
 
 
+def _impacts_per_period(eta, state, periods=20):
+    """Impacts per forcing period of the attractor reached from ``state`` at ``eta``."""
+    return _contacts(eta, state, periods) / periods
+
+
+def test_a_new_impact_at_the_same_period_is_typed_grazing():
+    """Hypothesis: on fig8's impacting P1 branch (reached by continuation) the orbit
+    gains a third impact per period between eta = 1.19 and 1.193 while staying period 1
+    and stable; the transition is typed grazing (one BifurcationKind, no multiplier
+    event), and plain simulation 2e-4 on either side of its refined bracket sees 2 and
+    3 impacts per period."""
+    x0 = continued_state("fig8", 1.18)
+    ds = vi.sweep(FIG8, np.array([1.18, 1.19, 1.193]), state0=x0,
+                  continuation=vi.Continuation(blocks=1))
+    assert list(ds["period"].values) == [1, 1, 1]
+    assert list(ds["impacts_per_period"].values) == [2, 2, 3]
+    tt = transition_types(ds, tol=1e-4)
+    assert tt.sizes["boundary"] == 1
+    assert kinds_in(tt["type"].values[0]) == [BifurcationKind.GRAZING]
+    lo, hi = float(tt["eta_lo"].values[0]), float(tt["eta_hi"].values[0])
+    assert 1.19 <= lo < hi <= 1.193 and hi - lo <= 1e-4
+    x = ds["final_state"].values[1]
+    assert _impacts_per_period(lo - 2e-4, x) == 2
+    assert _impacts_per_period(hi + 2e-4, x) == 3
+
+
 @pytest.fixture(scope="module")
 def floquet_sweep():
     """fig8 on the impacting upper branch, eta = 1.16 .. 1.19, with the Floquet analysis
@@ -123,8 +150,8 @@ def test_a_label_change_on_the_same_orbit_is_typed_none(floquet_sweep):
 
 
 def test_the_table_has_one_typed_row_per_interval_boundary(floquet_sweep):
-    """format_transitions gives one Markdown row per boundary; every type is a known
-    one (a chain of known ones)."""
+    """format_transitions gives one Markdown row per boundary; every type is a
+    BifurcationKind (a chain of them)."""
     ds = floquet_sweep.copy(deep=True)
     lab = ds["label"].values.copy()
     lab[-1] = "something else"
@@ -132,7 +159,7 @@ def test_the_table_has_one_typed_row_per_interval_boundary(floquet_sweep):
     tt = transition_types(ds, refine=False)
     assert tt.sizes["boundary"] == len(vi.intervals(ds)["start"]) - 1
     for t in tt["type"].values:
-        assert all(part in TYPES for part in str(t).split(" + "))
+        assert all(isinstance(k, BifurcationKind) for k in kinds_in(t))
     md = format_transitions(tt)
     assert md.count("\n") == 1 + tt.sizes["boundary"]
 

@@ -81,8 +81,8 @@ class BifurcationKind(enum.StrEnum):
     #: a multiplier leaves through +1: the orbit vanishes (with another one)
     FOLD = ("fold", 2, "fold", "fold (μ = +1)", "+1")
     #: a multiplier leaves through -1: a period-2n orbit is born
-    PERIOD_DOUBLING = ("period doubling", 3, "period_doubling", "period doubling (μ = −1)",
-                       "-1")
+    PERIOD_DOUBLING = ("period doubling", 3, "period_doubling",
+                       "period doubling (μ = −1)", "-1")
     #: a complex pair leaves the unit circle: an invariant torus (quasi-periodic motion)
     NEIMARK_SACKER = ("Neimark-Sacker", 4, "Neimark-Sacker",
                       "Neimark–Sacker (complex pair |μ| = 1)", "complex")

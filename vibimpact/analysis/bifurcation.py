@@ -239,10 +239,12 @@ def _kind(why, orb_lo, orb_hi, sig_lo, sig_hi, gap, tol):
     (cl, ml), (ch, mh) = sig_lo, (sig_hi if len(sig_hi) == 2 else ((), ()))
     first = [m[0] for m in ml], [m[0] for m in mh]
     if (cl[:1] != ch[:1]) or sorted(set(first[0])) != sorted(set(first[1])):
-        return (BifurcationKind.GRAZING, f"contact events per orbit {cl[0] if cl else '?'} -> "
-                           f"{ch[0] if ch else '?'}, modes {ml} -> {mh}; {at}", True)
-    return (BifurcationKind.STICK_SLIP, f"friction events per orbit {cl[1:]} -> {ch[1:]}, modes {ml} "
-                          f"-> {mh}; {at}", False)
+        return (BifurcationKind.GRAZING,
+                f"contact events per orbit {cl[0] if cl else '?'} -> "
+                f"{ch[0] if ch else '?'}, modes {ml} -> {mh}; {at}", True)
+    return (BifurcationKind.STICK_SLIP,
+            f"friction events per orbit {cl[1:]} -> {ch[1:]}, modes {ml} -> {mh}; {at}",
+            False)
 
 
 def locate_bifurcation(system: System, state0: ArrayLike, n: int = 1, *, param: str,

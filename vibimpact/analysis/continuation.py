@@ -536,7 +536,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
              if kind is BifurcationKind.TURNING_POINT else
              (int(impacts[i - 1]), int(impacts[i])))
             for i, kind, v in _branch_events(vals, stab, mults)]
-    rows += branch_grazings(system, param, n, vals, states, impacts, refine, steps.newton_tol)
+    rows += branch_grazings(system, param, n, vals, states, impacts, refine,
+                            steps.newton_tol)
     rows.sort(key=lambda row: row[:3])
     return Branch(param, vals, states, mults, stab, amp, n,
                   tuple(row[:3] for row in rows), status, tuple(row[3] for row in rows),

@@ -1,7 +1,8 @@
 """The type of every transition of a sweep's interval map, refined below the sweep step.
 
 A response curve says *where* the motion changes; :func:`transition_types` says *how*, at
-each boundary of :func:`vibimpact.intervals` (in sweep order, for each direction):
+each boundary of :func:`vibimpact.intervals` (in sweep order, for each direction), by
+the short name of a :class:`~vibimpact.bifurcation_kinds.BifurcationKind`:
 
 ===================  ==================================================================
 ``period doubling``  a Floquet multiplier of the periodic orbit leaves through -1 (or
@@ -11,7 +12,8 @@ each boundary of :func:`vibimpact.intervals` (in sweep order, for each direction
                      the motion jumps, with hysteresis between up and down sweeps
 ``Neimark-Sacker``   a complex pair leaves the unit circle: quasi-periodic motion
 ``grazing``          the orbit's contacts change (the minimum gap reaches 0): impactless
-                     <-> impacting, a new contact point, a permanent contact lifting off
+                     <-> impacting, a new contact point (its impacts per period change
+                     at the same period), a permanent contact lifting off
 ``stick-slip``       the orbit's friction events change
 ``intermittency``    chaos ends where the periodic orbit is born in a fold (type-I
                      intermittency before it)
@@ -53,6 +55,7 @@ import json
 import numpy as np
 
 from ..analysis.classify import Label
+from ..bifurcation_kinds import BifurcationKind
 from ..analysis.continuation import locate_bifurcation
 from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
@@ -60,6 +63,7 @@ from ..params import Params
 from ..run import Status
 from .. import _validate as _v
 from ..simulation import simulate
+from ..solver import SolverSettings
 from ..system import System
 from .dataset import label_text, sweep_params
 from ..points.point import REGIME_CODES, SweepSettings, analyse_point
@@ -71,10 +75,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from ..params import DuffingParams
 
-__all__ = ["TYPES", "transition_types", "format_transitions"]
-
-TYPES = ("period doubling", "fold", "Neimark-Sacker", "grazing", "stick-slip",
-         "intermittency", "crisis", "coexistence", "none", "unresolved")
+__all__ = ["transition_types", "format_transitions"]
 
 _PERIODIC = REGIME_CODES[Label.PERIODIC]
 _QUASI = REGIME_CODES[Label.QUASIPERIODIC]
@@ -153,7 +154,8 @@ def _attractor(p, pt, hints, periods=400):
             not np.all(np.isfinite(pt.state)):
         return None
     q = p.replace(eta=pt.eta)
-    run = simulate(q, periods=periods, state0=pt.state, rtol=1e-10, atol=1e-12)
+    run = simulate(q, periods=periods, state0=pt.state,
+                   solver=SolverSettings(rtol=1e-10, atol=1e-12))
     if run.status is not Status.OK:
         return None
     st = run.strobe
@@ -218,7 +220,7 @@ def _coexists(p, eta, orb, other_state, periods=200):
     if not np.all(np.isfinite(other_state)):
         return False
     run = simulate(p.replace(eta=float(eta)), periods=1, transient=periods - 1,
-                   state0=other_state, rtol=1e-9)
+                   state0=other_state, solver=SolverSettings(rtol=1e-9))
     if run.status is not Status.OK:
         return False
     scale = max(1.0, float(np.abs(orb.cycle).max()))
@@ -241,7 +243,7 @@ def _follow(p, orb, start, stop, width, max_events=4):
     """Events met by a stable orbit followed from ``start`` to ``stop``: a list of
     :class:`Bifurcation`; after a grazing or stick-slip change the orbit (new contacts)
     is followed on, so a step may show e.g. grazing then period doubling.  The last entry
-    has kind "none" when the orbit reaches ``stop``."""
+    has kind NONE when the orbit reaches ``stop``."""
     events = []
     x, n, lo = orb.state, orb.n, start
     while len(events) < max_events:
@@ -249,7 +251,8 @@ def _follow(p, orb, start, stop, width, max_events=4):
                                  tol=width, shoot_kw=_SHOOT)
         events.append(bif)
         nxt = bif.beyond
-        if bif.kind not in ("grazing", "stick-slip") or nxt is None or not nxt.stable \
+        if bif.kind not in (BifurcationKind.GRAZING, BifurcationKind.STICK_SLIP) or \
+                nxt is None or not nxt.stable \
                 or nxt.minimal_period != n or bif.bracket[1] == stop:
             break
         x, lo = nxt.state, bif.bracket[1]
@@ -261,10 +264,11 @@ def _kind_text(events, from_chaos=False):
     names = []
     for i, e in enumerate(events):
         k = e.kind
-        if k == "fold" and from_chaos and i == 0:
-            k = "intermittency"
-        if e.kind == "fold" and e.at_grazing and (not names or names[-1] != "grazing"):
-            names.append("grazing")
+        if k == BifurcationKind.FOLD and from_chaos and i == 0:
+            k = BifurcationKind.INTERMITTENCY
+        if e.kind == BifurcationKind.FOLD and e.at_grazing and \
+                (not names or names[-1] != BifurcationKind.GRAZING):
+            names.append(BifurcationKind.GRAZING)
         names.append(k)
     return " + ".join(names)
 
@@ -276,7 +280,7 @@ def _event_text(events):
 def _classify(p, a, b, settings, tol, refine, cache):
     """Type, refined bracket and evidence of one boundary from point a to point b."""
     width = tol if refine else abs(b.eta - a.eta) * 1.0000001
-    out = dict(type="unresolved", lo=min(a.eta, b.eta), hi=max(a.eta, b.eta),
+    out = dict(type=BifurcationKind.UNRESOLVED, lo=min(a.eta, b.eta), hi=max(a.eta, b.eta),
                mu=complex(np.nan, np.nan), gap=np.nan, evidence="", method="",
                hysteresis="")
 
@@ -295,7 +299,7 @@ def _classify(p, a, b, settings, tol, refine, cache):
     orb_b = attractor(b, a)
     if orb_a is not None:
         events = _follow(p, orb_a, a.eta, b.eta, width)
-        real = [e for e in events if e.kind != "none"]
+        real = [e for e in events if e.kind != BifurcationKind.NONE]
         first, last = events[0], events[-1]
         out.update(method="shooting, from side", gap=first.gap)
         out["mu"], txt = _mu_text(first.orbit)
@@ -303,14 +307,14 @@ def _classify(p, a, b, settings, tol, refine, cache):
             out.update(type=_kind_text(real), lo=min(first.bracket),
                        hi=max(first.bracket),
                        evidence=f"P{orb_a.n}: {_event_text(real)}")
-        if last.kind == "fold":
+        if last.kind == BifurcationKind.FOLD:
             eta_in = last.bracket[0]
             co = _coexists(p, eta_in, last.orbit, b.state)
             out["hysteresis"] = (f"coexists with the to-side motion at eta = "
                                  f"{eta_in:.5f}" if co else "no coexistence found")
             if b.regime == _CHAOTIC:
                 out["evidence"] += "; jump to chaos"
-        if last.kind != "none":
+        if last.kind != BifurcationKind.NONE:
             return out
         # the orbit persists, stable, up to b
         if _same_orbit(last.orbit, orb_b):
@@ -320,16 +324,16 @@ def _classify(p, a, b, settings, tol, refine, cache):
                 why = (f"the sweep misread the slowly converging orbit at eta = "
                        f"{', '.join(f'{e:.4f}' for e in misread)}" if misread
                        else "loaded arcs regrouped")
-                out.update(type="none", evidence=f"P{orb_a.n} persists, stable, same "
-                                                 f"contacts ({txt} at eta = {b.eta:.4f}), "
-                                                 f"and is the to-side motion: the label "
-                                                 f"changed only ({why})")
+                out.update(type=BifurcationKind.NONE,
+                           evidence=f"P{orb_a.n} persists, stable, same contacts ({txt} "
+                                    f"at eta = {b.eta:.4f}), and is the to-side motion: "
+                                    f"the label changed only ({why})")
             return out
         # does the orbit end just beyond b?  Then the sweep left it early, where its
         # basin had shrunk (next to a fold), and the event is that fold.
         beyond = b.eta + 0.5 * (b.eta - a.eta)
         more = _follow(p, last.orbit, b.eta, beyond, width)
-        late = [e for e in more if e.kind != "none"]
+        late = [e for e in more if e.kind != BifurcationKind.NONE]
         if late and not real and not b.seeded:
             e = late[0]
             out.update(type=_kind_text(late), lo=min(e.bracket), hi=max(e.bracket),
@@ -339,7 +343,8 @@ def _classify(p, a, b, settings, tol, refine, cache):
                                 f"step: {_event_text(late)}",
                        hysteresis="coexisting attractors")
             return out
-        out.update(type=" + ".join(([out["type"]] if real else []) + ["coexistence"]),
+        out.update(type=" + ".join(([out["type"]] if real else []) +
+                                   [BifurcationKind.COEXISTENCE]),
                    hysteresis="coexisting attractors",
                    evidence=(out["evidence"] + "; " if real else "") +
                    f"P{orb_a.n} persists, stable, to eta = {b.eta:.4f}; the sweep moved to "
@@ -347,20 +352,21 @@ def _classify(p, a, b, settings, tol, refine, cache):
         return out
     if orb_b is not None:
         events = _follow(p, orb_b, b.eta, a.eta, width)
-        real = [e for e in events if e.kind != "none"]
+        real = [e for e in events if e.kind != BifurcationKind.NONE]
         last = events[-1]
         out.update(method="shooting, to side backwards", gap=last.gap)
         out["mu"], txt = _mu_text(last.orbit)
-        if last.kind == "none":
+        if last.kind == BifurcationKind.NONE:
             note = (f"; on the way {_event_text(real[::-1])}" if real else "")
             if _reproduces(p, a, b.eta, settings):
-                out.update(type="coexistence", hysteresis="coexisting attractors",
+                out.update(type=BifurcationKind.COEXISTENCE,
+                           hysteresis="coexisting attractors",
                            evidence=f"P{orb_b.n} of the to side exists, stable, back to "
                                     f"eta = {a.eta:.4f} ({txt}), and the from-side motion "
                                     f"still exists at eta = {b.eta:.4f}{note}" +
                                     _SEEDED[b.seeded])
                 return out
-            out.update(type="crisis", hysteresis="coexisting attractors",
+            out.update(type=BifurcationKind.CRISIS, hysteresis="coexisting attractors",
                        evidence=f"P{orb_b.n} of the to side exists, stable, back to eta = "
                                 f"{a.eta:.4f} ({txt}): the from-side attractor ends without "
                                 f"a local bifurcation (boundary crisis){note}")
@@ -376,12 +382,14 @@ def _classify(p, a, b, settings, tol, refine, cache):
     by_simulation()
     contact = {a.contact, b.contact}
     if 0 in contact and len(contact) > 1:
-        out.update(type="grazing", evidence=f"contact flag {a.contact} -> {b.contact} "
-                                            "between non-periodic motions")
+        out.update(type=BifurcationKind.GRAZING,
+                   evidence=f"contact flag {a.contact} -> {b.contact} between "
+                            "non-periodic motions")
     else:
         what = "quasi-periodic" if _QUASI in (a.regime, b.regime) else "chaotic"
-        out.update(type="crisis", evidence=f"no stable periodic orbit on either side; the "
-                                           f"{what} attractor changes")
+        out.update(type=BifurcationKind.CRISIS,
+                   evidence=f"no stable periodic orbit on either side; the {what} "
+                            "attractor changes")
     return out
 
 
@@ -418,9 +426,11 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
         Dim ``boundary``, in sweep order per direction: ``direction``, ``eta_from`` and
         ``eta_to`` (the grid points on both sides), ``eta_lo``, ``eta_hi`` (the refined
         bracket of the first event), ``eta`` (its midpoint), ``from_label``,
-        ``to_label``, ``type`` (one of :data:`TYPES`, or several joined by " + " when
-        one sweep step holds several events, in sweep order: e.g. "grazing + period
-        doubling"; the evidence gives each event's eta), ``mu_real``, ``mu_imag`` (the
+        ``to_label``, ``type`` (the short name of a
+        :class:`~vibimpact.bifurcation_kinds.BifurcationKind`, or several joined by
+        " + " when one sweep step holds several events, in sweep order: e.g. "grazing +
+        period doubling", :func:`~vibimpact.bifurcation_kinds.kinds_in` splits it; the
+        evidence gives each event's eta), ``mu_real``, ``mu_imag`` (the
         largest Floquet multiplier of the followed orbit at the bracket's persisting
         end; NaN when no orbit was followed), ``gap`` (its smallest ``|R - 1|`` at an
         extremum of R: 0 at grazing), ``method``, ``evidence`` and ``hysteresis`` (text).
@@ -445,7 +455,8 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
     --------
     >>> import numpy as np, vibimpact as vi
     >>> p = vi.presets.get("fig8").replace(B=0.1, Ec=0.1)
-    >>> ds = vi.sweep(p, [0.945, 0.95, 0.955, 0.96], blocks=1)
+    >>> ds = vi.sweep(p, [0.945, 0.95, 0.955, 0.96],
+    ...               continuation=vi.Continuation(blocks=1))
     >>> tt = vi.transition_types(ds)
     >>> str(tt["type"].values[0])
     'grazing'
@@ -510,7 +521,7 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
                  dict(long_name="refined transition eta")),
          "from_label": (dim, col(lambda d, a, b, r: a.label, object)),
          "to_label": (dim, col(lambda d, a, b, r: b.label, object)),
-         "type": (dim, col(lambda d, a, b, r: r["type"], object)),
+         "type": (dim, col(lambda d, a, b, r: str(r["type"]), object)),
          "mu_real": (dim, col(lambda d, a, b, r: r["mu"].real, float),
                      dict(long_name="largest Floquet multiplier, real part")),
          "mu_imag": (dim, col(lambda d, a, b, r: r["mu"].imag, float),
