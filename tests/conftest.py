@@ -21,7 +21,8 @@ def contact_case():
     reference solution (DOP853 at rtol 1e-14)."""
     p = preset("fig10").replace(eta=1.0, Ec=0.2)
     s0 = vi.simulate(p, periods=1, transient=100, state0=[0.0, 1.0, 0.0, 0.0]).final_state
-    ref = vi.simulate(p, periods=4, state0=s0, rtol=1e-14, atol=1e-16)
+    ref = vi.simulate(p, periods=4, state0=s0,
+                      solver=vi.SolverSettings(rtol=1e-14, atol=1e-16))
     return p, s0, ref
 
 

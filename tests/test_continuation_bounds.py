@@ -46,8 +46,8 @@ def fig8():
 def _residual(system, param, value, state):
     """``max |P(x) - x|`` of the orbit at ``param = value`` (integrated at tighter
     tolerances than the continuation's)."""
-    run = system.with_param(param, value).simulate(periods=1, state0=state, rtol=1e-12,
-                                                   atol=1e-14)
+    run = system.with_param(param, value).simulate(
+        periods=1, state0=state, solver=vi.SolverSettings(rtol=1e-12, atol=1e-14))
     assert run.ok
     return float(np.abs(run.final_state - state).max())
 
@@ -128,7 +128,7 @@ def test_the_map_of_the_linear_oscillator_is_the_exact_one():
     period): its one-period map agrees with the closed form to 1e-9."""
     x0 = [0.3, -0.2]
     run = vi.simulate(vi.DuffingParams(delta=0.0, **LINEAR), periods=1, state0=x0,
-                      rtol=1e-12, atol=1e-14)
+                      solver=vi.SolverSettings(rtol=1e-12, atol=1e-14))
     np.testing.assert_allclose(run.final_state, _exact_map(0.0, x0)[0], atol=1e-9)
 
 

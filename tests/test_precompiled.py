@@ -68,8 +68,9 @@ def test_precompiled_integrate_gives_the_bits_of_the_jit(monkeypatch, eta, metho
     through the precompiled integration loop and through numba's JIT-compiled one; every
     call of the package picks the precompiled one."""
     def run():
-        r = vi.simulate(_fig8(eta), periods=20, transient=10, method=method, dense=16,
-                        state0=[1.1, 0.0, 0.0, 1.3])
+        r = vi.simulate(_fig8(eta), periods=20, transient=10, dense=16,
+                        state0=[1.1, 0.0, 0.0, 1.3],
+                        solver=vi.SolverSettings(method=method))
         return (r.strobe, r.dense, r.events, r.counters, r.final_state, r.impacts)
 
     (a, picked), (b, _) = _run(monkeypatch, False, run), _run(monkeypatch, True, run)

@@ -26,7 +26,8 @@ def _on_attractor(p, start=(1.1, 0.0, 0.0, 1.3)):
 
 def _compare(p, s0):
     """Kernel run, SciPy reference and the max abs strobe difference over 20 periods."""
-    run = vi.simulate(p, periods=PERIODS, transient=0, state0=s0, rtol=1e-12, atol=1e-14)
+    run = vi.simulate(p, periods=PERIODS, transient=0, state0=s0,
+                      solver=vi.SolverSettings(rtol=1e-12, atol=1e-14))
     assert run.ok, run.reason
     t = strobe_times(p.eta, PERIODS)
     ref = solve_reference(p, t[-1], s0, rtol=1e-12, atol=1e-12, method="DOP853", t_eval=t)

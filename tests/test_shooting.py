@@ -35,7 +35,8 @@ def _pd_by_simulation():
     s2 = []
     for g in gs:
         r = vi.simulate(DUFFING.replace(gamma=float(g)), periods=4, transient=3000,
-                        state0=x, rtol=1e-11, atol=1e-13)
+                        state0=x,
+                        solver=vi.SolverSettings(rtol=1e-11, atol=1e-13))
         assert np.abs(r.strobe[2] - r.strobe[0]).max() < 1e-9  # converged period 2
         s2.append(np.sum((r.strobe[1] - r.strobe[0]) ** 2))
     roots = np.roots(np.polyfit(gs, s2, 2))
@@ -73,7 +74,8 @@ def test_newton_converges_quadratically_to_a_tight_residual():
     p = DUFFING.replace(gamma=0.2)
     orb = shoot_periodic_orbit(vi.System(p), [1.0, 0.0], 1, tol=1e-11)
     assert orb.converged and orb.iterations <= 8 and orb.residual < 1e-10
-    run = vi.simulate(p, periods=5, state0=orb.state, rtol=1e-12, atol=1e-14)
+    run = vi.simulate(p, periods=5, state0=orb.state,
+                      solver=vi.SolverSettings(rtol=1e-12, atol=1e-14))
     assert np.abs(run.strobe - orb.state).max() < 1e-9
 
 

@@ -38,7 +38,8 @@ def test_stiff_hertz_kh_1e5_conserves_energy_to_1e8_over_50_periods():
     weight: energy stays constant to 1e-8 relative over 50 periods (> 200 contacts) at
     rtol 1e-12, and every contact switch lies on the circle to 1e-10."""
     p = _conservative(1e5)
-    run = vi.simulate(p, periods=50, state0=CONS_START, rtol=1e-12, atol=1e-15)
+    run = vi.simulate(p, periods=50, state0=CONS_START,
+                      solver=vi.SolverSettings(rtol=1e-12, atol=1e-15))
     assert run.ok and len(run.impacts) > 200
     assert _rel_energy_drift(p, run.strobe, energy(np.array(CONS_START), p.as_array())) < 1e-8
     assert _switch_error(run) < 1e-10
@@ -82,7 +83,8 @@ def test_a_stopped_run_is_labelled_and_stores_no_state_of_the_failure(kw, status
     """Hypothesis: a run that cannot go on stops with the matching non-OK status and a
     non-empty reason, and returns as stroboscopic data only the finite rows reached before
     the stop (fewer than requested), never a state of the failure."""
-    run = vi.simulate(preset("fig8").replace(eta=1.0), periods=50, transient=0, **kw)
+    run = vi.simulate(preset("fig8").replace(eta=1.0), periods=50, transient=0,
+                      solver=vi.SolverSettings(**kw))
     assert run.status is getattr(vi.Status, status), (run.status, run.reason)
     assert run.reason
     assert len(run.strobe) < 51
@@ -130,7 +132,8 @@ def _graze_side(delta, max_step_div=None):
     p = preset("fig8").replace(eta=0.9)
     ec = _graze_ec(p, 1.0 + delta)
     kw = {} if max_step_div is None else {"max_step": p.period / max_step_div}
-    return vi.simulate(p.replace(Ec=ec), periods=20, transient=150, **kw)
+    return vi.simulate(p.replace(Ec=ec), periods=20, transient=150,
+                       solver=vi.SolverSettings(**kw))
 
 
 @pytest.mark.parametrize("delta", [-1e-4, 1e-4])
@@ -206,7 +209,8 @@ def test_long_conservative_run_keeps_energy_and_work_per_period_constant():
     e0 = energy(y, p.as_array())
     spp = []
     for _ in range(2):
-        run = vi.simulate(p, periods=1000, state0=y, rtol=1e-13, atol=1e-15)
+        run = vi.simulate(p, periods=1000, state0=y,
+                          solver=vi.SolverSettings(rtol=1e-13, atol=1e-15))
         assert run.ok
         assert _rel_energy_drift(p, run.strobe, e0) < 1e-8
         spp.append(run.counters["steps"] / 1000)
@@ -224,7 +228,8 @@ def test_exit_onto_the_surface_followed_by_a_short_free_flight_advances_time():
     the recorded state reproduces that event sequence only there."""
     p = vi.presets.get("fig8").replace(B=0.07, Ec=0.11, kh=110.1, eta=1.256)
     x = [0.7923091311485236, -0.6426224296374606, 0.786009812795587, 0.8914962638010451]
-    run = vi.simulate(p, periods=10, state0=x, rtol=1e-8, atol=1e-11)
+    run = vi.simulate(p, periods=10, state0=x,
+                      solver=vi.SolverSettings(rtol=1e-8, atol=1e-11))
     assert run.status is vi.Status.OK
     t = run.events["t"][run.events["which"] == 0]
     # no two contact switches at one instant, and no more than a few per period

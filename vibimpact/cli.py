@@ -133,12 +133,13 @@ def _cmd_simulate(args):
 
     from . import io
     from .simulation import simulate
+    from .solver import SolverSettings
 
     start = time.perf_counter()
     try:
         run = simulate(params, periods=args.periods, transient=args.transient,
-                       state0=state0, method=args.method, rtol=args.rtol,
-                       atol=args.atol, dense=dense)
+                       state0=state0, dense=dense, solver=SolverSettings(
+                           method=args.method, rtol=args.rtol, atol=args.atol))
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     elapsed = time.perf_counter() - start

@@ -81,7 +81,7 @@ def duffing():
     s2 = []
     for g in gs:
         r = vi.simulate(p.replace(gamma=float(g)), periods=4, transient=3000, state0=x,
-                        rtol=1e-11, atol=1e-13)
+                        solver=vi.SolverSettings(rtol=1e-11, atol=1e-13))
         s2.append(np.sum((r.strobe[1] - r.strobe[0]) ** 2))
     roots = np.roots(np.polyfit(gs, s2, 2)).real
     ref = float(roots[np.argmin(np.abs(roots - 0.27))])

@@ -113,7 +113,8 @@ def throughput(p, s0):
                 "dop853": dict(rtol=1e-9, atol=1e-12)}
     for method, kw in settings.items():
         def call():
-            return vi.simulate(p, periods=THROUGHPUT_PERIODS, state0=s0, method=method, **kw)
+            return vi.simulate(p, periods=THROUGHPUT_PERIODS, state0=s0,
+                               solver=vi.SolverSettings(method=method, **kw))
         call()  # warm-up (JIT load)
         t, run = best_time(call, REPEATS)
         assert run.ok and len(run.impacts) > 0, (method, run.reason)
@@ -137,8 +138,8 @@ def work_precision(p, s0):
     tt = strobe_times(p.eta, WP_PERIODS)
 
     def ours(tol, method="dop853"):
-        return vi.simulate(p, periods=WP_PERIODS, state0=s0, method=method, rtol=tol,
-                           atol=tol)
+        return vi.simulate(p, periods=WP_PERIODS, state0=s0,
+                           solver=vi.SolverSettings(method=method, rtol=tol, atol=tol))
 
     ref_run = ours(REF_TOL)
     assert ref_run.ok and len(ref_run.impacts) > 0

@@ -106,7 +106,8 @@ def _timed(fn):
 def jacobian_errors(preset, eta, n_states=40):
     """Relative errors and times of one-period Jacobians, both modes, vs the reference."""
     p, x0 = _state(preset, eta)
-    run = vi.simulate(p, periods=n_states, state0=x0, transient=100, **TOL)
+    run = vi.simulate(p, periods=n_states, state0=x0, transient=100,
+                      solver=vi.SolverSettings(**TOL))
     rows = {mode: [] for mode in MODES}
     times = dict.fromkeys(MODES, 0.0)
     for x in run.strobe[1:]:

@@ -90,8 +90,8 @@ def rejected_per_contact():
         lambda q: vi.simulate(q, periods=1, transient=200, state0=[1.1, 0.0, 0.0, 1.3])
         .final_state)
     p = vi.presets.get("fig8").replace(eta=eta)
-    run = vi.simulate(p, periods=COUNT_PERIODS, state0=s0, method=st.method, rtol=st.rtol,
-                      atol=st.atol)
+    run = vi.simulate(p, periods=COUNT_PERIODS, state0=s0,
+                      solver=vi.SolverSettings(method=st.method, rtol=st.rtol, atol=st.atol))
     c = run.counters
     return eta, regime, c["steps"], c["rejected"], len(run.impacts)
 

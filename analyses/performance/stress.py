@@ -57,8 +57,10 @@ CONS_START = [0.0, 0.0, 1.5, 0.5]
 
 def timed(p, **kw):
     t0 = time.perf_counter()
-    run = vi.simulate(p, **kw)
+    run = vi.simulate(p, **kw, solver=solver)
     return run, time.perf_counter() - t0
+    solver = vi.SolverSettings(**{k: kw.pop(k) for k in ("rtol", "atol", "max_step")
+                                  if k in kw})
 
 
 def switch_error(run):
@@ -111,7 +113,8 @@ def case_kh():
         sw = switch_error(run)
         pen = float(run.impacts["penetration"].max()) if len(run.impacts) else 0.0
         pc = vi.Params(B=0.0, Bh=0.0, BT=0.0, f=0.0, Ec=0.0, G=0.0, kh=kh, eta=1.0)
-        cons = vi.simulate(pc, periods=50, state0=CONS_START, rtol=1e-12, atol=1e-15)
+        cons = vi.simulate(pc, periods=50, state0=CONS_START,
+                           solver=vi.SolverSettings(rtol=1e-12, atol=1e-15))
         de = energy_drift(pc, cons.strobe, energy(np.array(CONS_START), pc.as_array()))
         ok = sane(run) and run.ok and sw < SWITCH_TOL and cons.ok and de < 1e-8
         row("stiff/soft Hertz", f"fig8 eta=1, kh={kh:g}, 200 T", run, wall, 200,

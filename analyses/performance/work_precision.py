@@ -120,7 +120,8 @@ def work_precision(p, s0, periods, case=""):
     tt = strobe_times(p.eta, periods)
 
     def ours(method, **kw):
-        return lambda: vi.simulate(p, periods=periods, state0=s0, method=method, **kw)
+        return lambda: vi.simulate(p, periods=periods, state0=s0,
+                                   solver=vi.SolverSettings(method=method, **kw))
 
     ref = ours("dop853", rtol=REF_TOL, atol=REF_TOL)()
     assert ref.ok, ref.reason
@@ -235,7 +236,8 @@ def overhead(p, s0):
     rows = []
     for method, kw in OVERHEAD_SETTINGS.items():
         def fn(method=method, kw=kw):
-            return vi.simulate(p, periods=OVERHEAD_PERIODS, state0=s0, method=method, **kw)
+            return vi.simulate(p, periods=OVERHEAD_PERIODS, state0=s0,
+                               solver=vi.SolverSettings(method=method, **kw))
         fn()
         t, run = best_time(fn, 3)
         n = run.counters["rhs_evals"]

@@ -49,7 +49,9 @@ def results():
                       ("fig11", 1.06), ("fig4", 1.1)):
         p = vi.presets.get(name).replace(eta=eta)
         for method in ("dop853", "dp5", "rk4"):
-            run = vi.simulate(p, periods=40, transient=100, method=method, dense=16)
+            solver = (dict(solver=vi.SolverSettings(method=method))
+                      if hasattr(vi, "SolverSettings") else dict(method=method))
+            run = vi.simulate(p, periods=40, transient=100, dense=16, **solver)
             key = f"simulate/{name}/{eta}/{method}"
             out[key + "/strobe"] = run.strobe
             out[key + "/dense"] = run.dense
