@@ -56,11 +56,11 @@ CONS_START = [0.0, 0.0, 1.5, 0.5]
 
 
 def timed(p, **kw):
+    solver = vi.SolverSettings(**{k: kw.pop(k) for k in ("rtol", "atol", "max_step")
+                                  if k in kw})
     t0 = time.perf_counter()
     run = vi.simulate(p, **kw, solver=solver)
     return run, time.perf_counter() - t0
-    solver = vi.SolverSettings(**{k: kw.pop(k) for k in ("rtol", "atol", "max_step")
-                                  if k in kw})
 
 
 def switch_error(run):
