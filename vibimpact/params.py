@@ -309,3 +309,48 @@ class DuffingParams(_ParamsMixin):
     def period(self):
         """Forcing period ``2 pi / omega``."""
         return 2.0 * math.pi / self.omega
+
+
+def param_set(name: str, table, omega: str, module: str, doc: str = "") -> type:
+    """A frozen, validated parameter set made from a table (for a built-in model declared
+    as data, :mod:`vibimpact.builtin_models`).
+
+    Parameters
+    ----------
+    name : str
+        The class's name.
+    table : sequence of (str, float, Domain or None, str)
+        One row per parameter, in the kernel's order: its name, default, domain (None:
+        any finite number) and meaning.
+    omega : str
+        The forcing frequency's name (the set's ``period`` is ``2 pi / omega``).
+    module : str
+        The module that binds the class to ``name`` (so that it pickles, for worker
+        processes).
+    doc : str
+        What the model is (the class's docstring; the table is appended to it).
+
+    Returns
+    -------
+    type
+        A frozen dataclass with :class:`Params`'s methods (``replace``, ``as_array``,
+        ``as_dict``, ``domain``); a value outside its domain raises ``ValueError`` naming
+        the parameter.
+    """
+    rows = [(n, float(v), d, text) for n, v, d, text in table]
+    lines = [doc.rstrip(), "", "Parameters", "----------"]
+    for n, v, d, text in rows:
+        lines += [f"{n} : float", f"    {text} (default {v!r}"
+                  + (f"; {d.rule(n).split(' must be ')[1]}" if d is not None else "") + ")."]
+    namespace = {
+        "_DOMAINS": {n: d for n, _, d, _ in rows if d is not None},
+        "__post_init__": lambda self: self._check_domains(),
+        "period": property(lambda self: 2.0 * math.pi / getattr(self, omega),
+                           doc=f"Forcing period ``2 pi / {omega}``."),
+        "__doc__": "\n".join(lines) + "\n",
+        "__module__": module,
+    }
+    cls = dataclasses.make_dataclass(
+        name, [(n, float, dataclasses.field(default=v)) for n, v, _, _ in rows],
+        bases=(_ParamsMixin,), namespace=namespace, frozen=True)
+    return cls
