@@ -134,7 +134,15 @@ def main(argv=None):
     ap.add_argument("--max-iter", type=int, default=S.MAX_ITER, help="refinements at most")
     ap.add_argument("--quick", action="store_true",
                     help="smoke run: 3 x 2 coarse pairs, eta step 0.05, one refinement")
+    ap.add_argument("--smoke", metavar="DIR", type=Path, default=None,
+                    help="--quick on a 3-point eta grid (step 0.3) with one worker, its "
+                         "cache and outputs under DIR (tests/test_analyses_smoke.py)")
     args = ap.parse_args(argv)
+    if args.smoke is not None:
+        args.quick, args.workers, args.out = True, 1, str(args.smoke)
+        args.cache = str(args.smoke / "cache")
+        argv = [*(argv if argv is not None else sys.argv[1:]), "--step", "0.3"]
+        args.step = 0.3
     out = Path(args.out) if args.out else (
         Path(args.cache) / "quick" if args.quick else REPORTS)
     chash = code_hash(ROOT)

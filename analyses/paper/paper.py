@@ -19,7 +19,6 @@ are kept in ``.paper-cache/`` (``--fresh`` recomputes them).
 """
 from __future__ import annotations
 
-import argparse
 import hashlib
 import json
 import os
@@ -33,9 +32,14 @@ import numpy as np
 import vibimpact as vi
 from vibimpact.paper import claims as C
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports"
 FIGURES = REPORTS / "figures"
+#: the calibration's dataset (read only; written by calibrate.py)
+CALIBRATION = REPORTS / "calibration.nc"
 PRESETS = ("fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "rr10")
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov")
 #: presets whose interval boundaries get a transition type (the figures with interval
@@ -87,6 +91,13 @@ def _sweep_one(task):
     return name, ds, time.perf_counter() - t
 
 
+def warm_up():
+    """Compile (or load) the kernel in this process before forking workers: a sweep in a
+    daemonic pool worker must not start the engine's own warm-up process (a daemonic
+    process may not have children)."""
+    vi.sweep(vi.presets.get("fig8"), [1.0, 1.2])
+
+
 def sweeps(step, cache, fresh, workers, overrides):
     """Preset name -> sweep dataset (computed in parallel, one preset per process), and
     the claim figures at the previous defaults (:data:`PREVIOUS`, key ``"old:NAME"``)."""
@@ -95,6 +106,7 @@ def sweeps(step, cache, fresh, workers, overrides):
     if not overrides:
         tasks += [(n, step, cache, fresh, PREVIOUS[n], True) for n in PREVIOUS]
     out, cost = {}, {}
+    warm_up()
     with get_context("fork").Pool(workers) as pool:
         for name, ds, sec, old in pool.imap_unordered(_sweep_task, tasks):
             key = f"old:{name}" if old else name
@@ -420,7 +432,7 @@ def evidence_section():
     """Best score of each claim over all calibrated (B, Ec) pairs, from calibration.nc."""
     import xarray as xr
 
-    path = REPORTS / "calibration.nc"
+    path = CALIBRATION
     if not path.exists():
         return "(run `python analyses/paper/calibrate.py` for the evidence over B and Ec)"
     cal = xr.load_dataset(path)
@@ -532,7 +544,8 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
 def main(argv=None):
     from vibimpact.cli_args import parse_sets
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    global REPORTS, FIGURES
+    ap = smoke.parser(__doc__)
     ap.add_argument("--step", type=float, default=0.005)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cache", default=str(ROOT / ".paper-cache"))
@@ -540,6 +553,10 @@ def main(argv=None):
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a parameter of every preset (e.g. B=0.05)")
     args = ap.parse_args(argv)
+    if args.smoke is not None:  # coarse grid, fresh cache, outputs under the smoke dir
+        REPORTS, FIGURES = args.smoke, args.smoke / "figures"
+        REPORTS.mkdir(parents=True, exist_ok=True)
+        args.step, args.cache, args.fresh = 0.1, str(args.smoke / "cache"), True
     overrides = parse_sets(args.set)
     t0 = time.perf_counter()
     data, cost = sweeps(args.step, args.cache, args.fresh, args.workers, overrides)
@@ -551,7 +568,7 @@ def main(argv=None):
     if not overrides:
         import readme_summary
 
-        readme_summary.main()
+        readme_summary.main([] if args.smoke is None else ["--smoke", str(args.smoke)])
 
 
 if __name__ == "__main__":

@@ -73,12 +73,14 @@ def summary_text(root=ROOT):
     return "\n".join(lines)
 
 
-def main():
+def main(argv=None):
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+    from _common import smoke
     from _common.report import write_section
 
+    out = smoke.parser(__doc__).parse_args(argv).smoke
     text = summary_text()
-    write_section(ROOT / "README.md", SECTION, text)
+    write_section(smoke.moved(ROOT / "README.md", out), SECTION, text)
     print(text)
 
 

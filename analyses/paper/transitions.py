@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -44,6 +45,10 @@ CACHE = ROOT / ".paper-cache"
 PRESETS = ("fig8", "fig10", "fig11")
 STEP = 0.005
 TOL = 1e-4
+#: least periods of the exponents the multipliers are compared with; the grid of the
+#: Floquet step's cost; most points of the low and of the impacting branches
+FLOQUET_LYAP_PERIODS, FLOQUET_COST_GRID = 400, "0.9:1.5:0.002"
+BRANCH_POINTS_LOW, BRANCH_POINTS_IMPACTING = 200, 150
 
 
 def _sweep(name):
@@ -148,7 +153,8 @@ def floquet(ds8):
                         f"{orb.minimal_period}, abs(mu) {orb.abs_max:.3f}) | | | | | |")
             continue
         ly = lyapunov_spectrum(vi.System(p), state0=orb.state, n_exponents=1,
-                               averaging=Averaging(transient=0, min_periods=400,
+                               averaging=Averaging(transient=0,
+                                                   min_periods=FLOQUET_LYAP_PERIODS,
                                                    target_stderr=1e-3))
         lam = math.log(orb.abs_max) / orb.period
         d = lam - ly.exponents[0]
@@ -205,7 +211,7 @@ def _floquet_cost():
     pt.floquet = timed
     try:
         t = time.process_time()
-        ds = vi.sweep(vi.presets.get("fig8"), parse_range("0.9:1.5:0.002"),
+        ds = vi.sweep(vi.presets.get("fig8"), parse_range(FLOQUET_COST_GRID),
                       execution=vi.Execution(workers=1))
         total = time.process_time() - t
     finally:
@@ -233,13 +239,15 @@ def branches(ds8):
     x = vi.simulate(low, periods=1, transient=300).final_state
     out.append(("low branch from eta = 1.3, down",
                 continue_orbit(vi.System(low), x, stop=(0.9, 1.5), direction=-1,
-                               steps=Steps(ds=0.01, ds_max=0.015, max_points=200))))
+                               steps=Steps(ds=0.01, ds_max=0.015,
+                                           max_points=BRANCH_POINTS_LOW))))
     up = p8.replace(eta=1.1)
     xu = continued_state(p8, 1.1)
     for d in (1, -1):
         out.append((f"impacting branch from eta = 1.1, {'up' if d > 0 else 'down'}",
                     continue_orbit(vi.System(up), xu, stop=(0.9, 1.5), direction=d,
-                                   steps=Steps(ds=0.01, ds_max=0.015, max_points=150))))
+                                   steps=Steps(ds=0.01, ds_max=0.015,
+                                               max_points=BRANCH_POINTS_IMPACTING))))
     cost = time.perf_counter() - t
     fig = Figure(figsize=(10.5, 7.5))
     axes = [fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2)]
@@ -276,8 +284,19 @@ def _summary(tt):
     return ", ".join(f"{k} {v}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
 
 
-def main():
+def main(argv=None):
+    global REPORT, FIGURES
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT = smoke.moved(REPORT, out)
+    if out is not None:
+        FIGURES = out / "figures"
+    smoke.shrink(globals(), out, CACHE=None if out is None else out / "cache", STEP=0.1,
+                 FLOQUET_LYAP_PERIODS=20, FLOQUET_COST_GRID="1.0:1.2:0.1",
+                 BRANCH_POINTS_LOW=5, BRANCH_POINTS_IMPACTING=5)
     t_all = time.perf_counter()
+    from paper import warm_up  # the kernel compiled here before the pool forks
+
+    warm_up()
     with get_context("fork").Pool(2) as pool:
         res = {name: (ds, tt, ts, tr) for name, ds, tt, ts, tr in
                pool.imap_unordered(_types, PRESETS)}

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import matplotlib
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import best_time, write_section  # noqa: E402
 import numba
 import numpy as np
@@ -288,8 +289,12 @@ def _from_start(p):
     return vi.simulate(p, periods=1, transient=START_TRANSIENT, state0=list(START)).final_state
 
 
-def main():
-    global ETA, REGIME_TEXT, TRIED, P0
+def main(argv=None):
+    global ETA, REGIME_TEXT, TRIED, P0, REPORT, FIGURE
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT, FIGURE = smoke.moved(REPORT, out), smoke.moved(FIGURE, out)
+    smoke.shrink(globals(), out, THROUGHPUT_PERIODS=20, WP_PERIODS=3, REPEATS=1,
+                 TOLS=[1e-6, 1e-7, 1e-8])
     REPORT.parent.mkdir(parents=True, exist_ok=True)
     ETA, s0, regime, TRIED = pick_orbit(PRESET, CANDIDATE_ETAS, is_impacting_periodic,
                                         _from_start)
@@ -309,7 +314,7 @@ def main():
     print(f"reference cross-check (ours 1e-13 vs SciPy 1e-13): {cross:.2e}")
     for err, ta, tb, r in rat:
         print(f"error {err:.1e}: ours {ta:.4f} s, SciPy {tb:.4f} s, ratio {r:.0f}")
-    print(f"wrote {REPORT.relative_to(ROOT)} and {FIGURE.relative_to(ROOT)}")
+    print(f"wrote {REPORT} and {FIGURE}")
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -233,7 +234,15 @@ def _rows_per_task(n_rows, n_eta):
 
 
 def main(argv):
-    full = "--no-full" not in argv
+    global REPORT
+    ap = smoke.parser(__doc__)
+    ap.add_argument("--no-full", action="store_true",
+                    help="project the 30,000-point map's time without running it")
+    args = ap.parse_args(argv)
+    full = not args.no_full
+    REPORT = smoke.moved(REPORT, args.smoke)
+    smoke.shrink(globals(), args.smoke, ETA="1.0:1.3:0.1", VARY="kh=60,120",
+                 FULL_ETA="1.0:1.1:0.1", FULL_VARY="kh=60,120")
     p = vi.presets.get(PRESET)
     etas = parse_range(ETA)
     name, values = parse_vary(VARY, p)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -95,6 +96,8 @@ def low_damping_section():
 
 PAPER = (1.21, 1.29)
 STEP = 0.002
+#: the sensitivity sweeps' grid (up, continued from its first speed)
+SENSITIVITY_GRID = "1.0:1.4:0.004"
 
 
 def chaotic_span(iv):
@@ -141,7 +144,12 @@ def compare_with_paper(chaos):
     return L
 
 
-def main():
+def main(argv=None):
+    global REPORT
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT = smoke.moved(REPORT, out)
+    smoke.shrink(globals(), out, GRID="1.2:1.3:0.05", REPEATS=1,
+                 SENSITIVITY_GRID="1.2:1.3:0.05")
     vi.sweep(vi.presets.get("fig8"), [1.0, 1.2])  # warm: load the cache in this process
     cpu0 = time.process_time()
     t1, ds1 = timed(execution=vi.Execution(workers=1))

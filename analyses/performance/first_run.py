@@ -17,7 +17,6 @@ the cold ``classify``, is judged there); :func:`measure` returns the times as a 
 """
 from __future__ import annotations
 
-import argparse
 import datetime
 import os
 import platform
@@ -28,6 +27,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -44,6 +44,10 @@ COMMANDS = {
 }
 
 
+#: a smoke run (``--smoke``): the "cold" runs keep the install's warm numba cache and
+#: the install-time build is not timed, so that nothing is compiled
+SMOKE = False
+
 #: the environment variable that turns the precompiled kernel off (vibimpact._kernel.precompiled)
 PRECOMPILED_ENV = "VIBIMPACT_PRECOMPILED"
 
@@ -54,7 +58,7 @@ def _cache_files(cache_dir):
 
 
 def _run(args, cache_dir, out, precompiled=True):
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    env = dict(os.environ) if SMOKE else dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
     env.pop(PRECOMPILED_ENV, None)
     if not precompiled:
         env[PRECOMPILED_ENV] = "0"
@@ -192,7 +196,8 @@ def report(res, help_s, help_files, repeat, status, build_s):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    global REPORT
+    ap = smoke.parser(__doc__)
     ap.add_argument("--repeat", type=int, default=1,
                     help="cold/warm pairs per command (the smallest times are shown)")
     ap.add_argument("--no-report", action="store_true",
@@ -200,6 +205,10 @@ def main(argv=None):
     ap.add_argument("commands", nargs="*", metavar="COMMAND",
                     help=f"commands to time, of {', '.join(COMMANDS)} (default: all)")
     args = ap.parse_args(argv)
+    REPORT = smoke.moved(REPORT, args.smoke)
+    smoke.shrink(globals(), args.smoke, SMOKE=True, COMMANDS={
+        "classify": ["classify", "--eta", "1.2:1.21:0.01", "-o", "{out}.nc", "--no-progress"],
+        "simulate": COMMANDS["simulate"]})
     unknown = [c for c in args.commands if c not in COMMANDS]
     if unknown:
         ap.error(f"unknown command(s) {', '.join(unknown)}; known: {', '.join(COMMANDS)}")
@@ -213,9 +222,9 @@ def main(argv=None):
             ap.error("the report needs every command; use --no-report with a subset")
         help_s, help_files = _help_compiles()
         text = report(res, help_s, help_files, args.repeat, precompiled_status(),
-                      build_seconds())
+                      float("nan") if SMOKE else build_seconds())
         write_section(REPORT, SECTION, text)
-        print(f"wrote section {SECTION} of {REPORT.relative_to(ROOT)}")
+        print(f"wrote section {SECTION} of {REPORT}")
     return 0
 
 

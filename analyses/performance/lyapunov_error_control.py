@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -49,6 +50,9 @@ CHAOTIC_CANDIDATES = {"fig8": np.round(np.arange(1.19, 1.30, 0.01), 6),
                       "fig11": np.round(np.arange(0.97, 1.06, 0.01), 6)}
 PERIODIC_CANDIDATES = {"fig8": np.round(np.arange(1.10, 1.19, 0.01), 6),
                        "fig10": np.round(np.arange(1.05, 1.15, 0.01), 6)}
+#: states per trajectory of the Jacobians' errors; periods of the periodic orbits'
+#: exponents; at most this many periods of the chaotic exponents
+JACOBIAN_STATES, PERIODIC_PERIODS, CHAOTIC_PERIODS = 40, 200, 600
 _SWEEPS = {}
 
 
@@ -129,7 +133,8 @@ def periodic_exponents(preset, eta, n):
     exact = float(np.log(orb.abs_max) / (n * T))
     out = {}
     s = vi.System(p, **TOL)
-    avg = Averaging(transient=0, min_periods=200, max_periods=200, align=20)
+    avg = Averaging(transient=0, min_periods=PERIODIC_PERIODS, max_periods=PERIODIC_PERIODS,
+                    align=20)
     for mode in MODES:
         t, ly = _timed(lambda: lyapunov_spectrum(
             s, state0=orb.state, n_exponents=1, averaging=avg, tangent_tol=mode,
@@ -144,8 +149,8 @@ def periodic_exponents(preset, eta, n):
 def chaotic_exponents(preset, eta):
     p, x = _state(preset, eta)
     out = {}
-    avg = Averaging(transient=0, min_periods=100, max_periods=600, target_stderr=1e-9,
-                    align=20)
+    avg = Averaging(transient=0, min_periods=min(100, CHAOTIC_PERIODS),
+                    max_periods=CHAOTIC_PERIODS, target_stderr=1e-9, align=20)
     for mode in MODES:
         t, ly = _timed(lambda: lyapunov_spectrum(
             vi.System(p, **TOL), state0=x, n_exponents=1, averaging=avg, tangent_tol=mode,
@@ -154,7 +159,13 @@ def chaotic_exponents(preset, eta):
     return out
 
 
-def main():
+def main(argv=None):
+    global REPORT
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT = smoke.moved(REPORT, out)
+    smoke.shrink(globals(), out, JACOBIAN_STATES=2, PERIODIC_PERIODS=30, CHAOTIC_PERIODS=30,
+                 CHAOTIC_CANDIDATES={"fig8": CHAOTIC_CANDIDATES["fig8"]},
+                 PERIODIC_CANDIDATES={"fig8": PERIODIC_CANDIDATES["fig8"]})
     p0 = vi.presets.get("fig8")
     for mode in MODES:  # compile first
         lyapunov_spectrum(vi.System(p0, **TOL), n_exponents=1, tangent_tol=mode,
@@ -175,7 +186,7 @@ def main():
              "| --- | --- | ---: | ---: | ---: |"]
     chaotic, periodic = chosen_points()
     for preset, eta in [c[:2] for c in chaotic[:1]] + [q[:2] for q in periodic[:1]]:
-        err, times = jacobian_errors(preset, eta)
+        err, times = jacobian_errors(preset, eta, JACOBIAN_STATES)
         for mode in MODES:
             lines.append(f"| {preset} eta = {eta} | {NAMES[mode]} | "
                          f"{np.median(err[mode]):.1e} | {err[mode].max():.1e} | "

@@ -15,6 +15,9 @@ replaces its own section of the report:
 ``benchmark_map.py``       parameter-map throughput on 1 and 2 workers; the 30k-point map
 ``lyapunov_error_control.py``  the tangent vectors' error test of the exponents
 =========================  ==========================================================
+
+With ``--smoke DIR`` every script runs in its smoke mode (``--smoke DIR``: tiny problems,
+the report written under ``DIR``).
 """
 import subprocess
 import sys
@@ -22,16 +25,25 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # analyses/: _common
+from _common import smoke  # noqa: E402
+
 SCRIPTS = ("benchmark_kernel.py", "first_run.py", "benchmark_sweep.py", "profile_sweep.py",
            "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py")
 
 
 def main(argv):
+    ap = smoke.parser(__doc__)
+    ap.add_argument("--no-full-map", action="store_true",
+                    help="project the 30,000-point map's time without running it")
+    opts = ap.parse_args(argv)
     failed = []
     for name in SCRIPTS:
         args = [sys.executable, str(HERE / name)]
-        if name == "benchmark_map.py" and "--no-full-map" in argv:
+        if name == "benchmark_map.py" and opts.no_full_map:
             args.append("--no-full")
+        if opts.smoke is not None:
+            args += ["--smoke", str(opts.smoke)]
         t0 = time.perf_counter()
         print(f"== {name}", flush=True)
         rc = subprocess.run(args, cwd=HERE.parents[1], stdout=subprocess.DEVNULL).returncode
@@ -42,7 +54,8 @@ def main(argv):
         print(f"failed: {', '.join(failed)} (their sections were left as they were)",
               file=sys.stderr)
         return 1
-    print("reports/performance.md regenerated")
+    print(f"{smoke.moved(HERE.parents[1] / 'reports' / 'performance.md', opts.smoke)} "
+          "regenerated")
     return 0
 
 

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -35,24 +36,63 @@ ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
 ETA = np.round(np.arange(0.9, 1.5 + 1e-9, 0.002), 6)
 
-#: (part, file suffix, function name, "tottime" or "cumtime"); the first two are the
-#: compiled kernels' own time, the rest Python parts measured cumulatively (they contain
-#: some kernel time of their own: the Floquet step's variational integrations).  The
-#: integrator is the install's precompiled loop (cProfile names it as a built-in method
-#: of ``vibimpact._kernel._aot``) or, without it, numba's dispatcher: both are counted
+#: (part, file suffix, function name, "tottime" or "cumtime"); the first part is the
+#: compiled kernel's own time (every integration: plain, variational for the exponent and
+#: the monodromy matrices), the rest Python parts measured cumulatively (they contain the
+#: kernel time of their own integrations).  The integrator is the install's precompiled
+#: loop (cProfile names it as a built-in method of ``vibimpact._kernel._aot``) or, without
+#: it, numba's dispatcher: both are counted.  Every part must match a function the
+#: profiled sweep called (:func:`bucket_times` fails otherwise): a renamed or moved
+#: function must be renamed here, not silently reported as 0 s.
 BUCKETS = (
     ("integrator kernel (all integrations)", "_kernel/driver.py", "integrate", "tottime"),
     ("integrator kernel (all integrations)", "~",
      "<built-in method vibimpact._kernel._aot.integrate>", "tottime"),
-    ("Lyapunov kernel (variational, non-periodic points)", "_kernel/lyapunov.py",
-     "benettin", "tottime"),
-    ("of the total: Floquet step (shooting, cumulative)", "sweeps/point.py", "_floquet",
-     "cumtime"),
+    ("of the total: Lyapunov exponent (variational equations, non-periodic points, "
+     "cumulative)", "analysis/lyapunov.py", "lyapunov_spectrum", "cumtime"),
+    ("of the total: Floquet multipliers (Newton shooting, cumulative)",
+     "analysis/shooting.py", "shoot_periodic_orbit", "cumtime"),
     ("of the total: period detection (cumulative)", "analysis/period.py", "detect_period",
      "cumtime"),
-    ("of the total: impact records (cumulative)", "run.py", "impacts_from_events",
+    ("of the total: impact records (cumulative)", "contact.py", "impacts_from_events",
      "cumtime"),
 )
+#: the parts whose times are the compiled kernels' own (the Python rest is wall - these)
+KERNEL_PARTS = ("integrator kernel (all integrations)",)
+
+
+class UnmatchedProfileEntry(LookupError):
+    """A part of :data:`BUCKETS` matched no function of the profile."""
+
+
+def bucket_times(stats, buckets=BUCKETS):
+    """Seconds of each part of ``buckets`` in ``stats`` (:attr:`pstats.Stats.stats`).
+
+    A part may have several entries (alternatives: the precompiled or the JIT-compiled
+    integrator); it must match at least one function the profile saw.
+
+    Raises
+    ------
+    UnmatchedProfileEntry
+        Naming every part none of whose entries matched: the function was renamed or
+        moved, and the report would show 0 s for it.
+    """
+    out, seen = {}, set()
+    for name, suffix, func, col in buckets:
+        t = 0.0
+        for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
+            if fname.endswith(suffix) and fn == func:
+                t += tt if col == "tottime" else ct
+                seen.add(name)
+        out[name] = out.get(name, 0.0) + t
+    missing = [name for name in out if name not in seen]
+    if missing:
+        raise UnmatchedProfileEntry(
+            "profile parts that match no function the sweep called (renamed or moved? "
+            "fix BUCKETS in analyses/performance/profile_sweep.py): "
+            + "; ".join(f"{n!r} ({', '.join(f'{s}:{f}' for m, s, f, _ in buckets if m == n)})"
+                        for n in missing))
+    return out
 
 
 def _profile(settings):
@@ -63,15 +103,8 @@ def _profile(settings):
                   execution=vi.Execution(workers=1))
     pr.disable()
     wall = time.perf_counter() - t0
-    stats = pstats.Stats(pr).stats
-    out = {}
-    for name, suffix, func, col in BUCKETS:
-        t = 0.0
-        for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
-            if fname.endswith(suffix) and fn == func:
-                t += tt if col == "tottime" else ct
-        out[name] = out.get(name, 0.0) + t
-    kernels = sum(list(out.values())[:2])
+    out = bucket_times(pstats.Stats(pr).stats)
+    kernels = sum(out[k] for k in KERNEL_PARTS)
     out["Python around the kernels (wall - kernels)"] = max(0.0, wall - kernels)
     return wall, out, ds
 

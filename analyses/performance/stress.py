@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -53,6 +54,8 @@ REPORT = ROOT / "reports" / "performance.md"
 
 SWITCH_TOL = 1e-10          # |R - 1| at every located contact switch
 CONS_START = [0.0, 0.0, 1.5, 0.5]
+#: the long run of the conservative rotor: chunks of this many periods, this many chunks
+LONG_CHUNK, LONG_CHUNKS = 10_000, 10
 
 
 def timed(p, **kw):
@@ -222,7 +225,7 @@ def case_long():
     p = vi.Params(B=0.0, Bh=0.0, BT=0.0, f=0.0, Ec=0.0, G=0.0, kh=120.0, eta=1.0)
     y = np.array(CONS_START)
     e0 = energy(y, p.as_array())
-    chunk, n_chunks = 10_000, 10
+    chunk, n_chunks = LONG_CHUNK, LONG_CHUNKS
     walls, cpus, spps, drift, rss, events, impacts = [], [], [], 0.0, [], 0, 0
     status_run = None
     for _ in range(n_chunks):
@@ -288,7 +291,11 @@ def case_ec0():
         f"max\\|s - s_static\\|={dev:.1e}", ok)
 
 
-def main():
+def main(argv=None):
+    global REPORT
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT = smoke.moved(REPORT, out)
+    smoke.shrink(globals(), out, LONG_CHUNK=100, LONG_CHUNKS=2)
     t_all = time.perf_counter()
     vi.simulate(vi.presets.get("fig8").replace(eta=1.0), periods=2, dense=2)   # compile
     for fn in (case_kh, case_bh, case_friction, case_grazing, case_eta, case_ec0, case_long):

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import matplotlib
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import best_time, write_section  # noqa: E402
 import numba
 import numpy as np
@@ -421,7 +422,15 @@ def report(results, ov, load, elapsed):
     write_section(REPORT, SECTION, "\n".join(L))
 
 
-def main():
+def main(argv=None):
+    global REPORT, FIGURE
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    REPORT, FIGURE = smoke.moved(REPORT, out), smoke.moved(FIGURE, out)
+    low = [1e-5, 1e-6, 1e-7]
+    smoke.shrink(globals(), out, CASES=[CASES[0][:4] + (2,), CASES[2][:4] + (2,)],
+                 SAMPLE_PERIODS=2, RK4_STEPS=[50, 100, 200], OUR_TOLS=[1e-4, 1e-6, 1e-8],
+                 SCIPY_TOLS=dict.fromkeys(SCIPY_TOLS, low), LSODA_NB_TOLS=low,
+                 OUR_REPEATS=1, SCIPY_REPEATS=1, OVERHEAD_PERIODS=5, ERR_FIXED=1e-5)
     t_start = time.perf_counter()
     load0 = os.getloadavg()[0]
     REPORT.parent.mkdir(parents=True, exist_ok=True)
@@ -453,8 +462,8 @@ def main():
     plot(results, FIGURE)
     load1 = os.getloadavg()[0]
     report(results, ov, (load0, load1), time.perf_counter() - t_start)
-    print(f"wrote {REPORT.relative_to(ROOT)} (section {SECTION}) and "
-          f"{FIGURE.relative_to(ROOT)} in {time.perf_counter() - t_start:.0f} s")
+    print(f"wrote {REPORT} (section {SECTION}) and {FIGURE} in "
+          f"{time.perf_counter() - t_start:.0f} s")
 
 
 if __name__ == "__main__":

@@ -39,7 +39,6 @@ checkpoint: they are judged on the rest).  Writes the section
 """
 from __future__ import annotations
 
-import argparse
 import datetime
 import os
 import platform
@@ -56,6 +55,7 @@ from pathlib import Path
 from _reliability_cases import (API_WORDS, BOUNDS, USER_MODEL, USER_MODEL_CASES,
                                WORDING)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -516,13 +516,37 @@ def report(outcomes, wall, quick):
     return "\n".join(L)
 
 
+def _smoke_cases():
+    """The names :func:`smoke.shrink` sets in a smoke run: every command on a tiny
+    request, and the first case of each table of requests."""
+    tiny = {"classify": ["--eta", "1.0:1.1:0.02"], "bifurcation": ["--eta", "1.0:1.1:0.02"],
+            "map": ["--eta", "1.0:1.1:0.05", "--vary", "kh=50,60"],
+            "simulate": ["--periods", "200"], "continue": ["--stop", "1.13"]}
+    commands = {}
+    for name, (argv, output, resumable) in COMMANDS.items():
+        argv = list(argv)
+        for opt, value in zip(tiny.get(name, [])[::2], tiny.get(name, [])[1::2]):
+            argv[argv.index(opt) + 1] = value
+        commands[name] = (argv, output, resumable)
+    first = {name: dict(list(table.items())[:1]) for name, table in
+             (("BAD", BAD), ("BOUNDS", BOUNDS), ("WORDING", WORDING),
+              ("USER_MODEL_CASES", USER_MODEL_CASES))}
+    return dict(COMMANDS=commands, CLASSIFY=commands["classify"][0],
+                SIMULATE=commands["simulate"][0], **first)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    global REPORT
+    ap = smoke.parser(__doc__)
     ap.add_argument("--quick", action="store_true", help="one moment per fault")
     ap.add_argument("--no-report", action="store_true", help="print only")
     ap.add_argument("--timeout", type=float, default=300.0,
                     help="seconds before a run counts as hung (default 300)")
     args = ap.parse_args(argv)
+    REPORT = smoke.moved(REPORT, args.smoke)
+    if args.smoke is not None:
+        smoke.shrink(globals(), args.smoke, **_smoke_cases())
+        args.quick = True
     outcomes, wall = measure(args.quick, args.timeout)
     text = report(outcomes, wall, args.quick)
     print(text)

@@ -26,6 +26,8 @@ import numpy as np
 ETA_TEXT = "1.23456:1.23556:0.001"
 ETAS = (1.23456, 1.23556)
 PKG = pathlib.Path(__file__).resolve().parents[2] / "vibimpact"
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 
 
 def _bare(value):
@@ -127,13 +129,17 @@ def measure():
     return {"handled": trace(bare=True)[0], "carried": trace()[0]}
 
 
-def main():
+def main(argv=None):
+    out = smoke.parser(__doc__).parse_args(argv).smoke
+    lines = []
     for kind, bare in (("handled as a number", True), ("carried", False)):
         longest, union = trace(bare=bare)
-        print(f"eta {kind}, the longest path from the command line to the kernel:")
-        for k, f in enumerate(longest, 1):
-            print(f"  {k}. vibimpact/{f}")
-        print(f"  {len(longest)} files on this path; on all paths: {', '.join(union)}")
+        lines.append(f"eta {kind}, the longest path from the command line to the kernel:")
+        lines += [f"  {k}. vibimpact/{f}" for k, f in enumerate(longest, 1)]
+        lines.append(f"  {len(longest)} files on this path; on all paths: {', '.join(union)}")
+    print("\n".join(lines))
+    if out is not None:  # the trace is already tiny: a smoke run also writes it to a file
+        smoke.moved(pathlib.Path("eta_path.txt"), out).write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
