@@ -84,15 +84,52 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     ds = as_run_dataset(ds)
     lk = look(figsize, dpi, style, ax)
     states = [str(s) for s in ds["state"].values]
-    if states[:2] != ["X", "Y"]:
-        raise ValueError(f"plot_xy needs the rotor states X, Y; the dataset has {states}")
+    spec = _plot_spec(ds, states)
+    if not set(spec.xy) <= set(states):
+        raise ValueError(f"plot_xy needs the states {', '.join(spec.xy)} of the "
+                         f"{ds.attrs.get('model', 'model')}; the dataset has {states}")
     with lk.context():
         own = ax is None
         if own:
             ax = lk.figure((6, 6.6), 4.2).add_subplot()
-        _orbit(ds, ax, lk, own)
+        if spec.circle is not None:
+            _orbit(ds, ax, lk, own)
+        else:
+            _phase(ds, ax, lk, own, [states.index(s) for s in spec.xy], spec.xy)
         lk.finish(ax.figure, path)
     return ax
+
+
+def _plot_spec(ds, states):
+    """What the dataset's model declares its XY plots draw (a model that is not built in:
+    its first two states, no obstacle)."""
+    from .. import models
+
+    name = ds.attrs.get("model")
+    if isinstance(name, str) and name in models.names() and \
+            models.get(name).plot is not None:
+        return models.get(name).plot
+    return models.PlotSpec(xy=tuple(states[:2]))
+
+
+def _phase(ds, ax, lk, own, cols, names):
+    """The orbit and its stroboscopic points in the plane of the states ``names`` (a
+    model whose contact is no circle around the origin)."""
+    from .style import width
+
+    if "trajectory" in ds:
+        traj = ds["trajectory"].values
+        ax.plot(traj[:, cols[0]], traj[:, cols[1]], color="C0", lw=width(0.47), alpha=0.8,
+                label="trajectory")
+    strobe = ds["strobe"].values
+    ax.plot(strobe[:, cols[0]], strobe[:, cols[1]], ls="none", marker="o", ms=3.5,
+            color="C1", mfc="none" if "trajectory" in ds else "C1",
+            label=f"stroboscopic points ({len(strobe)})")
+    ax.set_xlabel(names[0])
+    ax.set_ylabel(names[1])
+    lk.title(ax, _title(ds))
+    lk.legend_below(ax, own, ax.get_legend_handles_labels()[0], ncol=2)
+    ax.grid(True, alpha=0.5)
 
 
 def _orbit(ds, ax, lk, own):

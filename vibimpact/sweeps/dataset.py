@@ -256,9 +256,16 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
     _v.dataset(name, ds, SWEEP_DATASET)
     if "params" not in ds.attrs:
         raise ValueError(f"{name} has no 'params' attribute (the sweep's parameters)")
+    from .. import models
+
+    name_of_model = ds.attrs.get("model", "rotor")
     try:
         params = json.loads(ds.attrs["params"])
-        return Params(**params) if eta is None else Params(**params, eta=eta)
+        cls = models.get(name_of_model).param_set or Params
+        if eta is not None:
+            params[models.get(name_of_model).param_names[
+                models.get(name_of_model).omega_index]] = eta
+        return cls(**params)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} has no usable 'params' attribute ({exc})") from None
 
