@@ -4,10 +4,10 @@ The costs are rough single-core averages, used only to make the refusal message 
 ("about 11 months"); nothing else depends on them.  Where they come from:
 
 * ``SECONDS_PER_POINT``: the main job's sweep (fig8, eta = 0.9:1.5:0.002, 301 points, all
-  analyses, one worker), whose serial wall time ``python analyses/benchmark_sweep.py``
+  analyses, one worker), whose serial wall time ``python analyses/performance/benchmark_sweep.py``
   measures (``reports/performance.md``, section "sweep", row "1 worker"): 1.58 s there,
   1.5 s in a re-timing on 2026-11-25 (same VM, warm cache), i.e. ~0.005 s per point.  A
-  parameter-map point costs about the same (``analyses/benchmark_map.py``: 1452 points
+  parameter-map point costs about the same (``analyses/performance/benchmark_map.py``: 1452 points
   in 6.4 s serial, ~0.0044 s per point).
 * ``SECONDS_PER_PERIOD``: ``simulate`` of fig8 at eta = 1.0 (two impacts per period),
   DOP853 at the default tolerances, 2000 periods in 0.094 s (re-timed 2026-11-25), i.e.

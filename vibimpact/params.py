@@ -19,7 +19,7 @@ from . import _validate as _v
 
 #: Default linear damping of the magnetic support.  NOT from the paper (which omits it; it
 #: says only that passive magnetic bearings have very low radial damping): the converged
-#: optimum of ``analyses/calibrate.py`` against the paper's interval claims of figs 8, 10
+#: optimum of ``analyses/paper/calibrate.py`` against the paper's interval claims of figs 8, 10
 #: and 11, over B = 0 and B log-spaced from 0.001 to 0.1 and over the readings of the
 #: paper's contact dampings (``reports/calibration.md`` gives the grid, the objective and
 #: the claims that agree; ``tests/test_report_sources.py`` checks these values against it).
@@ -164,7 +164,7 @@ class Params(_ParamsMixin):
     B : float
         Linear viscous damping of the magnetic support, ``b / sqrt(k m)``.  The paper does
         not state it; the default :data:`DEFAULT_B` is calibrated against the paper's
-        intervals (``analyses/calibrate.py``), not a value from the paper.
+        intervals (``analyses/paper/calibrate.py``), not a value from the paper.
     k3 : float
         Cubic magnetic stiffness ``kappa_3 = r_h^2 k_3 / k`` (negative: softening).
     kh : float

@@ -3,7 +3,7 @@ models (each model declares its own: :attr:`vibimpact.models.Model.presets`).
 
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
 preset uses :data:`vibimpact.params.DEFAULT_B` and :data:`vibimpact.params.DEFAULT_EC`,
-**calibrated** by ``analyses/calibrate.py`` against the paper's interval claims
+**calibrated** by ``analyses/paper/calibrate.py`` against the paper's interval claims
 (``vibimpact.paper.claims``); they are not values from the paper, and the fit is partial: no
 pair reproduces every claim (``reports/calibration.md``, ``reports/paper.md``).
 

@@ -206,7 +206,7 @@ def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
         untested: the Jacobian of the Hertz force is singular at the contact surface, the
         force itself is not), the exponents of impacting periodic orbits agree with the
         fully tested ones to 1e-5 per unit tau, chaotic exponents within their statistical
-        error, at 1.6-1.8x less cost (``analyses/lyapunov_error_control.py``,
+        error, at 1.6-1.8x less cost (``analyses/performance/lyapunov_error_control.py``,
         ``reports/performance.md``).  Some test is needed: a state that comes to rest
         would otherwise take steps far too long for its tangent vectors.  Separate
         tolerances for sensitivities are also an option of CVODES

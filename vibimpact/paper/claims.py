@@ -5,7 +5,7 @@ Every statement of Půst & Kozánek about a frequency interval ("chaos in η ∈
 says which grid points of a sweep show the claimed kind of motion, :func:`detect` finds the
 detected interval nearest to the claim and :func:`score` measures the agreement (a Jaccard
 index of grid points), which is also the objective of the calibration of ``B`` and ``Ec``
-(``analyses/calibrate.py``).
+(``analyses/paper/calibrate.py``).
 
 Kinds of motion a claim can name (``Claim.motion``):
 
