@@ -90,22 +90,31 @@ def test_no_module_imports_a_private_name_of_another_module():
     assert not bad, bad
 
 
-def test_the_kernel_is_entered_through_its_boundary_only():
-    """Outside ``vibimpact/_kernel/`` no module imports the kernel's jitted entry points
-    (``driver``, ``lyapunov``, ``recurrence``, ``events``, ``integrator``'s steps): every
-    kernel call is built by ``_kernel/boundary.py``."""
-    entry = {"vibimpact._kernel.driver", "vibimpact._kernel.lyapunov",
-             "vibimpact._kernel.recurrence", "vibimpact._kernel.events",
-             "vibimpact._kernel.variational"}
+def test_everything_above_the_kernel_imports_only_its_boundary():
+    """Outside ``vibimpact/_kernel/`` the only kernel module any module imports is
+    ``_kernel/boundary.py`` (no exception for any module): every kernel call, kernel
+    model and kernel constant is reached through the boundary."""
     bad = []
     for path in _modules():
-        if path.parent.name == "_kernel":
+        if "_kernel" in path.relative_to(PKG).parts:
             continue
         for mod, name in _imports(path):
-            full = f"{mod}.{name}" if name else mod
-            if mod in entry or full in entry:
+            full = f"{mod}.{name}" if name and _is_module(f"{mod}.{name}") else mod
+            if full.startswith("vibimpact._kernel") and full not in (
+                    "vibimpact._kernel.boundary",):
                 bad.append(f"{path.relative_to(PKG)}: {full}")
     assert not bad, bad
+
+
+def test_the_public_runners_take_at_most_8_parameters():
+    """``vi.simulate``, ``vi.sweep`` and ``vi.map2d`` take at most eight parameters:
+    solver settings and execution settings are one object each, not a keyword each."""
+    import vibimpact as vi
+
+    for fn in (vi.simulate, vi.sweep, vi.map2d):
+        params = [p for p in inspect.signature(fn).parameters.values()
+                  if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
+        assert len(params) <= 8, (fn.__name__, [p.name for p in params])
 
 
 def test_imports_run_downwards():
