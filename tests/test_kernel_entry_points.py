@@ -20,6 +20,9 @@ STATE_ENTRIES = {
     "simulate": lambda x: vi.simulate(P, periods=2, state0=x),
     "System.simulate": lambda x: SYSTEM.simulate(periods=2, state0=x),
     "System.monodromy": lambda x: SYSTEM.monodromy(x, 1),
+    "Solver": lambda x: vi.Solver(SYSTEM, x).advance(1),
+    "Solver.variational": lambda x: vi.Solver.variational(
+        SYSTEM, x, SYSTEM.settings(), tangents=4).advance(0, skip=1),
     "monodromy": lambda x: an.monodromy(SYSTEM, x, 1),
     "shoot_periodic_orbit": lambda x: an.shoot_periodic_orbit(SYSTEM, x, max_iter=1),
     "lyapunov_spectrum": lambda x: an.lyapunov_spectrum(SYSTEM, x, averaging=SHORT),

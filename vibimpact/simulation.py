@@ -11,7 +11,8 @@ import numpy as np
 from . import _limits
 from . import _validate as _v
 from .run import Run, Status, impacts_of
-from .solver import METHODS, SETTINGS, SIMULATE_DEFAULTS, Solver, SolverSettings, as_settings
+from .solver import (METHODS, SETTINGS, SIMULATE_DEFAULTS, Solver, SolverSettings,
+                     as_settings)
 from .system import System
 
 if TYPE_CHECKING:  # names of the annotations only

@@ -417,5 +417,5 @@ class Solver:
                                   self.counters)
 
 
-__all__ = ["SolverSettings", "Solver", "Segment", "SETTINGS", "SIMULATE_DEFAULTS", "METHODS",
-           "as_settings"]
+__all__ = ["SolverSettings", "Solver", "Segment", "SETTINGS", "SIMULATE_DEFAULTS",
+           "METHODS", "as_settings"]
