@@ -28,6 +28,9 @@ SMOKE = {
     "paper/readme_summary.py": ["README.md"],
     "performance/performance.py": ["performance.md", "work_precision_fig8.png",
                                    "work_precision.png"],
+    # not run by performance.py: it compiles the kernel cold, installs into throwaway
+    # environments and writes a report of its own
+    "performance/kernel_install.py": ["kernel_install.md"],
     "reliability/reliability.py": ["reliability.md"],
     "tools/bit_identity.py": ["bit_identity.json"],
     "tools/eta_path.py": ["eta_path.txt"],

@@ -124,3 +124,36 @@ def test_short_slip_reversal_agrees_with_scipy():
     p = preset("fig11").replace(eta=1.2, f=0.3, Rr=0.0)
     run, ref, err = _compare(p, [1.05, 0.0, 0.0, 0.5])
     assert err < 1e-6
+
+
+def test_paper_code_and_the_reference_live_outside_the_core():
+    """Hypothesis: vibimpact.paper (the claims) and vibimpact.testing (the reference
+    solver) import from the kernel only vibimpact._kernel.boundary, and no module of the
+    package core imports either of them (issue 29: paper code and the reference solver
+    leave the core)."""
+    import ast
+    from pathlib import Path
+
+    pkg = Path(vi.__file__).resolve().parent
+    outside = ("paper", "testing")
+    bad = []
+    for path in pkg.rglob("*.py"):
+        rel = path.relative_to(pkg)
+        base = ["vibimpact", *rel.parent.parts]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                mod = ".".join(base[:len(base) - node.level + 1] + [node.module or ""]
+                               ) if node.level else node.module
+                names = [f"{mod}.{a.name}".replace("..", ".") for a in node.names]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            else:
+                continue
+            for full in names:
+                if rel.parts[0] in outside:
+                    if "._kernel" in full and not full.startswith(
+                            "vibimpact._kernel.boundary"):
+                        bad.append(f"{rel}: {full}")
+                elif any(full.startswith(f"vibimpact.{o}") for o in outside):
+                    bad.append(f"{rel}: {full}")
+    assert not bad, bad
