@@ -122,3 +122,24 @@ def test_api_sweep_survives_a_signal_and_resumes_bit_identical(tmp_path, referen
     for k in got.files:
         assert np.array_equal(got[k], reference[k].values,
                               equal_nan=got[k].dtype.kind in "fc"), k
+
+
+def test_a_signal_during_a_save_waits_for_the_save_to_finish():
+    """Hypothesis: SIGTERM received inside a ``signals_deferred`` block (where the engine
+    saves a checkpoint entry) does not cut the block; it raises ``Interrupted`` with
+    its number right after, and the handlers found on entry are back."""
+    from vibimpact.engine.signals import StopWorkersOnSignal, signals_deferred
+
+    before = signal.getsignal(signal.SIGTERM)
+    steps = []
+    with pytest.raises(vi.Interrupted) as info:
+        with StopWorkersOnSignal():
+            with signals_deferred():
+                os.kill(os.getpid(), signal.SIGTERM)
+                time.sleep(0.05)  # the handler has run by now
+                steps.append("saved")
+            steps.append("after the block")
+    assert steps == ["saved"]
+    assert info.value.signum == signal.SIGTERM
+    assert signal.getsignal(signal.SIGTERM) is before
+    StopWorkersOnSignal.received = None

@@ -6,7 +6,7 @@ import logging
 import time
 
 from .progress import nothing
-from .signals import StopWorkersOnSignal
+from .signals import StopWorkersOnSignal, signals_deferred
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +61,8 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
     def on_point(task, i, res):
         streamed.add(id(task))
         if store is not None:
-            store.save(task.row, task.direction, [(i, res)])
+            with signals_deferred():  # an entry is saved whole (see signals_deferred)
+                store.save(task.row, task.direction, [(i, res)])
         progress(1)
 
     def finished(task, results):
@@ -69,7 +70,8 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
             new = [(i, r) for i, r in results if i not in task.done]
             if store is not None:
                 for run in _runs(new):
-                    store.save(task.row, task.direction, run)
+                    with signals_deferred():
+                        store.save(task.row, task.direction, run)
             progress(len(new))
         on_task(task, results)
 

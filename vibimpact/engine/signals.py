@@ -9,6 +9,7 @@ enters it once more for the whole command.  Standard library only (the command l
 """
 from __future__ import annotations
 
+import contextlib
 import os
 
 
@@ -32,6 +33,10 @@ class StopWorkersOnSignal:
 
     #: the signal that stopped this command, once one has (see :func:`signal_decides`)
     received = None
+    #: depth of :func:`signals_deferred` blocks now running, and the signal one of them
+    #: holds back (``(guard, signum)``)
+    deferring = 0
+    pending = None
 
     def __enter__(self):
         import signal
@@ -53,6 +58,13 @@ class StopWorkersOnSignal:
             signal.signal(signum, signal.SIG_DFL)
             os.kill(os.getpid(), signum)
             return
+        if StopWorkersOnSignal.deferring:  # raised when the block is over
+            StopWorkersOnSignal.pending = StopWorkersOnSignal.pending or (self, signum)
+            return
+        self.stop(signum)
+
+    def stop(self, signum):
+        """Restore the handlers found on entry and raise :class:`Interrupted`."""
         self.__exit__(None, None, None)  # a second Ctrl-C acts at once
         StopWorkersOnSignal.received = signum  # for every guard of this command
         raise Interrupted(signum)  # the executor stops its workers on the way out
@@ -64,6 +76,25 @@ class StopWorkersOnSignal:
             signal.signal(sig, old)
         self._old = {}
         return False
+
+
+@contextlib.contextmanager
+def signals_deferred():
+    """A block that a signal does not cut: SIGINT or SIGTERM received inside it raises
+    :class:`Interrupted` as soon as it is over.  A checkpoint entry is saved in one such
+    block, so a signal never stops Python's ``zipfile`` half-way (which turns the
+    interrupt into "Can't close the ZIP file while there is an open writing handle")
+    and the point being saved is kept."""
+    StopWorkersOnSignal.deferring += 1
+    try:
+        yield
+    finally:
+        StopWorkersOnSignal.deferring -= 1
+        pending = StopWorkersOnSignal.pending
+        if pending is not None and not StopWorkersOnSignal.deferring:
+            StopWorkersOnSignal.pending = None
+            guard, signum = pending
+            guard.stop(signum)
 
 
 def signal_decides(exc):
