@@ -256,10 +256,10 @@ def test_a_problem_of_a_builtin_model_must_have_its_sizes():
     the rotor's functions index fixed positions."""
     t = vi.ROTOR.terminal
     with pytest.raises(ValueError, match="rotor problem"):
-        kb.Problem(0, t, 2, np.zeros(5), 1.0, n_state=4)
+        kb.Problem(vi.ROTOR.kernel_model, t, 2, np.zeros(5), 1.0, n_state=4)
     with pytest.raises(ValueError, match="rotor problem"):
-        kb.Problem(0, t, 1, P.as_array(), 1.0, n_state=4)
+        kb.Problem(vi.ROTOR.kernel_model, t, 1, P.as_array(), 1.0, n_state=4)
     with pytest.raises(ValueError, match="rotor problem"):
-        kb.Problem(0, t, 2, P.as_array(), 1.0, n_state=2)
+        kb.Problem(vi.ROTOR.kernel_model, t, 2, P.as_array(), 1.0, n_state=2)
     with pytest.raises(ValueError, match="omega"):
-        kb.Problem(0, t, 2, P.as_array(), float("nan"), n_state=4)
+        kb.Problem(vi.ROTOR.kernel_model, t, 2, P.as_array(), float("nan"), n_state=4)

@@ -4,15 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import logging
-
-import numpy as np
-
-from . import _limits
-from . import _validate as _v
-from .run import Run, Status, impacts_of
-from .solver import (METHODS, SETTINGS, SIMULATE_DEFAULTS, Solver, SolverSettings,
-                     as_settings)
+from .solver import METHODS, SETTINGS, SIMULATE_DEFAULTS, SolverSettings
 from .system import System
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -20,8 +12,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from .models import Model
     from .params import DuffingParams, Params
-
-_logger = logging.getLogger(__name__)
+    from .run import Run
 
 __all__ = ["simulate", "METHODS"]
 
@@ -95,50 +86,10 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
     """
     if moved:
         raise _moved(moved)
-    solver = as_settings(solver)
     if isinstance(p, System):
         if model is not None:
             raise ValueError("model must be None with a System (it carries its model)")
         system = p
     else:
         system = System(p, model=model)
-    mdl = system.model
-    periods = _v.count("periods", periods, 1)
-    transient = _v.count("transient", transient, 0)
-    dense = _v.count("dense", dense, 0)
-    settings = system.solver if solver is None else solver.over(system.solver)
-    n = system.n_state
-    _limits.check_run(periods, transient, dense, n)
-    y0 = _v.state("state0", state0, n)
-    run = Solver(system, y0, settings, check=False)  # it advances run.y, a copy of y0
-    seg = run.advance(periods, skip=transient, dense=dense)
-    st, reason, strobe = seg.status, seg.reason, seg.strobe
-    T = run.period
-    rows = strobe.shape[0]
-    events = seg.events
-    impacts = impacts_of(mdl.contact, system.p, events, transient * T, T)
-    if dense:
-        dense_out = seg.dense
-        t_dense = transient * T + np.arange(dense_out.shape[0]) * (T / dense)
-    else:
-        dense_out = None
-        t_dense = None
-    _logger.debug("simulate %s: %d periods after %d, status %s, %d steps, %d events",
-                  mdl.name, periods, transient, st.value, int(run.counters[0]),
-                  int(run.counters[3]))
-    return Run(
-        params=system.params, model=mdl.name, strobe=strobe,
-        t_strobe=(transient + np.arange(rows)) * T, impacts=impacts, events=events,
-        dense=dense_out, t_dense=t_dense, status=st, reason=reason,
-        counters=dict(zip(("steps", "rhs_evals", "rejected", "events", "observed"),
-                          (int(c) for c in run.counters))),
-        final_state=strobe[-1].copy() if rows else run.y.copy(),
-        solver=dict(method=run.settings.method,
-                    adaptive=bool(run.settings.adaptive and run.method.adaptive),
-                    rtol=run.settings.rtol, atol=run.settings.atol,
-                    steps_per_period=run.settings.steps_per_period,
-                    max_step=float(run.options.max_step), event_tol=run.settings.event_tol,
-                    bound=float(run.options.bound)),
-        state0=y0, periods=periods, transient=transient, dense_per_period=dense,
-        contact=mdl.contact,
-    )
+    return system.simulate(periods, transient, state0, dense=dense, solver=solver)

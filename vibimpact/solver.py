@@ -22,17 +22,22 @@ from typing import TYPE_CHECKING
 import math
 from dataclasses import dataclass, fields, replace
 
+import logging
+
 import numpy as np
 
+from . import _limits
 from . import _validate as _v
 from ._kernel import boundary as _kb
-from .run import Status, status_of
+from .run import Run, Status, impacts_of, status_of
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
+    from ._kernel.boundary import Method, Options
     from .system import System
 
+_logger = logging.getLogger(__name__)
 #: method names, in the order the kernel numbers them
 METHODS = _kb.METHODS
 
@@ -96,13 +101,18 @@ class SolverSettings:
     max_steps_per_period: int | None = None
 
     def __post_init__(self):
-        checks = dict(method=lambda n, v: _v.choice(n, v, _kb.METHODS),
-                      steps_per_period=_v.count, max_steps_per_period=_v.count,
-                      adaptive=_v.flag)
         for name in SETTINGS:
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(self, name, checks.get(name, _v.positive)(name, value))
+                object.__setattr__(self, name, _checked(name, value))
+
+    def _with(self, changes):
+        """A copy with ``changes`` checked (only they: the rest was checked when made)."""
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        for name, value in changes.items():
+            object.__setattr__(new, name, None if value is None else _checked(name, value))
+        return new
 
     def replace(self, **changes) -> SolverSettings:
         """A copy with some settings changed; ``ValueError`` for an unknown name."""
@@ -116,28 +126,27 @@ class SolverSettings:
         """These settings, each ``None`` taken from ``base`` (these win)."""
         if base is None:
             return self
-        return replace(base, **{k: v for k, v in self.as_dict().items() if v is not None})
+        return base._with({k: v for k, v in self.as_dict().items() if v is not None})
 
     def filled(self, **defaults) -> SolverSettings:
         """Every setting fixed: ``None`` replaced by the caller's ``defaults``, then by
         :data:`SIMULATE_DEFAULTS` (``max_step`` and ``bound`` may stay None: a quarter
         period and the model's bound)."""
-        base = dict(SIMULATE_DEFAULTS)
-        base.update(defaults)
+        base = dict(SIMULATE_DEFAULTS, **defaults) if defaults else SIMULATE_DEFAULTS
         changes = {k: base[k] for k in SETTINGS
                    if getattr(self, k) is None and base[k] is not None}
-        return replace(self, **changes) if changes else self
+        return self._with(changes) if changes else self
 
-    def as_dict(self, names=None) -> dict:
+    def as_dict(self, names: tuple[str, ...] | None = None) -> dict[str, object]:
         """``{name: value}`` of the settings ``names`` (all by default), in order."""
         return {k: getattr(self, k) for k in (SETTINGS if names is None else names)}
 
-    def kernel_method(self):
+    def kernel_method(self) -> Method:
         """The Runge--Kutta method (:class:`vibimpact._kernel.boundary.Method`)."""
         return _kb.Method.named(self.filled().method)
 
     def options(self, period: float, bound: float, *, n_bound: int = 0, n_err: int = 0,
-                tangent_factor: float = 1.0):
+                tangent_factor: float = 1.0) -> Options:
         """The kernel's options of a run with forcing period ``period``: the one place
         they are built.
 
@@ -164,6 +173,16 @@ class SolverSettings:
 
 #: the settings' names, in order
 SETTINGS = tuple(f.name for f in fields(SolverSettings))
+
+#: the check of each setting that is not a positive number
+_CHECKS = dict(method=lambda n, v: _v.choice(n, v, _kb.METHODS),
+               steps_per_period=_v.count, max_steps_per_period=_v.count, adaptive=_v.flag)
+
+
+def _checked(name, value):
+    """``value`` of setting ``name`` validated (``ValueError`` or ``TypeError`` naming
+    it)."""
+    return _CHECKS.get(name, _v.positive)(name, value)
 
 
 def as_settings(solver, name="solver"):
@@ -291,7 +310,8 @@ class Solver:
 
     @classmethod
     def pair(cls, system: System, state0: ArrayLike, state1: ArrayLike,
-             settings: SolverSettings, *, first_step: float | None = None):
+             settings: SolverSettings, *,
+             first_step: float | None = None) -> tuple[Solver, Solver]:
         """Two solvers of ``system`` started at ``state0`` and ``state1`` with the same
         clock, for :meth:`two_trajectory` (adaptive methods only)."""
         options = cls._adaptive(settings).options(system.period, system.model.bound)
@@ -306,7 +326,7 @@ class Solver:
         return tuple(out)
 
     @staticmethod
-    def check_tangents(settings: SolverSettings, tangent_tol: float | None = None):
+    def check_tangents(settings: SolverSettings, tangent_tol: float | None = None) -> None:
         """Check that ``settings`` and ``tangent_tol`` can run the variational equations
         or a pair (:meth:`variational`, :meth:`pair`): ``ValueError`` naming ``method``
         for a fixed-step method, ``tangent_tol`` for one below 1."""
@@ -393,7 +413,8 @@ class Solver:
         return f"{reason} at tau = {k_done * self.period + self.clock[1]:.6g} " \
                f"(forcing period {k_done})"
 
-    def benettin(self, n_periods: int, logs: np.ndarray, states: np.ndarray):
+    def benettin(self, n_periods: int, logs: np.ndarray,
+                 states: np.ndarray) -> tuple[int, int]:
         """``n_periods`` periods of the variational equations with QR
         re-orthonormalisation after each: ``logs`` (rows >= n_periods) receives
         ``log |R_ii|`` per period, ``states`` the state at each period's end.
@@ -405,7 +426,7 @@ class Solver:
                             logs, states, self.counters)
 
     def two_trajectory(self, other: Solver, d0: float, scale: np.ndarray, n_periods: int,
-                       logs: np.ndarray):
+                       logs: np.ndarray) -> tuple[int, int]:
         """This (reference) and ``other`` (perturbed) solver over ``n_periods`` periods,
         ``other`` put back at distance ``d0`` after each (log separations into ``logs``).
 
@@ -417,5 +438,53 @@ class Solver:
                                   self.counters)
 
 
+def run_system(system: System, periods: int, transient: int, state0: ArrayLike | None,
+               dense: int, solver: SolverSettings | None) -> Run:
+    """One validated run of ``system`` as a :class:`~vibimpact.Run`: the body of
+    :func:`vibimpact.simulate` and :meth:`vibimpact.System.simulate` (which document the
+    arguments); ``solver``'s settings that are not None replace the system's."""
+    solver = as_settings(solver)
+    mdl = system.model
+    periods = _v.count("periods", periods, 1)
+    transient = _v.count("transient", transient, 0)
+    dense = _v.count("dense", dense, 0)
+    settings = system.solver if solver is None else solver.over(system.solver)
+    n = system.n_state
+    _limits.check_run(periods, transient, dense, n)
+    y0 = _v.state("state0", state0, n)
+    run = Solver(system, y0, settings, check=False)  # it advances run.y, a copy of y0
+    seg = run.advance(periods, skip=transient, dense=dense)
+    st, reason, strobe = seg.status, seg.reason, seg.strobe
+    T = run.period
+    rows = strobe.shape[0]
+    events = seg.events
+    impacts = impacts_of(mdl.contact, system.p, events, transient * T, T)
+    if dense:
+        dense_out = seg.dense
+        t_dense = transient * T + np.arange(dense_out.shape[0]) * (T / dense)
+    else:
+        dense_out = None
+        t_dense = None
+    _logger.debug("simulate %s: %d periods after %d, status %s, %d steps, %d events",
+                  mdl.name, periods, transient, st.value, int(run.counters[0]),
+                  int(run.counters[3]))
+    return Run(
+        params=system.params, model=mdl.name, strobe=strobe,
+        t_strobe=(transient + np.arange(rows)) * T, impacts=impacts, events=events,
+        dense=dense_out, t_dense=t_dense, status=st, reason=reason,
+        counters=dict(zip(("steps", "rhs_evals", "rejected", "events", "observed"),
+                          (int(c) for c in run.counters))),
+        final_state=strobe[-1].copy() if rows else run.y.copy(),
+        solver=dict(method=run.settings.method,
+                    adaptive=bool(run.settings.adaptive and run.method.adaptive),
+                    rtol=run.settings.rtol, atol=run.settings.atol,
+                    steps_per_period=run.settings.steps_per_period,
+                    max_step=float(run.options.max_step), event_tol=run.settings.event_tol,
+                    bound=float(run.options.bound)),
+        state0=y0, periods=periods, transient=transient, dense_per_period=dense,
+        contact=mdl.contact,
+    )
+
+
 __all__ = ["SolverSettings", "Solver", "Segment", "SETTINGS", "SIMULATE_DEFAULTS",
-           "METHODS", "as_settings"]
+           "METHODS", "as_settings", "run_system"]

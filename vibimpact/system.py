@@ -28,7 +28,7 @@ from . import _validate as _v
 from .models import Model, resolve
 from .params import Domain
 from .run import Status, status_of
-from .solver import SETTINGS, Solver, SolverSettings, as_settings
+from .solver import SETTINGS, Solver, SolverSettings, as_settings, run_system
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
@@ -253,8 +253,7 @@ class System:
         -------
         Run
         """
-        from .simulation import simulate
-        return simulate(self, periods, transient, state0, dense=dense, solver=solver)
+        return run_system(self, periods, transient, state0, dense, solver)
 
     def strobe(self, periods: int, state0: ArrayLike,
                **defaults) -> tuple[Status, str, np.ndarray]:
