@@ -150,7 +150,9 @@ def _rows_by_point(p, etas, name, values):
     import contextlib
     import sys as _sys
 
-    sweep_module = _sys.modules["vibimpact.engine.plan"]  # where the tasks call it
+    import vibimpact.engine.policy
+
+    sweep_module = _sys.modules["vibimpact.engine.policy"]  # where the tasks call it
     inner = sweep_module.analyse_point
     cost, no_transient = {}, [0]
 
