@@ -1,78 +1,83 @@
-"""Install-time build step: the kernel compiled ahead of time.
+"""Install-time step: numba's on-disk cache filled with the kernel.
 
-Everything else about the package is declared in ``pyproject.toml``.  The one extension
-module, ``vibimpact._kernel._aot``, is the integration loop and the array routines a rotor
-run needs, compiled by numba's ahead-of-time compiler for this machine's processor
-(``vibimpact/_kernel/aot_build.py``), so that the first run does not spend 10-20 s
-compiling them.  The build is optional: where it fails (no C compiler, say) the install
-goes on with a warning and numba compiles the kernel on first use, as it would without
-this step.
+Everything else about the package is declared in ``pyproject.toml``.  An editable install
+(``pip install -e .``) runs ``python -m vibimpact._kernel.aot_build`` with this
+environment's own Python and packages (not the build's isolated ones): it compiles the
+integration loop and the array routines a rotor run needs into numba's cache beside the
+sources, keyed by the kernel sources and the numba, llvmlite, NumPy and Python versions,
+so that the first run loads them instead of spending about 15 s compiling.  With the key
+unchanged (installing an extra, say) it compiles nothing.  It says what it does and how
+long it took (``pip install -v`` shows it; ``vibimpact --version`` says whether the
+cache is in use).  It cannot fail the install: where it does not run (the dependencies
+not installed yet, a regular wheel, whose sources move when installed) numba compiles
+the kernel on first use and caches it, and ``python -m vibimpact._kernel.aot_build``
+fills the cache by hand.
 """
 import os
-import shutil
+import subprocess
 import sys
-import tempfile
+import time
 
-from setuptools import Extension, setup
-from setuptools.command.build_ext import build_ext
+from setuptools import setup
+from setuptools.command.build_py import build_py
+
+ROOT = os.path.dirname(os.path.abspath(__file__))
+
+#: run in this environment's interpreter: -E ignores the build's PYTHONPATH (pip's
+#: isolated build environment), -P keeps the working directory off sys.path
+FILL = ("import sys; sys.path.insert(0, sys.argv[1]); "
+        "from vibimpact._kernel.aot_build import main; main([])")
 
 
-class BuildPrecompiledKernel(build_ext):
-    """``build_ext`` that runs ``vibimpact._kernel.aot_build`` for the kernel module."""
+def say(text, said=None):
+    """A line of the install's output (``pip install -v`` shows it), kept in ``said``."""
+    line = f"vibimpact install: {text}"
+    print(line, file=sys.stderr, flush=True)
+    if said is not None:
+        said.append(line)
 
-    def build_extension(self, ext):
-        path = os.path.abspath(self.get_ext_fullpath(ext.name))
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        # the sources being installed, and a numba cache of the build's own (nothing is
-        # left in the source tree but the module and its description)
-        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-        cache = tempfile.mkdtemp(prefix="vibimpact-aot-cache-")
-        os.environ["NUMBA_CACHE_DIR"] = cache
-        try:
-            from vibimpact._kernel import aot_build
 
-            seconds = aot_build.build(path)
-        except Exception as exc:  # optional: the JIT path works without it
-            print(f"warning: the precompiled kernel was not built ({type(exc).__name__}: "
-                  f"{exc}); numba will compile the kernel on first use", file=sys.stderr)
+def fill_kernel_cache(root=ROOT):
+    """Run the cache fill of the sources under ``root``; say what it did, never raise.
+
+    Returns
+    -------
+    list of str
+        The lines it said.
+    """
+    said = []
+    say("filling numba's cache with the kernel (python -m vibimpact._kernel.aot_build)",
+        said)
+    t0 = time.perf_counter()
+    try:
+        done = subprocess.run([sys.executable, "-E", "-P", "-c", FILL, root],
+                              capture_output=True, text=True)
+    except OSError as exc:
+        say(f"the kernel was not compiled ({exc}); numba compiles it on first use", said)
+        return said
+    seconds = time.perf_counter() - t0
+    for line in done.stdout.splitlines():
+        say(line, said)
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        say(f"the kernel was not compiled ({last}); numba compiles it on first use and "
+            f"caches it, or run: python -m vibimpact._kernel.aot_build", said)
+    else:
+        say(f"kernel cache step done in {seconds:.1f} s", said)
+    return said
+
+
+class BuildPyFillingKernelCache(build_py):
+    """``build_py`` that fills numba's cache with the kernel in an editable install."""
+
+    def run(self):
+        super().run()
+        if getattr(self, "editable_mode", False):
+            fill_kernel_cache()
         else:
-            print(f"precompiled kernel built in {seconds:.0f} s: {path}")
-        finally:
-            shutil.rmtree(cache, ignore_errors=True)
-
-    # the description travels with the module: into the wheel, and back into the source
-    # tree for an editable install (setuptools copies only the module itself)
-    def _pairs(self):
-        build_py = self.get_finalized_command("build_py")
-        for ext in self.extensions:
-            fullname = self.get_ext_fullname(ext.name)
-            filename = self.get_ext_filename(fullname)
-            package = ".".join(fullname.split(".")[:-1])
-            inplace = os.path.join(build_py.get_package_dir(package),
-                                   os.path.basename(filename))
-            yield os.path.join(self.build_lib, filename), inplace
-
-    def copy_extensions_to_source(self):
-        super().copy_extensions_to_source()
-        for regular, inplace in self._pairs():
-            if os.path.exists(regular + ".json"):
-                self.copy_file(regular + ".json", inplace + ".json")
-
-    def get_outputs(self):
-        outputs = list(super().get_outputs())
-        if not self.inplace:
-            outputs += [regular + ".json" for regular, _ in self._pairs()]
-        return outputs
-
-    def get_output_mapping(self):
-        mapping = dict(super().get_output_mapping())
-        if self.inplace:
-            mapping.update({regular + ".json": inplace + ".json"
-                            for regular, inplace in self._pairs()})
-        return mapping
+            say("a regular install: numba compiles the kernel on first use and caches "
+                "it; python -m vibimpact._kernel.aot_build does it now")
 
 
-setup(
-    ext_modules=[Extension("vibimpact._kernel._aot", sources=[], optional=True)],
-    cmdclass={"build_ext": BuildPrecompiledKernel},
-)
+if __name__ == "__main__":  # setuptools runs this file as __main__; tests import it
+    setup(cmdclass={"build_py": BuildPyFillingKernelCache})

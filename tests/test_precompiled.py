@@ -1,10 +1,17 @@
-"""The kernel compiled ahead of time at install time (vibimpact._kernel.precompiled).
+"""The kernel compiled at install time: numba's on-disk cache, filled by setup.py.
 
-The precompiled functions must be used where they apply, give the bits numba's JIT gives,
-be refused when they were built from other sources, compilers or processors, and never
-receive arguments of other types (they do not check them: the JIT runs those calls).
+The fill (setup.py -> vibimpact._kernel.aot_build) must leave nothing for a first run to
+compile, give the bits numba's JIT gives, compile nothing when its key is unchanged (an
+extra installed later), and ``vibimpact --version`` must say whether it is in use and why
+not.  None of it needs a C compiler: every test here runs without one.
 """
+import importlib.util
+import json
+import os
 import pickle
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,17 +21,93 @@ from vibimpact._kernel import aot_build
 from vibimpact._kernel import boundary as kb
 from vibimpact._kernel import precompiled
 
+ROOT = Path(__file__).resolve().parents[1]
 
-def _fig8(eta):
-    return vi.presets.get("fig8").replace(eta=eta)
+#: rotor runs with impacts (chaotic at 1.2, P1 at 1.13, permanent contact at 1.3), the
+#: Lyapunov spectrum (the variational rotor's Benettin loop) and the array routines on
+#: random inputs, pickled to sys.argv[1]; then the cache's hits and misses and the cache
+#: files of the kernel's directory
+_RUNS = """
+import pickle, sys
+import numpy as np
+import vibimpact as vi
+from vibimpact._kernel import aot_build, boundary as kb, driver
+out = {}
+p = vi.presets.get("fig8")
+for eta, method in [(1.2, "dop853"), (1.13, "dp5"), (1.3, "rk4")]:
+    r = vi.simulate(p.replace(eta=eta), periods=20, transient=10, method=method, dense=16,
+                    state0=[1.1, 0.0, 0.0, 1.3])
+    out[eta] = (r.strobe, r.dense, r.final_state, r.impacts, dict(r.counters))
+res = vi.analysis.lyapunov_spectrum(
+    vi.System(p.replace(eta=1.2)), state0=[1.1, 0.0, 0.0, 1.3],
+    averaging=vi.analysis.Averaging(transient=3, min_periods=8, max_periods=8, block=4,
+                                    align=2), floquet=False)
+out["lyapunov"] = (res.exponents, res.history)
+rng = np.random.default_rng(3)
+a, b, v, x = (rng.standard_normal((5, 5)), rng.standard_normal((5, 3)),
+              rng.standard_normal(5), rng.standard_normal((12, 4)))
+out["routines"] = (kb.dot(v, v), kb.matmul(a, b), kb.lstsq(a, b, 1e-12), kb.solve(a, v),
+                   kb.eigvals(a))
+res4 = (np.empty((12, 3)), np.empty((12, 4)), np.empty((12, 4)), np.empty(12))
+kb.suffix_lag_residuals(x, 3, *res4)
+out["recurrence"] = res4
+stats = driver.integrate.stats
+out["integrate_cache"] = (sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))
+with open(sys.argv[1], "wb") as fh:
+    pickle.dump(out, fh)
+"""
 
 
-def test_install_built_a_precompiled_kernel_that_loads_here():
-    """The install (setup.py) built the extension module for these sources, this numba
-    and this processor: every export is loaded."""
-    assert precompiled.status() == "loaded"
-    for name in aot_build.exports():
-        assert precompiled.available(name), name
+def _env(cache):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["NUMBA_CACHE_DIR"] = str(cache)
+    return env
+
+
+def _cache_files(cache):
+    return sorted(str(f.relative_to(cache)) for f in Path(cache).rglob("*.nb?"))
+
+
+def _runs(cache, out):
+    subprocess.run([sys.executable, "-c", _RUNS, str(out)], env=_env(cache), cwd=ROOT,
+                   check=True, capture_output=True)
+    with open(out, "rb") as fh:
+        return pickle.load(fh)
+
+
+def _setup_module():
+    """setup.py as a module (its setup() call runs only as __main__)."""
+    spec = importlib.util.spec_from_file_location("vibimpact_setup", ROOT / "setup.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def filled(tmp_path_factory):
+    """An empty numba cache filled by setup.py's install step, then: the lines it said,
+    the cache files it left, the lines a second install step said, and the runs of
+    ``_RUNS`` in a process on that cache (``cached``) and in one with an empty cache
+    (``jit``: numba compiles everything)."""
+    work = tmp_path_factory.mktemp("kernel-cache")
+    cache, empty = work / "filled", work / "empty"
+    setup_py = _setup_module()
+    saved = os.environ.get("NUMBA_CACHE_DIR")
+    os.environ["NUMBA_CACHE_DIR"] = str(cache)
+    try:
+        said = setup_py.fill_kernel_cache(str(ROOT))
+        files = _cache_files(cache)
+        said_again = setup_py.fill_kernel_cache(str(ROOT))
+    finally:
+        if saved is None:
+            os.environ.pop("NUMBA_CACHE_DIR")
+        else:
+            os.environ["NUMBA_CACHE_DIR"] = saved
+    files_again = _cache_files(cache)
+    cached = _runs(cache, work / "cached.pkl")
+    return {"cache": cache, "said": said, "files": files, "said_again": said_again,
+            "files_again": files_again, "files_after_runs": _cache_files(cache),
+            "cached": cached, "jit": _runs(empty, work / "jit.pkl")}
 
 
 def _equal(a, b):
@@ -41,121 +124,109 @@ def _equal(a, b):
     return np.array_equal(a, b, equal_nan=True)
 
 
-class _Spy:
-    """Stands in for boundary._integrate: records whether each call ran the precompiled
-    function (``jit=True``: runs the JIT-compiled one instead)."""
-
-    def __init__(self, routine, jit=False):
-        self.routine, self.use_jit, self.precompiled = routine, jit, []
-
-    def __call__(self, *args):
-        fn = self.routine.jit if self.use_jit else self.routine.pick(args)
-        self.precompiled.append(fn is not self.routine.jit)
-        return fn(*args)
-
-
-def _run(monkeypatch, jit, fn):
-    spy = _Spy(kb._integrate, jit)
-    with monkeypatch.context() as m:
-        m.setattr(kb, "_integrate", spy)
-        return fn(), spy.precompiled
+def test_the_install_step_fills_the_cache_and_says_so(filled):
+    """Hypothesis: setup.py's install step compiles every export into an empty cache,
+    says what it compiles, where and how long it took, and stamps the cache with the
+    current key (sources, versions, processor)."""
+    said = "\n".join(filled["said"])
+    assert "compiling the numba kernel" in said and "integrate" in said
+    assert "compiled the kernel" in said and " s" in said
+    assert "kernel cache step done in" in said
+    stamp = aot_build.read_stamp(next(filled["cache"].iterdir()))
+    assert stamp["key"] == aot_build.cache_key()["key"]
+    names = {f.split("/")[-1].split("-")[0] for f in filled["files"]}
+    for fn, _, _ in aot_build.exports().values():
+        assert f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}" in names
 
 
-@pytest.mark.parametrize("eta,method", [(1.2, "dop853"), (1.13, "dp5"), (1.3, "rk4")])
-def test_precompiled_integrate_gives_the_bits_of_the_jit(monkeypatch, eta, method):
-    """A rotor run with impacts (chaotic at 1.2, P1 at 1.13, permanent contact at 1.3)
-    gives bit-identical stroboscopic and dense samples, events, counters and final state
-    through the precompiled integration loop and through numba's JIT-compiled one; every
-    call of the package picks the precompiled one."""
-    def run():
-        r = vi.simulate(_fig8(eta), periods=20, transient=10, dense=16,
-                        state0=[1.1, 0.0, 0.0, 1.3],
-                        solver=vi.SolverSettings(method=method))
-        return (r.strobe, r.dense, r.events, r.counters, r.final_state, r.impacts)
-
-    (a, picked), (b, _) = _run(monkeypatch, False, run), _run(monkeypatch, True, run)
-    assert picked and all(picked)
-    assert _equal(a, b)
-    assert a[3]["events"] > 0
+def test_an_unchanged_key_compiles_nothing_again(filled):
+    """Hypothesis: a second install step with the same key (installing an extra) says
+    the kernel is already compiled, compiles nothing and leaves the cache files as they
+    were."""
+    said = "\n".join(filled["said_again"])
+    assert "already compiled" in said and "compiling the numba kernel" not in said
+    assert filled["files_again"] == filled["files"]
 
 
-def test_precompiled_benettin_loop_gives_the_bits_of_the_jit(monkeypatch):
-    """The Lyapunov spectrum (variational rotor with saltation matrices, QR after each
-    period: the Benettin mode of the same loop) is bit-identical both ways, and the
-    variational calls pick the precompiled loop too."""
-    def run():
-        res = vi.analysis.lyapunov_spectrum(vi.System(_fig8(1.2)),
-                                            state0=[1.1, 0.0, 0.0, 1.3],
-                                            averaging=vi.analysis.Averaging(
-                                                transient=3, min_periods=8,
-                                                max_periods=8, block=4, align=2),
-                                            floquet=False)
-        return res.exponents, res.history
-
-    (a, picked), (b, _) = _run(monkeypatch, False, run), _run(monkeypatch, True, run)
-    assert picked and all(picked)
-    assert _equal(a, b)
+def test_a_first_run_on_the_filled_cache_compiles_nothing(filled):
+    """Hypothesis: rotor runs of three methods, the Lyapunov spectrum and the array
+    routines, in a fresh process on the filled cache, load the integration loop from it
+    (hits, no miss) and write no cache file: the fill left nothing to compile."""
+    hits, misses = filled["cached"]["integrate_cache"]
+    assert hits > 0 and misses == 0
+    assert filled["files_after_runs"] == filled["files"]
 
 
-def test_precompiled_array_routines_give_the_bits_of_the_jit():
-    """dot, matmul, lstsq, solve, eigvals and the recurrence residuals give the same bits
-    precompiled and JIT-compiled, on random inputs."""
-    rng = np.random.default_rng(3)
-    a = rng.standard_normal((5, 5))
-    b = rng.standard_normal((5, 3))
-    v = rng.standard_normal(5)
-    x = rng.standard_normal((12, 4))
-    calls = [(kb.dot, (v, v)), (kb.matmul, (a, b)), (kb.lstsq, (a, b, 1e-12)),
-             (kb.solve, (a, v)), (kb.eigvals, (a,))]
-    for fn, args in calls:
-        assert fn.pick(args) is not fn.jit, fn
-        got, want = fn(*args), fn.jit(*args)
-        for g, w in zip(got if isinstance(got, tuple) else (got,),
-                        want if isinstance(want, tuple) else (want,)):
-            assert np.array_equal(g, w), fn
-    outs = []
-    for f in (kb.suffix_lag_residuals, kb.suffix_lag_residuals.jit):
-        res, hi, lo, mag = (np.empty((12, 3)), np.empty((12, 4)), np.empty((12, 4)),
-                            np.empty(12))
-        f(x, 3, res, hi, lo, mag)
-        outs.append((res, hi, lo, mag))
-    for u, w in zip(*outs):
-        assert np.array_equal(u, w)
+def test_the_cached_kernel_gives_the_bits_of_the_jit(filled):
+    """Hypothesis: the runs give bit-identical samples, events, counters, exponents and
+    routine results from the filled cache and from numba compiling everything afresh in
+    an empty cache (which it did: misses, no hit)."""
+    cached, jit = dict(filled["cached"]), dict(filled["jit"])
+    assert jit.pop("integrate_cache")[0] == 0
+    cached.pop("integrate_cache")
+    assert _equal(cached, jit)
+    assert cached[1.2][4]["events"] > 0
 
 
-@pytest.mark.parametrize("args", [
-    (np.arange(4), np.arange(4)),                       # int64: other dtype
-    (np.ones(8)[::2], np.ones(4)),                      # strided view: other layout
-    (np.ones((2, 2)), np.ones((2, 2))),                 # 2-D: other dimension
-    (np.ones(4, dtype=np.float32), np.ones(4)),         # float32
+def _stamped(tmp_path, monkeypatch, **changes):
+    """A cache directory with the exports' index files and a stamp of the current key
+    with ``changes``; aot_build.cache_dir points at it."""
+    key = aot_build.cache_key()
+    stamp = dict(key, seconds=1.0, filled_at="2026-01-01T00:00:00+00:00", **changes)
+    for fn, _, _ in aot_build.exports().values():
+        name = f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
+        (tmp_path / f"{name}-1.py311.nbi").write_bytes(b"")
+    (tmp_path / aot_build.STAMP).write_text(json.dumps(stamp))
+    monkeypatch.setattr(aot_build, "cache_dir", lambda: tmp_path)
+    return key
+
+
+def test_version_says_the_cache_is_in_use_when_its_key_matches(tmp_path, monkeypatch):
+    """Hypothesis: a stamp of the current key with every export's index file is
+    reported in use, with the fill's date and duration."""
+    _stamped(tmp_path, monkeypatch)
+    in_use, line = precompiled.cache_state()
+    assert in_use and line.startswith("in use") and "2026-01-01" in line
+
+
+@pytest.mark.parametrize("changes,words", [
+    ({"key": "0" * 64, "sources": "0" * 64}, "other kernel sources"),
+    ({"key": "0" * 64, "versions": {"numba": "0.1"}}, "numba"),
+    ({"key": "0" * 64, "host": {"cpu": "z80", "features": ""}}, "another processor"),
 ])
-def test_arguments_of_other_types_run_the_jit(args):
-    """A call whose argument types differ from the precompiled signature in dtype,
-    layout or dimension is given to the JIT-compiled function (the precompiled one would
-    read the memory as float64 C arrays)."""
-    assert kb.dot.pick(args) is kb.dot.jit
+def test_version_says_why_a_foreign_cache_is_not_used(tmp_path, monkeypatch, changes,
+                                                      words):
+    """Hypothesis: a cache filled from other sources, by other versions or for another
+    processor is reported not in use, naming what differs, and how to fill it."""
+    _stamped(tmp_path, monkeypatch, **changes)
+    in_use, line = precompiled.cache_state()
+    assert not in_use and words in line and "aot_build" in line
 
 
-def test_a_foreign_build_is_refused_with_its_reason():
-    """A description from other kernel sources, other numba/llvmlite versions or another
-    processor is refused, each with a reason naming what differs; the right one is
-    accepted."""
-    good = {"sources": precompiled.current_digest(), "versions": precompiled.versions(),
-            "host": precompiled.host()}
-    assert precompiled.mismatch(good) is None
-    assert "sources" in precompiled.mismatch(dict(good, sources="0" * 64))
-    assert "numba" in precompiled.mismatch(dict(good, versions={"numba": "0.1",
-                                                                "llvmlite": "0.1"}))
-    other = dict(good["host"], features=good["host"]["features"].replace("+", "-"))
-    assert "processor" in precompiled.mismatch(dict(good, host=other))
-    assert precompiled.mismatch([1, 2]) is not None
+def test_version_says_when_nothing_was_filled_or_files_are_gone(tmp_path, monkeypatch):
+    """Hypothesis: no stamp reads 'not filled at install'; a stamp whose cache files are
+    gone (dropped by the cache guard, say) reads 'gone'; neither is in use."""
+    _stamped(tmp_path, monkeypatch)
+    for f in tmp_path.glob("*.nbi"):
+        f.unlink()
+    in_use, line = precompiled.cache_state()
+    assert not in_use and "gone" in line
+    (tmp_path / aot_build.STAMP).unlink()
+    in_use, line = precompiled.cache_state()
+    assert not in_use and line.startswith("not filled at install")
 
 
-def test_turned_off_by_the_environment(monkeypatch):
-    """VIBIMPACT_PRECOMPILED=0 loads nothing and says so."""
-    monkeypatch.setenv(precompiled.ENV, "0")
-    module, exports, reason = precompiled._load()
-    assert module is None and exports == {} and precompiled.ENV in reason
+def test_version_option_prints_the_kernel_line(tmp_path):
+    """Hypothesis: ``vibimpact --version`` prints the version, then the kernel's line
+    (here: an empty cache directory, so not filled, naming the directory), on stdout,
+    and exits 0."""
+    done = subprocess.run([sys.executable, "-m", "vibimpact.cli", "--version"],
+                          env=_env(tmp_path), cwd=ROOT, capture_output=True, text=True)
+    assert done.returncode == 0
+    first, second = done.stdout.strip().splitlines()
+    assert first == f"vibimpact {vi.__version__}"
+    assert second.startswith("precompiled kernel: not filled at install")
+    assert str(tmp_path) in second
 
 
 def test_routine_pickles_to_the_same_routine():

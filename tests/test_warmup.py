@@ -18,14 +18,20 @@ print(len(helpers), helpers[0].exitcode if helpers else None, len(again),
 """
 
 
+def _cache_files(cache):
+    return sorted((f, os.path.getmtime(os.path.join(d, f))) for d, _, files in os.walk(cache)
+                  for f in files if f.endswith((".nbi", ".nbc")))
+
+
 def test_the_helper_fills_an_empty_cache_with_the_array_routines(tmp_path):
     """Hypothesis: in a fresh process with an empty numba cache, warmup.start() runs one
     helper process that exits cleanly after writing the six array routines (dot, matmul,
     lstsq, solve, eigvals, suffix_lag_residuals) to the cache, without compiling them in
     the calling process; a second start() starts nothing.  Where there is no fork (not
-    Linux) start() starts nothing and writes nothing.  (JIT only: with the precompiled
-    kernel there is nothing to warm up, see the next test.)"""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), VIBIMPACT_PRECOMPILED="0")
+    Linux) start() starts nothing and writes nothing.  Then, in another fresh process on
+    that cache (what the install's filled cache gives a first run), the helper only loads
+    them: it exits cleanly and writes no cache file."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
     out = subprocess.run([sys.executable, "-c", _SCRIPT], env=env, capture_output=True,
                          text=True, check=True).stdout.split()
     names = {f.split("-")[0] for _, _, files in os.walk(tmp_path) for f in files
@@ -37,20 +43,8 @@ def test_the_helper_fills_an_empty_cache_with_the_array_routines(tmp_path):
     assert out == ["1", "0", "0", "False"]
     for routine in ("dot", "matmul", "lstsq", "solve", "eigvals", "suffix_lag_residuals"):
         assert any(n.endswith("." + routine) for n in names), (routine, sorted(names))
-
-
-def test_with_the_precompiled_kernel_nothing_is_warmed_up(tmp_path):
-    """Hypothesis: when the install's precompiled kernel is loaded, the array routines are
-    already available, so warmup.start() starts no helper and nothing is compiled into an
-    empty numba cache."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
-    env.pop("VIBIMPACT_PRECOMPILED", None)
-    script = "from vibimpact._kernel import precompiled; print(precompiled.status())\n"
-    status = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
-                            text=True, check=True).stdout.strip()
-    assert status == "loaded"
-    out = subprocess.run([sys.executable, "-c", _SCRIPT], env=env, capture_output=True,
-                         text=True, check=True).stdout.split()
-    assert out == ["0", "None", "0", "True"]
-    assert not [f for _, _, files in os.walk(tmp_path) for f in files
-                if f.endswith((".nbi", ".nbc"))]
+    before = _cache_files(tmp_path)
+    again = subprocess.run([sys.executable, "-c", _SCRIPT], env=env, capture_output=True,
+                           text=True, check=True).stdout.split()
+    assert again == ["1", "0", "0", "False"]
+    assert _cache_files(tmp_path) == before

@@ -183,6 +183,23 @@ def _check_run_limits(args, dense, n_state):
         raise UsageError(error_text(exc)) from None
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the package's version and, on a second line, whether the kernel
+    compiled at install time is in use and why not (computed only when asked: it imports
+    numba)."""
+
+    def __init__(self, option_strings, version, dest=argparse.SUPPRESS,
+                 default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+        self.version = version
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from ._kernel.boundary import precompiled_status
+
+        print(f"{self.version}\nprecompiled kernel: {precompiled_status()}")
+        parser.exit()
+
+
 def build_parser():
     """The argument parser of the ``vibimpact`` command.
 
@@ -197,7 +214,9 @@ def build_parser():
                                  "magnetic bearings\n(Pust & Kozanek, eq. 5).")
     from . import __version__
 
-    parser.add_argument("--version", action="version", version=f"vibimpact {__version__}")
+    parser.add_argument("--version", action=_VersionAction, version=f"vibimpact {__version__}",
+                        help="show the version and whether the kernel compiled at install "
+                             "(numba's cache) is in use, and why not; then exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     sub.required = True
 

@@ -1,25 +1,42 @@
-"""Build the precompiled kernel (:mod:`.precompiled`): run by ``setup.py`` at install time.
+"""Fill numba's on-disk cache with the kernel a first run needs, ahead of that run.
 
-``python -m vibimpact._kernel.aot_build [PATH]`` compiles the exported functions with
-numba's ahead-of-time compiler (:mod:`numba.pycc`) for this processor into the extension
-module ``PATH`` (by default ``_aot<suffix>`` beside this file) and writes the JSON
-description :mod:`.precompiled` checks before using it.
+Run by ``setup.py`` at install time (an editable install: the sources numba caches are
+the ones the package will run) and by hand as ``python -m vibimpact._kernel.aot_build``
+(any install; ``--force`` compiles even when the cache is up to date).
 
-Each export is compiled for the argument types of an *example call* built with the same
-code that builds the real calls (:mod:`.boundary`), so that its signature is the one the
-package calls it with; the description stores numba's type fingerprint of those
-arguments, and a call with any other types runs the JIT-compiled function instead.
+Every kernel function is an ``@njit(cache=True)`` dispatcher (:mod:`.jitopts`).  Calling
+it with arguments of the types the package calls it with compiles it and writes the
+machine code to numba's cache directory; a later process loads it from there instead of
+compiling (numba's public caching, nothing else: no private API, no C compiler, and the
+code is the JIT's own, so the numbers are the same bits).  What is called is
+:func:`exports`: the rotor's integration loop (plain runs and the variational rotor of
+the Lyapunov analyses have the same argument types), the rotor's initial mode and the
+analyses' small array routines, each with an example call built by the code that builds
+the real calls (:mod:`.boundary`).
+
+The cache is *keyed*: a stamp file, :data:`STAMP`, in the cache directory records
+:func:`cache_key` -- a SHA-256 of the kernel sources, the numba, llvmlite, NumPy and
+Python versions and the processor -- and what the fill took.  :func:`build` compiles
+nothing when the stamp holds the current key and the cache files are there, so
+installing an extra (``pip install -e ".[test]"``) does not compile the kernel again.
+:mod:`.precompiled` reads the stamp to say whether the filled cache is in use.
 """
 from __future__ import annotations
 
-import contextlib
+import argparse
+import datetime
+import hashlib
 import json
 import os
+import platform
 import sys
-import sysconfig
 import time
+from pathlib import Path
 
 import numpy as np
+
+#: the stamp file, in numba's cache directory of the kernel
+STAMP = "kernel-cache.json"
 
 
 def _integrate_example():
@@ -44,7 +61,8 @@ def _integrate_example():
 
 
 def exports():
-    """``{name: (dispatcher, example arguments, model family or None)}``."""
+    """``{name: (dispatcher, example arguments, model family or None)}``: the kernel
+    functions the fill compiles, each with a call of the types the package makes."""
     from . import boundary, driver, rotor
 
     out = {
@@ -57,100 +75,139 @@ def exports():
     return out
 
 
-@contextlib.contextmanager
-def _dispatcher_flags(options_by_func):
-    """numba's AOT compiler compiles every export with one set of flags (the error model
-    of Python, the runtime on) and for the features LLVM derives from the processor's
-    name; compile each with its dispatcher's options instead (``error_model="numpy"``,
-    ``_nrt``: :mod:`.jitopts`) and for the JIT's feature list of this processor, so that
-    the precompiled code is the code the JIT compiles."""
-    from numba.core.codegen import AOTCPUCodegen
-    from numba.core.compiler import Flags
-    from numba.core.registry import cpu_target
-    from numba.pycc import compiler as pycc_compiler
+def cache_dir():
+    """The directory numba caches the kernel in, as numba itself reports it (the
+    dispatcher's public ``stats``): ``NUMBA_CACHE_DIR``'s when set, else ``__pycache__``
+    beside the sources when it can be written, else numba's per-user directory."""
+    from . import driver
 
-    original = pycc_compiler.compile_extra
-    original_features = AOTCPUCodegen._customize_tm_features
-
-    def compile_extra(typingctx, targetctx, func, args, return_type, flags, locals,
-                      library):
-        options = options_by_func.get(func)
-        if options is not None:
-            own = Flags()
-            cpu_target.options.parse_as_flags(own, options)
-            for name in ("no_compile", "no_cpython_wrapper", "no_cfunc_wrapper"):
-                setattr(own, name, getattr(flags, name))
-            flags = own
-        return original(typingctx, targetctx, func, args, return_type, flags,
-                        locals=locals, library=library)
-
-    def host_features(self):
-        # the JIT's explicit feature list for this processor, not the one LLVM derives
-        # from the processor's name (numba's AOT default)
-        return self._get_host_cpu_features()
-
-    pycc_compiler.compile_extra = compile_extra
-    AOTCPUCodegen._customize_tm_features = host_features
-    try:
-        yield
-    finally:
-        pycc_compiler.compile_extra = original
-        AOTCPUCodegen._customize_tm_features = original_features
+    return Path(driver.integrate.stats.cache_path)
 
 
-def default_path():
-    """``_aot<extension suffix>`` beside this file."""
-    return os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                        "_aot" + sysconfig.get_config_var("EXT_SUFFIX"))
+def versions():
+    """The versions the cached machine code depends on."""
+    import llvmlite
+    import numba
+
+    return {"numba": numba.__version__, "llvmlite": llvmlite.__version__,
+            "numpy": np.__version__, "python": platform.python_version()}
 
 
-def build(path=None, verbose=False):
-    """Compile the exports into the extension module ``path`` and describe it in
-    ``path + ".json"``; both are written under temporary names and renamed at the end.
-    Returns the seconds it took."""
-    from numba import typeof
-    from numba.core import types
-    from numba.pycc import CC
+def host():
+    """The processor numba compiles for here: ``{"cpu": name, "features": str}``."""
+    from llvmlite import binding as llb
 
-    from . import precompiled
+    return {"cpu": llb.get_host_cpu_name(), "features": llb.get_host_cpu_features().flatten()}
+
+
+def cache_key():
+    """``{"key": hex digest, "sources": ..., "versions": ..., "host": ...}``: what the
+    cached kernel was compiled from; ``key`` is the SHA-256 of the rest."""
     from .cache_guard import current_digest
-    from .precompiled import key
 
-    t0 = time.perf_counter()
-    path = os.path.abspath(path or default_path())
-    out_dir, out_file = os.path.split(path)
-    tmp_file = f".{out_file}.{os.getpid()}.tmp"
-    cc = CC(precompiled.MODULE, source_module=__name__)
-    cc.output_dir = out_dir
-    cc.output_file = tmp_file
-    cc.target_cpu = "host"
-    cc.verbose = verbose
-    table, options = {}, {}
-    for name, (fn, args, family) in exports().items():
-        argtypes = tuple(typeof(a) for a in args)
-        if family is not None:  # the model's numba type (ModelFamily) in the lead tuple
-            assert isinstance(argtypes[0], types.BaseTuple)
-        cc.export(name, argtypes)(fn.py_func)
-        options[fn.py_func] = dict(fn.targetoptions)
-        table[name] = {"fingerprint": key(args, family).hex(), "family": family,
-                       "function": f"{fn.py_func.__module__}.{fn.py_func.__qualname__}"}
-    meta = {"sources": current_digest(), "versions": precompiled.versions(),
-            "host": precompiled.host(), "exports": table}
-    tmp_meta = os.path.join(out_dir, f".{out_file}.json.{os.getpid()}.tmp")
+    parts = {"sources": current_digest(), "versions": versions(), "host": host()}
+    digest = hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
+    return {"key": digest, **parts}
+
+
+def read_stamp(directory=None):
+    """The stamp of ``directory`` (by default :func:`cache_dir`) as a dict, or None
+    when there is none or it cannot be read."""
+    path = Path(directory or cache_dir()) / STAMP
     try:
-        with _dispatcher_flags(options):
-            cc.compile()
-        with open(tmp_meta, "w") as fh:
-            json.dump(meta, fh, indent=1)
-        os.replace(os.path.join(out_dir, tmp_file), path)
-        os.replace(tmp_meta, precompiled.metadata_path(path))
+        stamp = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return stamp if isinstance(stamp, dict) else None
+
+
+def cached_functions(directory=None):
+    """Names of the kernel functions with a cache index in ``directory`` (by default
+    :func:`cache_dir`): ``driver.integrate`` for ``driver.integrate-414.py311.nbi``."""
+    directory = Path(directory or cache_dir())
+    try:
+        return sorted({f.name.split("-")[0] for f in directory.iterdir()
+                       if f.suffix == ".nbi"})
+    except OSError:
+        return []
+
+
+def _exported_names():
+    """The cache index names of :func:`exports` (``module.function``)."""
+    return {f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
+            for fn, _, _ in exports().values()}
+
+
+def up_to_date(directory=None):
+    """Whether ``directory``'s stamp holds the current :func:`cache_key` and every
+    function of :func:`exports` has its cache index there."""
+    stamp = read_stamp(directory)
+    if stamp is None or stamp.get("key") != cache_key()["key"]:
+        return False
+    return _exported_names() <= set(cached_functions(directory))
+
+
+def _write_stamp(directory, record):
+    """Write ``record`` as :data:`STAMP` in ``directory`` atomically."""
+    tmp = Path(directory) / f".{STAMP}.{os.getpid()}.tmp"
+    try:
+        tmp.write_text(json.dumps(record, indent=1))
+        os.replace(tmp, Path(directory) / STAMP)
     finally:
-        for f in (os.path.join(out_dir, tmp_file), tmp_meta):
-            if os.path.exists(f):
-                os.unlink(f)
-    return time.perf_counter() - t0
+        tmp.unlink(missing_ok=True)
+
+
+def build(force=False):
+    """Fill numba's cache with :func:`exports` unless it is :func:`up_to_date` (or
+    ``force``), and stamp it.
+
+    Returns
+    -------
+    dict
+        ``{"compiled": bool, "seconds": float, "cache_dir": str, "key": str,
+        "functions": [names]}``; ``seconds`` is the time the fill took now (0.0 when
+        nothing was compiled).
+    """
+    directory = cache_dir()
+    key = cache_key()
+    if not force and up_to_date(directory):
+        return {"compiled": False, "seconds": 0.0, "cache_dir": str(directory),
+                "key": key["key"], "functions": cached_functions(directory)}
+    t0 = time.perf_counter()
+    for fn, args, _ in exports().values():
+        fn(*args)
+    seconds = time.perf_counter() - t0
+    functions = cached_functions(directory)
+    _write_stamp(directory, {
+        **key, "seconds": round(seconds, 1), "functions": functions,
+        "filled_at": datetime.datetime.now(datetime.timezone.utc).isoformat(
+            timespec="seconds")})
+    return {"compiled": True, "seconds": seconds, "cache_dir": str(directory),
+            "key": key["key"], "functions": functions}
+
+
+def describe(result):
+    """One line saying what :func:`build` did."""
+    where = f"numba's cache {result['cache_dir']} (key {result['key'][:12]})"
+    if not result["compiled"]:
+        return f"vibimpact: kernel already compiled for these sources and versions in {where}"
+    return (f"vibimpact: compiled the kernel ({len(exports())} functions) into {where} "
+            f"in {result['seconds']:.1f} s")
+
+
+def main(argv=None):
+    """``python -m vibimpact._kernel.aot_build [--force]``: fill the cache, say what
+    was done on stdout."""
+    parser = argparse.ArgumentParser(prog="python -m vibimpact._kernel.aot_build",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--force", action="store_true",
+                        help="compile even when the cache is up to date")
+    args = parser.parse_args(argv)
+    if args.force or not up_to_date():
+        print(f"vibimpact: compiling the numba kernel into its on-disk cache "
+              f"({', '.join(exports())}); this takes 10-30 s", flush=True)
+    print(describe(build(force=args.force)), flush=True)
 
 
 if __name__ == "__main__":
-    seconds = build(sys.argv[1] if len(sys.argv) > 1 else None, verbose=False)
-    print(f"precompiled kernel built in {seconds:.1f} s")
+    sys.exit(main())

@@ -50,6 +50,9 @@ lstsq = _routine("lstsq", _linalg.lstsq)
 solve = _routine("solve", _linalg.solve)
 eigvals = _routine("eigvals", _linalg.eigvals)
 suffix_lag_residuals = _routine("suffix_lag_residuals", _recurrence.suffix_lag_residuals)
+#: whether the kernel compiled ahead of the first run (numba's cache, filled at install) is
+#: in use, and why not: one line (``vibimpact --version``)
+precompiled_status = _precompiled.status
 
 #: method names, in the order the kernel numbers them
 METHODS = tuple(_tab.METHOD_IDS)
@@ -482,14 +485,14 @@ def compile_array_routines():
 def array_routines_compiled():
     """True when this process has every routine of :func:`compile_array_routines`,
     precompiled or compiled."""
-    return all(_precompiled.available(f.name) or f.jit.signatures
+    return all(f.jit.signatures
                for f, _ in array_routine_calls())
 
 
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_args",
            "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "array_routine_calls", "compile_array_routines", "array_routines_compiled", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "array_routine_calls", "compile_array_routines", "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
 
 # ---- re-exported for vibimpact.testing.reference (issue 29, point 5): the SciPy reference
 # solver shares only the rotor's model functions (rhs, switches, transition, init_mode and

@@ -1,0 +1,308 @@
+"""How the kernel is compiled ahead of the first run: the candidates of issue 29, measured.
+
+Candidates (issue 29, point 6):
+
+* (a) numba's own on-disk cache, filled at install (``python -m vibimpact._kernel.aot_build``
+  in the tree measured; public numba API only);
+* (b) numba's ahead-of-time compiler, ``numba.pycc``, as the package used it up to
+  ``--pycc-commit`` (the module built with the private flag patches), and the same
+  build with the patches left out (public ``numba.pycc.CC`` only);
+* the reference: no compilation ahead of time, a cold JIT (empty numba cache).
+
+For each: seconds of the install-time step, seconds of a first run of two commands in a
+fresh process (``simulate`` and a short ``classify``), and the numba cache files that
+first run wrote (0: it compiled nothing).  Then what happens across numba versions: (a)
+filled by another numba (``--other-numba``, installed into a throwaway venv) and read by
+this one; (b) built by ``pip install``'s isolated build environment, whose numba is the
+newest the index offers, not necessarily the runtime's.  Last, the real install path of
+(a): ``pip install -v --no-deps -e TREE`` then ``-e "TREE[test]"`` in a throwaway venv
+with no C compiler reachable (``CC=/bin/false``), and ``vibimpact --version`` there.
+
+Every run is a fresh subprocess timed from start to exit; the machine has 2 cores shared
+with other work, so the load average is printed beside the figures.  Run as
+``python analyses/performance/kernel_install.py [--tree DIR] [--pycc-commit REV]
+[--other-numba VERSION] [--smoke DIR]``; it writes ``reports/kernel_install.md``
+(``--smoke DIR``: (a) alone, its report written under DIR, ``tests/test_analyses_smoke.py``).
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+REPORT = ROOT / "reports" / "kernel_install.md"
+
+#: the first-run commands: name -> arguments after ``python -m vibimpact.cli``
+COMMANDS = {
+    "simulate": ["simulate", "--preset", "fig8", "--eta", "1.25", "-o", "{out}.nc"],
+    "classify": ["classify", "--eta", "1.1:1.2:0.01", "-o", "{out}.nc", "--no-progress"],
+}
+#: the old build with its private patches turned off: public numba.pycc.CC only
+PYCC_PUBLIC = ("import contextlib, sys; from vibimpact._kernel import aot_build as a; "
+               "a._dispatcher_flags = lambda options: contextlib.nullcontext(); "
+               "print(a.build(sys.argv[1]))")
+PYCC_PATCHED = ("import sys; from vibimpact._kernel import aot_build as a; "
+                "print(a.build(sys.argv[1]))")
+
+
+def _env(cache=None, **extra):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("NUMBA_CACHE_DIR", "VIBIMPACT_PRECOMPILED", "PYTHONPATH")}
+    if cache is not None:
+        env["NUMBA_CACHE_DIR"] = str(cache)
+    env.update(extra)
+    return env
+
+
+def timed(cmd, cwd, env):
+    """``(seconds, completed process)`` of ``cmd`` run to its end."""
+    t0 = time.perf_counter()
+    done = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+    seconds = time.perf_counter() - t0
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, cmd))} failed:\n{done.stderr[-2000:]}")
+    return seconds, done
+
+
+def cache_files(cache):
+    """numba cache files under ``cache``."""
+    return sum(f.endswith((".nbi", ".nbc")) for _, _, fs in os.walk(cache) for f in fs)
+
+
+def first_runs(tree, cache, python=sys.executable, counted=None):
+    """``{command: (seconds, cache files it wrote)}`` of a fresh process each, with
+    ``NUMBA_CACHE_DIR=cache`` (None: numba's default, counted in ``counted``)."""
+    out = {}
+    counted = counted or cache
+    with tempfile.TemporaryDirectory(prefix="kernel-install-out-") as tmp:
+        for name, args in COMMANDS.items():
+            before = cache_files(counted)
+            cmd = [python, "-m", "vibimpact.cli"] + [a.format(out=f"{tmp}/{name}")
+                                                     for a in args]
+            seconds, _ = timed(cmd, tree, _env(cache))
+            out[name] = (seconds, cache_files(counted) - before)
+    return out
+
+
+def status(tree, cache, python=sys.executable):
+    """What ``vibimpact --version`` says (its second line)."""
+    _, done = timed([python, "-m", "vibimpact.cli", "--version"], tree, _env(cache))
+    return done.stdout.strip().splitlines()[-1]
+
+
+def measure_reference(tree, work):
+    """The cold JIT: no cache at all."""
+    return first_runs(tree, work / "cache-jit")
+
+
+def measure_cache(tree, work):
+    """(a): fill, fill again (up to date), then the first runs."""
+    cache = work / "cache-a"
+    fill, done = timed([sys.executable, "-m", "vibimpact._kernel.aot_build"], tree,
+                       _env(cache))
+    again, done2 = timed([sys.executable, "-m", "vibimpact._kernel.aot_build"], tree,
+                         _env(cache))
+    return {"fill_s": fill, "fill_out": done.stdout.strip().splitlines()[-1],
+            "again_s": again, "again_out": done2.stdout.strip().splitlines()[-1],
+            "files": cache_files(cache), "status": status(tree, cache),
+            "first": first_runs(tree, cache)}
+
+
+def old_tree(commit, work):
+    """The tree of ``commit`` (the pycc build) extracted under ``work``."""
+    dest = work / "pycc-tree"
+    dest.mkdir()
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit],
+                             capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    return dest
+
+
+def measure_pycc(tree, work, code, label):
+    """(b): build the module into the tree (in this environment), first runs with it."""
+    ext = subprocess.run([sys.executable, "-c", "import sysconfig; print(sysconfig."
+                          "get_config_var('EXT_SUFFIX'))"], capture_output=True,
+                         text=True, check=True).stdout.strip()
+    module = tree / "vibimpact" / "_kernel" / f"_aot{ext}"
+    build, _ = timed([sys.executable, "-c", code, str(module)], tree,
+                     _env(work / f"cache-build-{label}"))
+    cache = work / f"cache-{label}"
+    _, done = timed([sys.executable, "-c", "from vibimpact._kernel import precompiled; "
+                     "print(precompiled.status())"], tree, _env(cache))
+    result = {"build_s": build, "status": done.stdout.strip(),
+              "first": first_runs(tree, cache)}
+    for f in (module, Path(str(module) + ".json")):
+        f.unlink(missing_ok=True)
+    return result
+
+
+def venv(path, python=sys.executable):
+    """A throwaway venv that sees this environment's packages; its python."""
+    subprocess.run([python, "-m", "venv", "--system-site-packages", str(path)], check=True)
+    return path / "bin" / "python"
+
+
+def measure_other_numba(tree, work, version):
+    """(a) filled by numba ``version`` (a venv), read by this environment's numba."""
+    py = venv(work / "venv-numba")
+    timed([py, "-m", "pip", "install", "-q", f"numba=={version}"], tree, _env())
+    cache = work / "cache-other"
+    fill, _ = timed([py, "-m", "vibimpact._kernel.aot_build"], tree, _env(cache))
+    _, done = timed([py, "-c", "import numba; print(numba.__version__)"], tree, _env())
+    return {"version": done.stdout.strip(), "fill_s": fill, "status": status(tree, cache),
+            "first": first_runs(tree, cache)}
+
+
+def measure_install(tree, work, label, old=False):
+    """``pip install -v --no-deps -e TREE`` then ``-e TREE[test]`` in a throwaway venv:
+    seconds, the install's own lines, what the runtime says.  (a) with no C compiler
+    reachable (``CC=/bin/false``); the pycc build (``old``) with one (it needs it)."""
+    copy = work / f"install-tree-{label}"
+    shutil.copytree(tree, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so",
+                                                              "*.so.json", "*.egg-info"))
+    py = venv(work / f"venv-{label}")
+    env = _env() if old else _env(CC="/bin/false", CXX="/bin/false", LDSHARED="/bin/false")
+    out = {}
+    for step, target in (("install", str(copy)), ("extra", f"{copy}[test]")):
+        seconds, done = timed([py, "-m", "pip", "install", "-v", "--no-deps", "-e", target],
+                              work, env)
+        said = [line.strip() for line in (done.stdout + done.stderr).splitlines()
+                if "vibimpact install:" in line or "precompiled kernel" in line]
+        out[step] = (seconds, said)
+    if old:
+        code = "from vibimpact._kernel import precompiled; print(precompiled.status())"
+        _, done = timed([py, "-c", code], work, env)
+        out["status"] = done.stdout.strip()
+    else:
+        _, done = timed([py, "-m", "vibimpact.cli", "--version"], work, env)
+        out["status"] = done.stdout.strip().splitlines()[-1]
+        out["first"] = first_runs(work, None, python=py,
+                                  counted=copy / "vibimpact" / "_kernel")["simulate"]
+    return out
+
+
+def versions():
+    import llvmlite
+    import numba
+    import numpy
+
+    return (f"Python {platform.python_version()}, numba {numba.__version__}, llvmlite "
+            f"{llvmlite.__version__}, NumPy {numpy.__version__}")
+
+
+def _runs(first):
+    return ", ".join(f"`{name}` {s:.1f} s ({files} cache files written)"
+                     for name, (s, files) in first.items())
+
+
+def report(res, args):
+    """The Markdown report of the measurements ``res``."""
+    lines = ["# The kernel at install time: candidates measured", "",
+             f"Written by `analyses/performance/kernel_install.py` on "
+             f"{res['date']}; {res['versions']}; {os.cpu_count()} cores, load average "
+             f"{res['load'][0]:.1f} before and {res['load'][1]:.1f} after (other work "
+             f"shares the cores: compare figures of one run only); C compiler on PATH: "
+             f"{res['cc']}.  Each figure is one fresh process, start to exit; first-run "
+             f"commands: " + "; ".join(f"`vibimpact {' '.join(a)}`"
+                                       for a in COMMANDS.values()) + ".", "",
+             "## First run and install step", ""]
+    if "jit" in res:
+        lines.append(f"- no compilation ahead of time (cold JIT): {_runs(res['jit'])}")
+    if "a" in res:
+        a = res["a"]
+        lines.append(
+            f"- (a) numba's cache filled at install: fill {a['fill_s']:.1f} s "
+            f"({a['files']} cache files), again with the key unchanged {a['again_s']:.1f} s "
+            f"(\"{a['again_out']}\"); first run: {_runs(a['first'])}; `--version`: "
+            f"\"{a['status']}\"")
+    for label, name in (("b_patched", "(b) pycc as built up to " + args.pycc_commit[:10]
+                         + ", private patches in"),
+                        ("b_public", "(b) pycc with the public `numba.pycc.CC` only")):
+        if label in res:
+            b = res[label]
+            lines.append(f"- {name}: build {b['build_s']:.1f} s; status \"{b['status']}\"; "
+                         f"first run: {_runs(b['first'])}")
+    lines += ["", "## Across numba versions", ""]
+    if "other" in res:
+        o = res["other"]
+        lines.append(f"- (a) filled by numba {o['version']} ({o['fill_s']:.1f} s), read by "
+                     f"this numba: `--version` says \"{o['status']}\"; first run: "
+                     f"{_runs(o['first'])} (numba finds no entry of its own version and "
+                     f"compiles: slower, never wrong)")
+    if "install_b" in res:
+        i = res["install_b"]
+        lines.append(f"- (b) `pip install -e` of {args.pycc_commit[:10]} (isolated build "
+                     f"environment): {i['install'][0]:.1f} s, the extra "
+                     f"again {i['extra'][0]:.1f} s; the runtime then says \"{i['status']}\"")
+    if "install_a" in res:
+        i = res["install_a"]
+        lines += ["", "## The install of (a), no C compiler (`CC=/bin/false`)", "",
+                  f"- `pip install -v --no-deps -e TREE`: {i['install'][0]:.1f} s; it says:"]
+        lines += [f"  - `{s}`" for s in i["install"][1]]
+        lines.append(f"- `pip install -v --no-deps -e \"TREE[test]\"`: {i['extra'][0]:.1f} s;"
+                     f" it says:")
+        lines += [f"  - `{s}`" for s in i["extra"][1]]
+        lines.append(f"- `vibimpact --version` there: \"{i['status']}\"; first `simulate`: "
+                     f"{i['first'][0]:.1f} s ({i['first'][1]} cache files written)")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    parser = smoke.parser(__doc__)
+    parser.add_argument("--tree", type=Path, default=ROOT,
+                        help="the source tree of (a) (default: this checkout)")
+    parser.add_argument("--pycc-commit", default="db6352a",
+                        help="a commit whose setup.py builds the pycc module (b)")
+    parser.add_argument("--other-numba", default="0.68.0",
+                        help="the numba version (a)'s cache is filled with across versions")
+    args = parser.parse_args(argv)
+    report_path = smoke.moved(REPORT, args.smoke)
+    res = {"date": datetime.date.today().isoformat(), "versions": versions(),
+           "cc": shutil.which("cc") or "none", "load": [os.getloadavg()[0]]}
+    with tempfile.TemporaryDirectory(prefix="kernel-install-") as tmp:
+        work = Path(tmp)
+        steps = [("a", lambda: measure_cache(args.tree, work))]
+        if args.smoke is None:
+            steps += [
+                ("jit", lambda: measure_reference(args.tree, work)),
+                ("install_a", lambda: measure_install(args.tree, work, "a")),
+                ("other", lambda: measure_other_numba(args.tree, work, args.other_numba)),
+                ("b_patched", lambda: measure_pycc(old_tree(args.pycc_commit, work), work,
+                                                   PYCC_PATCHED, "patched")),
+                ("b_public", lambda: measure_pycc(work / "pycc-tree", work, PYCC_PUBLIC,
+                                                  "public")),
+                ("install_b", lambda: measure_install(work / "pycc-tree", work, "b",
+                                                      old=True))]
+        for name, step in steps:
+            print(f"measuring {name} ...", flush=True)
+            try:
+                res[name] = step()
+            except Exception as exc:  # a candidate that fails is reported, not fatal
+                print(f"  {name} failed: {exc}", flush=True)
+                res.setdefault("failed", []).append(f"{name}: {str(exc)[-300:]}")
+            print(f"  {res.get(name)}", flush=True)
+    res["load"].append(os.getloadavg()[0])
+    text = report(res, args)
+    if res.get("failed"):
+        text += "\n## Failed steps\n\n" + "\n".join(f"- {f}" for f in res["failed"]) + "\n"
+    print(text)
+    report_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = report_path.with_name(report_path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, report_path)
+    return 1 if res.get("failed") else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
