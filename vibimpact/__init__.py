@@ -1,7 +1,9 @@
 """vibimpact: bifurcation and chaos analysis of vibro-impact rotors.
 
 The model is the rigid rotor on passive magnetic bearings hitting its retainer bearing of
-Pust & Kozanek, "Vibrations of rotor supported in magnetic bearings with impacts", eq. (5).
+Pust & Kozanek, "Vibrations of rotor supported in magnetic bearings with impacts", eq. (5);
+every analysis serves any vibro-impact model declared as data (``vi.models``: the rotor,
+the Duffing oscillator, the soft-impact oscillator, or a user's own).
 
 >>> import vibimpact as vi
 >>> p = vi.presets.get("fig8").replace(eta=1.25)
@@ -29,6 +31,11 @@ _EXPORTS = {
     "Solver": ("solver", "Solver"),
     "ROTOR": ("models", "ROTOR"),
     "DUFFING": ("models", "DUFFING"),
+    "SOFT_IMPACT": ("models", "SOFT_IMPACT"),
+    "models": ("models", None),
+    "Contact": ("contact", "Contact"),
+    "ContactLaw": ("contact", "ContactLaw"),
+    "BifurcationKind": ("bifurcation_kinds", "BifurcationKind"),
     "Regime": ("analysis.classify", "Regime"),
     "analysis": ("analysis", None),
     "sweep": ("sweeps.sweep", "sweep"),
@@ -52,7 +59,8 @@ _EXPORTS = {
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System", "SolverSettings", "Solver",
-           "ROTOR", "DUFFING", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
+           "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
+           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
            "map2d", "maps", "plotting", "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine"]

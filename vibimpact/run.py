@@ -221,8 +221,14 @@ def join_runs(runs, period):
                dense_per_period=first.dense_per_period, contact=first.contact)
 
 
-#: model name -> state variable names (a user model gets x0, x1, ...)
-_STATE_NAMES = {"rotor": ("X", "Y", "dX", "dY"), "duffing": ("x", "dx")}
+def _state_names(model, n):
+    """The state names a built-in model declares (a user model's run: x0, x1, ...)."""
+    from . import models
+
+    if model in models.names():
+        return models.get(model).state_names
+    return tuple(f"x{i}" for i in range(n))
+
 
 _STATE_LONG = {"X": "horizontal displacement / clearance",
                "Y": "vertical displacement / clearance (+Y down, along gravity)",
@@ -314,7 +320,7 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
 
     strobe = np.asarray(run.strobe, dtype=np.float64)
     n = strobe.shape[1]
-    names = _STATE_NAMES.get(run.model, tuple(f"x{i}" for i in range(n)))
+    names = _state_names(run.model, n)
     if len(names) != n:
         names = tuple(f"x{i}" for i in range(n))
     state_coord = ("state", list(names), {"long_name": "state variable"})

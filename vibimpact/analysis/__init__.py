@@ -31,6 +31,8 @@
 :func:`continue_orbit`           pseudo-arclength continuation of a periodic orbit
 :class:`Steps`                   its step controls
 :func:`refine_stability_change`  narrow where a branch changes stability, by bisection
+:func:`refine_grazing`           narrow where a branch's impacts per period change
+                                 (a grazing), by bisection
 ===============================  ==========================================================
 
 Every analyser of a model's trajectories (Lyapunov exponents, shooting, monodromy,
@@ -50,8 +52,9 @@ from .settling import Contraction, TorusEvidence, contraction_rate, torus_eviden
 from .period import detect_period, impact_map, poincare_section
 from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_multipliers,
                        monodromy, shoot_periodic_orbit)
-from .continuation import (Bifurcation, Branch, StabilityChange, StartFailed, Steps,
-                           continue_orbit, locate_bifurcation, refine_stability_change)
+from .continuation import (Bifurcation, Branch, Grazing, StabilityChange, StartFailed,
+                           Steps, continue_orbit, locate_bifurcation, refine_grazing,
+                           refine_stability_change)
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -63,6 +66,6 @@ __all__ = [
     "floquet_exponents", "floquet_multipliers", "locate_bifurcation", "monodromy",
     "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
     "contraction_rate", "torus_evidence", "Averaging", "Steps", "refine_stability_change",
-    "StabilityChange", "StartFailed",
+    "StabilityChange", "StartFailed", "Grazing", "refine_grazing",
 ]
 

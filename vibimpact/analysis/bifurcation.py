@@ -87,24 +87,27 @@ def orbit_signature(system, state, n):
 
 
 def grazing_gap(system, state, n):
-    """Smallest ``|R - 1|`` over the extrema of ``R`` along a rotor orbit (0 at grazing).
+    """Smallest distance to the contact surface (``|R - 1|`` for the rotor) over the
+    extrema of the penetration along an orbit (0 at grazing).
 
-    The extrema are the located zeros of ``dR/dtau`` (the rotor's observer switch): the
-    closest approaches in free flight and the deepest points of contacts.  NaN for a model
-    other than the rotor (no retainer) or an orbit without extrema.  Solver defaults as
+    The extrema are the located events of the model's contact extremum observer
+    (``dR/dtau`` for the rotor): the closest approaches in free flight and the deepest
+    points of contacts.  NaN for a model without a contact (or without an extremum
+    observer) or an orbit without extrema.  Solver defaults as
     :func:`orbit_signature`'s.
     """
     system = as_system(system)
-    if system.model.name != "rotor":
+    contact = system.model.contact
+    if contact is None or contact.extremum is None:
         return math.nan
     run = system.simulate(periods=n, state0=state, solver=system.settings(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return math.nan
-    ext = np.asarray(run.events["which"]) == 2
+    ext = np.asarray(run.events["which"]) == contact.extremum
     if not np.any(ext):
         return math.nan
-    R = np.hypot(*np.asarray(run.events["state"])[ext, :2].T)
-    return float(np.min(np.abs(R - 1.0)))
+    depth = contact.penetration(np.asarray(run.events["state"])[ext], system.p)
+    return float(np.min(np.abs(depth)))
 
 
 @dataclass(frozen=True)

@@ -180,14 +180,18 @@ def _amplitude(system, x, n, names, dense=96):
     if run.status is not Status.OK or run.dense is None:
         return {k: math.nan for k in names}
     D = run.dense
-    for j, name in enumerate(names[:2]):
+    contact = system.model.contact
+    cols = contact.positions if "R_m" in names else (0, 1)
+    for j, name in zip(cols, names[:2]):
         out[name] = float(np.abs(D[:, j]).max())
-    if "R_m" in names:
-        R = np.hypot(D[:, 0], D[:, 1])
-        ext = np.asarray(run.events["which"]) == 2
+    if "R_m" in names:  # a planar contact: the radius, exact at the logged extrema
+        a, b = cols
+        R = np.hypot(D[:, a], D[:, b])
+        ext = np.asarray(run.events["which"]) == contact.extremum
         Rm = float(R.max())
         if np.any(ext):
-            Rm = max(Rm, float(np.hypot(*np.asarray(run.events["state"])[ext, :2].T).max()))
+            at = np.asarray(run.events["state"])[ext]
+            Rm = max(Rm, float(np.hypot(at[:, a], at[:, b]).max()))
         out["R_m"] = Rm
     return out
 
@@ -502,8 +506,9 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     if not orb.converged:
         raise StartFailed(orb.reason)
     mdl = system.model
-    names = (("X_m", "Y_m", "R_m") if mdl.name == "rotor" else
-             tuple(f"{s}_m" for s in mdl.state_names[:2]))
+    planar = mdl.contact is not None and len(mdl.contact.positions) == 2
+    names = (tuple(f"{mdl.state_names[i]}_m" for i in mdl.contact.positions) + ("R_m",)
+             if planar else tuple(f"{s}_m" for s in mdl.state_names[:2]))
     window, bounds = _limits(system, param, window, lam0, steps.ds_min)
     arc = _Arclength(system, param, n, window, steps, bounds)
     points = []  # (lambda, x, multipliers)

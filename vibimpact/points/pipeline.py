@@ -135,7 +135,7 @@ def _regime(res, system):
     label = _LABELS.get(int(res.regime), Label.UNSETTLED)
     ipp = float(res.impacts_per_period)
     impacting = None
-    if system.model.name != "rotor" or not math.isfinite(ipp):
+    if system.model.contact is None or not math.isfinite(ipp):
         ipp = math.nan
     else:
         impacting = bool(ipp > 0.0)

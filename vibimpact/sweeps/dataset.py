@@ -218,6 +218,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
         title="vibimpact frequency sweep",
         Conventions="CF-1.8",
         source=f"vibimpact {__version__}",
+        model=model.name,
         params=json.dumps(params, sort_keys=True),
         settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
         sweep_direction=direction, continuation=int(bool(continuation)),

@@ -59,6 +59,7 @@ from ..bifurcation_kinds import BifurcationKind
 from ..analysis.continuation import locate_bifurcation
 from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
+from .. import models
 from ..params import Params
 from ..run import Status
 from .. import _validate as _v
@@ -88,8 +89,12 @@ _SEEDED = {False: "", True: " (a sweep block starts there from a seeded state, n
 
 def _params_of(ds, p):
     if p is not None:
-        if not isinstance(p, Params):
-            raise ValueError(f"p must be vibimpact.Params, got {type(p).__name__}")
+        swept = ds.attrs.get("model", "rotor")
+        model = models.of_params(p)
+        if model is None or model.name != swept:
+            want = models.get(swept).param_set if swept in models.names() else None
+            raise ValueError(f"p must be the parameter set of the swept model ({swept}: "
+                             f"{getattr(want, '__name__', '?')}), got {type(p).__name__}")
         return p
     try:
         return sweep_params(ds)
