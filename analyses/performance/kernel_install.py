@@ -28,8 +28,10 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import os
 import platform
+import re
 import shutil
 import subprocess
 import sys
@@ -75,23 +77,26 @@ def timed(cmd, cwd, env):
     return seconds, done
 
 
-def cache_files(cache):
-    """numba cache files under ``cache``."""
-    return sum(f.endswith((".nbi", ".nbc")) for _, _, fs in os.walk(cache) for f in fs)
+def cache_files(cache, since=None):
+    """numba cache files under ``cache`` (written at or after the time ``since``, a
+    ``time.time()``, when given: a numba of another version rewrites files in place)."""
+    return sum(f.endswith((".nbi", ".nbc")) and (
+        since is None or os.path.getmtime(os.path.join(d, f)) >= since)
+        for d, _, fs in os.walk(cache) for f in fs)
 
 
 def first_runs(tree, cache, python=sys.executable, counted=None):
-    """``{command: (seconds, cache files it wrote)}`` of a fresh process each, with
+    """``{command: (seconds, cache files it wrote or rewrote)}`` of a fresh process each, with
     ``NUMBA_CACHE_DIR=cache`` (None: numba's default, counted in ``counted``)."""
     out = {}
     counted = counted or cache
     with tempfile.TemporaryDirectory(prefix="kernel-install-out-") as tmp:
         for name, args in COMMANDS.items():
-            before = cache_files(counted)
+            start = time.time()
             cmd = [python, "-m", "vibimpact.cli"] + [a.format(out=f"{tmp}/{name}")
                                                      for a in args]
             seconds, _ = timed(cmd, tree, _env(cache))
-            out[name] = (seconds, cache_files(counted) - before)
+            out[name] = (seconds, cache_files(counted, since=start))
     return out
 
 
@@ -142,6 +147,12 @@ def measure_pycc(tree, work, code, label):
                      "print(precompiled.status())"], tree, _env(cache))
     result = {"build_s": build, "status": done.stdout.strip(),
               "first": first_runs(tree, cache)}
+    # the tree's own checks that the precompiled functions give the JIT's bits
+    bits = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                           "tests/test_precompiled.py", "-k", "bits"], cwd=tree,
+                          env=_env(work / f"cache-bits-{label}"), capture_output=True,
+                          text=True)
+    result["bits"] = (bits.stdout.strip().splitlines() or ["no output"])[-1]
     for f in (module, Path(str(module) + ".json")):
         f.unlink(missing_ok=True)
     return result
@@ -177,9 +188,13 @@ def measure_install(tree, work, label, old=False):
     for step, target in (("install", str(copy)), ("extra", f"{copy}[test]")):
         seconds, done = timed([py, "-m", "pip", "install", "-v", "--no-deps", "-e", target],
                               work, env)
-        said = [line.strip() for line in (done.stdout + done.stderr).splitlines()
+        text = done.stdout + done.stderr
+        said = [line.strip() for line in text.splitlines()
                 if "vibimpact install:" in line or "precompiled kernel" in line]
         out[step] = (seconds, said)
+        # the numba pip put into the isolated build environment, if any
+        found = re.search(r"Successfully installed .*?numba-(\S+)", text)
+        out[f"{step}_build_numba"] = found.group(1) if found else None
     if old:
         code = "from vibimpact._kernel import precompiled; print(precompiled.status())"
         _, done = timed([py, "-c", code], work, env)
@@ -202,7 +217,7 @@ def versions():
 
 
 def _runs(first):
-    return ", ".join(f"`{name}` {s:.1f} s ({files} cache files written)"
+    return ", ".join(f"`{name}` {s:.1f} s ({files} cache files written or rewritten)"
                      for name, (s, files) in first.items())
 
 
@@ -232,7 +247,9 @@ def report(res, args):
         if label in res:
             b = res[label]
             lines.append(f"- {name}: build {b['build_s']:.1f} s; status \"{b['status']}\"; "
-                         f"first run: {_runs(b['first'])}")
+                         f"first run: {_runs(b['first'])}; its bit-identity tests "
+                         f"(`pytest tests/test_precompiled.py -k bits` of that tree): "
+                         f"{b.get('bits')}")
     lines += ["", "## Across numba versions", ""]
     if "other" in res:
         o = res["other"]
@@ -243,8 +260,13 @@ def report(res, args):
     if "install_b" in res:
         i = res["install_b"]
         lines.append(f"- (b) `pip install -e` of {args.pycc_commit[:10]} (isolated build "
-                     f"environment): {i['install'][0]:.1f} s, the extra "
-                     f"again {i['extra'][0]:.1f} s; the runtime then says \"{i['status']}\"")
+                     f"environment, which got numba {i.get('install_build_numba')}; this "
+                     f"environment has {res['versions'].split('numba ')[1].split(',')[0]}):"
+                     f" {i['install'][0]:.1f} s, the extra again {i['extra'][0]:.1f} s "
+                     f"(\"{'; '.join(i['extra'][1])}\"); the runtime then says "
+                     f"\"{i['status']}\".  Where the two numbas differ, the module is built "
+                     f"and then refused at run time by its versions check (issue 29), and every run "
+                     f"compiles on first use.")
     if "install_a" in res:
         i = res["install_a"]
         lines += ["", "## The install of (a), no C compiler (`CC=/bin/false`)", "",
@@ -255,7 +277,57 @@ def report(res, args):
         lines += [f"  - `{s}`" for s in i["extra"][1]]
         lines.append(f"- `vibimpact --version` there: \"{i['status']}\"; first `simulate`: "
                      f"{i['first'][0]:.1f} s ({i['first'][1]} cache files written)")
+    lines += ["", "## Choice", ""] + choice(res)
     return "\n".join(lines) + "\n"
+
+
+#: the first run's target (issue 29, point 6), seconds on this machine
+TARGET_FIRST_RUN_S = 10.0
+
+
+def choice(res):
+    """The paragraph that compares the candidates, from the figures of ``res``."""
+    if "a" not in res:
+        return ["(not all candidates measured)"]
+    a = res["a"]
+    worst = max(s for s, _ in a["first"].values())
+    compiled = sum(n for _, n in a["first"].values())
+    out = [f"(a), numba's own cache filled at install, is the one the package uses: its "
+           f"first runs took at most {worst:.1f} s (target {TARGET_FIRST_RUN_S:.0f} s: "
+           f"{'met' if worst <= TARGET_FIRST_RUN_S else 'NOT met'}) and compiled "
+           f"{'nothing' if compiled == 0 else f'{compiled} cache files'}"]
+    if "jit" in res:
+        out[-1] += (f", against {max(s for s, _ in res['jit'].values()):.1f} s for the "
+                    f"slowest cold JIT run")
+    out[-1] += (f"; its install step took {a['fill_s']:.1f} s and {a['again_s']:.1f} s "
+                f"with the key unchanged")
+    if "b_patched" in res:
+        b = res["b_patched"]
+        b_worst = max(s for s, _ in b["first"].values())
+        out[-1] += (f", where the pycc build took {b['build_s']:.1f} s for first runs of "
+                    f"at most {b_worst:.1f} s.  On time the two differ by "
+                    f"{abs(worst - b_worst):.1f} s in the first run and "
+                    f"{abs(a['fill_s'] - b['build_s']):.1f} s in the install step, on a "
+                    f"machine whose load changed from {res['load'][0]:.1f} to "
+                    f"{res['load'][1]:.1f} during the measurement: time does not decide "
+                    f"between them, what follows does")
+    out[-1] += ("."
+                "  (a) uses numba's public API only (dispatchers with `cache=True`, called "
+                "with the package's argument types; their `stats` for the cache "
+                "directory), needs no C compiler, and is the JIT's own code, so the "
+                "numbers are the JIT's bits (`tests/test_precompiled.py`).  Across numba "
+                "versions it degrades to a compilation on first use: numba keys its cache "
+                "on its own version, and `vibimpact --version` says why the cache is not "
+                "in use.")
+    out.append("")
+    out.append("(b) was set aside: `numba.pycc` is pending deprecation; without the "
+               "private patches its exports are compiled with pycc's own flags (the "
+               "Python error model, the runtime on, a generic feature list for the "
+               "processor), not the JIT's, so the bits are not guaranteed to be the "
+               "JIT's; it needs a C compiler; and pip's isolated build compiles it with "
+               "the build environment's numba, which the runtime then has to refuse "
+               "when it differs (see \"Across numba versions\").")
+    return out
 
 
 def main(argv=None):
@@ -266,8 +338,15 @@ def main(argv=None):
                         help="a commit whose setup.py builds the pycc module (b)")
     parser.add_argument("--other-numba", default="0.68.0",
                         help="the numba version (a)'s cache is filled with across versions")
+    parser.add_argument("--from-json", type=Path, default=None, metavar="FILE",
+                        help="measure nothing: write the report of the figures FILE "
+                             "(the .json a run writes beside its report) holds")
     args = parser.parse_args(argv)
     report_path = smoke.moved(REPORT, args.smoke)
+    if args.from_json is not None:
+        res = json.loads(args.from_json.read_text())
+        _write(report_path, res, report(res, args))
+        return 0
     res = {"date": datetime.date.today().isoformat(), "versions": versions(),
            "cc": shutil.which("cc") or "none", "load": [os.getloadavg()[0]]}
     with tempfile.TemporaryDirectory(prefix="kernel-install-") as tmp:
@@ -293,15 +372,22 @@ def main(argv=None):
                 res.setdefault("failed", []).append(f"{name}: {str(exc)[-300:]}")
             print(f"  {res.get(name)}", flush=True)
     res["load"].append(os.getloadavg()[0])
-    text = report(res, args)
+    _write(report_path, res, report(res, args))
+    return 1 if res.get("failed") else 0
+
+
+def _write(report_path, res, text):
+    """Print ``text`` and write it to ``report_path``, the figures ``res`` beside it as
+    JSON (each file atomically)."""
     if res.get("failed"):
         text += "\n## Failed steps\n\n" + "\n".join(f"- {f}" for f in res["failed"]) + "\n"
     print(text)
     report_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = report_path.with_name(report_path.name + ".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, report_path)
-    return 1 if res.get("failed") else 0
+    for path, content in ((report_path.with_suffix(".json"), json.dumps(res, indent=1)),
+                          (report_path, text)):
+        tmp = path.with_name(path.name + ".tmp")
+        tmp.write_text(content)
+        os.replace(tmp, path)
 
 
 if __name__ == "__main__":
