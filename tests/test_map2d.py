@@ -149,6 +149,19 @@ def test_scheduler_address_and_task_grouping_do_not_change_the_map(serial, clust
     assert [len(job) for job in plan.group(fake_tasks(6, 16), 40, None)] == [3, 3]
 
 
+def test_a_sweep_on_the_cluster_equals_the_serial_sweep(cluster, tmp_path):
+    """Hypothesis: ``vi.Execution(scheduler=...)`` runs a sweep's blocks on Dask as well
+    (its executor is the map's); the sweep, checkpointed there task by task, equals the
+    serial sweep bit for bit and its checkpoint holds every point."""
+    cl, client = cluster
+    cont = vi.Continuation(blocks=3)
+    ref = vi.sweep(P, ETA[:7], direction="both", settings=FAST, continuation=cont)
+    ds = vi.sweep(P, ETA[:7], direction="both", settings=FAST, continuation=cont,
+                  execution=vi.Execution(scheduler=client, checkpoint=tmp_path / "ck"))
+    assert_same(ds, ref)
+    assert Checkpoint(tmp_path / "ck").saved() == (2 * 7, 2)
+
+
 def test_local_processes_equal_serial(serial):
     """Hypothesis: the default local execution (workers=2: a LocalCluster of two
     processes started for the run) gives the serial map bit for bit."""
