@@ -65,9 +65,13 @@ def test_an_unknown_setting_is_refused_listing_the_settings():
 
 def test_none_takes_the_analysis_default_then_simulates():
     """Hypothesis: filled() replaces a None setting by the caller's default, then by
-    SIMULATE_DEFAULTS, and keeps a setting given."""
-    s = SolverSettings(atol=1e-7).filled(rtol=1e-10, atol=1e-3)
+    SIMULATE_DEFAULTS, and keeps a setting given; the kept result of filled() without
+    defaults does not leak into a call with defaults, nor into the settings."""
+    given = SolverSettings(atol=1e-7)
+    assert given.filled().rtol == SIMULATE_DEFAULTS["rtol"]  # (kept for the next call)
+    s = given.filled(rtol=1e-10, atol=1e-3)
     assert (s.rtol, s.atol, s.method) == (1e-10, 1e-7, "dop853")
+    assert given.filled().rtol == SIMULATE_DEFAULTS["rtol"] and given.rtol is None
     assert s.steps_per_period == SIMULATE_DEFAULTS["steps_per_period"]
     assert s.max_step is None and s.bound is None  # a quarter period, the model's bound
 
@@ -149,6 +153,18 @@ def test_the_variational_solver_rejects_fixed_steps_and_a_small_tangent_tol():
         Solver.pair(SYSTEM, X0, X0, SolverSettings(method="rk4"))
     with pytest.raises(ValueError, match="^tangent_tol must be"):
         Solver.check_tangents(SolverSettings(), 0.5)
+
+
+def test_the_variational_solver_takes_adaptive_steps_whatever_the_system_says():
+    """Hypothesis: ``adaptive=False`` (fixed steps, for measuring orders of plain runs)
+    does not reach the variational equations or the pair: their options stay adaptive,
+    and the monodromy of such a system is the default system's, bit for bit."""
+    fixed = vi.System(P, solver=SolverSettings(adaptive=False))
+    var = Solver.variational(fixed, X0, fixed.settings(), tangents=4)
+    assert var.options.adaptive and var.settings.adaptive
+    assert all(s.options.adaptive for s in Solver.pair(fixed, X0, X0, fixed.settings()))
+    assert not Solver(fixed, X0).options.adaptive
+    np.testing.assert_array_equal(fixed.monodromy(X0).matrix, SYSTEM.monodromy(X0).matrix)
 
 
 def test_the_monodromy_of_a_solver_matches_finite_differences():

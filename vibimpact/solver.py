@@ -110,6 +110,7 @@ class SolverSettings:
         """A copy with ``changes`` checked (only they: the rest was checked when made)."""
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
+        new.__dict__.pop("_filled", None)
         for name, value in changes.items():
             object.__setattr__(new, name, None if value is None else _checked(name, value))
         return new
@@ -132,7 +133,15 @@ class SolverSettings:
         """Every setting fixed: ``None`` replaced by the caller's ``defaults``, then by
         :data:`SIMULATE_DEFAULTS` (``max_step`` and ``bound`` may stay None: a quarter
         period and the model's bound)."""
-        base = dict(SIMULATE_DEFAULTS, **defaults) if defaults else SIMULATE_DEFAULTS
+        if not defaults:  # the common case, kept: a System's settings fill every run
+            done = self.__dict__.get("_filled")
+            if done is None:
+                done = self._fill(SIMULATE_DEFAULTS)
+                object.__setattr__(self, "_filled", done)
+            return done
+        return self._fill(dict(SIMULATE_DEFAULTS, **defaults))
+
+    def _fill(self, base):
         changes = {k: base[k] for k in SETTINGS
                    if getattr(self, k) is None and base[k] is not None}
         return self._with(changes) if changes else self
@@ -173,6 +182,8 @@ class SolverSettings:
 
 #: the settings' names, in order
 SETTINGS = tuple(f.name for f in fields(SolverSettings))
+#: no setting given: every analysis' defaults
+NO_SETTINGS = SolverSettings()
 
 #: the check of each setting that is not a positive number
 _CHECKS = dict(method=lambda n, v: _v.choice(n, v, _kb.METHODS),
@@ -288,15 +299,15 @@ class Solver:
         vectors (the first columns of the identity), mapped by saltation matrices at
         every switch.
 
-        Adaptive methods only; the bound applies to the model state only; the tangent
+        Adaptive methods and steps only; the bound applies to the model state only; the tangent
         entries' local errors are tested at ``tangent_tol`` times the tolerances
         (``inf``: not tested; None: as the state's).  ``first_step``: the first step
         size trial (``min(T / 50, max_step)`` by default).
         """
         self = cls.__new__(cls)
         n = system.n_state
-        options = self._adaptive(settings).options(system.period, system.model.bound,
-                                                    n_bound=n)
+        settings = cls._adaptive(settings)
+        options = settings.options(system.period, system.model.bound, n_bound=n)
         if tangent_tol is not None:
             options = options.with_(n_err=n, tangent_factor=_tangent_factor(tangent_tol))
         x0 = _v.state("state0", state0, n)
@@ -313,8 +324,9 @@ class Solver:
              settings: SolverSettings, *,
              first_step: float | None = None) -> tuple[Solver, Solver]:
         """Two solvers of ``system`` started at ``state0`` and ``state1`` with the same
-        clock, for :meth:`two_trajectory` (adaptive methods only)."""
-        options = cls._adaptive(settings).options(system.period, system.model.bound)
+        clock, for :meth:`two_trajectory` (adaptive methods and steps only)."""
+        settings = cls._adaptive(settings)
+        options = settings.options(system.period, system.model.bound)
         out = []
         for y in (state0, state1):
             self = cls.__new__(cls)
@@ -336,11 +348,14 @@ class Solver:
 
     @staticmethod
     def _adaptive(settings):
+        """``settings`` filled, with adaptive steps (the variational and two-trajectory
+        runs always take them: ``adaptive=False`` is for measuring orders of plain runs);
+        ``ValueError`` naming ``method`` for RK4."""
         s = settings.filled()
         if s.method not in ("dop853", "dp5"):
             raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), "
                              f"got {s.method!r}")
-        return s
+        return s if s.adaptive else s._with({"adaptive": True})
 
     def _start(self, system, settings, options, y, *, variational, x0=None):
         self.system, self.settings, self.options = system, settings, options
@@ -487,4 +502,4 @@ def run_system(system: System, periods: int, transient: int, state0: ArrayLike |
 
 
 __all__ = ["SolverSettings", "Solver", "Segment", "SETTINGS", "SIMULATE_DEFAULTS",
-           "METHODS", "as_settings", "run_system"]
+           "METHODS", "NO_SETTINGS", "as_settings", "run_system"]

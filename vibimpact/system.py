@@ -28,7 +28,8 @@ from . import _validate as _v
 from .models import Model, resolve
 from .params import Domain
 from .run import Status, status_of
-from .solver import SETTINGS, Solver, SolverSettings, as_settings, run_system
+from .solver import (NO_SETTINGS, SETTINGS, Solver, SolverSettings, as_settings,
+                     run_system)
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
@@ -114,8 +115,10 @@ class System:
         mdl, vec = resolve(self.params, self.model)
         object.__setattr__(self, "model", mdl)
         object.__setattr__(self, "p", vec)
-        keywords = {k: getattr(self, k) for k in SOLVER_FIELDS}
-        settings = SolverSettings(**keywords).over(as_settings(self.solver))
+        keywords = {k: v for k in SOLVER_FIELDS if (v := getattr(self, k)) is not None}
+        settings = as_settings(self.solver) or NO_SETTINGS
+        if keywords:
+            settings = SolverSettings(**keywords).over(settings)
         object.__setattr__(self, "solver", settings)
         for name in SOLVER_FIELDS:  # the keywords' attributes say the settings
             object.__setattr__(self, name, getattr(settings, name))
