@@ -35,8 +35,8 @@ from vibimpact._kernel import aot_build, boundary as kb, driver
 out = {}
 p = vi.presets.get("fig8")
 for eta, method in [(1.2, "dop853"), (1.13, "dp5"), (1.3, "rk4")]:
-    r = vi.simulate(p.replace(eta=eta), periods=20, transient=10, method=method, dense=16,
-                    state0=[1.1, 0.0, 0.0, 1.3])
+    r = vi.simulate(p.replace(eta=eta), periods=20, transient=10, dense=16,
+                    state0=[1.1, 0.0, 0.0, 1.3], solver=vi.SolverSettings(method=method))
     out[eta] = (r.strobe, r.dense, r.final_state, r.impacts, dict(r.counters))
 res = vi.analysis.lyapunov_spectrum(
     vi.System(p.replace(eta=1.2)), state0=[1.1, 0.0, 0.0, 1.3],
