@@ -73,7 +73,7 @@ def _cmd_presets(args):
 
     header = ("name",) + tuple(c + "*" if c in ("B", "Ec") else c for c in _PRESET_COLUMNS)
     rows = []
-    for name in presets.names():
+    for name in presets.paper_names():
         p = presets.get(name).as_dict()
         rows.append((name,) + tuple(f"{p[c]:g}" for c in _PRESET_COLUMNS)
                     + (presets.describe(name),))
@@ -81,8 +81,15 @@ def _cmd_presets(args):
     print("  ".join(h.ljust(w) for h, w in zip(header, widths)) + "  description")
     for r in rows:
         print("  ".join(c.ljust(w) for c, w in zip(r, widths)) + "  " + r[-1])
-    print("\n* B and Ec are our defaults, not values from the paper; all presets have "
+    print("\n* B and Ec are our defaults, not values from the paper; all the paper's presets have "
           "k3 = -0.002 and eta is set per run (--eta).")
+    others = [n for n in presets.names() if n not in presets.paper_names()]
+    if others:
+        print("\nPresets of the other built-in models:")
+        for name in others:
+            values = ", ".join(f"{k}={v:g}" for k, v in presets.get(name).as_dict().items())
+            print(f"  {name}  ({type(presets.get(name)).__name__}: {values})  "
+                  f"{presets.describe(name)}")
     return 0
 
 

@@ -20,9 +20,14 @@ Systems*. Springer, ch. 2-3 (contact laws, switching functions, saltation).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Sequence
+
+    from numpy.typing import ArrayLike
 
 #: fields of an impact record, one per contact entered (the rotor's words in brackets)
 IMPACT_DTYPE = np.dtype([
@@ -67,13 +72,14 @@ class ContactLaw:
     friction: str | None = None
     tangential_damping: str | None = None
 
-    def parameters(self):
+    def parameters(self) -> dict:
         """``{role: parameter name}`` of the parts the law has."""
         roles = dict(stiffness=self.stiffness, damping=self.damping, friction=self.friction,
                      tangential_damping=self.tangential_damping)
         return {k: v for k, v in roles.items() if v is not None}
 
-    def force(self, penetration, normal_speed, p, names):
+    def force(self, penetration: ArrayLike, normal_speed: ArrayLike, p: np.ndarray,
+              names: Sequence[str]) -> np.ndarray:
         """Normal force ``k d^e (1 + c d')`` (0 out of contact), vectorised.
 
         Parameters
@@ -129,7 +135,8 @@ class Contact:
     extremum: int | None = None
     positions: tuple = (0, 1)
 
-    def check(self, n_state, n_switch, n_mode, param_names):
+    def check(self, n_state: int, n_switch: int, n_mode: int,
+              param_names: Sequence[str]) -> None:
         """Raise ``ValueError`` naming ``contact`` when the declaration does not fit a
         model of these sizes."""
         for what, value, size in (("switch", self.switch, n_switch),

@@ -83,7 +83,7 @@ def _row(name):
     return _TABLE[name]
 
 
-def get(name: str = DEFAULT):
+def get(name: str = DEFAULT) -> object:
     """The parameter set of a preset: :class:`~vibimpact.Params` for the paper's, the
     model's own parameter set for another built-in model's.
 

@@ -101,7 +101,7 @@ class Execution:
             raise _v.WrongType(f"progress must be True, False, a str or a callable, got "
                                f"{type(progress).__name__}")
 
-    def sweep_executor(self, n_tasks):
+    def sweep_executor(self, n_tasks: int) -> Any:
         """The executor of a sweep of ``n_tasks`` tasks: the user's, Dask with a
         ``scheduler``, local processes or this process."""
         from . import executors
@@ -114,7 +114,7 @@ class Execution:
             return Dask(self.scheduler, self.workers, prefix="vibimpact-sweep")
         return executors.choose(self.workers, n_tasks)
 
-    def map_executor(self):
+    def map_executor(self) -> Any:
         """The executor of a map: the user's, this process (one worker, no scheduler),
         or Dask (a local cluster of ``workers`` or the ``scheduler``'s)."""
         from . import executors
@@ -127,7 +127,8 @@ class Execution:
 
         return Dask(self.scheduler, self.workers, prefix="vibimpact-map")
 
-    def open_checkpoint(self, kind, request, streams, what="checkpoint"):
+    def open_checkpoint(self, kind: str, request: dict, streams: Any,
+                        what: str = "checkpoint") -> tuple:
         """``(store, done)``: the checkpoint of ``request`` opened (None without one) and
         the points loaded from it on a resume (``{(row, direction): {position:
         result}}``); a resume first removes the temporary entries a killed run left."""

@@ -20,6 +20,10 @@ to them or to :mod:`vibimpact.points`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -101,7 +105,8 @@ class Continuation:
 
     continued = True
 
-    def seeds(self, p, etas, starts, state0):
+    def seeds(self, p: Any, etas: np.ndarray, starts: Sequence[int],
+              state0: np.ndarray | None) -> dict:
         """``{start: state}`` of the blocks beginning at ``starts`` (last entry: the
         stream's length)."""
         seeds = {0: state0}
@@ -109,7 +114,7 @@ class Continuation:
             seeds.update(seed_states(p, etas, starts, state0, self.seed_periods))
         return seeds
 
-    def run(self, task, on_point=None):
+    def run(self, task: Any, on_point: Callable | None = None) -> list:
         """The points of ``task`` in order, with continuation (see
         :func:`vibimpact.engine.plan.run_task`)."""
         return _run(task, on_point, continued=True)
@@ -131,10 +136,11 @@ class Independent:
 
     continued = False
 
-    def seeds(self, p, etas, starts, state0):
+    def seeds(self, p: Any, etas: np.ndarray, starts: Sequence[int],
+              state0: np.ndarray | None) -> dict:
         return {a: state0 for a in starts}
 
-    def run(self, task, on_point=None):
+    def run(self, task: Any, on_point: Callable | None = None) -> list:
         """The points of ``task`` in order, each from its own starting state."""
         return _run(task, on_point, continued=False)
 

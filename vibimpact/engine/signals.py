@@ -16,7 +16,7 @@ import os
 class Interrupted(KeyboardInterrupt):
     """SIGINT or SIGTERM; ``signum`` decides the exit status 128 + signum."""
 
-    def __init__(self, signum):
+    def __init__(self, signum: int):
         super().__init__(signum)
         self.signum = signum
 
