@@ -309,23 +309,30 @@ def choice(res):
                     f"{abs(worst - b_worst):.1f} s in the first run and "
                     f"{abs(a['fill_s'] - b['build_s']):.1f} s in the install step, on a "
                     f"machine whose load changed from {res['load'][0]:.1f} to "
-                    f"{res['load'][1]:.1f} during the measurement: time does not decide "
-                    f"between them, what follows does")
-    out[-1] += ("."
-                "  (a) uses numba's public API only (dispatchers with `cache=True`, called "
-                "with the package's argument types; their `stats` for the cache "
+                    f"{res['load'][1]:.1f} during the measurement")
+    if "install_a" in res and "install_b" in res:
+        out[-1] += (f"; installing an extra after the package took "
+                    f"{res['install_a']['extra'][0]:.1f} s with (a), which compiled "
+                    f"nothing, and {res['install_b']['extra'][0]:.1f} s with (b), which "
+                    f"built its module again")
+    out[-1] += (".  (a) also uses numba's public API only (dispatchers with `cache=True`, "
+                "called with the package's argument types; their `stats` for the cache "
                 "directory), needs no C compiler, and is the JIT's own code, so the "
                 "numbers are the JIT's bits (`tests/test_precompiled.py`).  Across numba "
                 "versions it degrades to a compilation on first use: numba keys its cache "
                 "on its own version, and `vibimpact --version` says why the cache is not "
                 "in use.")
     out.append("")
-    out.append("(b) was set aside: `numba.pycc` is pending deprecation; without the "
-               "private patches its exports are compiled with pycc's own flags (the "
-               "Python error model, the runtime on, a generic feature list for the "
-               "processor), not the JIT's, so the bits are not guaranteed to be the "
-               "JIT's; it needs a C compiler; and pip's isolated build compiles it with "
-               "the build environment's numba, which the runtime then has to refuse "
+    public = res.get("b_public", {}).get("bits")
+    out.append("(b) was set aside: `numba.pycc` is pending deprecation and needs a C "
+               "compiler; without the private patches its exports are compiled with "
+               "pycc's own flags (the Python error model, the runtime on, a generic "
+               "feature list for the processor), not the dispatchers', so identical bits "
+               "are an observation, not a guarantee"
+               + (f" (the tree's bit-identity tests of that build: {public})" if public
+                  else "")
+               + "; pip builds it again for every extra; and pip's isolated build compiles "
+               "it with the build environment's numba, which the runtime has to refuse "
                "when it differs (see \"Across numba versions\").")
     return out
 
