@@ -499,3 +499,26 @@ __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_a
 # its sizes) with the kernel, and reaches them through this boundary.
 from . import rotor as rotor  # noqa: E402
 __all__ += ["rotor"]
+
+# ---- the built-in models (issue 29, point 1): the model registry above the kernel reads
+# each family's functions and sizes (:mod:`.registry`) and names built-in models
+# (:func:`.dispatch.builtin`) through this boundary.
+from .dispatch import BuiltinModel, builtin  # noqa: E402
+from .registry import KernelModel, family as kernel_family  # noqa: E402
+__all__ += ["BuiltinModel", "builtin", "KernelModel", "kernel_family"]
+from .integrator import (DIVERGED_BOUND, DIVERGED_NONFINITE, MAX_STEPS,  # noqa: E402
+                         STEP_UNDERFLOW, ZENO)
+__all__ += ["DIVERGED_BOUND", "DIVERGED_NONFINITE", "MAX_STEPS", "STEP_UNDERFLOW", "ZENO"]
+
+
+def initial_mode(family):
+    """The ``init_mode`` of the built-in family ``family`` as a checked
+    :class:`~.precompiled.Routine` (its argument sizes from :mod:`.registry`), for a
+    model's :attr:`Problem.init_mode`."""
+    name = f"{family}_init_mode"
+    if name not in _check.ROUTINES:
+        _check.ROUTINES[name] = _check.init_mode_check(family)
+    return _routine(name, kernel_family(family).init_mode)
+
+
+__all__ += ["initial_mode"]
