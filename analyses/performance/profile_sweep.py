@@ -39,15 +39,13 @@ ETA = np.round(np.arange(0.9, 1.5 + 1e-9, 0.002), 6)
 #: (part, file suffix, function name, "tottime" or "cumtime"); the first part is the
 #: compiled kernel's own time (every integration: plain, variational for the exponent and
 #: the monodromy matrices), the rest Python parts measured cumulatively (they contain the
-#: kernel time of their own integrations).  The integrator is the install's precompiled
-#: loop (cProfile names it as a built-in method of ``vibimpact._kernel._aot``) or, without
-#: it, numba's dispatcher: both are counted.  Every part must match a function the
+#: kernel time of their own integrations).  The integrator is numba's dispatcher, whether
+#: its machine code came from numba's cache (filled at install) or was compiled on first
+#: use: cProfile names it after its Python source.  Every part must match a function the
 #: profiled sweep called (:func:`bucket_times` fails otherwise): a renamed or moved
 #: function must be renamed here, not silently reported as 0 s.
 BUCKETS = (
     ("integrator kernel (all integrations)", "_kernel/driver.py", "integrate", "tottime"),
-    ("integrator kernel (all integrations)", "~",
-     "<built-in method vibimpact._kernel._aot.integrate>", "tottime"),
     ("of the total: Lyapunov exponent (variational equations, non-periodic points, "
      "cumulative)", "analysis/lyapunov.py", "lyapunov_spectrum", "cumtime"),
     ("of the total: Floquet multipliers (Newton shooting, cumulative)",
@@ -68,8 +66,9 @@ class UnmatchedProfileEntry(LookupError):
 def bucket_times(stats, buckets=BUCKETS):
     """Seconds of each part of ``buckets`` in ``stats`` (:attr:`pstats.Stats.stats`).
 
-    A part may have several entries (alternatives: the precompiled or the JIT-compiled
-    integrator); it must match at least one function the profile saw.
+    A part may have several entries (alternatives, their times summed: a function
+    that may be profiled under either of two names); it must match at least one
+    function the profile saw.
 
     Raises
     ------
