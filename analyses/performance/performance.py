@@ -7,7 +7,7 @@ replaces its own section of the report:
 
 =========================  ==========================================================
 ``benchmark_kernel.py``    throughput, accuracy orders
-``first_run.py``           the cold (empty numba cache) and warm first run of the CLI
+``first_run.py``           the CLI's first run on an empty and a filled numba cache
 ``benchmark_sweep.py``     the main job warm, serial and on 2 workers
 ``profile_sweep.py``       where the main job's time goes; the transient extrapolation
 ``work_precision.py``      error against run time vs SciPy; overhead against the RHS floor
