@@ -46,7 +46,9 @@ def test_help_is_instant_and_light(args):
 
 
 def test_presets_lists_all(tmp_path):
-    """`vibimpact presets` prints one row per preset with its parameters and description."""
+    """`vibimpact presets` prints one row per preset with its parameters and description:
+    the paper's nine in the table, every other built-in model's preset with its own
+    parameter set's name."""
     import vibimpact as vi
 
     r = cli("presets", cwd=tmp_path)
@@ -57,7 +59,10 @@ def test_presets_lists_all(tmp_path):
         row = [ln for ln in lines if ln.split()[:1] == [name]]
         assert len(row) == 1, name
         assert vi.presets.describe(name) in row[0]
-    assert len(vi.presets.names()) == 9
+    assert len(vi.presets.paper_names()) == 9
+    for name in set(vi.presets.names()) - set(vi.presets.paper_names()):
+        row = [ln for ln in lines if ln.split()[:1] == [name]]
+        assert type(vi.presets.get(name)).__name__ in row[0], name
     assert "not values from the paper" in r.stdout
 
 
@@ -263,18 +268,21 @@ def test_plot_xy_reads_only_the_dataset(tmp_path):
     assert [f.name for f in tmp_path.iterdir()] == ["p.png"]
 
 
-def test_version_prints_the_package_version_without_numba(tmp_path):
-    """`vibimpact --version` prints 'vibimpact <__version__>' and exits 0 without
-    importing numba (it is as light as --help)."""
+def test_version_prints_the_package_version_and_the_kernel_cache_status(tmp_path):
+    """`vibimpact --version` prints 'vibimpact <__version__>' and, on a second line, the
+    kernel cache's status as the package states it (precompiled.status: whether the cache
+    filled at install is in use, and why not), then exits 0.  It loads numba only for
+    that line (the cache's key holds numba's version and the processor); `--help` stays
+    without it (test_help_is_instant_and_light)."""
     import vibimpact
+    from vibimpact._kernel import precompiled
 
-    code = ("import sys\nfrom vibimpact.cli import main\n"
-            "try:\n    main(['--version'])\nexcept SystemExit as e:\n    code = e.code\n"
-            "assert 'numba' not in sys.modules\nsys.exit(code)\n")
-    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
-                       text=True)
+    r = subprocess.run([sys.executable, "-m", "vibimpact", "--version"], cwd=tmp_path,
+                       capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    assert r.stdout.strip() == f"vibimpact {vibimpact.__version__}"
+    lines = r.stdout.strip().splitlines()
+    assert lines[0] == f"vibimpact {vibimpact.__version__}"
+    assert lines[1] == f"precompiled kernel: {precompiled.status()}"
 
 
 @pytest.mark.parametrize("where", ["before", "after"])

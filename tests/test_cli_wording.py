@@ -30,7 +30,8 @@ from test_bad_input import CONT, ONE, SIM, run_cli, sweep_as, tiny_sweep_file
 # --- what API-only wording looks like ---------------------------------------------------
 
 def _api_keywords():
-    """The keyword arguments of the library functions the commands call, less the model
+    """The keyword arguments of the library functions the commands call, and of the
+    settings objects they take (solver, execution, continuation), less the model
     parameters (``--set kh=10`` is the command line's own ``NAME=VALUE``) and names
     shorter than three letters."""
     import vibimpact as vi
@@ -41,7 +42,8 @@ def _api_keywords():
 
     names = set()
     for fn in (vi.simulate, vi.sweep, vi.map2d, io.write_netcdf, io.check_output_path,
-               write_map, sweep_start, follow_branch):
+               write_map, sweep_start, follow_branch, vi.SolverSettings, vi.Execution,
+               vi.Continuation):
         names |= set(inspect.signature(fn).parameters)
     return sorted(names - set(vi.presets.get("fig8").as_dict()) - {"eta"}, key=len)[::-1]
 

@@ -90,7 +90,7 @@ import json, sys
 import numpy as np
 import vibimpact as vi
 ds = vi.sweep(vi.presets.get("fig11"), np.round(np.arange(1.10, 1.16 + 1e-9, 0.005), 6),
-              analyses=("period", "impacts", "response", "lyapunov"), blocks=1)
+              analyses=("period", "impacts", "response", "lyapunov"), continuation=vi.Continuation(blocks=1))
 print(json.dumps({k: np.asarray(ds[k].values, dtype=float).tobytes().hex()
                   for k in ("R_m", "final_state", "lyapunov", "contraction")}))
 """

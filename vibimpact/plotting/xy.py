@@ -101,11 +101,12 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
 
 
 def _plot_spec(ds, states):
-    """What the dataset's model declares its XY plots draw (a model that is not built in:
-    its first two states, no obstacle)."""
+    """What the dataset's model declares its XY plots draw (a dataset that names no model
+    is the rotor's, as every file this package writes without one; a model that is not
+    built in: its first two states, no obstacle)."""
     from .. import models
 
-    name = ds.attrs.get("model")
+    name = ds.attrs.get("model", "rotor")
     if isinstance(name, str) and name in models.names() and \
             models.get(name).plot is not None:
         return models.get(name).plot
