@@ -124,6 +124,7 @@ def _equal(a, b):
     return np.array_equal(a, b, equal_nan=True)
 
 
+@pytest.mark.slow  # fills a fresh numba cache: a study of the install step
 def test_the_install_step_fills_the_cache_and_says_so(filled):
     """Hypothesis: setup.py's install step compiles every export into an empty cache,
     says what it compiles, where and how long it took, and stamps the cache with the
@@ -139,6 +140,7 @@ def test_the_install_step_fills_the_cache_and_says_so(filled):
         assert f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}" in names
 
 
+@pytest.mark.slow  # fills a fresh numba cache: a study of the install step
 def test_an_unchanged_key_compiles_nothing_again(filled):
     """Hypothesis: a second install step with the same key (installing an extra) says
     the kernel is already compiled, compiles nothing and leaves the cache files as they
@@ -148,6 +150,7 @@ def test_an_unchanged_key_compiles_nothing_again(filled):
     assert filled["files_again"] == filled["files"]
 
 
+@pytest.mark.slow  # fills a fresh numba cache: a study of the install step
 def test_a_first_run_on_the_filled_cache_compiles_nothing(filled):
     """Hypothesis: rotor runs of three methods, the Lyapunov spectrum and the array
     routines, in a fresh process on the filled cache, load the integration loop from it
@@ -157,6 +160,7 @@ def test_a_first_run_on_the_filled_cache_compiles_nothing(filled):
     assert filled["files_after_runs"] == filled["files"]
 
 
+@pytest.mark.slow  # fills a fresh numba cache: a study of the install step
 def test_the_cached_kernel_gives_the_bits_of_the_jit(filled):
     """Hypothesis: the runs give bit-identical samples, events, counters, exponents and
     routine results from the filled cache and from numba compiling everything afresh in

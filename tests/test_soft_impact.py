@@ -138,6 +138,7 @@ def _init_mode(s, y, p, mode):
     mode[0] = 1 if y[0] > p[3] else 0
 
 
+@pytest.mark.slow  # a user model compiles its whole kernel in every process
 def test_a_user_model_that_declares_its_contact_gets_impacts_and_arcs_in_a_sweep():
     """A user model (Model.from_functions) with the soft-impact oscillator's functions and
     a declared Contact gets impact records from simulate, and impacts per period and
