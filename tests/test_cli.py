@@ -270,19 +270,19 @@ def test_plot_xy_reads_only_the_dataset(tmp_path):
 
 def test_version_prints_the_package_version_and_the_kernel_cache_status(tmp_path):
     """`vibimpact --version` prints 'vibimpact <__version__>' and, on a second line, the
-    kernel cache's status as the package states it (precompiled.status: whether the cache
+    kernel cache's status as the package states it (cache_stamp.status: whether the cache
     filled at install is in use, and why not), then exits 0.  It loads numba only for
     that line (the cache's key holds numba's version and the processor); `--help` stays
     without it (test_help_is_instant_and_light)."""
     import vibimpact
-    from vibimpact._kernel import precompiled
+    from vibimpact._kernel import cache_stamp
 
     r = subprocess.run([sys.executable, "-m", "vibimpact", "--version"], cwd=tmp_path,
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     lines = r.stdout.strip().splitlines()
     assert lines[0] == f"vibimpact {vibimpact.__version__}"
-    assert lines[1] == f"precompiled kernel: {precompiled.status()}"
+    assert lines[1] == f"precompiled kernel: {cache_stamp.status()}"
 
 
 @pytest.mark.parametrize("where", ["before", "after"])

@@ -19,7 +19,7 @@ import pytest
 import vibimpact as vi
 from vibimpact._kernel import aot_build
 from vibimpact._kernel import boundary as kb
-from vibimpact._kernel import precompiled
+from vibimpact._kernel import cache_stamp
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -174,14 +174,16 @@ def test_the_cached_kernel_gives_the_bits_of_the_jit(filled):
 
 def _stamped(tmp_path, monkeypatch, **changes):
     """A cache directory with the exports' index files and a stamp of the current key
-    with ``changes``; aot_build.cache_dir points at it."""
+    with ``changes``; cache_stamp.cache_dir points at it."""
     key = aot_build.cache_key()
-    stamp = dict(key, seconds=1.0, filled_at="2026-01-01T00:00:00+00:00", **changes)
-    for fn, _, _ in aot_build.exports().values():
-        name = f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
+    names = sorted(f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
+                   for fn, _, _ in aot_build.exports().values())
+    stamp = dict(key, seconds=1.0, filled_at="2026-01-01T00:00:00+00:00", exported=names,
+                 **changes)
+    for name in names:
         (tmp_path / f"{name}-1.py311.nbi").write_bytes(b"")
     (tmp_path / aot_build.STAMP).write_text(json.dumps(stamp))
-    monkeypatch.setattr(aot_build, "cache_dir", lambda: tmp_path)
+    monkeypatch.setattr(cache_stamp, "cache_dir", lambda: tmp_path)
     return key
 
 
@@ -189,7 +191,7 @@ def test_version_says_the_cache_is_in_use_when_its_key_matches(tmp_path, monkeyp
     """Hypothesis: a stamp of the current key with every export's index file is
     reported in use, with the fill's date and duration."""
     _stamped(tmp_path, monkeypatch)
-    in_use, line = precompiled.cache_state()
+    in_use, line = cache_stamp.cache_state()
     assert in_use and line.startswith("in use") and "2026-01-01" in line
 
 
@@ -203,7 +205,7 @@ def test_version_says_why_a_foreign_cache_is_not_used(tmp_path, monkeypatch, cha
     """Hypothesis: a cache filled from other sources, by other versions or for another
     processor is reported not in use, naming what differs, and how to fill it."""
     _stamped(tmp_path, monkeypatch, **changes)
-    in_use, line = precompiled.cache_state()
+    in_use, line = cache_stamp.cache_state()
     assert not in_use and words in line and "aot_build" in line
 
 
@@ -213,10 +215,10 @@ def test_version_says_when_nothing_was_filled_or_files_are_gone(tmp_path, monkey
     _stamped(tmp_path, monkeypatch)
     for f in tmp_path.glob("*.nbi"):
         f.unlink()
-    in_use, line = precompiled.cache_state()
+    in_use, line = cache_stamp.cache_state()
     assert not in_use and "gone" in line
     (tmp_path / aot_build.STAMP).unlink()
-    in_use, line = precompiled.cache_state()
+    in_use, line = cache_stamp.cache_state()
     assert not in_use and line.startswith("not filled at install")
 
 

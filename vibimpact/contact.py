@@ -139,13 +139,13 @@ class Contact:
               param_names: Sequence[str]) -> None:
         """Raise ``ValueError`` naming ``contact`` when the declaration does not fit a
         model of these sizes."""
-        for what, value, size in (("switch", self.switch, n_switch),
-                                  ("mode", self.mode, n_mode)):
+        for what, value, size, of in (("switch", self.switch, n_switch,
+                                       "switching functions"),
+                                      ("mode", self.mode, n_mode, "mode entries")):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or \
                     not 0 <= value < size:
-                raise ValueError(f"contact: {what} must index the model's {size} "
-                                 f"{'switching functions' if what == 'switch' else 'mode entries'}"
-                                 f", got {value!r}")
+                raise ValueError(f"contact: {what} must index the model's {size} {of}, "
+                                 f"got {value!r}")
         if self.extremum is not None and not 0 <= self.extremum < n_switch:
             raise ValueError(f"contact: extremum must index the model's {n_switch} switching "
                              f"functions, got {self.extremum!r}")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import importlib
 from dataclasses import dataclass, field, fields
 from typing import Callable
 
@@ -282,9 +283,9 @@ _LOADING = []
 def _loaded():
     if not _REGISTRY and not _LOADING:
         _LOADING.append(True)
-        try:
-            from . import builtin_models
-            builtin_models.load()
+        try:  # the models' package is found by name, as the kernel finds its families
+            for model in importlib.import_module(f"{__package__}.builtin_models").load():
+                register(model)
         finally:
             _LOADING.clear()
     return _REGISTRY

@@ -17,7 +17,7 @@ Every call of :func:`vibimpact._kernel.boundary.integrate`, ``benettin`` and
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import math
 from dataclasses import dataclass, fields, replace
@@ -35,7 +35,28 @@ if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ._kernel.boundary import Method, Options
-    from .system import System
+    from .models import Model
+
+
+
+class SystemLike(Protocol):
+    """What a solver reads of the system it integrates (a :class:`vibimpact.System`):
+    its model, parameters (the set and its vector), solver settings, forcing period and
+    state size.  The solver stands below System and does not import it."""
+
+    model: Model
+    params: object
+    p: np.ndarray
+    solver: SolverSettings
+
+    @property
+    def period(self) -> float:
+        """The forcing period."""
+
+    @property
+    def n_state(self) -> int:
+        """The state's length."""
+
 
 _logger = logging.getLogger(__name__)
 #: method names, in the order the kernel numbers them
@@ -282,7 +303,7 @@ class Solver:
     (4, 4)
     """
 
-    def __init__(self, system: System, state0: ArrayLike | None = None,
+    def __init__(self, system: SystemLike, state0: ArrayLike | None = None,
                  settings: SolverSettings | None = None, *, check: bool = True):
         settings = (system.solver if settings is None else settings).filled()
         y = _v.state("state0", state0, system.n_state) if check else \
@@ -292,7 +313,7 @@ class Solver:
         self.clock = _kb.new_clock(self.problem, self.options)
 
     @classmethod
-    def variational(cls, system: System, state0: ArrayLike, settings: SolverSettings, *,
+    def variational(cls, system: SystemLike, state0: ArrayLike, settings: SolverSettings, *,
                     tangents: int, tangent_tol: float | None = None,
                     first_step: float | None = None) -> Solver:
         """A solver of the variational equations: the state and ``tangents`` tangent
@@ -320,7 +341,7 @@ class Solver:
         return self
 
     @classmethod
-    def pair(cls, system: System, state0: ArrayLike, state1: ArrayLike,
+    def pair(cls, system: SystemLike, state0: ArrayLike, state1: ArrayLike,
              settings: SolverSettings, *,
              first_step: float | None = None) -> tuple[Solver, Solver]:
         """Two solvers of ``system`` started at ``state0`` and ``state1`` with the same
@@ -453,7 +474,7 @@ class Solver:
                                   self.counters)
 
 
-def run_system(system: System, periods: int, transient: int, state0: ArrayLike | None,
+def run_system(system: SystemLike, periods: int, transient: int, state0: ArrayLike | None,
                dense: int, solver: SolverSettings | None) -> Run:
     """One validated run of ``system`` as a :class:`~vibimpact.Run`: the body of
     :func:`vibimpact.simulate` and :meth:`vibimpact.System.simulate` (which document the

@@ -92,9 +92,9 @@ def _run(args, cache_dir, out):
 
 def _fill(cache_dir):
     """``(seconds, cache files, status)``: the install's fill of ``cache_dir`` and what
-    the package then says of its kernel (:func:`vibimpact._kernel.precompiled.status`)."""
+    the package then says of its kernel (:func:`vibimpact._kernel.cache_stamp.status`)."""
     wall, _ = _python(FILL, cache_dir)
-    code = "from vibimpact._kernel import precompiled; print(precompiled.status())"
+    code = "from vibimpact._kernel import cache_stamp; print(cache_stamp.status())"
     _, status = _python(["-c", code], cache_dir)
     status = status.strip()
     if not SMOKE and not status.startswith("in use"):

@@ -143,8 +143,8 @@ def measure_pycc(tree, work, code, label):
     build, _ = timed([sys.executable, "-c", code, str(module)], tree,
                      _env(work / f"cache-build-{label}"))
     cache = work / f"cache-{label}"
-    _, done = timed([sys.executable, "-c", "from vibimpact._kernel import precompiled; "
-                     "print(precompiled.status())"], tree, _env(cache))
+    _, done = timed([sys.executable, "-c", "from vibimpact._kernel import cache_stamp; "
+                     "print(cache_stamp.status())"], tree, _env(cache))
     result = {"build_s": build, "status": done.stdout.strip(),
               "first": first_runs(tree, cache)}
     # the tree's own checks that the precompiled functions give the JIT's bits
@@ -196,7 +196,7 @@ def measure_install(tree, work, label, old=False):
         found = re.search(r"Successfully installed .*?numba-(\S+)", text)
         out[f"{step}_build_numba"] = found.group(1) if found else None
     if old:
-        code = "from vibimpact._kernel import precompiled; print(precompiled.status())"
+        code = "from vibimpact._kernel import cache_stamp; print(cache_stamp.status())"
         _, done = timed([py, "-c", code], work, env)
         out["status"] = done.stdout.strip()
     else:

@@ -19,24 +19,19 @@ The cache is *keyed*: a stamp file, :data:`STAMP`, in the cache directory record
 Python versions and the processor -- and what the fill took.  :func:`build` compiles
 nothing when the stamp holds the current key and the cache files are there, so
 installing an extra (``pip install -e ".[test]"``) does not compile the kernel again.
-:mod:`.precompiled` reads the stamp to say whether the filled cache is in use.
+:mod:`.cache_stamp` holds the stamp and reads it to say whether the filled cache is in use.
 """
 from __future__ import annotations
 
 import argparse
 import datetime
-import hashlib
-import json
-import os
-import platform
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-#: the stamp file, in numba's cache directory of the kernel
-STAMP = "kernel-cache.json"
+from .cache_stamp import (STAMP, cache_dir, cache_key, cached_functions,  # noqa: F401
+                          read_stamp, write_stamp)
 
 
 def _integrate_example():
@@ -75,63 +70,6 @@ def exports():
     return out
 
 
-def cache_dir():
-    """The directory numba caches the kernel in, as numba itself reports it (the
-    dispatcher's public ``stats``): ``NUMBA_CACHE_DIR``'s when set, else ``__pycache__``
-    beside the sources when it can be written, else numba's per-user directory."""
-    from . import driver
-
-    return Path(driver.integrate.stats.cache_path)
-
-
-def versions():
-    """The versions the cached machine code depends on."""
-    import llvmlite
-    import numba
-
-    return {"numba": numba.__version__, "llvmlite": llvmlite.__version__,
-            "numpy": np.__version__, "python": platform.python_version()}
-
-
-def host():
-    """The processor numba compiles for here: ``{"cpu": name, "features": str}``."""
-    from llvmlite import binding as llb
-
-    return {"cpu": llb.get_host_cpu_name(), "features": llb.get_host_cpu_features().flatten()}
-
-
-def cache_key():
-    """``{"key": hex digest, "sources": ..., "versions": ..., "host": ...}``: what the
-    cached kernel was compiled from; ``key`` is the SHA-256 of the rest."""
-    from .cache_guard import current_digest
-
-    parts = {"sources": current_digest(), "versions": versions(), "host": host()}
-    digest = hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
-    return {"key": digest, **parts}
-
-
-def read_stamp(directory=None):
-    """The stamp of ``directory`` (by default :func:`cache_dir`) as a dict, or None
-    when there is none or it cannot be read."""
-    path = Path(directory or cache_dir()) / STAMP
-    try:
-        stamp = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None
-    return stamp if isinstance(stamp, dict) else None
-
-
-def cached_functions(directory=None):
-    """Names of the kernel functions with a cache index in ``directory`` (by default
-    :func:`cache_dir`): ``driver.integrate`` for ``driver.integrate-414.py311.nbi``."""
-    directory = Path(directory or cache_dir())
-    try:
-        return sorted({f.name.split("-")[0] for f in directory.iterdir()
-                       if f.suffix == ".nbi"})
-    except OSError:
-        return []
-
-
 def _exported_names():
     """The cache index names of :func:`exports` (``module.function``)."""
     return {f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
@@ -145,16 +83,6 @@ def up_to_date(directory=None):
     if stamp is None or stamp.get("key") != cache_key()["key"]:
         return False
     return _exported_names() <= set(cached_functions(directory))
-
-
-def _write_stamp(directory, record):
-    """Write ``record`` as :data:`STAMP` in ``directory`` atomically."""
-    tmp = Path(directory) / f".{STAMP}.{os.getpid()}.tmp"
-    try:
-        tmp.write_text(json.dumps(record, indent=1))
-        os.replace(tmp, Path(directory) / STAMP)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def build(force=False):
@@ -178,8 +106,9 @@ def build(force=False):
         fn(*args)
     seconds = time.perf_counter() - t0
     functions = cached_functions(directory)
-    _write_stamp(directory, {
+    write_stamp(directory, {
         **key, "seconds": round(seconds, 1), "functions": functions,
+        "exported": sorted(_exported_names()),
         "filled_at": datetime.datetime.now(datetime.timezone.utc).isoformat(
             timespec="seconds")})
     return {"compiled": True, "seconds": seconds, "cache_dir": str(directory),

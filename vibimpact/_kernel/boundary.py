@@ -38,6 +38,7 @@ from . import tableaux as _tab
 from .driver import workspace as _workspace
 from .lyapunov import qr_growth as _qr_growth
 from .lyapunov import two_trajectory as _two_trajectory
+from . import cache_stamp as _cache_stamp
 from . import precompiled as _precompiled
 from .precompiled import routine as _routine
 
@@ -52,7 +53,7 @@ eigvals = _routine("eigvals", _linalg.eigvals)
 suffix_lag_residuals = _routine("suffix_lag_residuals", _recurrence.suffix_lag_residuals)
 #: whether the kernel compiled ahead of the first run (numba's cache, filled at install) is
 #: in use, and why not: one line (``vibimpact --version``)
-precompiled_status = _precompiled.status
+precompiled_status = _cache_stamp.status
 
 #: method names, in the order the kernel numbers them
 METHODS = tuple(_tab.METHOD_IDS)

@@ -11,8 +11,7 @@ numba compiles on first use and caches the result, as it would without the fill;
 never runs code compiled for anything else (numba keys its cache on the function's
 bytecode, its own version and the processor).
 
-:func:`status` says in one line whether the filled cache is in use and why not
-(``vibimpact --version`` prints it).  :func:`routine` wraps a kernel function called from
+Whether the filled cache is in use is :mod:`.cache_stamp`'s to say.  :func:`routine` wraps a kernel function called from
 Python with its argument check: numba's compiled code checks no array sizes or indices,
 so every call is checked first by :mod:`.argcheck` (the array routines by the
 :class:`Routine` itself, the integration loop where :mod:`.boundary` builds its
@@ -21,51 +20,6 @@ arguments), and a wrong shape, dtype or memory order is a ``ValueError``.
 from __future__ import annotations
 
 from .argcheck import ROUTINES
-
-
-def _differs(stamp, key):
-    """What differs between a stamp and the current cache key (words), or None."""
-    if stamp.get("sources") != key["sources"]:
-        return "other kernel sources (edited since)"
-    if stamp.get("versions") != key["versions"]:
-        return f"{stamp.get('versions')}, running {key['versions']}"
-    if stamp.get("host") != key["host"]:
-        cpu = stamp.get("host", {}).get("cpu") if isinstance(stamp.get("host"), dict) else None
-        return f"another processor ({cpu!r}, this one is {key['host']['cpu']!r})"
-    return None
-
-
-def cache_state():
-    """``(in_use, reason)``: whether numba's cache holds the kernel filled for these
-    sources, versions and processor (:mod:`.aot_build`), and one line saying so or why
-    not."""
-    from . import aot_build
-
-    directory = aot_build.cache_dir()
-    stamp = aot_build.read_stamp(directory)
-    refill = "python -m vibimpact._kernel.aot_build fills it"
-    if stamp is None:
-        cached = aot_build.cached_functions(directory)
-        earlier = f"; {len(cached)} functions cached by earlier runs" if cached else ""
-        return False, (f"not filled at install (no {aot_build.STAMP} in {directory}): "
-                       f"numba compiles the kernel on first use and caches it{earlier}; "
-                       f"{refill}")
-    key = aot_build.cache_key()
-    if stamp.get("key") != key["key"]:
-        why = _differs(stamp, key) or "another cache key"
-        return False, (f"filled for {why}: numba compiles the kernel again on first use; "
-                       f"{refill}")
-    if not aot_build.up_to_date(directory):
-        return False, (f"filled, but its cache files are gone from {directory}: numba "
-                       f"compiles the kernel again on first use; {refill}")
-    return True, (f"in use: numba's cache {directory}, filled {stamp.get('filled_at')} "
-                  f"in {stamp.get('seconds')} s (key {key['key'][:12]})")
-
-
-def status():
-    """Whether the kernel compiled ahead of the first run is in use, and why not (one
-    line, for ``vibimpact --version``, reports and ``-vv``)."""
-    return cache_state()[1]
 
 
 class Routine:

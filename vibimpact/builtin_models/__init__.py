@@ -17,13 +17,8 @@ _FIRST = ("rotor", "duffing")
 
 
 def load():
-    """Import every module of this package and register its ``MODEL``
-    (:func:`vibimpact.models.register`); returns the models' names in order."""
-    from ..models import register
-
+    """Import every module of this package; returns their ``MODEL``s in order (the
+    registry, :func:`vibimpact.models.names`, registers them)."""
     found = sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.ispkg)
     order = [n for n in _FIRST if n in found] + [n for n in found if n not in _FIRST]
-    for name in order:
-        module = importlib.import_module(f"{__name__}.{name}")
-        register(module.MODEL)
-    return order
+    return [importlib.import_module(f"{__name__}.{name}").MODEL for name in order]
