@@ -310,6 +310,12 @@ def get(name: str) -> Model:
     return models[name]
 
 
+def param_set_names() -> str:
+    """The built-in models' parameter sets, named for a message (``"Params,
+    DuffingParams, ..."``)."""
+    return ", ".join(m.param_set.__name__ for m in _loaded().values() if m.param_set)
+
+
 def of_params(p) -> Model | None:
     """The built-in model whose parameter set ``p`` is an instance of (None: none)."""
     for model in _loaded().values():
@@ -351,9 +357,8 @@ def resolve(p, model=None):
     model = of_params(p)
     if model is not None:
         return model, p.as_array()
-    sets = ", ".join(m.param_set.__name__ for m in _loaded().values() if m.param_set)
-    raise _v.WrongType(f"p must be the parameter set of a model ({sets}), got "
-                       f"{type(p).__name__}")
+    raise _v.WrongType(f"p must be the parameter set of a model ({param_set_names()}), "
+                       f"got {type(p).__name__}")
 
 
 def __getattr__(name):

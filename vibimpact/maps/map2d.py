@@ -42,6 +42,7 @@ import numpy as np
 from .. import _limits
 from .._text import one_line
 from .. import _validate as _v
+from .. import models
 from ..params import DuffingParams, Params
 from ..system import (System, param_dict, to_system, varied_names, with_frequency,
                       with_values)
@@ -282,8 +283,9 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     from ..engine.compute import compute
     from ..engine.policy import Continuation
 
-    if not isinstance(p, (Params, DuffingParams, System)):
-        raise _v.WrongType(f"p must be vibimpact.System, Params or DuffingParams, got "
+    if not isinstance(p, System) and models.of_params(p) is None:
+        raise _v.WrongType(f"p must be a vibimpact.System or the parameter set of a "
+                           f"built-in model ({models.param_set_names()}), got "
                            f"{type(p).__name__}")
     execution = as_execution(execution)
     name, values = check_vary(p, vary)

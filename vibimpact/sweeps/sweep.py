@@ -31,6 +31,7 @@ import numpy as np
 from .. import _limits
 from .. import _validate as _v
 from .._text import count
+from .. import models
 from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
 from ..simulation import simulate
@@ -189,8 +190,9 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     from ..engine.compute import compute
     from .dataset import to_dataset
 
-    if not isinstance(p, (Params, DuffingParams, System)):
-        raise _v.WrongType(f"p must be vibimpact.System, Params or DuffingParams, got "
+    if not isinstance(p, System) and models.of_params(p) is None:
+        raise _v.WrongType(f"p must be a vibimpact.System or the parameter set of a "
+                           f"built-in model ({models.param_set_names()}), got "
                            f"{type(p).__name__}")
     policy = as_policy(continuation)
     execution = as_execution(execution)
