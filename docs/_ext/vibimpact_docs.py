@@ -101,7 +101,7 @@ def presets_rst():
     """The presets table (a list-table) from :mod:`vibimpact.presets`."""
     from vibimpact import presets
 
-    names = presets.names()
+    names = presets.paper_names()
     fields = list(presets.get(names[0]).as_dict())
     lines = [".. list-table:: The presets (``vibimpact.presets.get(name)``), generated from "
              "``vibimpact.presets``",
