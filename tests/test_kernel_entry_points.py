@@ -190,15 +190,19 @@ def test_kernel_array_routines_refuse_wrong_shapes_dtypes_and_orders(name, case)
 
 def test_every_precompiled_export_is_checked():
     """Every function the install precompiles has an argument check: the array routines
-    and the rotor's initial mode in argcheck.ROUTINES, the integration loop where
-    boundary.integrate_args builds its arguments -- so no export is reachable
-    unchecked."""
+    and every built-in model's initial mode in argcheck.ROUTINES, the integration loop
+    where boundary.integrate_args builds its arguments -- so no export is reachable
+    unchecked; and the fill compiles the loop of every built-in model."""
     names = set(aot_build.exports())
-    assert names - {"integrate"} <= set(argcheck.ROUTINES)
-    assert "integrate" in names
+    loops = {n for n in names if n.startswith("integrate[")}
+    assert names - loops <= set(argcheck.ROUTINES)
+    assert loops == {f"integrate[{m.kernel_model.family}]" for m in
+                     (vi.models.get(name) for name in vi.models.names())}
     for routine, _ in kb.array_routine_calls():
         assert routine.check is argcheck.ROUTINES[routine.name]
-    assert vi.ROTOR.init_mode.check is argcheck.ROUTINES["rotor_init_mode"]
+    for name in vi.models.names():
+        model = vi.models.get(name)
+        assert model.init_mode.check is argcheck.ROUTINES[f"{name}_init_mode"]
 
 
 def _run_args(**changes):

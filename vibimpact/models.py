@@ -99,8 +99,7 @@ class Model:
     def builtin_model(cls, name: str, family: str, state_names: Sequence[str],
                       omega_index: int, param_set: type, *, bound: float = 1e3,
                       contact: Contact | None = None, plot: PlotSpec | None = None,
-                      presets: Mapping | None = None, init_mode: Callable | None = None
-                      ) -> Model:
+                      presets: Mapping | None = None) -> Model:
         """A built-in model: the kernel module ``family`` (its ``KERNEL_MODEL``) and
         what the model declares about itself.
 
@@ -115,9 +114,8 @@ class Model:
         param_set : type
             The frozen parameter dataclass (its fields in the kernel's order).
         bound, contact, plot, presets
-            As the attributes.
-        init_mode : callable, optional
-            A precompiled version of the kernel's ``init_mode``.
+            As the attributes.  The initial mode is the kernel's ``init_mode`` with its
+            argument check (:func:`vibimpact._kernel.boundary.initial_mode`).
 
         Raises
         ------
@@ -135,7 +133,7 @@ class Model:
                    omega_index=omega_index, n_mode=km.n_mode, terminal=km.terminal,
                    kernel_model=_kb.builtin(family), rhs=km.rhs, jac=km.jac,
                    switches=km.switches, transition=km.transition,
-                   init_mode=init_mode or km.init_mode, bound=bound, param_set=param_set,
+                   init_mode=_kb.initial_mode(family), bound=bound, param_set=param_set,
                    contact=contact, plot=plot, presets=dict(presets or {}))
 
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:

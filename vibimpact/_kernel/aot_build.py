@@ -34,37 +34,42 @@ from .cache_stamp import (STAMP, cache_dir, cache_key, cached_functions,  # noqa
                           read_stamp, write_stamp)
 
 
-def _integrate_example():
-    """A plain run of the rotor through :func:`.boundary.integrate`'s argument list (the
-    Benettin mode and the variational rotor have the same types)."""
+def _integrate_example(family):
+    """A plain run of a built-in family's model through :func:`.boundary.integrate`'s
+    argument list (the Benettin mode and the model's variational equations have the same
+    types)."""
     from . import boundary as kb
-    from . import dispatch, rotor
     from .driver import workspace
 
-    n = 4
-    problem = kb.Problem(dispatch.ROTOR, rotor.TERMINAL, rotor.N_MODE,
-                         np.zeros(len(rotor.PARAM_NAMES)), 1.0, n_state=n)
+    km = kb.kernel_family(family)
+    n = km.n_state
+    problem = kb.Problem(kb.builtin(family), km.terminal, km.n_mode,
+                         np.zeros(len(km.param_names)), 1.0, n_state=n)
     method = kb.Method.named("dop853")
     options = kb.Options(rtol=1e-9, atol=1e-12, h_fixed=0.01, max_step=0.1, bound=1e3,
                          event_tol=1e-12, max_steps_per_period=100_000)
-    mode = np.zeros(rotor.N_MODE, dtype=np.int64)
+    mode = np.zeros(km.n_mode, dtype=np.int64)
     return kb.integrate_args(problem, method, options,
                              workspace(n, problem.terminal.size, mode.size), np.zeros(n),
                              mode, kb.new_clock(problem, options), 1, 0, np.empty((1, n)),
-                             kb.EventLog(64, n, rotor.N_MODE).arrays(), 0,
+                             kb.EventLog(64, n, km.n_mode).arrays(), 0,
                              np.empty((1, n)), kb.counters())
 
 
 def exports():
     """``{name: (dispatcher, example arguments, model family or None)}``: the kernel
-    functions the fill compiles, each with a call of the types the package makes."""
-    from . import boundary, driver, rotor
+    functions the fill compiles, each with a call of the types the package makes: the
+    integration loop and the initial mode of every built-in family
+    (:func:`.registry.families`), the array routines."""
+    from . import boundary, driver, registry
 
-    out = {
-        "integrate": (driver.integrate, _integrate_example(), "rotor"),
-        "rotor_init_mode": (rotor.init_mode, (0.0, np.zeros(4), np.zeros(
-            len(rotor.PARAM_NAMES)), np.zeros(rotor.N_MODE, dtype=np.int64)), None),
-    }
+    out = {}
+    for family in registry.families():
+        km = registry.family(family)
+        out[f"integrate[{family}]"] = (driver.integrate, _integrate_example(family), family)
+        init = boundary.initial_mode(family)
+        out[init.name] = (init.jit, (0.0, np.zeros(km.n_state), np.zeros(
+            len(km.param_names)), np.zeros(km.n_mode, dtype=np.int64)), None)
     for routine, args in boundary.array_routine_calls():
         out[routine.name] = (routine.jit, args, None)
     return out
@@ -120,7 +125,7 @@ def describe(result):
     where = f"numba's cache {result['cache_dir']} (key {result['key'][:12]})"
     if not result["compiled"]:
         return f"vibimpact: kernel already compiled for these sources and versions in {where}"
-    return (f"vibimpact: compiled the kernel ({len(exports())} functions) into {where} "
+    return (f"vibimpact: compiled the kernel ({len(exports())} entry points) into {where} "
             f"in {result['seconds']:.1f} s")
 
 
@@ -134,7 +139,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.force or not up_to_date():
         print(f"vibimpact: compiling the numba kernel into its on-disk cache "
-              f"({', '.join(exports())}); this takes 10-30 s", flush=True)
+              f"({', '.join(exports())}), once for these sources and versions", flush=True)
     print(describe(build(force=args.force)), flush=True)
 
 

@@ -61,6 +61,21 @@ class KernelModel(NamedTuple):
         return (self.n_state, len(self.param_names), self.n_mode, int(self.terminal.size))
 
 
+def families() -> list[str]:
+    """The names of every built-in family: the modules of this package that declare a
+    ``KERNEL_MODEL`` (each imported to see)."""
+    import pkgutil
+
+    found = []
+    for info in pkgutil.iter_modules(importlib.import_module(__package__).__path__):
+        if info.ispkg or not _FAMILY_NAME.match(info.name):
+            continue
+        module = importlib.import_module(f"{__package__}.{info.name}")
+        if isinstance(getattr(module, "KERNEL_MODEL", None), KernelModel):
+            found.append(info.name)
+    return sorted(found)
+
+
 _FAMILY_NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
 _LOADED: dict[str, KernelModel] = {}
 

@@ -9,7 +9,6 @@ its angle is ``atan2(Y, X)`` (+90 degrees: the bottom, where the weight pulls).
 import numpy as np
 
 from .. import presets as _presets
-from .._kernel.boundary import initial_mode
 from ..contact import Contact, ContactLaw
 from ..models import Model, PlotSpec
 from ..params import Params
@@ -36,5 +35,4 @@ MODEL = Model.builtin_model(
                                    tangential_damping="BT")),
     plot=PlotSpec(xy=("X", "Y"), circle=1.0),
     presets={name: (_presets.paper_values(name), _presets.describe(name))
-             for name in _presets.paper_names()},
-    init_mode=initial_mode("rotor"))
+             for name in _presets.paper_names()})
