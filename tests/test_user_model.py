@@ -72,6 +72,7 @@ def _linear(rhs):
                                    param_names=("c", "k", "F", "w"), omega_index=3)
 
 
+@pytest.mark.slow  # a user model compiles its whole kernel in every process
 def test_user_model_functions_may_allocate():
     """A user right-hand side that allocates a work array compiles under the kernel's
     runtime-free stage loop (it is called through a trampoline with the runtime on) and
@@ -83,6 +84,7 @@ def test_user_model_functions_may_allocate():
     np.testing.assert_array_equal(a.strobe, b.strobe)
 
 
+@pytest.mark.slow  # a user model compiles its whole kernel in every process
 def test_user_model_lyapunov_spectrum_equals_damping_rate():
     """The variational equations of a user model (its Jacobian allocated per evaluation,
     its saltation map per event) give the linear oscillator's exponents: both equal to
