@@ -122,10 +122,11 @@ def test_performance_report_judges_the_first_run_by_its_own_numbers():
                             sec, re.M)
         assert verdict is not None, name
         assert float(verdict.group(2)) == first_run.TARGET_FIRST_S
-        for got, seconds, said in ((verdict.group(1), filled, verdict.group(3)),
-                                   (verdict.group(4), empty, verdict.group(5))):
-            assert float(got) == pytest.approx(seconds, abs=0.051)
-            assert said == ("met" if seconds <= first_run.TARGET_FIRST_S else "**not met**")
+        # the prose's figure and verdict against the same report's table (no clock here)
+        for prose, tabled, said in ((verdict.group(1), filled, verdict.group(3)),
+                                    (verdict.group(4), empty, verdict.group(5))):
+            assert float(prose) == pytest.approx(tabled, abs=0.051)
+            assert said == ("met" if tabled <= first_run.TARGET_FIRST_S else "**not met**")
 
 
 def test_every_package_name_the_readme_cites_exists():
