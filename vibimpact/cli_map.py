@@ -245,6 +245,10 @@ def plot_command(args, ds=None):
     if "map_vary" not in ds.attrs:
         raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
                           "one")
+    if args.kind in ("poincare", "lyapunov"):  # sweep kinds a map has no data for
+        raise UsageError(f"--kind {args.kind} needs a sweep file ('vibimpact classify'); "
+                         f"{path!r} is a parameter map, which stores no Poincare samples "
+                         "(its exponent over (eta, PARAM) is a panel of --kind map)")
     if args.kind not in (None, "map"):
         raise UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
                           "a parameter map (use --kind map)")

@@ -19,7 +19,8 @@ from ._limits import MAX_POINTS
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
 DEFAULT_PRESET = "fig8"
-PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch")
+PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch", "poincare",
+              "lyapunov")
 
 _CLASSIFY_EPILOG = """\
 examples:
@@ -73,6 +74,8 @@ examples:
   vibimpact plot fig8.nc --kind response -o response.png
   vibimpact plot fig8.nc --kind intervals -o intervals.png
   vibimpact plot run.nc --kind xy -o xy.png
+  vibimpact plot fig8.nc --kind poincare -o poincare.png
+  vibimpact plot fig8.nc --kind lyapunov -o lyapunov.png
   vibimpact plot fig8.nc --kind intervals --style paper -o intervals.pdf
   vibimpact plot p1.nc -o p1.png                 # a 'vibimpact continue' branch
   vibimpact plot fig8.nc --kind response --branch p1.nc -o overlay.png
@@ -86,6 +89,12 @@ kinds:
                .zarr or .nc)
   branch       a continued branch: X_m, Y_m and |mu|max against the parameter, stable
                solid, unstable dashed, bifurcations marked ('vibimpact continue')
+  poincare     the Poincare section: every point's samples, first state against its
+               velocity where stored (x, dx), else the second state (the rotor: X, Y),
+               coloured by eta; one panel per direction (classify with poincare)
+  lyapunov     largest Lyapunov exponent against eta with its error bars, periodic
+               points by their Floquet exponent, coloured by regime; zero line; one
+               panel per direction (classify with lyapunov or floquet)
 
 --branch BRANCH.nc (repeatable) draws branches continued in eta over the response
 curves: stable parts solid, unstable dashed, each kind of bifurcation with its own
@@ -277,8 +286,10 @@ def _cmd_plot(args):
                           f"'bifurcation'); {path!r} is a simulate run (use --kind xy)")
     if kind == "response" and not _has(ds, "X_m"):
         raise _missing(ds, path, "response data (X_m)", "response")
-    if kind == "bifurcation" and not _has(ds, "poincare_X"):
+    if kind in ("bifurcation", "poincare") and not _has(ds, "poincare_X"):
         raise _missing(ds, path, "Poincare points", "poincare")
+    if kind == "lyapunov" and not (_has(ds, "lyapunov") or _has(ds, "floquet_exponent")):
+        raise _missing(ds, path, "Lyapunov exponents", "lyapunov")
     if args.branch and kind != "response":
         raise UsageError(f"--branch draws over response curves, not --kind {kind}")
     branches = []
@@ -300,7 +311,9 @@ def _cmd_plot(args):
         else:
             draw = {"response": plotting.plot_response,
                     "bifurcation": plotting.plot_bifurcation,
-                    "intervals": plotting.plot_intervals}[kind]
+                    "intervals": plotting.plot_intervals,
+                    "poincare": plotting.plot_poincare,
+                    "lyapunov": plotting.plot_lyapunov}[kind]
             fig = draw(ds, **figure_options(args))
             if branches:
                 from .plotting.branch import overlay_branches
