@@ -1,0 +1,215 @@
+"""The attractor census: every attractor at a parameter point, with its basin fraction.
+
+:func:`attractors` takes ``N`` starting states (random in a documented box, a grid, or
+the user's; :mod:`.starts`) at every point of an eta grid and finds where each goes
+(:func:`vibimpact.attractors.reach.reach`), in *rounds* of starts run as engine tasks
+(:mod:`vibimpact.engine`): round 0 is the first 16 starts, decided by the settling
+evidence alone; every later round (the next 48, 192, 768, ... starts) is decided against
+the attractors the earlier rounds found, so most starts stop as soon as they enter a
+known attractor.  The rounds are fixed by ``N`` alone, and a start's result depends only
+on its state and on the library before its round, so serial, parallel, reordered and
+resumed runs give the same bits.
+
+Found attractors are deduplicated (:func:`vibimpact.attractors.library.same`), each gets
+its label (period, impacts per period, contact arcs), its Floquet multipliers (periodic
+orbits, from the shooting of the settling evidence) or largest Lyapunov exponent, a
+representative state and its basin fraction ``k / N`` with the binomial standard error
+``sqrt(f (1 - f) / N)``; every start gets its attractor's index.  Over an eta grid,
+attractors are matched from one point to the next (:func:`vibimpact.attractors.dataset.
+continue_attractors`, global continuation) so that one attractor keeps one ``global_id``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import _validate as _v
+from ..engine.execution import as_execution
+from ..engine.plan import STATES, Task, block_starts
+from ..points.point import REGIME_CODES
+from ..analysis.classify import Label
+from ..system import System, as_system, param_dict, with_frequency
+from .library import Attractor, cloud_radius, same
+from .reach import ANALYSED, DIVERGED, ENTERED, CensusRound, CensusSettings
+from .starts import Box, as_starts, default_box
+
+__all__ = ["attractors", "rounds", "census_points"]
+
+#: starts of round 0 (decided by the settling evidence alone); round k > 0 ends at
+#: ``PILOT * 4**k`` starts
+PILOT = 16
+#: starts per engine task
+TASK_STARTS = 64
+
+
+def rounds(n: int) -> list[tuple[int, int]]:
+    """The rounds ``[(start, stop)]`` of ``n`` starts: 0..16, 16..64, 64..256, ..."""
+    out, a, b = [], 0, min(n, PILOT)
+    while a < n:
+        out.append((a, b))
+        a, b = b, min(n, b * 4)
+    return out
+
+
+def _attractor(res, position, cs, scale):
+    """The library entry of an analysed start's result."""
+    cloud = np.asarray(res["cloud"], dtype=np.float64)
+    n = int(res["period"]) if int(res["regime"]) == REGIME_CODES[Label.PERIODIC] else 0
+    if n > 0:
+        return Attractor(cloud, n, cs.radius * scale, max(cs.hold, n), res, position)
+    return Attractor(cloud, 0, cloud_radius(cloud, cs.radius * scale), cs.hold_chaotic,
+                     res, position)
+
+
+def census_points(results, library, cs, scale):
+    """Labels of one round's results, and the library grown by what they found.
+
+    Parameters
+    ----------
+    results : list of (int, dict)
+        ``(position, reach result)`` in position order.
+    library : list of Attractor
+        Known before the round (append-only: indices stay).
+
+    Returns
+    -------
+    labels : dict
+        ``{position: attractor index}``; ``-1`` for a diverged start.
+    library : list of Attractor
+    """
+    library = list(library)
+    labels = {}
+    for i, res in results:
+        how = int(res["decided_by"])
+        if how == ENTERED:
+            labels[i] = int(res["entered"])
+        elif how == DIVERGED:
+            labels[i] = -1
+        else:
+            cand = _attractor(res, i, cs, scale)
+            for k, att in enumerate(library):
+                if same(cand, att, cs.dedup_tol * scale):
+                    labels[i] = k
+                    break
+            else:
+                library.append(cand)
+                labels[i] = len(library) - 1
+    return labels, library
+
+
+def _tasks(p, etas, states, libraries, cs, scales, span, done):
+    policy = CensusRound(tuple(tuple(lib) for lib in libraries), cs, tuple(scales))
+    a, b = span
+    n = states.shape[0]
+    cuts = block_starts(b - a, max(1, -(-(b - a) // TASK_STARTS)))
+    tasks = []
+    for row, eta in enumerate(etas):
+        have = done.get((row, STATES), {})
+        for lo, hi in zip(cuts[:-1], cuts[1:]):
+            lo, hi = a + lo, a + hi
+            if all(i in have for i in range(lo, hi)):
+                continue
+            tasks.append(Task(row, STATES, lo, hi, p, np.full(n, float(eta)), cs, None,
+                              policy, {i: have[i] for i in range(lo, hi) if i in have},
+                              states))
+    return tasks
+
+
+def attractors(system, eta=None, starts=400, *, seed: int = 0, box: Box | None = None,
+               settings: CensusSettings | None = None, execution=None):
+    """Every attractor at each point of an eta grid, with basin fractions.
+
+    Parameters
+    ----------
+    system : System
+        The model and parameters (its forcing frequency is replaced by each ``eta``).
+    eta : float or array_like, optional
+        The forcing frequencies (an increasing grid); the system's own by default.
+    starts : int or array_like, shape (N, d)
+        N random states in ``box`` (seeded by ``seed``), or the states themselves (a grid:
+        :func:`vibimpact.attractors.starts.grid_starts`).  The same states at every eta.
+    seed : int
+    box : Box, optional
+        Where random starts are drawn (:func:`vibimpact.attractors.starts.default_box`
+        by default: the rotor's positions in the unit disk, everything else in
+        ``[-1, 1]``); its scale is the unit of the census' distances.
+    settings : CensusSettings, optional
+    execution : Execution, optional
+        Workers, Dask, checkpoint and resume (none of which changes a number).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``eta``, ``start``, ``attractor``, ``state``, ``sample``,
+        ``multiplier``: see :func:`vibimpact.attractors.dataset.census_dataset`.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument.
+
+    Examples
+    --------
+    >>> import vibimpact as vi
+    >>> system = vi.System(vi.presets.get("fig11"))
+    >>> census = vi.attractors(system.with_params(eta=1.06), starts=64)  # doctest: +SKIP
+    >>> census.fraction.sel(eta=1.06).values  # doctest: +SKIP
+    """
+    from ..engine import progress as prog
+    from ..engine.compute import compute
+    from ..sweeps.sweep import check_grid
+    from .dataset import census_dataset
+
+    system = as_system(system)
+    settings = CensusSettings() if settings is None else settings
+    if not isinstance(settings, CensusSettings):
+        raise _v.WrongType(f"settings must be a vibimpact.attractors.CensusSettings, got "
+                           f"{type(settings).__name__}")
+    if box is None:
+        box = default_box(system.model)
+    elif not isinstance(box, Box):
+        raise _v.WrongType(f"box must be a vibimpact.attractors.Box, got "
+                           f"{type(box).__name__}")
+    d = system.n_state
+    if box.lo.size != d:
+        raise ValueError(f"box must have {d} components, got {box.lo.size}")
+    seed = _v.count("seed", seed, 0)
+    etas = np.array([system.omega]) if eta is None else \
+        check_grid(eta if np.ndim(eta) else [eta])
+    states = as_starts(starts, d, box, seed)
+    execution = as_execution(execution)
+    scale = box.scale
+    n = states.shape[0]
+    request = dict(kind="census", params=param_dict(with_frequency(system, 1.0)),
+                   model=system.model.name, eta=etas.tolist(),
+                   starts=states.tolist() if n <= 64 else
+                   [int(n), float(np.abs(states).sum()), states[:4].tolist()],
+                   settings={k: v for k, v in settings.as_attrs().items()}, box=box.describe())
+    store, done = execution.open_checkpoint("census", request, dict(
+        rows=int(etas.size), directions=[STATES], points=int(n)))
+    libraries = [[] for _ in etas]
+    labels = [np.full(n, -2, dtype=np.int64) for _ in etas]
+    results = [[None] * n for _ in etas]
+    todo = sum(1 for r in range(etas.size) for i in range(n)
+               if i not in done.get((r, STATES), {}))
+    with prog.callback(execution.progress, todo, "census") as report:
+        for span in rounds(n):
+            tasks = _tasks(system, etas, states, libraries, settings, [scale] * etas.size,
+                           span, done)
+            got = {r: dict(done.get((r, STATES), {})) for r in range(etas.size)}
+
+            def on_task(task, points, got=got):
+                got[task.row].update(points)
+
+            if tasks:
+                compute(tasks, execution.sweep_executor(len(tasks)), on_task,
+                        store=store, progress=report, stream=False)
+            for r in range(etas.size):
+                rows = [(i, got[r][i]) for i in range(*span)]
+                lab, libraries[r] = census_points(rows, libraries[r], settings, scale)
+                for i, res in rows:
+                    results[r][i] = res
+                    labels[r][i] = lab[i]
+    return census_dataset(system, etas, states, box, seed, settings, libraries, labels,
+                          results)

@@ -1,0 +1,231 @@
+"""A census as an xarray Dataset, and the global continuation of its attractors.
+
+Dimensions: ``eta`` (the grid), ``start`` (the starting states, the same at every eta),
+``attractor`` (the attractors of each eta in the order found, padded to the most at any
+eta), ``state``, ``sample`` (stroboscopic points of each attractor) and ``multiplier``.
+
+Per start: ``start_state (start, state)``, ``label (eta, start)`` (the attractor index
+at that eta; -1 diverged), ``decided_by`` and ``periods`` (how and after how many
+forcing periods its attractor was known).
+
+Per attractor: ``fraction`` and ``fraction_se`` (basin fraction and its binomial
+standard error), ``regime``, ``period``, ``impacts_per_period``, ``n_arcs``, ``name``
+(its label in words), ``lyapunov``, ``floquet_abs_max``, ``multiplier_re/_im``,
+``representative (eta, attractor, state)``, ``samples (eta, attractor, sample, state)``
+and ``global_id``: the same number for the same attractor followed from one eta to the
+next (:func:`continue_attractors`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from ..points.point import REGIME_CODES, REGIME_FLAGS
+from ..analysis.classify import Label
+from ..system import param_dict
+from ..sweeps.dataset import label_text
+from .reach import DECIDED_FLAGS, DIVERGED
+from .library import nearest_distances
+
+__all__ = ["census_dataset", "continue_attractors", "attractor_table", "N_SAMPLES"]
+
+#: stroboscopic samples stored per attractor (a cycle repeated to fill)
+N_SAMPLES = 128
+#: attractors at neighbouring eta are one (global continuation) when their clouds' mean
+#: distance is below this many box scales
+MATCH_DISTANCE = 0.3
+
+
+def _samples(att, d):
+    cloud = np.asarray(att.cloud)
+    if cloud.shape[0] == 0:
+        return np.full((N_SAMPLES, d), np.nan)
+    reps = -(-N_SAMPLES // cloud.shape[0])
+    return np.tile(cloud, (reps, 1))[:N_SAMPLES] if att.periodic else \
+        cloud[np.linspace(0, cloud.shape[0] - 1, N_SAMPLES).astype(int)]
+
+
+def _cloud_distance(a, b):
+    """Symmetric mean nearest distance of two attractors' clouds."""
+    return 0.5 * (float(nearest_distances(a.cloud, b.cloud).mean())
+                  + float(nearest_distances(b.cloud, a.cloud).mean()))
+
+
+def _impacting(att):
+    ipp = float(att.result.get("impacts_per_period", math.nan))
+    return None if not math.isfinite(ipp) else ipp > 0
+
+
+def continue_attractors(libraries, scale, tol=MATCH_DISTANCE):
+    """Global ids of the attractors of consecutive parameter points.
+
+    Attractor ``a`` of point ``i`` and ``b`` of point ``i + 1`` are matched when both are
+    periodic with one period, or both non-periodic, both impacting or both not, and
+    their clouds lie within ``tol``
+    box scales of each other (mean nearest distance, both ways); matching is greedy in
+    order of distance, one to one.  An unmatched attractor gets a new id (it is born
+    there).
+
+    Returns
+    -------
+    list of list of int
+        ``ids[i][a]``.
+    """
+    ids, next_id = [], 0
+    for i, lib in enumerate(libraries):
+        cur = [-1] * len(lib)
+        if i > 0 and lib and libraries[i - 1]:
+            pairs = []
+            for a, prev in enumerate(libraries[i - 1]):
+                for b, att in enumerate(lib):
+                    if prev.period != att.period or _impacting(prev) != _impacting(att):
+                        continue
+                    dist = _cloud_distance(prev, att)
+                    if dist <= tol * scale:
+                        pairs.append((dist, a, b))
+            used = set()
+            for _, a, b in sorted(pairs):
+                if a not in used and cur[b] < 0:
+                    cur[b] = ids[i - 1][a]
+                    used.add(a)
+        for b in range(len(lib)):
+            if cur[b] < 0:
+                cur[b] = next_id
+                next_id += 1
+        ids.append(cur)
+    return ids
+
+
+def _name(res, period):
+    if res is None:
+        return "diverged"
+    ipp = float(res.get("impacts_per_period", math.nan))
+    text = label_text(int(res["regime"]), period, ipp, str(res.get("arcs", "")),
+                      int(res.get("contact", -1)))
+    return text
+
+
+def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results):
+    """The census Dataset (module docstring) of :func:`vibimpact.attractors.attractors`."""
+    m, n, d = etas.size, states.shape[0], states.shape[1]
+    diverged = [bool(np.any(lab == -1)) for lab in labels]
+    A = max(1, max(len(lib) + dv for lib, dv in zip(libraries, diverged)))
+    shape = (m, A)
+    f = np.full(shape, np.nan)
+    se = np.full(shape, np.nan)
+    regime = np.zeros(shape, dtype=np.int8)
+    period = np.zeros(shape, dtype=np.int32)
+    ipp = np.full(shape, np.nan)
+    n_arcs = np.full(shape, -1, dtype=np.int32)
+    lyap = np.full(shape, np.nan)
+    fam = np.full(shape, np.nan)
+    mre = np.full((m, A, d), np.nan)
+    mim = np.full((m, A, d), np.nan)
+    rep = np.full((m, A, d), np.nan)
+    samples = np.full((m, A, N_SAMPLES, d), np.nan)
+    names = np.full(shape, "", dtype=object)
+    first = np.full(shape, -1, dtype=np.int64)
+    gid = np.full(shape, -1, dtype=np.int64)
+    label = np.stack(labels).astype(np.int64)
+    decided = np.array([[int(r["decided_by"]) for r in row] for row in results], np.int8)
+    periods = np.array([[int(r["periods"]) for r in row] for row in results], np.int64)
+    ids = continue_attractors(libraries, box.scale)
+    next_gid = max([max(x) for x in ids if x] + [-1]) + 1
+    for i, lib in enumerate(libraries):
+        counts = np.bincount(label[i][label[i] >= 0], minlength=len(lib))
+        for a, att in enumerate(lib):
+            res = att.result
+            frac = counts[a] / n
+            f[i, a], se[i, a] = frac, math.sqrt(frac * (1.0 - frac) / n)
+            regime[i, a] = int(res["regime"])
+            period[i, a] = att.period
+            ipp[i, a] = float(res.get("impacts_per_period", np.nan))
+            n_arcs[i, a] = int(res.get("n_arcs", -1))
+            lyap[i, a] = float(res.get("lyapunov", np.nan))
+            fam[i, a] = float(res.get("floquet_abs_max", np.nan))
+            mult = np.asarray(res.get("multipliers", np.full(d, np.nan)))
+            if np.iscomplexobj(mult):
+                mre[i, a, :mult.size] = mult.real[:d]
+                mim[i, a, :mult.size] = mult.imag[:d]
+            elif mult.size:
+                mre[i, a, :min(d, mult.size)] = np.asarray(mult, float).ravel()[:d]
+            rep[i, a] = np.asarray(att.cloud)[0] if np.asarray(att.cloud).size else np.nan
+            samples[i, a] = _samples(att, d)
+            names[i, a] = _name(res, att.period)
+            first[i, a] = att.first
+            gid[i, a] = ids[i][a]
+        if diverged[i]:
+            a = len(lib)
+            k = int(np.sum(label[i] == -1))
+            label[i][label[i] == -1] = a
+            f[i, a], se[i, a] = k / n, math.sqrt((k / n) * (1 - k / n) / n)
+            regime[i, a] = REGIME_CODES[Label.DIVERGED]
+            names[i, a] = "diverged"
+            gid[i, a] = next_gid  # one id for divergence at every eta
+    model = system.model
+    states_names = list(model.state_names)
+    ds = xr.Dataset(
+        dict(
+            start_state=(("start", "state"), states),
+            label=(("eta", "start"), label, dict(
+                long_name="attractor reached (index along attractor)")),
+            decided_by=(("eta", "start"), decided, dict(
+                flag_values=np.arange(3, dtype=np.int8), flag_meanings=DECIDED_FLAGS)),
+            periods=(("eta", "start"), periods, dict(
+                long_name="forcing periods integrated", units="1")),
+            fraction=(("eta", "attractor"), f, dict(long_name="basin fraction")),
+            fraction_se=(("eta", "attractor"), se, dict(
+                long_name="standard error of the basin fraction")),
+            regime=(("eta", "attractor"), regime, dict(
+                flag_values=np.arange(1, 6, dtype=np.int8), flag_meanings=REGIME_FLAGS)),
+            period=(("eta", "attractor"), period, dict(
+                long_name="period n (T = n 2 pi / eta); 0: not periodic")),
+            impacts_per_period=(("eta", "attractor"), ipp),
+            n_arcs=(("eta", "attractor"), n_arcs),
+            lyapunov=(("eta", "attractor"), lyap, dict(
+                long_name="largest Lyapunov exponent (non-periodic attractors)")),
+            floquet_abs_max=(("eta", "attractor"), fam),
+            multiplier_re=(("eta", "attractor", "multiplier"), mre),
+            multiplier_im=(("eta", "attractor", "multiplier"), mim),
+            representative=(("eta", "attractor", "state"), rep),
+            samples=(("eta", "attractor", "sample", "state"), samples, dict(
+                long_name="stroboscopic points on the attractor")),
+            name=(("eta", "attractor"), names.astype(str)),
+            found_by=(("eta", "attractor"), first, dict(
+                long_name="the start that found the attractor (-1: none)")),
+            global_id=(("eta", "attractor"), gid, dict(
+                long_name="attractor followed across eta (global continuation)")),
+        ),
+        coords=dict(eta=("eta", etas), start=np.arange(n), attractor=np.arange(A),
+                    state=("state", states_names), sample=np.arange(N_SAMPLES),
+                    multiplier=np.arange(d)),
+        attrs=dict(kind="census", model=model.name, seed=int(seed), box=box.describe(),
+                   box_lo=box.lo, box_hi=box.hi, box_scale=box.scale,
+                   n_starts=int(n),
+                   **{f"param_{k}": v for k, v in param_dict(system).items()
+                      if k != model.param_names[model.omega_index]},
+                   **{f"census_{k}": v for k, v in settings.as_attrs().items()}))
+    return ds
+
+
+def attractor_table(ds, eta_index=0):
+    """Rows ``(index, global id, name, fraction, se, period, extra)`` of one eta,
+    largest fraction first (the CLI's table)."""
+    rows = []
+    for a in range(ds.sizes["attractor"]):
+        f = float(ds.fraction[eta_index, a])
+        if not math.isfinite(f):
+            continue
+        extra = ""
+        if int(ds.period[eta_index, a]) > 0:
+            fam = float(ds.floquet_abs_max[eta_index, a])
+            if math.isfinite(fam):
+                extra = f"|mu|max {fam:.3g}"
+        elif math.isfinite(float(ds.lyapunov[eta_index, a])):
+            extra = f"lambda {float(ds.lyapunov[eta_index, a]):.3g}"
+        rows.append((a, int(ds.global_id[eta_index, a]), str(ds.name.values[eta_index, a]), f,
+                     float(ds.fraction_se[eta_index, a]), int(ds.period[eta_index, a]),
+                     extra))
+    return sorted(rows, key=lambda r: -r[3])

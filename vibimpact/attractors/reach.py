@@ -1,0 +1,215 @@
+"""Where one start goes: integrate until it is known which attractor it reaches.
+
+:func:`reach` integrates a starting state chunk by chunk and stops as soon as
+
+1. its stroboscopic points *enter* an attractor already found at this parameter point
+   (:func:`vibimpact.attractors.library.entered`: ``hold`` consecutive points within the
+   attractor's radius, as Attractors.jl's recurrence algorithm decides), or
+2. failing that within ``max_periods``, the sweep's own settling evidence decides
+   (:func:`vibimpact.points.point.analyse_point` from where the start has got to: the
+   period test on recurring stroboscopic points, contraction and Newton shooting, the
+   Lyapunov exponent and the 0-1 test).  A new periodic orbit is recognised there by
+   recurrence; a non-periodic motion gets a cloud of ``cloud`` further stroboscopic
+   points to be known by.
+
+:class:`CensusRound` is the engine's policy that runs a task's starts this way, each
+against the library of its parameter point as it stood before the round (so the result
+never depends on which process runs which start).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import _validate as _v
+from ..points.point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point, \
+    point_system
+from ..analysis.classify import Label
+from ..run import Status
+from ..solver import Solver
+from ..system import with_frequency
+from .library import entered
+
+__all__ = ["CensusSettings", "CensusRound", "reach", "ENTERED", "ANALYSED", "DIVERGED"]
+
+#: how a start's attractor was decided (``decided_by`` of a census)
+ENTERED, ANALYSED, DIVERGED = 0, 1, 2
+DECIDED_FLAGS = "entered_known_attractor settled_by_analysis diverged"
+
+PERIODIC = REGIME_CODES[Label.PERIODIC]
+
+
+def _point_settings():
+    return SweepSettings(analyses=tuple(a for a in ANALYSES if a != "response"),
+                         transient_max=3000, predict=0)
+
+
+@dataclass(frozen=True)
+class CensusSettings:
+    """How a census decides where each start goes.
+
+    Attributes
+    ----------
+    max_periods : int
+        Forcing periods a start is integrated against the known attractors before the
+        settling evidence decides (:func:`reach`).
+    chunk : int
+        Periods between checks.
+    radius : float
+        A periodic orbit's radius, in units of the start box's scale: a point this close
+        to one of its cycle points counts as on it.
+    hold : int
+        Consecutive points within the radius that enter a periodic orbit (at least its
+        period ``n``).
+    hold_chaotic : int
+        The same for a non-periodic attractor.
+    cloud : int
+        Stroboscopic points that represent a non-periodic attractor.
+    dedup_tol : float
+        Periodic cycles closer than this (units of the box's scale) are one orbit.
+    point : SweepSettings
+        The settling evidence's settings (a transient of up to 3000 periods, no
+        continuation predictor).
+
+    Raises
+    ------
+    ValueError
+        Naming the field.
+    """
+
+    max_periods: int = 600
+    chunk: int = 8
+    radius: float = 0.02
+    hold: int = 8
+    hold_chaotic: int = 64
+    cloud: int = 1000
+    dedup_tol: float = 1e-4
+    point: SweepSettings = field(default_factory=_point_settings)
+
+    def __post_init__(self):
+        for name in ("max_periods", "chunk", "hold", "hold_chaotic", "cloud"):
+            object.__setattr__(self, name, _v.count(name, getattr(self, name), 1))
+        for name in ("radius", "dedup_tol"):
+            value = getattr(self, name)
+            if isinstance(value, (bool, np.bool_)) or not isinstance(
+                    value, (int, float, np.floating, np.integer)) or \
+                    not np.isfinite(value) or value <= 0:
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if not isinstance(self.point, SweepSettings):
+            raise _v.WrongType(f"point must be a vibimpact.SweepSettings, got "
+                               f"{type(self.point).__name__}")
+
+    def as_attrs(self) -> dict:
+        """Flat attributes (the point settings prefixed ``point_``)."""
+        out = {k: getattr(self, k) for k in ("max_periods", "chunk", "radius", "hold",
+                                             "hold_chaotic", "cloud", "dedup_tol")}
+        out.update({f"point_{k}": v for k, v in self.point.as_attrs().items()})
+        return out
+
+
+def _diverged(status, reason, periods):
+    return dict(decided_by=DIVERGED, entered=-1, periods=int(periods),
+                regime=REGIME_CODES[Label.DIVERGED], reason=str(reason))
+
+
+def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
+    """Integrate ``x0`` until it is known which attractor it reaches.
+
+    Parameters
+    ----------
+    system : System
+        At the census point (its solver settings resolved).
+    x0 : ndarray, shape (d,)
+    library : sequence of Attractor
+        The attractors known at this point before the start's round.
+    cs : CensusSettings
+    scale : float
+        The unit of ``cs.radius``-type distances (not used for the library's radii,
+        which are absolute).
+
+    Returns
+    -------
+    dict
+        ``decided_by`` (:data:`ENTERED`, :data:`ANALYSED` or :data:`DIVERGED`),
+        ``entered`` (index into ``library``, or -1), ``periods`` (forcing periods
+        integrated), and for an analysed start the fields of
+        :func:`vibimpact.points.point.analyse_point` plus ``cloud`` (its cycle points,
+        or ``cs.cloud`` stroboscopic points of a non-periodic motion).
+    """
+    x = np.array(x0, dtype=np.float64)
+    periods = 0
+    if library:
+        solver = Solver(system, x, check=False)
+        counts = np.zeros(len(library), dtype=np.int64)
+        first = np.zeros(len(library))
+        while periods < cs.max_periods:
+            step = min(cs.chunk, cs.max_periods - periods)
+            seg = solver.advance(step, events=False)
+            if seg.status is not Status.OK:
+                return _diverged(seg.status, seg.reason, periods + step)
+            periods += step
+            hit = entered(seg.strobe[1:], library, (counts, first))
+            if hit >= 0:
+                return dict(decided_by=ENTERED, entered=int(hit), periods=periods)
+        x = solver.y[:x.size].copy()
+    res = analyse_point(system, x, cs.point).as_dict()
+    used = periods + int(res.get("transient") or 0) + int(res.get("recorded") or 0)
+    if res["regime"] == REGIME_CODES[Label.DIVERGED]:
+        return _diverged(None, res.get("reason", ""), used)
+    n = int(res["period"]) if res["regime"] == PERIODIC else 0
+    if n > 0:
+        cloud = np.asarray(res["samples"])[:n].copy()
+    else:
+        seg = Solver(system, np.asarray(res["final_state"]), check=False).advance(
+            cs.cloud, events=False)
+        if seg.status is not Status.OK:
+            return _diverged(seg.status, seg.reason, used)
+        cloud = seg.strobe[1:].copy()
+        used += cs.cloud
+    res.update(decided_by=ANALYSED, entered=-1, periods=used, cloud=cloud)
+    return res
+
+
+@dataclass(frozen=True, eq=False)
+class CensusRound:
+    """The engine policy of one census round: every start of a task from its own state,
+    decided by :func:`reach` against its point's library as it stood before the round.
+
+    Attributes
+    ----------
+    libraries : tuple of tuple of Attractor
+        One per parameter point (the task's ``row``).
+    census : CensusSettings
+    scales : tuple of float
+        The distance unit of each point.
+    """
+
+    libraries: tuple
+    census: CensusSettings
+    scales: tuple
+    blocks: int = 1
+
+    continued = False
+
+    def seeds(self, p: Any, etas: np.ndarray, starts, state0) -> dict:
+        return {a: state0 for a in starts}
+
+    def run(self, task: Any, on_point=None) -> list:
+        """The task's starts in order (see :func:`vibimpact.engine.plan.run_task`)."""
+        out = []
+        system = None
+        for i in range(task.start, task.stop):
+            res = task.done.get(i)
+            if res is None:
+                if system is None:
+                    system = point_system(with_frequency(task.p, float(task.etas[i])),
+                                          self.census.point)
+                res = reach(system, task.state_at(i), self.libraries[task.row],
+                            self.census, self.scales[task.row])
+                if on_point is not None:
+                    on_point(task, i, res)
+            out.append((i, res))
+        return out
