@@ -44,6 +44,8 @@ _EXPORTS = {
     "classify_params": ("points.pipeline", "classify_params"),
     "transition_types": ("sweeps.transitions", "transition_types"),
     "map2d": ("maps.map2d", "map2d"),
+    "attractors": ("attractors.census", "attractors"),
+    "CensusSettings": ("attractors.reach", "CensusSettings"),
     "Execution": ("engine.execution", "Execution"),
     "Continuation": ("engine.policy", "Continuation"),
     "Independent": ("engine.policy", "Independent"),
@@ -62,7 +64,7 @@ __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "M
            "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
            "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "maps", "plotting", "sweeps", "io", "__version__",
+           "map2d", "attractors", "CensusSettings", "maps", "plotting", "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine"]
 
 
