@@ -108,7 +108,7 @@ def _name(res, period):
 
 
 def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results):
-    """The census Dataset (module docstring) of :func:`vibimpact.attractors.attractors`."""
+    """The census Dataset (module docstring) of :func:`vibimpact.census.attractors`."""
     m, n, d = etas.size, states.shape[0], states.shape[1]
     diverged = [bool(np.any(lab == -1)) for lab in labels]
     A = max(1, max(len(lib) + dv for lib, dv in zip(libraries, diverged)))

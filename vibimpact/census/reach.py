@@ -3,7 +3,7 @@
 :func:`reach` integrates a starting state chunk by chunk and stops as soon as
 
 1. its stroboscopic points *enter* an attractor already found at this parameter point
-   (:func:`vibimpact.attractors.library.entered`: ``hold`` consecutive points within the
+   (:func:`vibimpact.census.library.entered`: ``hold`` consecutive points within the
    attractor's radius, as Attractors.jl's recurrence algorithm decides), or
 2. failing that within ``max_periods``, the sweep's own settling evidence decides
    (:func:`vibimpact.points.point.analyse_point` from where the start has got to: the

@@ -2,7 +2,7 @@
 
 :func:`attractors` takes ``N`` starting states (random in a documented box, a grid, or
 the user's; :mod:`.starts`) at every point of an eta grid and finds where each goes
-(:func:`vibimpact.attractors.reach.reach`), in *rounds* of starts run as engine tasks
+(:func:`vibimpact.census.reach.reach`), in *rounds* of starts run as engine tasks
 (:mod:`vibimpact.engine`): round 0 is the first 16 starts, decided by the settling
 evidence alone; every later round (the next 48, 192, 768, ... starts) is decided against
 the attractors the earlier rounds found, so most starts stop as soon as they enter a
@@ -10,12 +10,12 @@ known attractor.  The rounds are fixed by ``N`` alone, and a start's result depe
 on its state and on the library before its round, so serial, parallel, reordered and
 resumed runs give the same bits.
 
-Found attractors are deduplicated (:func:`vibimpact.attractors.library.same`), each gets
+Found attractors are deduplicated (:func:`vibimpact.census.library.same`), each gets
 its label (period, impacts per period, contact arcs), its Floquet multipliers (periodic
 orbits, from the shooting of the settling evidence) or largest Lyapunov exponent, a
 representative state and its basin fraction ``k / N`` with the binomial standard error
 ``sqrt(f (1 - f) / N)``; every start gets its attractor's index.  Over an eta grid,
-attractors are matched from one point to the next (:func:`vibimpact.attractors.dataset.
+attractors are matched from one point to the next (:func:`vibimpact.census.dataset.
 continue_attractors`, global continuation) so that one attractor keeps one ``global_id``.
 """
 from __future__ import annotations
@@ -128,10 +128,10 @@ def attractors(system, eta=None, starts=400, *, seed: int = 0, box: Box | None =
         The forcing frequencies (an increasing grid); the system's own by default.
     starts : int or array_like, shape (N, d)
         N random states in ``box`` (seeded by ``seed``), or the states themselves (a grid:
-        :func:`vibimpact.attractors.starts.grid_starts`).  The same states at every eta.
+        :func:`vibimpact.census.starts.grid_starts`).  The same states at every eta.
     seed : int
     box : Box, optional
-        Where random starts are drawn (:func:`vibimpact.attractors.starts.default_box`
+        Where random starts are drawn (:func:`vibimpact.census.starts.default_box`
         by default: the rotor's positions in the unit disk, everything else in
         ``[-1, 1]``); its scale is the unit of the census' distances.
     settings : CensusSettings, optional
@@ -142,7 +142,7 @@ def attractors(system, eta=None, starts=400, *, seed: int = 0, box: Box | None =
     -------
     xarray.Dataset
         Dimensions ``eta``, ``start``, ``attractor``, ``state``, ``sample``,
-        ``multiplier``: see :func:`vibimpact.attractors.dataset.census_dataset`.
+        ``multiplier``: see :func:`vibimpact.census.dataset.census_dataset`.
 
     Raises
     ------
@@ -164,12 +164,12 @@ def attractors(system, eta=None, starts=400, *, seed: int = 0, box: Box | None =
     system = as_system(system)
     settings = CensusSettings() if settings is None else settings
     if not isinstance(settings, CensusSettings):
-        raise _v.WrongType(f"settings must be a vibimpact.attractors.CensusSettings, got "
+        raise _v.WrongType(f"settings must be a vibimpact.census.CensusSettings, got "
                            f"{type(settings).__name__}")
     if box is None:
         box = default_box(system.model)
     elif not isinstance(box, Box):
-        raise _v.WrongType(f"box must be a vibimpact.attractors.Box, got "
+        raise _v.WrongType(f"box must be a vibimpact.census.Box, got "
                            f"{type(box).__name__}")
     d = system.n_state
     if box.lo.size != d:
