@@ -55,6 +55,8 @@ from .shooting import (Monodromy, PeriodicOrbit, floquet_exponents, floquet_mult
 from .continuation import (Bifurcation, Branch, Grazing, StabilityChange, StartFailed,
                            Steps, continue_orbit, locate_bifurcation, refine_grazing,
                            refine_stability_change)
+from .branch_switch import period_doubling_point, switch_branch
+from .two_parameter import BifurcationCurve, continue_bifurcation, signed_gap
 
 __all__ = [
     "ContactArcs", "DEFAULT_RULE", "DecisionRule", "ImpactCount", "ImpactStatistics",
@@ -67,5 +69,7 @@ __all__ = [
     "shoot_periodic_orbit", "floquet_lyapunov", "Contraction", "TorusEvidence",
     "contraction_rate", "torus_evidence", "Averaging", "Steps", "refine_stability_change",
     "StabilityChange", "StartFailed", "Grazing", "refine_grazing",
+    "switch_branch", "period_doubling_point", "BifurcationCurve", "continue_bifurcation",
+    "signed_gap",
 ]
 
