@@ -36,7 +36,8 @@ from ..bifurcation_kinds import BifurcationKind
 from ..run import Status
 from ..system import as_system
 from .bifurcation import CONTINUATION_SOLVER
-from .continuation import (Branch, Steps, _Arclength, _amplitude, continue_orbit)
+from .._kernel.boundary import solve
+from .continuation import Branch, Steps, continue_orbit
 from .shooting import floquet_multipliers, shoot_periodic_orbit
 from .stability_change import impacts_per_period, refine_stability_change
 
@@ -140,9 +141,9 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
     Branch
         ``n`` twice the parent's; its first point is the period-doubling point ``(x*,
         lambda*)`` with the multipliers of ``M_n(x*)^2`` (the largest ``+1`` up to the
-        location's accuracy), the rest the continued period-``2n`` orbits (minimal period
-        ``2n``), moving away from ``lambda*``; ``bifurcations`` indices count that first
-        point.
+        location's accuracy; ``stable`` as the next point's, as the orbit is neutral
+        there), the rest the continued period-``2n`` orbits (minimal period ``2n``),
+        moving away from ``lambda*``; ``bifurcations`` indices count that first point.
 
     Raises
     ------
@@ -176,18 +177,15 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
     h = 1e-2 * scale if h is None else _v.positive("h", h)
     lo, hi = (min(lam, stop), max(lam, stop)) if np.ndim(stop) == 0 else \
         tuple(sorted(float(s) for s in stop))
-    window = (min(lo, lam) - steps.ds_max, max(hi, lam) + steps.ds_max)
-    arc = _Arclength(system, param, n2, window, steps)
-    t = np.append(v, 0.0)
     start = None
     for hh in (h, 3.0 * h, 9.0 * h):
-        ok, u, _, _, _ = arc.correct(np.append(x + hh * v, lam), t)
-        if not ok:
+        u = _correct(system, param, n2, x + hh * v, lam, v, steps)
+        if u is None:
             continue
-        orb = shoot_periodic_orbit(system.with_param(param, u[-1]), u[:-1], n2,
+        orb = shoot_periodic_orbit(system.with_param(param, u[1]), u[0], n2,
                                    tol=steps.newton_tol)
         if orb.converged and orb.minimal_period == n2:
-            start = (float(u[-1]), orb.state)
+            start = (float(u[1]), orb.state)
             break
     if start is None:
         raise ValueError(f"h: no period-{n2} orbit found from x* + h v at {param} = "
@@ -197,24 +195,69 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
     child = continue_orbit(system.with_param(param, lam2), x2, n2, param=param, stop=stop,
                            steps=steps, direction=direction, amplitude=amplitude,
                            refine=refine)
-    return _with_first(system, child, lam, x, param, amplitude)
+    return _with_first(system, child, lam, x, param, branch)
 
 
-def _with_first(system, child, lam, x, param, amplitude):
-    """``child`` with the period-doubling point ``(x, lam)`` as its first point."""
+def _correct(system, param, n, x_pred, lam, v, steps):
+    """Newton on ``P^n(x; lambda) - x = 0``, ``v . (x - x_pred) = 0`` from ``(x_pred,
+    lam)``; ``(x, lambda)`` or None.  ``G_lambda`` by central differences."""
+    d = x_pred.size
+    x, lam0 = x_pred.copy(), lam
+    dom = system.param_domain(param)
+    for it in range(steps.max_newton):
+        if lam not in dom:
+            return None
+        q = system.with_param(param, lam)
+        m = q.monodromy(x, n)
+        if m.status is not Status.OK:
+            return None
+        G = m.end - m.start
+        if it > 0 and np.abs(G).max() <= steps.newton_tol * max(1.0, np.abs(x).max()):
+            return x, lam
+        hl = steps.fd_step * max(1.0, abs(lam))
+        ends = [system.with_param(param, lam + s * hl).simulate(periods=n, state0=x)
+                for s in (1.0, -1.0)]
+        if any(r.status is not Status.OK for r in ends) or \
+                not (lam - hl in dom and lam + hl in dom):
+            return None
+        J = np.zeros((d + 1, d + 1))
+        J[:d, :d] = m.matrix - np.eye(d)
+        J[:d, d] = (ends[0].final_state - ends[1].final_state) / (2.0 * hl)
+        J[d, :d] = v
+        du, ok = solve(J, -np.append(G, v @ (x - x_pred)))
+        if not ok or not np.all(np.isfinite(du)):
+            return None
+        x, lam = x + du[:d], lam + float(du[d])
+        if abs(lam - lam0) > 10.0 * steps.ds_max:  # wandered off
+            return None
+    return None
+
+
+def _parent_amplitude(parent, lam, key):
+    """The parent branch's amplitude ``key`` at ``lam``, interpolated between its two
+    points nearest ``lam`` (NaN where it has none)."""
+    if key not in parent.amplitude:
+        return np.nan
+    pv = np.asarray(parent.values, dtype=float)
+    j = np.argsort(np.abs(pv - lam))[:2]
+    j = j[np.argsort(pv[j])]
+    return float(np.interp(lam, pv[j], np.asarray(parent.amplitude[key])[j]))
+
+
+def _with_first(system, child, lam, x, param, parent):
+    """``child`` with the period-doubling point ``(x, lam)`` as its first point (its
+    amplitudes those of the ``parent`` orbit there, interpolated)."""
     at = system.with_param(param, lam)
     m = at.monodromy(x, child.n // 2)
     mu = floquet_multipliers(m.matrix @ m.matrix)
-    amp = {}
-    if amplitude and child.amplitude:
-        first = _amplitude(at, x, child.n, tuple(child.amplitude))
-        amp = {k: np.concatenate([[first[k]], child.amplitude[k]]) for k in child.amplitude}
+    amp = {k: np.concatenate([[_parent_amplitude(parent, lam, k)], child.amplitude[k]])
+           for k in child.amplitude}
     imp = impacts_per_period(at, x, child.n)
     shifted = tuple((i + 1, kind, value) for i, kind, value in child.bifurcations)
     return dataclasses.replace(
         child, values=np.concatenate([[lam], child.values]),
         states=np.vstack([x[None, :], child.states]),
         multipliers=np.vstack([mu[None, :], child.multipliers]),
-        stable=np.concatenate([[bool(np.abs(mu).max() < 1.0)], child.stable]),
+        stable=np.concatenate([child.stable[:1], child.stable]),  # neutral: as its side
         amplitude=amp, bifurcations=shifted,
         impacts_per_period=np.concatenate([[imp], child.impacts_per_period]))
