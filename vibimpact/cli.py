@@ -274,6 +274,7 @@ def build_parser():
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
 
+    from .cli_attractors import add_parser as add_attractors
     from .cli_continue import add_parser as add_continue
     from .cli_map import add_parser as add_map
     from .cli_rerun import add_parser as add_rerun
@@ -282,6 +283,7 @@ def build_parser():
     add_parsers(sub, fmt)
     add_map(sub, fmt)
     add_continue(sub, fmt)
+    add_attractors(sub, fmt)
     add_rerun(sub, fmt, build_parser)
     return parser
 

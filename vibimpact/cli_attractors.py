@@ -1,0 +1,155 @@
+"""The ``vibimpact attractors`` command: the attractor census over an eta grid.
+
+Like :mod:`vibimpact.cli`, only the standard library is imported at module level.
+"""
+import os
+
+from .cli_args import parse_sets, positive_int, with_sets
+from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
+                              run_checkpointed)
+from .cli_errors import error_text, UsageError
+from .cli_figures import add_figure_options, figure_options, image_ext_ok
+from .cli_files import check_output
+
+_EPILOG = """\
+examples:
+  vibimpact attractors --preset fig11 --eta 1.04:1.08:0.005 --starts 400 -o census.nc
+  vibimpact attractors --preset fig11 --eta 1.06 --starts 1000 -o c.nc --plot c.png
+  vibimpact attractors --preset fig8 --eta 1.25 --starts 200 --workers 2 -o fig8.nc
+
+At every eta the same --starts states (random in the model's box, seeded by --seed: the
+rotor's X, Y uniform in the unit disk inside the retainer's clearance, its velocities
+uniform in [-1, 1]) are integrated until it is known which attractor each reaches: as
+soon as its stroboscopic points enter an attractor already found, or else by the
+settling evidence of a sweep point (period test, contraction and shooting, Lyapunov
+exponent).  Every attractor found gets its label, Floquet multipliers or Lyapunov
+exponent and its basin fraction with a standard error; attractors are matched from one
+eta to the next (global_id), and --plot stacks the basin fractions against eta above
+each attractor's own bifurcation diagram.
+
+The census is checkpointed in OUT.partial as it goes; after Ctrl-C or a kill, run the
+same command with --resume.  Serial, parallel (--workers) and resumed runs give the same
+numbers.
+
+exit status: 0 written, 2 bad input (nothing written), 130 interrupted (Ctrl-C), 143
+terminated (SIGTERM); the checkpoint is kept for --resume.
+"""
+
+
+def _inputs(args):
+    from . import presets
+    from .sweeps import parse_range
+    from .system import System
+
+    try:
+        base = presets.get(args.preset)
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
+    try:
+        etas = parse_range(args.eta)
+    except ValueError as exc:
+        raise UsageError(f"--eta: {error_text(exc)}") from None
+    system = System(with_sets(base, parse_sets(args.set), float(etas[0])))
+    return system, etas
+
+
+def _table(ds):
+    from .census.dataset import attractor_table
+
+    lines = []
+    for i, eta in enumerate(ds.eta.values):
+        rows = attractor_table(ds, i)
+        lines.append(f"eta = {float(eta):.6g}: {len(rows)} attractor"
+                     f"{'' if len(rows) == 1 else 's'}")
+        for a, gid, name, f, se, _, extra in rows:
+            lines.append(f"  A{gid:<3d} {f:6.3f} +- {se:.3f}  {name}"
+                         + (f"  ({extra})" if extra else ""))
+    return lines
+
+
+def _cmd_attractors(args):
+    import shlex
+    import time
+
+    out = os.fspath(args.output)
+    system, etas = _inputs(args)
+    ckpt = checkpoint_of(out)
+    resuming = args.resume and ckpt.exists()
+    from .engine.leftovers import output_of
+
+    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)),
+                 "output file")
+    fig_kw = figure_options(args, drawing=args.plot is not None)
+    if args.plot is not None:
+        image_ext_ok(args.plot, "--plot")
+        check_output(args.plot, args.overwrite, "plot file")
+    check_checkpoint(ckpt, args.resume)
+
+    from . import io
+    from .census.census import attractors
+    from .engine.execution import Execution
+
+    t0 = time.perf_counter()
+    run = Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
+                    progress=not args.no_progress and "census")
+    ds, status = run_checkpointed(ckpt, "points", lambda: attractors(
+        system, etas, starts=args.starts, seed=args.seed, execution=run))
+    if ds is None:
+        return status
+    elapsed = time.perf_counter() - t0
+    ds.attrs.update(command=shlex.join(["vibimpact"] + list(args.argv)),
+                    preset=args.preset, wall_time_s=round(elapsed, 3))
+    finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
+                        keep=args.keep_checkpoint, overwrite=args.overwrite,
+                        unit="points")
+    print("\n".join(_table(ds)))
+    print(f"wrote {out} ({ds.sizes['eta']} eta x {ds.sizes['start']} starts in "
+          f"{elapsed:.1f} s)")
+    if args.plot is not None:
+        from .plotting.census import plot_census
+
+        try:
+            plot_census(ds, path=args.plot, **fig_kw)
+        except (ValueError, OSError) as exc:
+            raise UsageError(f"--plot: {error_text(exc)} ({out!r} is written)") from None
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def add_parser(sub, fmt):
+    """Add ``attractors`` to the subparsers ``sub``."""
+    a = sub.add_parser("attractors", help="attractor census: every attractor and its "
+                       "basin fraction at each eta", formatter_class=fmt, epilog=_EPILOG,
+                       description="Integrate many starting states at every eta until "
+                                   "each is known to reach an attractor;\nlist every "
+                                   "attractor with its basin fraction and write a NetCDF "
+                                   "file.")
+    a.add_argument("--preset", default="fig11", help="parameter set (default: fig11); see "
+                   "'vibimpact presets'")
+    a.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
+                   help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
+    a.add_argument("--eta", default="1.06", metavar="START:STOP:STEP",
+                   help="rotor speeds: a grid START:STOP:STEP, a list V1,V2,... or one "
+                        "value (default: 1.06)")
+    a.add_argument("--starts", type=positive_int(1, 1_000_000), default=400, metavar="N",
+                   help="starting states per eta (default: 400)")
+    a.add_argument("--seed", type=positive_int(0, 2**63 - 1), default=0,
+                   help="seed of the random starts (default: 0)")
+    a.add_argument("--workers", type=positive_int(1, 4096), default=1, metavar="N",
+                   help="local processes (default: 1); never changes a number")
+    a.add_argument("-o", "--output", default="census.nc", metavar="OUT.nc",
+                   help="NetCDF file to write (default: census.nc)")
+    a.add_argument("--plot", default=None, metavar="IMAGE",
+                   help="also draw the basin fractions and bifurcation diagram per "
+                        "attractor")
+    add_figure_options(a)
+    a.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from its checkpoint OUT.partial")
+    a.add_argument("--keep-checkpoint", action="store_true",
+                   help="keep OUT.partial after the file is written")
+    a.add_argument("--no-progress", action="store_true", help="no progress bar")
+    a.add_argument("--overwrite", action="store_true", help="replace existing files")
+    a.set_defaults(func=_cmd_attractors)
+
+
+__all__ = ["add_parser"]
