@@ -46,6 +46,7 @@ _EXPORTS = {
     "map2d": ("maps.map2d", "map2d"),
     "attractors": ("census.census", "attractors"),
     "CensusSettings": ("census.reach", "CensusSettings"),
+    "basins": ("census.basins", "basins"),
     "Execution": ("engine.execution", "Execution"),
     "Continuation": ("engine.policy", "Continuation"),
     "Independent": ("engine.policy", "Independent"),
@@ -64,7 +65,7 @@ __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "M
            "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
            "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "attractors", "CensusSettings", "maps", "plotting", "sweeps", "io", "__version__",
+           "map2d", "attractors", "CensusSettings", "basins", "maps", "plotting", "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine"]
 
 
