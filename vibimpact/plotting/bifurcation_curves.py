@@ -1,0 +1,139 @@
+"""Two-parameter bifurcation curves (:func:`vibimpact.analysis.continue_bifurcation`,
+written by :func:`vibimpact.curves.curve_to_dataset`) drawn in their parameter plane,
+over the regime map of :func:`vibimpact.map2d` when one is given.
+
+The map's regime cells (as the first panel of :func:`vibimpact.plotting.map2d.plot_map`,
+with its interval boundaries as thin black lines) lie under the curves: a fold, period
+doubling or grazing curve of a periodic orbit should run along a boundary where the
+regime map's labels change (Kuznetsov 2004, ch. 10; di Bernardo et al. 2008, ch. 8).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..bifurcation_kinds import BifurcationKind
+
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+    from collections.abc import Sequence
+
+    import xarray as xr
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_bifurcation_curves", "CURVE_STYLES"]
+
+#: line of each curve kind: (colour, line style)
+CURVE_STYLES = {BifurcationKind.FOLD: ("k", "-"),
+                BifurcationKind.PERIOD_DOUBLING: ("tab:blue", "--"),
+                BifurcationKind.GRAZING: ("tab:red", "-.")}
+
+
+def _curves(curves):
+    import xarray as xr
+
+    from ..curves import is_curve_dataset
+
+    items = [curves] if isinstance(curves, xr.Dataset) else list(curves)
+    if not items:
+        raise ValueError("curves must hold at least one curve dataset")
+    for ds in items:
+        if not isinstance(ds, xr.Dataset) or not is_curve_dataset(ds):
+            raise ValueError("curves must be datasets of vibimpact.curves.curve_to_dataset "
+                             "('vibimpact continue2' files)")
+    return items
+
+
+def _axes_names(items, over):
+    """``(x, y)``: the parameters on the axes (the map's eta and its varied parameter
+    when ``over`` is given, else the first curve's two)."""
+    if over is not None:
+        from .map2d import _vary_name
+
+        x, y = "eta", _vary_name(over)
+    else:
+        x, y = items[0].attrs["curve_params"].split(",")
+    for ds in items:
+        if set(ds.attrs["curve_params"].split(",")) != {x, y}:
+            raise ValueError(f"curves: a curve in ({ds.attrs['curve_params']}) cannot be "
+                             f"drawn in the plane ({x}, {y})")
+    return x, y
+
+
+def _draw_map(ax, over, name, direction):
+    from .map2d import _directions, _draw_boundaries, _edges, boundaries
+    from .map_panels import regime_panel
+
+    _, sub = _directions(over, direction)[0]
+    sub = sub.transpose(name, "eta", ...)
+    xe, ye = _edges(over["eta"].values), _edges(over[name].values)
+    regime_panel(ax, xe, ye, np.asarray(sub["regime"].values, dtype=int))
+    _draw_boundaries(ax, boundaries(sub["label"].values, xe, ye))
+    ax.set_xlim(xe[0], xe[-1])
+    ax.set_ylim(ye[0], ye[-1])
+
+
+def plot_bifurcation_curves(curves: xr.Dataset | Sequence[xr.Dataset],
+                            over: xr.Dataset | None = None,
+                            path: str | os.PathLike[str] | None = None, *,
+                            direction: str | None = None,
+                            figsize: tuple[float, float] | None = None,
+                            dpi: float | None = None, style: str | None = None) -> Figure:
+    """Bifurcation curves in their parameter plane, over a regime map.
+
+    Parameters
+    ----------
+    curves : xarray.Dataset or sequence of them
+        From :func:`vibimpact.curves.curve_to_dataset` (or ``vibimpact continue2``
+        files read back); each drawn as a line in the style of its kind
+        (:data:`CURVE_STYLES`), with its start marked.
+    over : xarray.Dataset, optional
+        A map of :func:`vibimpact.map2d` over (eta, PARAM): its regime cells and label
+        boundaries are drawn underneath, and every curve must lie in (eta, PARAM).
+    path : str or os.PathLike, optional
+        Save the figure there.
+    direction : {"up", "down"}, optional
+        Which sweep of a ``direction="both"`` map (default: the first).
+    figsize, dpi, style
+        As :func:`vibimpact.plotting.plot_map`'s.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``curves`` (no curve dataset, or one in another plane than the map's) or
+        a figure option.
+    """
+    from .style import look
+
+    items = _curves(curves)
+    x, y = _axes_names(items, over)
+    lk = look(figsize, dpi, style)
+    with lk.context():
+        fig = lk.figure((8, 5.5), 3.5)
+        ax = fig.subplots()
+        if over is not None:
+            _draw_map(ax, over, y, direction)
+        handles = []
+        for ds in items:
+            kind = BifurcationKind.from_code(int(ds["bifurcation_kind"].values))
+            color, ls = CURVE_STYLES.get(kind, ("0.3", ":"))
+            label = f"P{int(ds.attrs['period'])} {kind.value}"
+            (line,) = ax.plot(ds[x].values, ds[y].values, color=color, ls=ls, lw=2.0,
+                              label=label, zorder=4)
+            handles.append(line)
+        ax.set_xlabel("η" if x == "eta" else x)
+        ax.set_ylabel(y)
+        if over is None:
+            ax.grid(True, alpha=0.3)
+        regimes = ax.get_legend()  # regime_panel's, upper right beside the axes
+        lk.legend(ax, handles=handles, loc="lower left", bbox_to_anchor=(1.01, 0.0))
+        if regimes is not None:
+            ax.add_artist(regimes)
+        lk.title(ax, "bifurcation curves" + (" over the regime map" if over is not None
+                                             else ""))
+        return lk.finish(fig, path)
