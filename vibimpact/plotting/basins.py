@@ -1,0 +1,164 @@
+"""The basins of attraction of a plane of states (:func:`vibimpact.basins`) as an image:
+one colour per attractor, a legend naming each with its basin fraction, and the
+boundary measures (Daza et al., Sci. Rep. 6, 31416 (2016)) in the title."""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .style import look
+
+if TYPE_CHECKING:  # names of the annotations only
+    import os
+
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_basins", "legend_labels"]
+
+#: the colours of attractors 0, 1, ... (tab10, then tab20's light shades); a diverged
+#: basin is drawn black
+_GREY_DIVERGED = "0.1"
+
+
+def _colours(n):
+    from matplotlib import colormaps
+
+    base = list(colormaps["tab10"].colors) + list(colormaps["tab20"].colors[1::2])
+    return [base[i % len(base)] for i in range(n)]
+
+
+def _short(v):
+    """``v`` to 3 significant digits, 0 below 5e-4 (a state at rest prints 0)."""
+    return "0" if abs(v) < 5e-4 else f"{v:.3g}"
+
+
+def check_basins(ds) -> tuple[str, str]:
+    """The plane's two state names of a basins dataset; ValueError when ``ds`` is not
+    one (no ``basin (row, column)`` or no plane attributes)."""
+    if "basin" not in getattr(ds, "data_vars", {}) or ds["basin"].dims != ("row", "column"):
+        raise ValueError("the dataset holds no basin image (basin (row, column)); make one "
+                         "with vibimpact.basins or 'vibimpact basins'")
+    xname, yname = ds.attrs.get("plane_x"), ds.attrs.get("plane_y")
+    if xname not in ds.coords or yname not in ds.coords:
+        raise ValueError("the basins dataset has no plane coordinates (attributes plane_x, "
+                         "plane_y)")
+    return str(xname), str(yname)
+
+
+def legend_labels(ds: xr.Dataset) -> list[str]:
+    """One legend text per attractor of a basins dataset: its name, where it lies (its
+    representative state in the plane's variables, so that two orbits of one name are
+    told apart) and its basin fraction with the standard error."""
+    xname, yname = check_basins(ds)
+    states = [str(s) for s in ds["state"].values] if "state" in ds.coords else []
+    out = []
+    for a in range(ds.sizes["attractor"]):
+        name = str(ds["name"].values[a])
+        f = float(ds["fraction"].values[a])
+        se = float(ds["fraction_se"].values[a])
+        where = ""
+        if "representative" in ds and xname in states and yname in states:
+            rep = np.asarray(ds["representative"].values[a], dtype=float)
+            i, j = states.index(xname), states.index(yname)
+            if np.isfinite(rep[i]) and np.isfinite(rep[j]):
+                where = f" at {xname} {_short(rep[i])}, {yname} {_short(rep[j])}"
+        frac = f": {100 * f:.1f} ± {100 * se:.1f} %" if math.isfinite(f) else ""
+        out.append(f"{a}: {name}{where}{frac}")
+    return out
+
+
+def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
+                path: str | os.PathLike[str] | None = None, *,
+                figsize: tuple[float, float] | None = None, dpi: float | None = None,
+                style: str | None = None) -> Figure:
+    """Draw a basin image: one colour per attractor, a legend naming each.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A basins dataset (:func:`vibimpact.basins`, a file of ``vibimpact basins``):
+        ``basin (row, column)``, the plane coordinates, ``name``, ``fraction``,
+        ``fraction_se`` (``attractor``) and the boundary measures.
+    ax : matplotlib.axes.Axes, optional
+        Draw into these axes; a new figure otherwise (9 x 5.5 inches, one column in the
+        paper style).
+    path : str or os.PathLike, optional
+        Save the figure there (atomically, format from the extension).
+    figsize : (float, float), optional
+    dpi : float, optional
+    style : {"default", "paper"}, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``, or a dataset without a basin
+        image.
+
+    Notes
+    -----
+    Cell ``(r, c)`` is drawn centred on the plane's values of its start; the horizontal
+    axis is the plane's first variable, the vertical its second.  The title gives the
+    boundary fraction, the basin entropy ``Sb`` and the boundary basin entropy ``Sbb``
+    with the log 2 criterion (Daza et al. 2016).
+
+    Examples
+    --------
+    >>> import vibimpact as vi
+    >>> from vibimpact.plotting.basins import plot_basins
+    >>> ds = vi.io.read_netcdf("basins.nc")  # doctest: +SKIP
+    >>> fig = plot_basins(ds, path="basins.png")  # doctest: +SKIP
+    """
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    xname, yname = check_basins(ds)
+    lk = look(figsize, dpi, style, ax)
+    img = np.asarray(ds["basin"].values)
+    n = int(ds.sizes["attractor"])
+    colours = _colours(n)
+    names = [str(v) for v in ds["name"].values]
+    colours = [_GREY_DIVERGED if nm == "diverged" else c for nm, c in zip(names, colours)]
+    cmap = ListedColormap(colours)
+    norm = BoundaryNorm(np.arange(-0.5, n + 0.5), n)
+    xs = np.asarray(ds[xname].values, dtype=float)
+    ys = np.asarray(ds[yname].values, dtype=float)
+    hx = (xs[-1] - xs[0]) / max(xs.size - 1, 1)
+    hy = (ys[-1] - ys[0]) / max(ys.size - 1, 1)
+    extent = (xs[0] - hx / 2, xs[-1] + hx / 2, ys[0] - hy / 2, ys[-1] + hy / 2)
+    with lk.context():
+        own = ax is None
+        if own:
+            fig = lk.figure((9.0, 5.5), 3.6)
+            ax = fig.add_subplot()
+        else:
+            fig = ax.figure
+        ax.imshow(img, origin="lower", extent=extent, cmap=cmap, norm=norm,
+                  interpolation="nearest", aspect="auto", rasterized=True)
+        ax.set_xlabel(xname)
+        ax.set_ylabel(yname)
+        handles = [Patch(facecolor=c, edgecolor="none", label=t)
+                   for c, t in zip(colours, legend_labels(ds))]
+        lk.legend(ax, handles=handles, fontsize="small")
+        sbb = float(ds["boundary_basin_entropy"]) if "boundary_basin_entropy" in ds \
+            else math.nan
+        parts = []
+        if "boundary_fraction" in ds:
+            parts.append(f"boundary {100 * float(ds['boundary_fraction']):.1f} % of cells")
+        if "basin_entropy" in ds:
+            parts.append(f"Sb {float(ds['basin_entropy']):.3f}")
+        if math.isfinite(sbb):
+            verdict = "fractal (Sbb > log 2)" if sbb > math.log(2.0) else \
+                "Sbb <= log 2: not decided"
+            parts.append(f"Sbb {sbb:.3f}, {verdict}")
+        freq = str(ds.attrs.get("frequency_name", "eta")).replace("eta", "η")
+        eta = f"{freq} = {float(ds['eta']):g}\n" if "eta" in ds.coords else ""
+        lk.title(ax, eta + "; ".join(parts))
+        return lk.finish(fig, path)
