@@ -191,6 +191,10 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
                         dict(units="1", long_name="stroboscopic samples of X / clearance"))
     ds["poincare_Y"] = (dims + ("sample",), samples[..., 1],
                         dict(units="1", long_name="stroboscopic samples of Y / clearance"))
+    for j in range(2, samples.shape[-1]):  # the other states (the rotor's velocities):
+        # a Poincare section X against X' needs them
+        ds[f"poincare_{names[j]}"] = (dims + ("sample",), samples[..., j], dict(
+            units="1", long_name=f"stroboscopic samples of {names[j]}"))
     ds["final_state"] = (dims + ("state",), final,
                          dict(units="1", long_name="state (X, Y, dX, dY) at the end of "
                               "the point, the next point's initial state"))
