@@ -276,6 +276,7 @@ def build_parser():
 
     from .cli_attractors import add_parser as add_attractors
     from .cli_continue import add_parser as add_continue
+    from .cli_continue2 import add_parser as add_continue2
     from .cli_map import add_parser as add_map
     from .cli_rerun import add_parser as add_rerun
     from .cli_sweep import add_parsers
@@ -283,6 +284,7 @@ def build_parser():
     add_parsers(sub, fmt)
     add_map(sub, fmt)
     add_continue(sub, fmt)
+    add_continue2(sub, fmt)
     add_attractors(sub, fmt)
     add_rerun(sub, fmt, build_parser)
     return parser
