@@ -275,6 +275,7 @@ def build_parser():
     s.set_defaults(func=_cmd_simulate)
 
     from .cli_attractors import add_parser as add_attractors
+    from .cli_basins import add_parser as add_basins
     from .cli_continue import add_parser as add_continue
     from .cli_continue2 import add_parser as add_continue2
     from .cli_map import add_parser as add_map
@@ -284,6 +285,7 @@ def build_parser():
     add_parsers(sub, fmt)
     add_map(sub, fmt)
     add_continue(sub, fmt)
+    add_basins(sub, fmt)
     add_continue2(sub, fmt)
     add_attractors(sub, fmt)
     add_rerun(sub, fmt, build_parser)
