@@ -116,6 +116,30 @@ def _cmd_attractors(args):
     return 0
 
 
+def plot_command(args, ds):
+    """``vibimpact plot CENSUS.nc [--kind census]``."""
+    from .cli_errors import reason
+
+    path = os.fspath(args.file)
+    if args.kind not in (None, "census"):
+        raise UsageError(f"--kind {args.kind} needs a sweep file; {path!r} is an attractor "
+                         "census (use --kind census)")
+    if getattr(args, "branch", None):
+        raise UsageError(f"--branch draws over a sweep's response curves; {path!r} is an "
+                         "attractor census")
+    out = os.fspath(args.output or os.path.splitext(path)[0] + "_census.png")
+    image_ext_ok(out, "-o")
+    check_output(out, args.overwrite, "image file")
+    from .plotting.census import plot_census
+
+    try:
+        plot_census(ds, path=out, **figure_options(args))
+    except Exception as exc:  # a damaged file can fail anywhere in drawing
+        raise UsageError(f"cannot draw a census from {path!r}: {reason(exc)}") from None
+    print(f"wrote {out}")
+    return 0
+
+
 def add_parser(sub, fmt):
     """Add ``attractors`` to the subparsers ``sub``."""
     a = sub.add_parser("attractors", help="attractor census: every attractor and its "
@@ -152,4 +176,4 @@ def add_parser(sub, fmt):
     a.set_defaults(func=_cmd_attractors)
 
 
-__all__ = ["add_parser"]
+__all__ = ["add_parser", "plot_command"]

@@ -20,7 +20,7 @@ from ._limits import MAX_POINTS
 DEFAULT_ETA = "0.9:1.5:0.002"
 DEFAULT_PRESET = "fig8"
 PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch", "poincare",
-              "lyapunov")
+              "lyapunov", "census")
 
 _CLASSIFY_EPILOG = """\
 examples:
@@ -90,11 +90,13 @@ kinds:
   branch       a continued branch: X_m, Y_m and |mu|max against the parameter, stable
                solid, unstable dashed, bifurcations marked ('vibimpact continue')
   poincare     the Poincare section: every point's samples, first state against its
-               velocity where stored (x, dx), else the second state (the rotor: X, Y),
-               coloured by eta; one panel per direction (classify with poincare)
+               velocity (X, X'; x, dx), coloured by eta; one panel per direction
+               (classify with poincare)
   lyapunov     largest Lyapunov exponent against eta with its error bars, periodic
                points by their Floquet exponent, coloured by regime; zero line; one
                panel per direction (classify with lyapunov or floquet)
+  census       basin fractions against eta above every attractor's own bifurcation
+               diagram ('vibimpact attractors')
 
 --branch BRANCH.nc (repeatable) draws branches continued in eta over the response
 curves: stable parts solid, unstable dashed, each kind of bifurcation with its own
@@ -265,6 +267,12 @@ def _cmd_plot(args):
     if is_branch_dataset(ds):
         from .cli_continue import plot_command
         return plot_command(args, ds)
+    if ds.attrs.get("kind") == "census":  # 'vibimpact attractors'
+        from .cli_attractors import plot_command
+        return plot_command(args, ds)
+    if args.kind == "census":
+        raise UsageError(f"--kind census needs a 'vibimpact attractors' file; {path!r} is "
+                         "not one")
     if args.kind == "branch":
         raise UsageError(f"--kind branch needs a 'vibimpact continue' file; {path!r} is "
                          "not one")
