@@ -52,6 +52,8 @@ _EXPORTS = {
     "Independent": ("engine.policy", "Independent"),
     "Interrupted": ("engine.signals", "Interrupted"),
     "engine": ("engine", None),
+    "hunt_orbits": ("orbits.hunt", "hunt_orbits"),
+    "orbits": ("orbits", None),
     # subpackages a user reaches as attributes (vi.maps.open_map(...)) without importing
     # them first
     "maps": ("maps", None),

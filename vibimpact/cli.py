@@ -279,12 +279,14 @@ def build_parser():
     from .cli_continue import add_parser as add_continue
     from .cli_continue2 import add_parser as add_continue2
     from .cli_map import add_parser as add_map
+    from .cli_orbits import add_parser as add_orbits
     from .cli_rerun import add_parser as add_rerun
     from .cli_sweep import add_parsers
 
     add_parsers(sub, fmt)
     add_map(sub, fmt)
     add_continue(sub, fmt)
+    add_orbits(sub, fmt)
     add_basins(sub, fmt)
     add_continue2(sub, fmt)
     add_attractors(sub, fmt)
