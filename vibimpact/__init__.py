@@ -68,7 +68,7 @@ __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "M
            "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
            "transition_types",
            "map2d", "attractors", "CensusSettings", "basins", "maps", "plotting", "sweeps", "io", "__version__",
-           "Execution", "Continuation", "Independent", "Interrupted", "engine"]
+           "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits", "orbits"]
 
 
 def _load(name):
