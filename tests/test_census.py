@@ -1,0 +1,169 @@
+"""The attractor census (``vi.attractors``): known attractors and fractions, symmetry,
+deduplication, determinism and bad input."""
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact.census import Box, census as C
+from vibimpact.census.library import Attractor, same
+from vibimpact.census.dataset import attractor_table
+from vibimpact.cli import main
+
+DOUBLE_WELL = vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.0, omega=1.0)
+LINEAR = vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.5, omega=1.3)
+BOX = Box([-2.0, -2.0], [2.0, 2.0])
+
+
+@pytest.fixture(scope="module")
+def double_well():
+    """A census of the unforced double well from 40 starts and their mirror images."""
+    half = vi.census.random_starts(BOX, 20, seed=3)
+    starts = np.vstack([half, -half])
+    return starts, vi.attractors(vi.System(DOUBLE_WELL), starts=starts, box=BOX)
+
+
+def test_linear_oscillator_has_one_attractor_the_analytic_response():
+    """Hypothesis: a damped linear oscillator has one attractor, its forced response; the
+    census finds only it (fraction 1, standard error 0) and its representative state is
+    the analytic response x(0) = Re X, x'(0) = -omega Im X with
+    X = gamma / (alpha - omega^2 + i delta omega), to 1e-6."""
+    ds = vi.attractors(vi.System(LINEAR), starts=20)
+    rows = attractor_table(ds)
+    assert len(rows) == 1 and rows[0][3] == 1.0 and rows[0][4] == 0.0
+    p = LINEAR
+    X = p.gamma / (p.alpha - p.omega ** 2 + 1j * p.delta * p.omega)
+    rep = ds.representative.values[0, 0]
+    np.testing.assert_allclose(rep, [X.real, -p.omega * X.imag], atol=1e-6)
+    assert int(ds.period[0, 0]) == 1 and float(ds.floquet_abs_max[0, 0]) < 1.0
+
+
+def test_double_well_wells_are_found_and_labels_are_mirror_symmetric(double_well):
+    """Hypothesis: the unforced double well x'' + 0.3 x' - x + x^3 = 0 has two attractors,
+    the rest states x = +-1; the census finds exactly these two, and, since the equation
+    is symmetric under (x, v) -> (-x, -v), every start and its mirror image reach
+    different wells (so the fractions are 1/2 each)."""
+    starts, ds = double_well
+    rows = attractor_table(ds)
+    assert len(rows) == 2
+    reps = np.sort(ds.representative.values[0, :2, 0])
+    np.testing.assert_allclose(reps, [-1.0, 1.0], atol=1e-6)
+    lab = ds.label.values[0]
+    assert np.all(lab[:20] != lab[20:])
+    np.testing.assert_allclose(ds.fraction.values[0, :2], [0.5, 0.5])
+
+
+def test_a_start_is_labelled_by_where_it_settles(double_well):
+    """Hypothesis: the label of each start is the well its own trajectory settles in: the
+    sign of x after 200 forcing periods equals the sign of the labelled attractor's x."""
+    starts, ds = double_well
+    system = vi.System(DOUBLE_WELL)
+    rep = ds.representative.values[0, :, 0]
+    for k in range(0, 40, 7):
+        run = vi.simulate(system, periods=1, transient=200, state0=starts[k])
+        assert np.sign(run.final_state[0]) == np.sign(rep[ds.label.values[0, k]])
+
+
+def test_a_cycle_met_at_another_phase_is_the_same_orbit():
+    """Hypothesis: a period-3 orbit's cycle points in another order (met at another
+    phase) are the same attractor; moved by more than the tolerance, or with another
+    period, they are not."""
+    cyc = np.array([[0.1, 0.2], [0.5, -0.3], [-0.4, 0.0]])
+    a = Attractor(cyc, 3, 0.02, 8, {})
+    assert same(a, Attractor(np.roll(cyc, 1, axis=0), 3, 0.02, 8, {}), 1e-6)
+    assert not same(a, Attractor(cyc + 1e-3, 3, 0.02, 8, {}), 1e-4)
+    assert not same(a, Attractor(np.vstack([cyc, cyc]), 6, 0.02, 8, {}), 1e-4)
+
+
+def test_rounds_cover_every_start_once():
+    """Hypothesis: the rounds of n starts are contiguous, cover 0..n once, start with the
+    pilot round of 16 and grow fourfold."""
+    for n in (1, 16, 17, 1000, 40000):
+        r = C.rounds(n)
+        assert r[0][0] == 0 and r[-1][1] == n
+        assert all(a[1] == b[0] for a, b in zip(r, r[1:]))
+        assert r[0][1] == min(n, C.PILOT)
+        assert all(b <= 4 * a for (_, a), (_, b) in zip(r, r[1:]))
+
+
+class Reversed:
+    """An executor that runs the jobs in reverse order (in this process)."""
+
+    def run(self, make_jobs, on_point, on_task):
+        from vibimpact.engine.plan import run_task
+
+        for job in reversed(make_jobs(None)):
+            for task in job:
+                on_task(task, run_task(task))
+
+
+def test_census_is_the_same_whatever_runs_its_tasks():
+    """Hypothesis: the census is a function of its request only: an executor that runs
+    the tasks in reverse order gives the same dataset bit for bit, and the same seed gives
+    the same starts."""
+    system = vi.System(DOUBLE_WELL)
+    settings = vi.CensusSettings(hold=4)
+    a = vi.attractors(system, starts=80, seed=2, box=BOX, settings=settings)
+    b = vi.attractors(system, starts=80, seed=2, box=BOX, settings=settings,
+                      execution=vi.Execution(executor=Reversed()))
+    for name in a.data_vars:
+        assert np.array_equal(a[name].values, b[name].values,
+                              equal_nan=a[name].dtype.kind == "f"), name
+    assert (a.decided_by.values == 0).any()  # later rounds stopped on known attractors
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(starts=0), "starts"), (dict(starts=True), "starts"),
+    (dict(starts=np.zeros((3, 3))), "starts"), (dict(starts=[["a", "b"]]), "starts"),
+    (dict(starts=np.full((2, 2), np.nan)), "starts"), (dict(seed=-1), "seed"),
+    (dict(box=Box([0, 0, 0], [1, 1, 1])), "box"), (dict(box=(0, 1)), "box"),
+    (dict(settings="fast"), "settings"), (dict(eta=[1.0, 0.9]), "eta"),
+    (dict(eta=-1.0), "eta"), (dict(execution=2), "execution")])
+def test_bad_input_is_refused_naming_the_argument(kwargs, name):
+    """Hypothesis: every bad argument of vi.attractors raises a ValueError naming it,
+    before any work."""
+    with pytest.raises(ValueError, match=name):
+        vi.attractors(vi.System(LINEAR), **kwargs)
+
+
+@pytest.mark.parametrize("field, value", [("max_periods", 0), ("radius", -1.0),
+                                          ("radius", float("nan")), ("hold", 1.5),
+                                          ("dedup_tol", True), ("point", None)])
+def test_bad_census_settings_are_refused_naming_the_field(field, value):
+    """Hypothesis: CensusSettings refuses a bad value of each field with its name."""
+    with pytest.raises(ValueError, match=field):
+        vi.CensusSettings(**{field: value})
+
+
+@pytest.mark.parametrize("argv", [["--starts", "0"], ["--eta", "1.1:1.0:0.01"],
+                                  ["--eta", "abc"], ["--preset", "nope"],
+                                  ["--set", "kh=-1"], ["--workers", "0"]])
+def test_cli_bad_input_is_one_line_and_exit_2(argv, tmp_path, capsys):
+    """Hypothesis: bad input to 'vibimpact attractors' ends with one line on stderr, exit
+    2, and no file written."""
+    out = tmp_path / "c.nc"
+    try:
+        status = main(["attractors", *argv, "-o", str(out)])
+    except SystemExit as exc:  # argparse's own refusal of a typed option
+        status = exc.code
+    assert status == 2
+    err = capsys.readouterr().err.strip()
+    assert err and len(err.splitlines()) <= 2 and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+def test_cli_writes_the_census_and_plots_it(tmp_path, capsys):
+    """Hypothesis: 'vibimpact attractors' on the soft-impact oscillator writes a census
+    file whose fractions sum to 1 at every eta, prints each attractor, and 'vibimpact plot'
+    draws it; no temporary or checkpoint is left."""
+    import xarray as xr
+
+    out = tmp_path / "c.nc"
+    assert main(["attractors", "--preset", "soft-impact", "--eta", "0.8,0.9",
+                 "--starts", "6", "--no-progress", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "eta = 0.8" in text and "eta = 0.9" in text
+    with xr.open_dataset(out) as ds:
+        np.testing.assert_allclose(np.nansum(ds.fraction.values, axis=1), 1.0)
+        assert ds.sizes["start"] == 6
+    assert main(["plot", str(out), "-o", str(tmp_path / "c.png")]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.nc", "c.png"]
