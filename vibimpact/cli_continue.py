@@ -61,7 +61,13 @@ bifurcation_value, bifurcation_lower, bifurcation_upper, bifurcation_point,
 bifurcation_impacts_before, bifurcation_impacts_after; the start state, every
 parameter, the solver settings and the command line ('vibimpact rerun' repeats it).
 
-exit status: 0 written, 2 bad input or no orbit at the start (nothing written).
+With --switch, the period-2N orbit born at the branch's first period doubling is
+followed too (branch switching along the eigenvector of the multiplier -1,
+vibimpact.analysis.switch_branch) within the same window and written beside OUT as
+OUT_P<2N>.nc (a branch file; its first point is the period doubling itself).
+
+exit status: 0 written, 2 bad input or no orbit at the start (nothing written), or
+--switch with no period doubling on the branch (OUT written, OUT_P<2N> not).
 """
 
 
@@ -142,6 +148,9 @@ def _summary(branch):
 def _cmd_continue(args):
     out = os.fspath(args.output)
     check_output(out, args.overwrite, "output file")
+    switch_out = _switch_path(out, args.period) if args.switch else None
+    if switch_out:
+        check_output(switch_out, args.overwrite, "--switch output file")
     system, steps = _inputs(args)
 
     from . import io
@@ -171,6 +180,40 @@ def _cmd_continue(args):
         raise UsageError(error_text(exc)) from None
     print("\n".join(_summary(branch)))
     print(f"wrote {out} ({elapsed:.1f} s)")
+    if args.switch:
+        return _switch(args, system, branch, steps, command, switch_out)
+    return 0
+
+
+def _switch_path(out, n):
+    """Where ``--switch`` writes the doubled branch: beside ``out``, ``_P<2n>`` added."""
+    stem, ext = os.path.splitext(out)
+    return f"{stem}_P{2 * n}{ext or '.nc'}"
+
+
+def _switch(args, system, branch, steps, command, out):
+    """``--switch``: the period-2n branch from the first period doubling of ``branch``
+    (:func:`vibimpact.analysis.switch_branch`), written to ``out``."""
+    from . import io
+    from .analysis import switch_branch
+    from .branches import branch_to_dataset
+
+    t0 = time.perf_counter()
+    try:
+        doubled = switch_branch(system, branch, stop=args.stop, steps=steps,
+                                refine=args.refine)
+    except ValueError as exc:
+        raise UsageError(f"--switch: {error_text(exc)}") from None
+    ds = branch_to_dataset(doubled, system, command=command,
+                           attrs={"preset": args.preset, "switched_from_period": branch.n,
+                                  "wall_time_s": round(time.perf_counter() - t0, 3)})
+    try:
+        io.write_netcdf(ds, out, overwrite=args.overwrite)
+    except (ValueError, OSError) as exc:
+        raise UsageError(error_text(exc)) from None
+    print(f"switched at the period doubling, {args.param} = {doubled.values[0]:.8g}:")
+    print("\n".join(_summary(doubled)))
+    print(f"wrote {out} ({time.perf_counter() - t0:.1f} s)")
     return 0
 
 
@@ -254,6 +297,9 @@ def add_parser(sub, fmt):
                         "(default: 1e-6)")
     c.add_argument("-o", "--output", default="branch.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: branch.nc)")
+    c.add_argument("--switch", action="store_true",
+                   help="also follow the period-2N orbit born at the first period "
+                        "doubling found; written to OUT_P<2N>.nc")
     c.add_argument("--overwrite", action="store_true", help="replace an existing file")
     c.set_defaults(func=_cmd_continue)
 

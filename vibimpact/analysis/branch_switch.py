@@ -131,8 +131,9 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
         the span of ``branch``.
     h : float, optional
         Predictor step along the critical eigenvector; by default ``1e-2 * max(1,
-        |x*|)``.  Tried again at ``3 h`` and ``9 h`` when the corrector fails or lands on
-        the period-``n`` orbit.
+        |x*|)``.  Tried again at ``h / 10``, ``h / 100`` and ``3 h`` when the corrector
+        fails or lands on a period-``n`` orbit (the parent branch crosses the corrector's
+        hyperplane too; a doubled branch that soon meets a grazing is short).
     steps, refine, amplitude
         As :func:`~vibimpact.analysis.continue_orbit`'s.
 
@@ -178,7 +179,8 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
     lo, hi = (min(lam, stop), max(lam, stop)) if np.ndim(stop) == 0 else \
         tuple(sorted(float(s) for s in stop))
     start = None
-    for hh in (h, 3.0 * h, 9.0 * h):
+    tries = (h, 0.1 * h, 0.01 * h, 3.0 * h)
+    for hh in tries:
         u = _correct(system, param, n2, x + hh * v, lam, v, steps)
         if u is None:
             continue
@@ -189,10 +191,11 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
             break
     if start is None:
         raise ValueError(f"h: no period-{n2} orbit found from x* + h v at {param} = "
-                         f"{lam:.8g} (h = {h:g}, {3 * h:g}, {9 * h:g})")
+                         f"{lam:.8g} (h = {', '.join(f'{t:g}' for t in tries)})")
     lam2, x2 = start
     direction = 1 if lam2 >= lam else -1
-    child = continue_orbit(system.with_param(param, lam2), x2, n2, param=param, stop=stop,
+    child = continue_orbit(system.with_param(param, lam2), x2, n2, param=param,
+                           stop=(min(lo, lam), max(hi, lam)),
                            steps=steps, direction=direction, amplitude=amplitude,
                            refine=refine)
     return _with_first(system, child, lam, x, param, branch)
