@@ -14,6 +14,7 @@ replaces its own section of the report:
 ``stress.py``              the numerical stress table
 ``benchmark_map.py``       parameter-map throughput on 1 and 2 workers; the 30k-point map
 ``lyapunov_error_control.py``  the tangent vectors' error test of the exponents
+``census_bench.py``        the attractor census, a 200 x 200 basin image, early stopping
 =========================  ==========================================================
 
 With ``--smoke DIR`` every script runs in its smoke mode (``--smoke DIR``: tiny problems,
@@ -29,7 +30,8 @@ sys.path.insert(0, str(HERE.parent))  # analyses/: _common
 from _common import smoke  # noqa: E402
 
 SCRIPTS = ("benchmark_kernel.py", "first_run.py", "benchmark_sweep.py", "profile_sweep.py",
-           "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py")
+           "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py",
+           "census_bench.py")
 
 
 def main(argv):
