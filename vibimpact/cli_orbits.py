@@ -138,10 +138,13 @@ def _cmd_orbits(args):
     return 0
 
 
+#: the API's default random seeds (:data:`vibimpact.orbits.hunt.DEFAULT_RANDOM`), here
+#: so that building the parser imports nothing heavy
+DEFAULT_RANDOM = 48
+
+
 def add_parser(sub, fmt):
     """Add ``orbits`` to the subparsers ``sub``."""
-    from .orbits.hunt import DEFAULT_RANDOM
-
     c = sub.add_parser("orbits", help="hunt periodic orbits, stable or not, and where "
                        "each exists", formatter_class=fmt, epilog=_ORBITS_EPILOG,
                        description="Find periodic orbits of the stroboscopic map by "
@@ -176,4 +179,4 @@ def add_parser(sub, fmt):
     c.set_defaults(func=_cmd_orbits)
 
 
-__all__ = ["add_parser", "parse_periods"]
+__all__ = ["add_parser", "parse_periods", "DEFAULT_RANDOM"]

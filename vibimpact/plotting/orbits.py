@@ -81,6 +81,7 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     from matplotlib.lines import Line2D
 
     from .. import _validate as _v
+    from .._text import count
     from ..orbits.dataset import is_orbit_dataset
     from .style import look, width
 
@@ -116,5 +117,5 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                           label=f"hunt at {param} = {value:g}")]
         lk.legend(ax, handles=handles)
         lk.title(ax, f"periodic orbits found at {param} = {value:g} and where each "
-                     f"exists ({k} orbits)")
+                     f"exists ({count(k, 'orbit')})")
         return lk.finish(fig, path)
