@@ -120,6 +120,19 @@ def _describe(ds, i):
     return line
 
 
+def _ranges(values):
+    """``[1, 2, 3, 6, 8, 9]`` -> ``"1-3, 6, 8-9"``."""
+    vals = sorted(int(v) for v in values)
+    out, i = [], 0
+    while i < len(vals):
+        j = i
+        while j + 1 < len(vals) and vals[j + 1] == vals[j] + 1:
+            j += 1
+        out.append(str(vals[i]) if i == j else f"{vals[i]}-{vals[j]}")
+        i = j + 1
+    return ", ".join(out)
+
+
 def _asked(period, impacts, stable, arcs, within, param):
     words = [("stable " if stable else "unstable ") if stable is not None else "",
              f"P{period}" if period else "orbit",
@@ -195,8 +208,7 @@ def find_orbit(ds: xr.Dataset, period: int | None = None, impacts: int | None = 
     asked = _asked(period, impacts, stable, arcs, within, param)
     periods = np.atleast_1d(ds.attrs.get("periods", []))
     scope = (f"hunt at {param} = {float(ds.attrs['forcing_value']):g}: {k} orbits from "
-             f"{int(ds.attrs.get('n_seeds', 0))} seeds, periods "
-             f"{','.join(str(int(p)) for p in periods)}"
+             f"{int(ds.attrs.get('n_seeds', 0))} seeds, periods {_ranges(periods)}"
              + ("" if int(ds.attrs.get("continued", 0)) else "; not continued"))
     if hits:
         lines = [f"yes: {asked}: {len(hits)} found ({scope})"]
@@ -205,12 +217,13 @@ def find_orbit(ds: xr.Dataset, period: int | None = None, impacts: int | None = 
     else:
         lines = [f"no {asked} ({scope}); an orbit no start converged to is not excluded"]
         near = [i for i in range(k) if period is not None and per[i] == period]
-        what = f"P{period} orbits found" if near else ""
+        what = f"P{period} orbits found, none matching" if near else (
+            f"no P{period} orbit found" if period is not None else "")
         if not near and impacts is not None:
             near = [i for i in range(k)
                     if int(ds["impacts_per_period"].values[i]) == impacts]
-            what = f"orbits with {impacts} impacts found"
-        lines.append(f"  {what or 'no orbit of that period or those impacts found'}"
-                     + (":" if near else ""))
+            what = ", ".join(w for w in (what, f"orbits with {impacts} impacts" if near
+                                         else f"no orbit with {impacts} impacts") if w)
+        lines.append(f"  {what or 'no orbit found'}" + (":" if near else ""))
         lines += [f"    {_describe(ds, i)}" for i in near]
     return OrbitAnswer(bool(hits), tuple(hits), tuple(where), tuple(lines))
