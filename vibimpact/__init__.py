@@ -40,6 +40,7 @@ _EXPORTS = {
     "analysis": ("analysis", None),
     "sweep": ("sweeps.sweep", "sweep"),
     "intervals": ("sweeps.dataset", "intervals"),
+    "grid": ("sweeps.sweep", "grid"),
     "SweepSettings": ("points.point", "SweepSettings"),
     "classify_params": ("points.pipeline", "classify_params"),
     "transition_types": ("sweeps.transitions", "transition_types"),
@@ -65,7 +66,7 @@ _EXPORTS = {
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System", "SolverSettings", "Solver",
            "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
-           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "intervals", "SweepSettings", "classify_params",
+           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals", "SweepSettings", "classify_params",
            "transition_types",
            "map2d", "attractors", "CensusSettings", "basins", "maps", "plotting", "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits", "orbits"]

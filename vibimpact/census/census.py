@@ -20,7 +20,7 @@ continue_attractors`, global continuation) so that one attractor keeps one ``glo
 """
 from __future__ import annotations
 
-import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,8 +31,14 @@ from ..points.point import REGIME_CODES
 from ..analysis.classify import Label
 from ..system import System, as_system, param_dict, with_frequency
 from .library import Attractor, cloud_radius, same
-from .reach import ANALYSED, DIVERGED, ENTERED, CensusRound, CensusSettings
+from .reach import DIVERGED, ENTERED, CensusRound, CensusSettings
 from .starts import Box, as_starts, default_box
+
+if TYPE_CHECKING:  # names of the annotations only
+    import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from ..engine.execution import Execution
 
 __all__ = ["attractors", "rounds", "census_points"]
 
@@ -116,8 +122,10 @@ def _tasks(p, etas, states, libraries, cs, scales, span, done):
     return tasks
 
 
-def attractors(system, eta=None, starts=400, *, seed: int = 0, box: Box | None = None,
-               settings: CensusSettings | None = None, execution=None):
+def attractors(system: System, eta: float | ArrayLike | None = None,
+               starts: int | ArrayLike = 400, *, seed: int = 0, box: Box | None = None,
+               settings: CensusSettings | None = None,
+               execution: Execution | None = None) -> xr.Dataset:
     """Every attractor at each point of an eta grid, with basin fractions.
 
     Parameters

@@ -26,7 +26,7 @@ from ..points.point import REGIME_CODES, REGIME_FLAGS
 from ..analysis.classify import Label
 from ..system import param_dict
 from ..sweeps.dataset import label_text
-from .reach import DECIDED_FLAGS, DIVERGED
+from .reach import DECIDED_FLAGS
 from .library import nearest_distances
 
 __all__ = ["census_dataset", "continue_attractors", "attractor_table", "N_SAMPLES"]

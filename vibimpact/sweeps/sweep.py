@@ -298,6 +298,26 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     return _check_unchanged(raw, grid, name, text)
 
 
+def grid(text: str, name: str = "eta") -> np.ndarray:
+    """The grid of ``"START:STOP:STEP"`` (or ``"V1,V2,..."``) exactly as the command line
+    parses it (:func:`parse_range`).
+
+    Where attractors coexist a grid built by hand (``np.arange(0.9, 1.5 + 1e-12,
+    0.002)``, which differs from the command line's by about 1e-16) can make a sweep's
+    continuation land on another attractor; this one gives the command line's numbers.
+
+    Examples
+    --------
+    >>> import vibimpact as vi
+    >>> vi.grid("0.9:1.0:0.05").tolist()
+    [0.9, 0.95, 1.0]
+    """
+    if not isinstance(text, str):
+        raise _v.WrongType(f"{name} must be a str 'START:STOP:STEP' or 'V1,V2,...', got "
+                           f"{type(text).__name__}")
+    return parse_range(text, name=name)
+
+
 #: range values from this magnitude on are not rounded to 12 decimals (below a float's
 #: resolution there: the rounding would change nothing, or overflow)
 ROUND_BELOW = 1e4
