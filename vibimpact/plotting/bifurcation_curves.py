@@ -49,9 +49,7 @@ def _axes_names(items, over):
     """``(x, y)``: the parameters on the axes (the map's eta and its varied parameter
     when ``over`` is given, else the first curve's two)."""
     if over is not None:
-        from .map2d import _vary_name
-
-        x, y = "eta", _vary_name(over)
+        x, y = "eta", _map_param(over)
     else:
         x, y = items[0].attrs["curve_params"].split(",")
     for ds in items:
@@ -61,15 +59,48 @@ def _axes_names(items, over):
     return x, y
 
 
+def _map_param(over):
+    """The parameter a map varies besides eta (its ``map_vary`` attribute, else the one
+    other dimension of ``regime``)."""
+    if "regime" not in over or "label" not in over or "eta" not in over.dims:
+        raise ValueError("over must be a map dataset of vibimpact.map2d")
+    name = over.attrs.get("map_vary")
+    if name in over.dims:
+        return str(name)
+    others = [d for d in over["regime"].dims if d not in ("eta", "direction")]
+    if len(others) != 1:
+        raise ValueError("over must be a map dataset: regime over (PARAM, eta)")
+    return str(others[0])
+
+
+def _cell_edges(v):
+    """Edges of the cells around the points ``v`` (midpoints; half a step beyond)."""
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        h = 0.5 * abs(v[0]) if v[0] != 0.0 else 0.5
+        return np.array([v[0] - h, v[0] + h])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
 def _draw_map(ax, over, name, direction):
-    from .map2d import _directions, _draw_boundaries, _edges, boundaries
+    from matplotlib.collections import LineCollection
+
+    from .map2d import boundaries
     from .map_panels import regime_panel
 
-    _, sub = _directions(over, direction)[0]
-    sub = sub.transpose(name, "eta", ...)
-    xe, ye = _edges(over["eta"].values), _edges(over[name].values)
+    if "direction" in over.dims:
+        dirs = [str(d) for d in over["direction"].values]
+        if direction is not None and direction not in dirs:
+            raise ValueError(f"direction must be one of {', '.join(dirs)}, got "
+                             f"{direction!r}")
+        over = over.sel(direction=direction or dirs[0])
+    sub = over.transpose(name, "eta", ...)
+    xe, ye = _cell_edges(over["eta"].values), _cell_edges(over[name].values)
     regime_panel(ax, xe, ye, np.asarray(sub["regime"].values, dtype=int))
-    _draw_boundaries(ax, boundaries(sub["label"].values, xe, ye))
+    segs = boundaries(sub["label"].values, xe, ye)
+    if segs:
+        ax.add_collection(LineCollection(segs, colors="k", linewidths=0.4, zorder=3))
     ax.set_xlim(xe[0], xe[-1])
     ax.set_ylim(ye[0], ye[-1])
 
