@@ -245,6 +245,10 @@ EXTRA = {
                             None),
     "continue: --ds inf": ([*CONT, "--ds", "inf", "-o", "b.nc"], None),
     "continue: --refine NaN": ([*CONT, "--refine", "nan", "-o", "b.nc"], None),
+    "continue2: --kind hopf": (["continue2", "--kind", "hopf", "--param2", "kh",
+                                "--range2", "110:130", "-o", "c.nc"], None),
+    "continue2: --range2 inf": (["continue2", "--kind", "fold", "--param2", "kh",
+                                 "--range2", "110:inf", "-o", "c.nc"], None),
     # rerun: the recorded command's refusals, said as a command line would
     "rerun: existing -o": (["rerun", "c.nc", "-o", "n.nc"],
                            lambda d: (tiny_sweep_file(Path(d) / "c.nc"),
