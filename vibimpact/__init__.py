@@ -58,6 +58,7 @@ _EXPORTS = {
     # subpackages a user reaches as attributes (vi.maps.open_map(...)) without importing
     # them first
     "maps": ("maps", None),
+    "census": ("census", None),
     "plotting": ("plotting", None),
     "sweeps": ("sweeps", None),
     "io": ("io", None),
@@ -68,7 +69,7 @@ __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "M
            "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
            "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals", "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "attractors", "CensusSettings", "basins", "maps", "plotting", "sweeps", "io", "__version__",
+           "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting", "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits", "orbits"]
 
 
