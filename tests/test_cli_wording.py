@@ -249,6 +249,9 @@ EXTRA = {
                                 "--range2", "110:130", "-o", "c.nc"], None),
     "continue2: --range2 inf": (["continue2", "--kind", "fold", "--param2", "kh",
                                  "--range2", "110:inf", "-o", "c.nc"], None),
+    "attractors: --eta decreasing": (["attractors", "--eta", "1.1:1.0:0.01", "-o", "c.nc"],
+                                     None),
+    "attractors: --set unknown": (["attractors", "--set", "zz=1", "-o", "c.nc"], None),
     # rerun: the recorded command's refusals, said as a command line would
     "rerun: existing -o": (["rerun", "c.nc", "-o", "n.nc"],
                            lambda d: (tiny_sweep_file(Path(d) / "c.nc"),
