@@ -252,6 +252,8 @@ EXTRA = {
     "attractors: --eta decreasing": (["attractors", "--eta", "1.1:1.0:0.01", "-o", "c.nc"],
                                      None),
     "attractors: --set unknown": (["attractors", "--set", "zz=1", "-o", "c.nc"], None),
+    "orbits: --period 0": (["orbits", "--period", "0", "-o", "o.nc"], None),
+    "orbits: --window 0": (["orbits", "--window", "0", "-o", "o.nc"], None),
     # rerun: the recorded command's refusals, said as a command line would
     "rerun: existing -o": (["rerun", "c.nc", "-o", "n.nc"],
                            lambda d: (tiny_sweep_file(Path(d) / "c.nc"),
