@@ -58,7 +58,7 @@ log = logging.getLogger(__name__)
 
 REQUEST = "request.json"
 LAST_RESUME = "last_resume.json"
-_ENTRY = re.compile(r"^(up|down)_(\d{6})_(\d{6})-(\d{6})\.npz$")
+_ENTRY = re.compile(r"^(up|down|states)_(\d{6})_(\d{6})-(\d{6})\.npz$")
 _META = ("fingerprint", "row", "direction", "position", "eta_index")
 
 
@@ -315,8 +315,9 @@ class Checkpoint:
             points = unpack({k: v for k, v in arrays.items() if k not in _META}, pos.size)
         except (ValueError, IndexError):
             raise SetAside("damaged") from None
-        for r in points:
-            if np.ndim(r.get("final_state")) != 1 or "regime" not in r:
+        for r in points:  # a census start's result (census.reach) has no final state
+            if "decided_by" not in r and (np.ndim(r.get("final_state")) != 1 or
+                                          "regime" not in r):
                 raise SetAside("damaged")
         return dict(zip(pos.tolist(), points))
 
