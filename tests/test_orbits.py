@@ -122,7 +122,8 @@ def test_intervals_file_and_query(tmp_path):
     assert stable
     for o in stable:
         e = o.extent
-        assert e.lo == pytest.approx(1.15, abs=1e-4) and e.hi == pytest.approx(1.25, abs=1e-4)
+        assert e.lo == pytest.approx(1.15, abs=1e-4)
+        assert e.hi == pytest.approx(1.25, abs=1e-4)
         assert e.lo_reason == e.hi_reason == "end of the window"
         assert len(e.stable) == 1 and e.stable[0] == pytest.approx((e.lo, e.hi))
         assert np.all(e.abs_max < 1.0) and np.all(np.diff(e.values) > 0)
@@ -184,7 +185,8 @@ def test_cli_writes_file_table_and_plot(tmp_path):
     api = hunt_orbits(vi.presets.get("soft-impact"), [1, 2], random=4,
                       continuation=False)
     assert list(ds["label"].values) == [o.label for o in api.orbits]
-    np.testing.assert_array_equal(ds["orbit_point"].values[:, 0], [o.state for o in api.orbits])
+    np.testing.assert_array_equal(ds["orbit_point"].values[:, 0],
+                                  [o.state for o in api.orbits])
     for label in ds["label"].values:
         assert label in text
     assert png.stat().st_size > 0
