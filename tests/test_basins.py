@@ -253,7 +253,8 @@ def test_file_and_plot(well, tmp_path):
     fig = plot_basins(back, path=tmp_path / "b.png")
     ax = fig.axes[0]
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("x", "dx")
-    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    legend = fig.legends[0] if fig.legends else ax.get_legend()
+    texts = [t.get_text() for t in legend.get_texts()]
     assert len(texts) == back.sizes["attractor"]
     for a, t in enumerate(texts):
         assert str(back.name.values[a]) in t

@@ -84,8 +84,8 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
         ``basin (row, column)``, the plane coordinates, ``name``, ``fraction``,
         ``fraction_se`` (``attractor``) and the boundary measures.
     ax : matplotlib.axes.Axes, optional
-        Draw into these axes; a new figure otherwise (9 x 5.5 inches, one column in the
-        paper style).
+        Draw into these axes; a new figure otherwise (6.5 x 6.5 inches, the legend
+        below; one column in the paper style).
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
     figsize : (float, float), optional
@@ -136,7 +136,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     with lk.context():
         own = ax is None
         if own:
-            fig = lk.figure((9.0, 5.5), 3.6)
+            fig = lk.figure((6.5, 6.5), 4.2)
             ax = fig.add_subplot()
         else:
             fig = ax.figure
@@ -146,7 +146,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
         ax.set_ylabel(yname)
         handles = [Patch(facecolor=c, edgecolor="none", label=t)
                    for c, t in zip(colours, legend_labels(ds))]
-        lk.legend(ax, handles=handles, fontsize="small")
+        lk.legend_below(ax, own, handles, fontsize="small")
         sbb = float(ds["boundary_basin_entropy"]) if "boundary_basin_entropy" in ds \
             else math.nan
         parts = []
@@ -156,9 +156,9 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
             parts.append(f"Sb {float(ds['basin_entropy']):.3f}")
         if math.isfinite(sbb):
             verdict = "fractal (Sbb > log 2)" if sbb > math.log(2.0) else \
-                "Sbb <= log 2: not decided"
+                "<= log 2: not decided"
             parts.append(f"Sbb {sbb:.3f}, {verdict}")
         freq = str(ds.attrs.get("frequency_name", "eta")).replace("eta", "η")
         eta = f"{freq} = {float(ds['eta']):g}\n" if "eta" in ds.coords else ""
-        lk.title(ax, eta + "; ".join(parts))
+        lk.title(ax, eta + "; ".join(parts[:2]) + ("\n" + parts[2] if parts[2:] else ""))
         return lk.finish(fig, path)
