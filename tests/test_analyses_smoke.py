@@ -24,6 +24,7 @@ SMOKE = {
     "paper/paper.py": ["paper.md", "paper.json", "figures/response_fig8.png",
                        "figures/xy_fig10.png", "README.md"],
     "paper/calibrate.py": ["calibration.md", "calibration.nc", "figures/calibration.png"],
+    "paper/census_claims.py": ["census_claims.json"],
     "paper/transitions.py": ["transitions.md", "figures/branches_fig8.png"],
     "paper/readme_summary.py": ["README.md"],
     "performance/performance.py": ["performance.md", "work_precision_fig8.png",
