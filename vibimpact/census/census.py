@@ -20,6 +20,7 @@ continue_attractors`, global continuation) so that one attractor keeps one ``glo
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -101,7 +102,20 @@ def census_points(results, library, cs, scale):
             else:
                 library.append(cand)
                 labels[i] = len(library) - 1
-    return labels, library
+    return labels, separated(library)
+
+
+def separated(library):
+    """``library`` with every radius at most half the distance from the attractor's
+    cloud to the nearest other cloud (two radii never overlap, so a trajectory is never
+    counted on two attractors at once); a function of the library alone."""
+    out = []
+    for a, att in enumerate(library):
+        gap = min((float(other.distances(att.cloud).min())
+                   for b, other in enumerate(library) if b != a), default=np.inf)
+        radius = min(att.radius, gap / 2.0)
+        out.append(att if radius == att.radius else replace(att, radius=radius))
+    return out
 
 
 def _tasks(p, etas, states, libraries, cs, scales, span, done):

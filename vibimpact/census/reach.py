@@ -59,7 +59,8 @@ class CensusSettings:
         Periods between checks.
     radius : float
         A periodic orbit's radius, in units of the start box's scale: a point this close
-        to one of its cycle points counts as on it.
+        to one of its cycle points counts as on it (at most half its distance to
+        the nearest other attractor, so that no radius reaches another attractor).
     hold : int
         Consecutive points within the radius that enter a periodic orbit (at least its
         period ``n``).
@@ -80,8 +81,8 @@ class CensusSettings:
     """
 
     max_periods: int = 600
-    chunk: int = 8
-    radius: float = 0.02
+    chunk: int = 16
+    radius: float = 0.05
     hold: int = 8
     hold_chaotic: int = 64
     cloud: int = 1000
