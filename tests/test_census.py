@@ -167,3 +167,31 @@ def test_cli_writes_the_census_and_plots_it(tmp_path, capsys):
         assert ds.sizes["start"] == 6
     assert main(["plot", str(out), "-o", str(tmp_path / "c.png")]) == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["c.nc", "c.png"]
+
+
+def test_locate_names_the_well_a_sweep_followed():
+    """Hypothesis: in the weakly forced double well two periodic orbits coexist, one in
+    each well; a sweep with continuation started in the right (left) well is located on
+    the census attractor whose representative state has x > 0 (x < 0), at every eta."""
+    system = vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.1,
+                                        omega=1.2))
+    etas = np.array([1.2, 1.25])
+    census = vi.attractors(system, eta=etas, starts=24, box=BOX)
+    for x0, sign in (([1.0, 0.0], 1.0), ([-1.0, 0.0], -1.0)):
+        sweep = vi.sweep(system, etas, state0=x0, analyses=("period", "poincare"))
+        ids = vi.census.locate(census, sweep).values[0]
+        for i, g in enumerate(ids):
+            a = list(census.global_id.values[i]).index(g)
+            assert np.sign(census.representative.values[i, a, 0]) == sign
+
+
+def test_locate_refuses_what_it_cannot_place():
+    """Hypothesis: locate refuses a census and a sweep that share no eta, and a file that
+    is not a census, with a ValueError saying so."""
+    system = vi.System(LINEAR)
+    census = vi.attractors(system, starts=4)
+    sweep = vi.sweep(system, np.array([2.0, 2.1]), analyses=("period", "poincare"))
+    with pytest.raises(ValueError, match="share no eta"):
+        vi.census.locate(census, sweep)
+    with pytest.raises(ValueError, match="census"):
+        vi.census.locate(sweep, sweep)

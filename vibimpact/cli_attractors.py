@@ -16,6 +16,8 @@ examples:
   vibimpact attractors --preset fig11 --eta 1.04:1.08:0.005 --starts 400 -o census.nc
   vibimpact attractors --preset fig11 --eta 1.06 --starts 1000 -o c.nc --plot c.png
   vibimpact attractors --preset fig8 --eta 1.25 --starts 200 --workers 2 -o fig8.nc
+  vibimpact classify --preset fig11 --eta 1.04:1.08:0.01 -o sweep.nc
+  vibimpact attractors --preset fig11 --eta 1.04:1.08:0.01 --sweep sweep.nc -o c.nc
 
 At every eta the same --starts states (random in the model's box, seeded by --seed: the
 rotor's X, Y uniform in the unit disk inside the retainer's clearance, its velocities
@@ -24,7 +26,8 @@ soon as its stroboscopic points enter an attractor already found, or else by the
 settling evidence of a sweep point (period test, contraction and shooting, Lyapunov
 exponent).  Every attractor found gets its label, Floquet multipliers or Lyapunov
 exponent and its basin fraction with a standard error; attractors are matched from one
-eta to the next (global_id), and --plot stacks the basin fractions against eta above
+eta to the next (global_id); --sweep says on which of them a sweep's points lie (a
+sweep's label then belongs to a named attractor); --plot stacks the basin fractions against eta above
 each attractor's own bifurcation diagram.
 
 The census is checkpointed in OUT.partial as it goes; after Ctrl-C or a kill, run the
@@ -67,6 +70,46 @@ def _table(ds):
     return lines
 
 
+def _sweep_file(args, etas):
+    """The --sweep file (a sweep sharing an eta with the census), or None."""
+    if args.sweep is None:
+        return None
+    import numpy as np
+
+    from .cli_files import read_input
+
+    path = os.fspath(args.sweep)
+    ds = read_input(path, "--sweep")
+    if "eta" not in ds.dims or "poincare_X" not in ds:
+        raise UsageError(f"--sweep {path!r} is not a sweep file with Poincare samples "
+                         "('vibimpact classify' or 'bifurcation')")
+    if not np.intersect1d(np.round(ds.eta.values, 12), np.round(etas, 12)).size:
+        raise UsageError(f"--sweep {path!r} shares no eta with --eta {args.eta}")
+    return ds
+
+
+def _located(ds, sweep, path):
+    """Lines: which census attractor the sweep followed at every common eta."""
+    from .census.locate import locate
+
+    try:
+        where = locate(ds, sweep)
+    except ValueError as exc:
+        raise UsageError(f"--sweep: {error_text(exc)}") from None
+    names = {}
+    for i in range(ds.sizes["eta"]):
+        for a in range(ds.sizes["attractor"]):
+            names.setdefault(int(ds.global_id.values[i, a]), str(ds.name.values[i, a]))
+    lines = [f"sweep {path}:"]
+    for r, d in enumerate(where.direction.values):
+        for k, eta in enumerate(where.eta.values):
+            g = int(where.values[r, k])
+            what = f"A{g} ({names.get(g, '?')})" if g >= 0 else \
+                "none of the census' attractors"
+            lines.append(f"  {d} eta = {float(eta):.6g}: on {what}")
+    return lines
+
+
 def _cmd_attractors(args):
     import shlex
     import time
@@ -79,6 +122,7 @@ def _cmd_attractors(args):
 
     check_output(out, args.overwrite or (resuming and output_of(ckpt, out)),
                  "output file")
+    sweep = _sweep_file(args, etas)
     fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
@@ -103,6 +147,8 @@ def _cmd_attractors(args):
                         keep=args.keep_checkpoint, overwrite=args.overwrite,
                         unit="points")
     print("\n".join(_table(ds)))
+    if sweep is not None:
+        print("\n".join(_located(ds, sweep, args.sweep)))
     print(f"wrote {out} ({ds.sizes['eta']} eta x {ds.sizes['start']} starts in "
           f"{elapsed:.1f} s)")
     if args.plot is not None:
@@ -163,6 +209,9 @@ def add_parser(sub, fmt):
                    help="local processes (default: 1); never changes a number")
     a.add_argument("-o", "--output", default="census.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: census.nc)")
+    a.add_argument("--sweep", default=None, metavar="SWEEP.nc",
+                   help="say which attractor this sweep ('vibimpact classify') followed "
+                        "at every eta the two share")
     a.add_argument("--plot", default=None, metavar="IMAGE",
                    help="also draw the basin fractions and bifurcation diagram per "
                         "attractor")

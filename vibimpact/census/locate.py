@@ -1,0 +1,96 @@
+"""Which census attractor a sweep followed: a sweep's label placed in the census.
+
+A sweep with continuation shows one attractor at each eta; where a census of the same
+parameters lists several, :func:`locate` says which of them it is (the census attractor
+whose stroboscopic samples the sweep's own Poincare samples lie on), so that a sweep's
+label belongs to a named attractor with its basin fraction.
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .library import nearest_distances
+
+__all__ = ["locate", "LOCATE_TOL"]
+
+#: the sweep's samples lie on a census attractor when their mean distance to its samples
+#: is below this many box scales
+LOCATE_TOL = 0.05
+
+
+def _sweep_points(sweep, d, names):
+    """``(direction, eta, sample, state)`` Poincare samples of every state of a sweep."""
+    cols = []
+    for j, name in enumerate(names):
+        var = {0: "poincare_X", 1: "poincare_Y"}.get(j) if f"poincare_{name}" not in sweep \
+            else f"poincare_{name}"
+        if var is None or var not in sweep:
+            raise ValueError(f"sweep has no Poincare samples of {name} (poincare_{name}); "
+                             "run it with the poincare analysis")
+        cols.append(sweep[var].transpose("direction", "eta", "sample").values)
+    return np.stack(cols, axis=-1)
+
+
+def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr.DataArray:
+    """The census attractor each point of ``sweep`` is on.
+
+    Parameters
+    ----------
+    census : xarray.Dataset
+        :func:`vibimpact.attractors` of the sweep's parameters.
+    sweep : xarray.Dataset
+        :func:`vibimpact.sweep` (with the poincare analysis).
+    tol : float
+        Mean distance of the sweep's samples to the attractor's, in box scales.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``(direction, eta)`` over the etas both hold: the attractor's ``global_id``
+        (-1: on none of the census' attractors, e.g. one no start reached).
+
+    Raises
+    ------
+    ValueError
+        When the two share no eta or the sweep has no Poincare samples.
+    """
+    if census.attrs.get("kind") != "census":
+        raise ValueError("census is not an attractor census (vi.attractors)")
+    if "eta" not in sweep.dims:
+        raise ValueError("sweep is not a sweep dataset (vi.sweep): it has no eta")
+    if "direction" not in sweep.dims:  # a one-direction sweep
+        sweep = sweep.expand_dims(direction=[str(sweep.attrs.get("direction", "up"))])
+    names = [str(s) for s in census.state.values]
+    common = np.intersect1d(np.round(census.eta.values, 12), np.round(sweep.eta.values, 12))
+    if common.size == 0:
+        raise ValueError("census and sweep share no eta")
+    pts = _sweep_points(sweep, len(names), names)
+    scale = float(census.attrs.get("box_scale", 1.0))
+    ce = np.round(census.eta.values, 12)
+    se = np.round(sweep.eta.values, 12)
+    out = np.full((pts.shape[0], common.size), -1, dtype=np.int64)
+    for k, eta in enumerate(common):
+        i = int(np.flatnonzero(ce == eta)[0])
+        j = int(np.flatnonzero(se == eta)[0])
+        for r in range(pts.shape[0]):
+            p = pts[r, j]
+            p = p[np.all(np.isfinite(p), axis=1)]
+            if p.size == 0:
+                continue
+            best, best_d = -1, np.inf
+            for a in range(census.sizes["attractor"]):
+                cloud = census.samples.values[i, a]
+                cloud = cloud[np.all(np.isfinite(cloud), axis=1)]
+                if cloud.size == 0:
+                    continue
+                dist = float(nearest_distances(p, cloud).mean())
+                if dist < best_d:
+                    best, best_d = a, dist
+            if best >= 0 and best_d <= tol * scale:
+                out[r, k] = int(census.global_id.values[i, best])
+    return xr.DataArray(out, dims=("direction", "eta"),
+                        coords=dict(direction=sweep.direction.values, eta=common),
+                        name="attractor", attrs=dict(
+                            long_name="census attractor (global_id) the sweep is on; -1: "
+                                      "none of the census' attractors"))
