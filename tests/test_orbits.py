@@ -216,3 +216,21 @@ def test_fig11_hunt_finds_the_p8_with_11_impacts_and_the_p14_from_random_seeds()
     assert "P14, 21 impacts, stable" in labels, labels
     for o in hunt.orbits:
         assert o.stable == (o.abs_max < 1.0)
+
+
+def test_a_census_seeds_the_hunt_with_its_attractors_only():
+    """Hypothesis: a census file given as seeds contributes exactly its attractors'
+    representative states (not its thousands of starts and samples), and the hunt seeded
+    with them finds every periodic attractor of the census again as a stable orbit."""
+    from vibimpact.orbits import seeds_from_dataset
+
+    system = vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.1,
+                                        omega=1.2))
+    census = vi.attractors(system, starts=24, box=vi.census.Box([-2, -2], [2, 2]))
+    seeds = seeds_from_dataset(census, 2)
+    reps = census.representative.values.reshape(-1, 2)
+    np.testing.assert_array_equal(seeds, reps[np.all(np.isfinite(reps), axis=1)])
+    hunt = hunt_orbits(system, [1], seeds=seeds, random=0, continuation=False)
+    stable = [o for o in hunt.orbits if o.stable]
+    for rep in seeds:
+        assert any(np.abs(o.cycle - rep).max() < 1e-6 for o in stable)

@@ -131,9 +131,10 @@ def user_seeds(seeds: ArrayLike | None, d: int) -> np.ndarray:
 def seeds_from_dataset(ds: xr.Dataset, n_state: int) -> np.ndarray:
     """Every state a dataset holds, as seeds.
 
-    Each data variable whose last dimension is ``state`` of length ``n_state`` (a
-    census's representative states, a sweep's ``final_state``, a run's ``strobe``, an
-    orbit file's ``orbit_point``) gives its rows; rows with a NaN are left out.
+    Each data variable whose last dimension is ``state`` of length ``n_state`` (a sweep's
+    ``final_state``, a run's ``strobe``, an orbit file's ``orbit_point``) gives its rows;
+    rows with a NaN are left out.  Of a census (:func:`vibimpact.attractors`) only its
+    attractors' ``representative`` states are taken.
 
     Parameters
     ----------
@@ -152,7 +153,12 @@ def seeds_from_dataset(ds: xr.Dataset, n_state: int) -> np.ndarray:
     """
     _v.dataset("ds", ds)
     rows = []
-    for name in sorted(map(str, ds.data_vars)):
+    names = sorted(map(str, ds.data_vars))
+    if ds.attrs.get("kind") == "census" and "representative" in ds:
+        # a census: its attractors' states (not its starting states, nor the samples
+        # along each attractor, which lead to the same orbits hundreds of times)
+        names = ["representative"]
+    for name in names:
         var = ds[name]
         if var.dims and var.dims[-1] == "state" and var.shape[-1] == n_state and \
                 var.dtype.kind == "f":
