@@ -195,3 +195,26 @@ def test_locate_refuses_what_it_cannot_place():
         vi.census.locate(census, sweep)
     with pytest.raises(ValueError, match="census"):
         vi.census.locate(sweep, sweep)
+
+
+@pytest.mark.slow
+def test_census_on_dask_and_on_processes_is_the_serial_census():
+    """Hypothesis: a census run on a Dask LocalCluster of 2 processes, and on 2 local
+    worker processes, equals the serial census bit for bit (the engine's executors never
+    change a number)."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    system = vi.System(DOUBLE_WELL)
+    kw = dict(eta=[1.0, 1.1], starts=100, box=BOX)
+    serial = vi.attractors(system, **kw)
+    procs = vi.attractors(system, **kw, execution=vi.Execution(workers=2))
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cl, \
+            Client(cl, set_as_default=False) as client:
+        dask = vi.attractors(system, **kw, execution=vi.Execution(scheduler=client))
+    for other in (procs, dask):
+        for name in serial.data_vars:
+            assert np.array_equal(serial[name].values, other[name].values,
+                                  equal_nan=serial[name].dtype.kind == "f"), name
