@@ -218,3 +218,42 @@ def test_census_on_dask_and_on_processes_is_the_serial_census():
         for name in serial.data_vars:
             assert np.array_equal(serial[name].values, other[name].values,
                                   equal_nan=serial[name].dtype.kind == "f"), name
+
+
+def _entered_point_by_point(points, atts, counts, first):
+    """The entering rule written point by point (the definition)."""
+    for k in range(points.shape[0]):
+        for a, att in enumerate(atts):
+            dist = float(att.distances(points[k:k + 1])[0])
+            if dist < att.radius:
+                if counts[a] == 0:
+                    first[a] = dist
+                counts[a] += 1
+                if counts[a] >= att.hold and (not att.periodic or dist <= first[a]):
+                    return a
+            else:
+                counts[a] = 0
+    return -1
+
+
+def test_entering_rule_is_its_point_by_point_definition():
+    """Hypothesis: the vectorised entering test (library.entered) returns the attractor
+    the point-by-point rule returns and carries the same streaks from chunk to chunk, on
+    500 random libraries and trajectories."""
+    from vibimpact.census.library import entered
+
+    rng = np.random.default_rng(0)
+    for _ in range(500):
+        atts = [Attractor(rng.normal(size=(int(rng.integers(1, 4)), 2)) * 0.3,
+                          int(rng.integers(0, 3)), 0.3, int(rng.integers(1, 6)), {})
+                for _ in range(int(rng.integers(1, 4)))]
+        c1, f1 = np.zeros(len(atts), np.int64), np.zeros(len(atts))
+        c2, f2 = c1.copy(), f1.copy()
+        for _ in range(4):
+            pts = rng.normal(size=(int(rng.integers(1, 10)), 2)) * 0.4
+            r1 = _entered_point_by_point(pts, atts, c1, f1)
+            assert entered(pts, atts, (c2, f2)) == r1
+            if r1 >= 0:
+                break
+            assert np.array_equal(c1, c2)
+            np.testing.assert_allclose(f1[c1 > 0], f2[c2 > 0])

@@ -124,19 +124,30 @@ def entered(points, attractors, streaks):
         Index into ``attractors`` (the first to reach its ``hold``), or -1.
     """
     counts, first = streaks
-    dists = [att.distances(points) for att in attractors]
-    for k in range(points.shape[0]):
-        for a, att in enumerate(attractors):
-            dist = float(dists[a][k])
-            if dist < att.radius:
-                if counts[a] == 0:
-                    first[a] = dist
-                counts[a] += 1
-                if counts[a] >= att.hold and (not att.periodic or dist <= first[a]):
-                    return a
-            else:
-                counts[a] = 0
-    return -1
+    k = points.shape[0]
+    idx = np.arange(k)
+    best_k, best_a = k, -1
+    for a, att in enumerate(attractors):
+        dist = att.distances(points)
+        inside = dist < att.radius
+        # the last point outside the radius at or before each point (-1: none)
+        last_out = np.maximum.accumulate(np.where(inside, -1, idx))
+        fresh = last_out < 0
+        streak = np.where(fresh, counts[a] + idx + 1, idx - last_out)
+        start = np.minimum(last_out + 1, k - 1)
+        start_dist = np.where(fresh, first[a] if counts[a] > 0 else dist[0], dist[start])
+        hit = inside & (streak >= att.hold)
+        if att.periodic:
+            hit &= dist <= start_dist
+        where = np.flatnonzero(hit)
+        if where.size and where[0] < best_k:
+            best_k, best_a = int(where[0]), a
+        if inside[-1]:
+            first[a] = float(start_dist[-1])
+            counts[a] = int(streak[-1])
+        else:
+            counts[a] = 0
+    return best_a
 
 
 def same(a: Attractor, b: Attractor, dedup_tol: float) -> bool:
