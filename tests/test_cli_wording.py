@@ -254,6 +254,8 @@ EXTRA = {
     "attractors: --set unknown": (["attractors", "--set", "zz=1", "-o", "c.nc"], None),
     "orbits: --period 0": (["orbits", "--period", "0", "-o", "o.nc"], None),
     "orbits: --window 0": (["orbits", "--window", "0", "-o", "o.nc"], None),
+    "basins: --grid 0x10": (["basins", "--grid", "0x10", "-o", "b.nc"], None),
+    "basins: --plane X,X": (["basins", "--plane", "X,X", "-o", "b.nc"], None),
     # rerun: the recorded command's refusals, said as a command line would
     "rerun: existing -o": (["rerun", "c.nc", "-o", "n.nc"],
                            lambda d: (tiny_sweep_file(Path(d) / "c.nc"),

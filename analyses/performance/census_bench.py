@@ -9,7 +9,7 @@ of ``reports/performance.md``.  Every number written is measured here, in one ru
     workers (target: at most 120 s); its boundary measures; where its time goes, from a
     profiled serial census of a 20 x 20 grid (the share inside the integrator kernel,
     in numba's dispatch of the kernel calls, and in the rest);
-(c) early stopping against fixed-length integration of the same starts: the first 200
+(c) early stopping against fixed-length integration of the same starts: the 1,000
     starts of (a) census'd on their own (the census' time), then each integrated for a
     fixed number of forcing periods -- the most the census spent on any of them -- and
     labelled by the known attractor nearest to its last stroboscopic point (target: the
@@ -41,7 +41,7 @@ PRESET, ETA = "fig11", 1.06
 STARTS, TARGET_A = 1000, 20.0
 GRID, WORKERS, TARGET_B = (200, 200), 2, 120.0
 PROFILE_GRID = (20, 20)
-FIXED_STARTS, TARGET_C = 200, 5.0
+FIXED_STARTS, TARGET_C = STARTS, 5.0
 
 
 def _system():

@@ -30,9 +30,18 @@ import math
 import numpy as np
 import xarray as xr
 
+from typing import TYPE_CHECKING
+
 from .. import _validate as _v
 from ..system import as_system
 from .starts import default_box, grid_starts
+
+if TYPE_CHECKING:  # names of the annotations only
+    from numpy.typing import ArrayLike
+
+    from ..engine.execution import Execution
+    from ..system import System
+    from .reach import CensusSettings
 
 __all__ = ["basins", "boundary_cells", "boundary_measures", "plane_axes", "write_basins",
            "EPS"]
@@ -181,8 +190,12 @@ def boundary_measures(image, eps: int = EPS) -> dict:
                 attractors=k)
 
 
-def basins(system, eta=None, grid=(200, 200), plane=("X", "Y"), ranges=None, base=None,
-           *, eps: int = EPS, settings=None, execution=None) -> xr.Dataset:
+def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (200, 200),
+           plane: tuple[str, str] = ("X", "Y"),
+           ranges: tuple[tuple[float, float], tuple[float, float]] | None = None,
+           base: ArrayLike | None = None, *, eps: int = EPS,
+           settings: CensusSettings | None = None,
+           execution: Execution | None = None) -> xr.Dataset:
     """The basins of attraction of every attractor in a plane of states.
 
     Parameters
