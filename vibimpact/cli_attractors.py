@@ -5,8 +5,7 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 import os
 
 from .cli_args import parse_sets, positive_int, with_sets
-from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
-                              run_checkpointed)
+from .cli_checkpoints import checkpoint_of
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options, figure_options, image_ext_ok
 from .cli_files import check_output
@@ -111,54 +110,31 @@ def _located(ds, sweep, path):
 
 
 def _cmd_attractors(args):
-    import shlex
-    import time
+    from .cli_census_steps import check_outputs, draw, run_and_write
 
     out = os.fspath(args.output)
     system, etas = _inputs(args)
     ckpt = checkpoint_of(out)
-    resuming = args.resume and ckpt.exists()
-    from .engine.leftovers import output_of
-
-    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)),
-                 "output file")
+    resuming, fig_kw = check_outputs(args, out, ckpt)
     sweep = _sweep_file(args, etas)
-    fig_kw = figure_options(args, drawing=args.plot is not None)
-    if args.plot is not None:
-        image_ext_ok(args.plot, "--plot")
-        check_output(args.plot, args.overwrite, "plot file")
-    check_checkpoint(ckpt, args.resume)
 
     from . import io
     from .census.census import attractors
-    from .engine.execution import Execution
 
-    t0 = time.perf_counter()
-    run = Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-                    progress=not args.no_progress and "census")
-    ds, status = run_checkpointed(ckpt, "points", lambda: attractors(
-        system, etas, starts=args.starts, seed=args.seed, execution=run))
+    ds, status, elapsed = run_and_write(
+        args, out, ckpt, resuming, "census", lambda run: attractors(
+            system, etas, starts=args.starts, seed=args.seed, execution=run),
+        io.write_netcdf)
     if ds is None:
         return status
-    elapsed = time.perf_counter() - t0
-    ds.attrs.update(command=shlex.join(["vibimpact"] + list(args.argv)),
-                    preset=args.preset, wall_time_s=round(elapsed, 3))
-    finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
-                        keep=args.keep_checkpoint, overwrite=args.overwrite,
-                        unit="points")
     print("\n".join(_table(ds)))
     if sweep is not None:
         print("\n".join(_located(ds, sweep, args.sweep)))
     print(f"wrote {out} ({ds.sizes['eta']} eta x {ds.sizes['start']} starts in "
           f"{elapsed:.1f} s)")
-    if args.plot is not None:
-        from .plotting.census import plot_census
+    from .plotting.census import plot_census
 
-        try:
-            plot_census(ds, path=args.plot, **fig_kw)
-        except (ValueError, OSError) as exc:
-            raise UsageError(f"--plot: {error_text(exc)} ({out!r} is written)") from None
-        print(f"wrote {args.plot}")
+    draw(args, ds, out, plot_census, fig_kw)
     return 0
 
 

@@ -9,11 +9,9 @@ import os
 import re
 
 from .cli_args import number, parse_sets, positive_int, with_sets
-from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
-                              run_checkpointed)
+from .cli_checkpoints import checkpoint_of
 from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output
+from .cli_figures import add_figure_options
 
 _EPILOG = """\
 examples:
@@ -138,52 +136,28 @@ def summary(ds):
 
 
 def _cmd_basins(args):
-    import shlex
-    import time
-
-    from .engine.leftovers import output_of
+    from .cli_census_steps import check_outputs, draw, run_and_write
     from .engine.store import Checkpoint
 
     out = os.fspath(args.output)
     system, plane, ranges, state, grid = _inputs(args)
     ckpt = Checkpoint(args.checkpoint) if args.checkpoint is not None else \
         checkpoint_of(out)
-    resuming = args.resume and ckpt.exists()
-    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)),
-                 "output file")
-    fig_kw = figure_options(args, drawing=args.plot is not None)
-    if args.plot is not None:
-        image_ext_ok(args.plot, "--plot")
-        check_output(args.plot, args.overwrite, "plot file")
-    check_checkpoint(ckpt, args.resume)
+    resuming, fig_kw = check_outputs(args, out, ckpt)
 
     from .census.basins import basins, write_basins
-    from .engine.execution import Execution
 
-    t0 = time.perf_counter()
-    run = Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-                    progress=not args.no_progress and "basins")
-    ds, status = run_checkpointed(ckpt, "points", lambda: basins(
-        system, None, grid=grid, plane=plane, ranges=ranges, base=state, eps=args.eps,
-        execution=run))
+    ds, status, elapsed = run_and_write(
+        args, out, ckpt, resuming, "basins", lambda run: basins(
+            system, None, grid=grid, plane=plane, ranges=ranges, base=state,
+            eps=args.eps, execution=run), write_basins)
     if ds is None:
         return status
-    elapsed = time.perf_counter() - t0
-    ds.attrs.update(command=shlex.join(["vibimpact"] + list(args.argv)),
-                    preset=args.preset, wall_time_s=round(elapsed, 3))
-    finish_checkpointed(ds, out, ckpt, write_basins, resuming=resuming,
-                        keep=args.keep_checkpoint, overwrite=args.overwrite,
-                        unit="points")
     print("\n".join(summary(ds)))
     print(f"wrote {out} ({grid[0]} x {grid[1]} cells in {elapsed:.1f} s)")
-    if args.plot is not None:
-        from .plotting.basins import plot_basins
+    from .plotting.basins import plot_basins
 
-        try:
-            plot_basins(ds, path=args.plot, **fig_kw)
-        except (ValueError, OSError) as exc:
-            raise UsageError(f"--plot: {error_text(exc)} ({out!r} is written)") from None
-        print(f"wrote {args.plot}")
+    draw(args, ds, out, plot_basins, fig_kw)
     return 0
 
 
