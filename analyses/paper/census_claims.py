@@ -47,6 +47,7 @@ L. Půst, J. Kozánek, "Vibrations of rotor supported in magnetic bearings with 
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -66,28 +67,29 @@ sys.path.insert(0, str(HERE))  # calibrate_search
 from _common import smoke  # noqa: E402
 
 import calibrate_search as S  # noqa: E402
+from census_claims_report import _fmt_att, render  # noqa: E402
 
 ROOT = HERE.parents[1]
 CALIBRATION = ROOT / "reports" / "calibration.nc"
 #: the three outcomes of a claim
-OUTCOMES = ("reached", "exists", "absent")
-OUTCOME_TEXT = {"reached": "reached by the up/down sweep",
-                "exists": "exists (attractor or orbit)",
-                "absent": "absent"}
 #: census starts under the shipped defaults, and under each calibration reading
 STARTS = 200
 READING_STARTS = 48
 SEED = 0
 #: the sweeps' grid step (claimed etas are put on it)
 STEP = 0.005
-#: random seeds of the orbit hunt (besides the defaults census's attractors)
-HUNT_RANDOM = 48
+#: random seeds of the orbit hunt (besides the defaults census's attractors), its other
+#: settings (:func:`vibimpact.orbits.hunt_orbits`) and the stroboscopic points of each
+#: census attractor that seed it besides its representative
+HUNT_RANDOM = 96
+HUNT = dict(transient=100, max_return=0.5, starts=3)
+SEED_SAMPLES = 8
 #: the claims computed (None: all); a smoke run takes two
 ONLY = None
 #: calibration readings per figure at most (None: all)
 MAX_READINGS = None
-#: markers of the section in reports/paper.md
-BEGIN, END = "<!-- census-claims -->", "<!-- /census-claims -->"
+#: the subpackages whose sources key the cache of a census or a hunt
+CODE = ("census", "orbits", "points", "engine", "_kernel", "analysis")
 
 
 # --- what is computed -----------------------------------------------------------------
@@ -197,17 +199,58 @@ def _attractor_rows(ds, k):
     return sorted(rows, key=lambda r: -r["fraction"])
 
 
-def census(params, etas, starts):
-    """Attractors at each eta: ``(rows per eta, representatives per eta, seconds)``."""
+@functools.lru_cache(maxsize=None)
+def code_hash():
+    """First 12 hex digits of the SHA-256 of the sources a census or a hunt runs
+    (:data:`CODE`), read once per process: a change there (e.g. the census's stopping
+    rule, which moves basin fractions) recomputes them."""
+    h = hashlib.sha256()
+    for sub in CODE:
+        for f in sorted((ROOT / "vibimpact" / sub).rglob("*.py")):
+            h.update(f.relative_to(ROOT).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:12]
+
+
+def _memo(cache, kind, inputs, fresh, make):
+    """``make()`` (a JSON-able dict), kept in ``cache/census_claims/KIND_HASH.json`` where
+    HASH is that of ``inputs``, the package version and :func:`code_hash`; read back
+    unless ``fresh``."""
+    key = hashlib.sha1(json.dumps([inputs, vi.__version__, code_hash()], sort_keys=True)
+                       .encode()).hexdigest()[:16]
+    path = Path(cache) / "census_claims" / f"{kind}_{key}.json"
+    if path.exists() and not fresh:
+        return json.loads(path.read_text())
     t = time.perf_counter()
-    ds = vi.attractors(vi.System(vi.Params(**params)), eta=np.asarray(etas, float),
-                       starts=starts, seed=SEED, execution=vi.Execution(workers=1))
-    rows = [_attractor_rows(ds, k) for k in range(len(etas))]
-    reps = []
-    for k in range(len(etas)):
-        r = np.asarray(ds["representative"].values[k], float)
-        reps.append(r[np.all(np.isfinite(r), axis=1)])
-    return rows, reps, time.perf_counter() - t
+    out = make()
+    out["seconds"] = time.perf_counter() - t
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(out, sort_keys=True))
+    os.replace(tmp, path)
+    return out
+
+
+def census(params, etas, starts, cache, fresh=False):
+    """Attractors at each eta, cached: ``{"rows": [rows per eta], "seeds": [states per
+    eta], "seconds"}`` (``seeds``: each attractor's representative and up to
+    :data:`SEED_SAMPLES` of its stroboscopic points, for the hunt)."""
+    def make():
+        ds = vi.attractors(vi.System(vi.Params(**params)), eta=np.asarray(etas, float),
+                           starts=starts, seed=SEED, execution=vi.Execution(workers=1))
+        seeds = []
+        for k in range(len(etas)):
+            pts = [np.asarray(ds["representative"].values[k], float)]
+            smp = np.asarray(ds["samples"].values[k], float)  # (attractor, sample, state)
+            pick = np.linspace(0, smp.shape[1] - 1, SEED_SAMPLES).astype(int)
+            pts.append(smp[:, pick].reshape(-1, smp.shape[-1]))
+            pts = np.concatenate(pts)
+            pts = np.unique(pts[np.all(np.isfinite(pts), axis=1)], axis=0)
+            seeds.append(pts.tolist())
+        return dict(rows=[_attractor_rows(ds, k) for k in range(len(etas))], seeds=seeds)
+
+    return _memo(cache, "census", [params, [float(e) for e in etas], starts, SEED], fresh,
+                 make)
 
 
 def from_rest(params, etas):
@@ -221,62 +264,63 @@ def from_rest(params, etas):
             for k in range(len(etas))]
 
 
-def hunt(params, eta, periods, seeds):
-    """Orbits of the hunt at one eta (no continuation), as dicts."""
+def hunt(params, eta, periods, seeds, cache, fresh=False):
+    """Orbits of the hunt at one eta (no continuation), cached, as dicts."""
     from vibimpact.orbits import hunt_orbits
 
-    h = hunt_orbits(vi.System(vi.Params(**{**params, "eta": eta})), periods=periods,
-                    seeds=seeds if len(seeds) else None, random=HUNT_RANDOM, seed=SEED,
-                    continuation=False)
-    return dict(orbits=[dict(period=int(o.period), impacts=int(o.impacts),
-                             stable=bool(o.stable), abs_mu=float(o.abs_max), arcs=o.arcs,
-                             label=o.label) for o in h.orbits],
-                shots=int(h.counts.get("shots", 0)), seeds=int(len(h.seeds)))
+    def make():
+        h = hunt_orbits(vi.System(vi.Params(**{**params, "eta": eta})), periods=periods,
+                        seeds=np.asarray(seeds) if len(seeds) else None,
+                        random=HUNT_RANDOM, seed=SEED, continuation=False, **HUNT)
+        return dict(orbits=[dict(period=int(o.period), impacts=int(o.impacts),
+                                 stable=bool(o.stable), abs_mu=float(o.abs_max),
+                                 arcs=o.arcs, label=o.label) for o in h.orbits],
+                    shots=int(h.counts.get("shots", 0)), seeds=int(len(h.seeds)))
+
+    return _memo(cache, "hunt", [params, float(eta), list(periods), seeds, HUNT_RANDOM,
+                                 HUNT, SEED], fresh, make)
 
 
 def settings():
-    """What the computation depends on (its cache key)."""
+    """What the computation depends on."""
     return dict(starts=STARTS, reading_starts=READING_STARTS, seed=SEED, step=STEP,
-                hunt_random=HUNT_RANDOM, only=ONLY, max_readings=MAX_READINGS,
-                version=vi.__version__)
+                hunt_random=HUNT_RANDOM, hunt=HUNT, seed_samples=SEED_SAMPLES, only=ONLY,
+                max_readings=MAX_READINGS, version=vi.__version__)
 
 
 def compute(cache, fresh=False, log=sys.stderr):
-    """Censuses, simulations from rest and hunts for every selected claim (cached).
+    """Censuses, simulations from rest and hunts for every selected claim.
+
+    Each census and hunt is cached on its own (:func:`_memo`); ``fresh`` recomputes them.
 
     Returns
     -------
     dict
         ``settings``, ``sets`` (preset -> parameter sets), ``census`` (preset -> set name
         -> eta (str) -> attractor rows), ``from_rest`` (preset -> eta -> label row),
-        ``hunt`` (claim key -> eta -> hunt), ``timings`` (seconds).
+        ``hunt`` (claim key -> eta -> hunt), ``timings`` (seconds each part took when
+        computed, cached or not).
     """
     claims = selected_claims()
     readings = calibration_readings()
     presets = sorted({c.preset for c in claims})
     sets = {p: parameter_sets(p, readings) for p in presets}
-    key = hashlib.sha1(json.dumps([settings(), sets, [c.key for c in claims]],
-                                  sort_keys=True).encode()).hexdigest()[:12]
-    path = Path(cache) / f"census_claims_{key}.json"
-    if path.exists() and not fresh:
-        return json.loads(path.read_text())
-    t0 = time.perf_counter()
     out = dict(settings=settings(), sets=sets, census={}, from_rest={}, hunt={},
                timings=dict(census_s=0.0, from_rest_s=0.0, hunt_s=0.0))
-    reps = {}
+    seeds = {}
     for p in presets:
         etas = sorted({e for c in claims if c.preset == p for e in claim_etas(c)})
         mids = sorted({middle_eta(c) for c in claims if c.preset == p})
         out["census"][p] = {}
         for s in sets[p]:
             at = etas if s["name"] == "defaults" else mids
-            rows, r, sec = census(s["params"], at, s["starts"])
-            out["census"][p][s["name"]] = {f"{e:g}": rr for e, rr in zip(at, rows)}
-            out["timings"]["census_s"] += sec
+            res = census(s["params"], at, s["starts"], cache, fresh)
+            out["census"][p][s["name"]] = {f"{e:g}": rr for e, rr in zip(at, res["rows"])}
+            out["timings"]["census_s"] += res["seconds"]
             if s["name"] == "defaults":
-                reps[p] = dict(zip(at, r))
+                seeds[p] = dict(zip(at, res["seeds"]))
             print(f"  census {p} {s['name']}: {len(at)} eta x {s['starts']} starts, "
-                  f"{sec:.1f} s", file=log)
+                  f"{res['seconds']:.1f} s", file=log)
         t = time.perf_counter()
         rest = from_rest(sets[p][0]["params"], etas)
         out["from_rest"][p] = {f"{e:g}": r for e, r in zip(etas, rest)}
@@ -284,18 +328,13 @@ def compute(cache, fresh=False, log=sys.stderr):
     for c in claims:
         if c.motion != "periodic" or not c.period:
             continue
-        t = time.perf_counter()
         base = sets[c.preset][0]["params"]
-        out["hunt"][c.key] = {f"{e:g}": hunt(base, e, divisors(c.period), reps[c.preset][e])
-                              for e in claim_etas(c)}
-        sec = time.perf_counter() - t
-        out["timings"]["hunt_s"] += sec
-        print(f"  hunt {c.key}: periods {divisors(c.period)}, {sec:.1f} s", file=log)
-    out["timings"]["total_s"] = time.perf_counter() - t0
-    Path(cache).mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(out, indent=1, sort_keys=True))
-    os.replace(tmp, path)
+        out["hunt"][c.key] = {}
+        for e in claim_etas(c):
+            h = hunt(base, e, divisors(c.period), seeds[c.preset][e], cache, fresh)
+            out["hunt"][c.key][f"{e:g}"] = h
+            out["timings"]["hunt_s"] += h["seconds"]
+        print(f"  hunt {c.key}: periods {divisors(c.period)}", file=log)
     return out
 
 
@@ -351,10 +390,6 @@ def _sweep_reached(ds, claim, etas):
             if abs(eta[k] - e) <= 0.5 * STEP + 1e-9 and ok[k]:
                 return True, (f"{d} sweep at η = {eta[k]:.3f}: {sub['label'].values[k]}")
     return False, ""
-
-
-def _fmt_att(r):
-    return f"{r['name']} {r['fraction']:.3f} ± {r['se']:.3f}"
 
 
 def decide(claim, computed, ds):
@@ -457,88 +492,6 @@ def outcomes(computed, sweeps):
                                                     if s["params"][d] > 0)))
                           for s in v] for p, v in computed["sets"].items()},
                 claims=rows)
-
-
-# --- report -------------------------------------------------------------------------------
-
-
-def _table(head, rows):
-    out = ["| " + " | ".join(head) + " |", "|" + " --- |" * len(head)]
-    out += ["| " + " | ".join(str(c).replace("|", "/") for c in r) + " |" for r in rows]
-    return "\n".join(out)
-
-
-def render(summary):
-    """The markdown section (between :data:`BEGIN` and :data:`END`) of ``summary``."""
-    st, tm = summary["settings"], summary["timings"]
-    counts = {o: sum(r["outcome"] == o for r in summary["claims"]) for o in OUTCOMES}
-    lines = [BEGIN, "## Every interval claim against the attractor census (issue 30)", "",
-             f"Generated by `analyses/paper/census_claims.py`.  At each claim's η (its one "
-             f"value, or its ends and middle on the {st['step']:g} grid): the census of "
-             f"{st['starts']} random starts (seed {st['seed']}) under the shipped defaults, "
-             f"of {st['reading_starts']} starts at the claim's middle η under each damping "
-             "reading of the calibration for the claim's figure (the reading's dampings at "
-             "its best (B, "
-             "Ec), [calibration.md](calibration.md); readings giving one parameter set are "
-             "run once), a simulation from rest at every η (no continuation, as the paper's "
-             "authors may have run it), and for a periodic claim the orbit hunt for the "
-             f"claimed period and its divisors ({st['hunt_random']} random seeds and the "
-             "census's attractors; stable and unstable orbits).  Compute: census "
-             f"{tm['census_s']:.0f} s, from rest {tm['from_rest_s']:.0f} s, hunt "
-             f"{tm['hunt_s']:.0f} s (one worker).", "",
-             "**Matching rule.** A census attractor (or a label from rest) shows a claim's "
-             "motion by the claim's own rule (`claims.match_points`): *irregular* = "
-             "impacting and chaotic, quasi-periodic, unsettled or periodic beyond the "
-             "detector's longest period; *periodic* = periodic, impacting, with the claimed "
-             "period and (when stated) impacts per period; *impactless* = periodic without "
-             "impacts (the census has no contact flag: a permanent-contact whirl would "
-             "count too).  A hunted orbit matches with the claimed period and impacts.", "",
-             "**Outcomes**, in this order: *reached by the up/down sweep* (the detection "
-             "above agrees, or the sweep's label at a claimed η is the motion); *exists* "
-             "(an attractor of some census, with its basin fraction ± standard error, the "
-             "largest under the defaults else under a reading; else reached from rest; else "
-             "an orbit of the hunt with its largest Floquet multiplier); *absent* among "
-             "every start and the hunt, with the nearest motion found (periodic claims: "
-             "nearest period, then impacts; irregular: the longest impacting period; "
-             "impactless: fewest impacts).", "",
-             "**Existence in the calibration.** The calibration (`calibration.nc`) scores "
-             "sweeps only (Jaccard of the detected interval) and was not rerun.  Existence "
-             "is scored here per reading: a claim exists under a reading when that "
-             "reading's census has a matching attractor with fraction > 0 at one of the "
-             "claim's η; the column *readings* counts them (of all readings of the figure, "
-             "the shipped defaults counted as one).", "",
-             f"**{counts['reached']} reached by the sweep, {counts['exists']} exist off the "
-             f"sweep's path, {counts['absent']} absent** of {len(summary['claims'])} "
-             "claims.", ""]
-    rows = [(r["key"], f"{_claim_text(r)} at η = {', '.join(f'{e:g}' for e in r['etas'])}",
-             f"**{OUTCOME_TEXT[r['outcome']]}**", r["evidence"],
-             f"{r['readings_with']} of {r['readings_total']}") for r in summary["claims"]]
-    lines += [_table(("claim", "claimed", "outcome", "evidence", "readings"), rows), ""]
-    lines += ["Parameter sets (per figure; B, Ec and the contact dampings on; the readings "
-              "that give each):", ""]
-    prow = [(p, s["name"], f"{s['B']:g}", f"{s['Ec']:g}", s["damp"], s["starts"],
-             " ".join(s["readings"])) for p, v in summary["sets"].items() for s in v]
-    lines += [_table(("figure", "set", "B", "Ec", "dampings", "starts", "readings"), prow),
-              "", "<details><summary>census under the defaults, from rest and the hunt, "
-              "per claim</summary>", ""]
-    for r in summary["claims"]:
-        lines.append(f"**{r['key']}**")
-        lines.append("")
-        for e in r["etas"]:
-            att = "; ".join(_fmt_att(a) for a in r["defaults"][f"{e:g}"]) or "nothing"
-            bits = [f"census: {att}", f"from rest: {r['from_rest'][f'{e:g}']}"]
-            if f"{e:g}" in r["hunt"]:
-                bits.append("hunt: " + ("; ".join(r["hunt"][f"{e:g}"]) or "no orbit"))
-            lines.append(f"- η = {e:g}: " + " — ".join(bits))
-        lines.append("")
-    lines += ["</details>", END]
-    return "\n".join(lines)
-
-
-def _claim_text(r):
-    if r["motion"] == "periodic":
-        return f"P{r['period']}" + (f", {r['impacts']} impacts" if r["impacts"] else "")
-    return {"irregular": "chaos", "impactless": "impactless"}[r["motion"]]
 
 
 def tiny(smoke_dir):

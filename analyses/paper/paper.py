@@ -34,6 +34,7 @@ from vibimpact.paper import claims as C
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 from _common import smoke  # noqa: E402
+import census_claims  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports"
@@ -459,7 +460,7 @@ def evidence_section():
         _md_table(("claim", "best score", "at", "share > 0"), rows)])
 
 
-def report(data, cost, panels, step, elapsed, overrides, types=None):
+def report(data, cost, panels, step, elapsed, overrides, types=None, census=None):
     from vibimpact.sweeps.dataset import format_intervals
 
     p8 = vi.presets.get("fig8").replace(**overrides)
@@ -503,6 +504,8 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
                      r["reason"], prev[c.key]["verdict"] if c.key in prev else "—"))
     lines.append(_md_table(("figure", "paper", "claimed", "detected", "labels", "verdict",
                             "reason", "previous defaults"), rows))
+    if census:
+        lines += ["", census[0]]
     lines += ["", "## Comparative and shape claims", ""]
     lines.append(_md_table(("figure", "paper", "measured", "verdict", "criterion / reason"),
                            [(a, b, c, f"**{d}**", e) for a, b, c, d, e in comp]))
@@ -534,6 +537,9 @@ def report(data, cost, panels, step, elapsed, overrides, types=None):
                        verdicts={r["claim"].key: r["verdict"] for r in crow},
                        verdicts_previous={k: r["verdict"] for k, r in prev.items()},
                        comparative={f"{a}: {b}": d for a, b, c, d, e in comp})
+        if census:
+            summary.update(census_claims=census[1], census_outcomes={
+                r["key"]: r["outcome"] for r in census[1]["claims"]})
         js = REPORTS / "paper.json"
         tmp = js.with_suffix(".tmp")
         tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
@@ -562,8 +568,10 @@ def main(argv=None):
     data, cost = sweeps(args.step, args.cache, args.fresh, args.workers, overrides)
     types = transitions(data, args.step, args.cache, args.fresh, args.workers, overrides)
     panels = figures(data)
+    census = None if overrides else census_claims.section(
+        data, args.cache, args.fresh, smoke_dir=args.smoke)
     out, k, n = report(data, cost, panels, args.step, time.perf_counter() - t0, overrides,
-                       types)
+                       types, census)
     print(f"{k}/{n} interval claims agree -> {out}")
     if not overrides:
         import readme_summary
