@@ -1,7 +1,9 @@
 """What the orbit hunt records of each periodic orbit: :class:`FoundOrbit`, its
 existence and stability intervals (:class:`Extent`) and the result of a hunt
 (:class:`OrbitHunt`); and how an orbit is described once found (:func:`describe_orbit`):
-its cycle at a canonical phase, Floquet multipliers, impacts per period and contact arcs.
+its cycle at a canonical phase, Floquet multipliers, impacts per period and contact arcs;
+and the text table of a hunt's orbits (:func:`orbit_table`, what ``vibimpact orbits``
+prints).
 """
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ from ..analysis.shooting import shoot_periodic_orbit
 from ..run import Status
 
 __all__ = ["Extent", "FoundOrbit", "OrbitHunt", "describe_orbit", "canonical_cycle",
-           "orbit_label"]
+           "orbit_label", "orbit_table", "interval_text"]
 
 
 @dataclass(frozen=True)
@@ -177,8 +179,6 @@ class OrbitHunt:
     def table(self) -> list[str]:
         """Lines of a text table of the orbits found (what ``vibimpact orbits``
         prints)."""
-        from .table import orbit_table
-
         return orbit_table(self)
 
 
@@ -230,3 +230,33 @@ def describe_orbit(system, orb, seed, tol):
     return FoundOrbit(m, cycle, again.multipliers, again.stable, impacts, n_arcs, arcs,
                       float(again.residual), int(orb.n), int(seed),
                       contact=system.model.contact is not None)
+
+
+def interval_text(pairs):
+    """``"1.05-1.062, 1.07-1.08"``; ``"-"`` for none."""
+    return ", ".join(f"{a:.5g}-{b:.5g}" for a, b in pairs) or "-"
+
+
+def orbit_table(hunt: OrbitHunt) -> list[str]:
+    """One header and one line per orbit: label, arcs, ``|mu|max``, existence and
+    stability intervals (when continued), and a last line with the counts."""
+    p = hunt.param
+    head = ("#", "orbit", "arcs", "|mu|max", f"exists in {p}", f"stable in {p}",
+            "ends (low / high)")
+    rows = []
+    for i, o in enumerate(hunt.orbits):
+        e = o.extent
+        rows.append((str(i), o.label, o.arcs or "-", f"{o.abs_max:.4g}",
+                     "-" if e is None else interval_text([(e.lo, e.hi)]),
+                     "-" if e is None else interval_text(e.stable),
+                     "-" if e is None else f"{e.lo_reason} / {e.hi_reason}"))
+    widths = [max(len(r[j]) for r in rows + [head]) for j in range(len(head))]
+    fmt = "  ".join(f"{{:{w}s}}" for w in widths)
+    lines = [fmt.format(*head).rstrip()] + [fmt.format(*r).rstrip() for r in rows]
+    c = hunt.counts
+    lines.append(f"{len(hunt.orbits)} orbits at {p} = {hunt.value:g} from "
+                 f"{hunt.seeds.shape[0]} seeds ({hunt.n_user} given, "
+                 f"{hunt.seeds.shape[0] - hunt.n_user} random, seed {hunt.random_seed}); "
+                 f"{c['shots']} Newton runs, {c['converged']} converged, "
+                 f"{c['known']} starts next to known orbits skipped")
+    return lines

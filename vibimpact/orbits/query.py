@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import _validate as _v
 from .dataset import is_orbit_dataset
-from .table import interval_text
+from .found import interval_text
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
