@@ -88,8 +88,9 @@ SEED_SAMPLES = 8
 ONLY = None
 #: calibration readings per figure at most (None: all)
 MAX_READINGS = None
-#: the subpackages whose sources key the cache of a census or a hunt
-CODE = ("census", "orbits", "points", "engine", "_kernel", "analysis")
+#: the subpackages whose sources key the cache of a census, and of a hunt
+CENSUS_CODE = ("census", "points", "engine", "_kernel", "analysis")
+HUNT_CODE = ("orbits", "points", "engine", "_kernel", "analysis")
 
 
 # --- what is computed -----------------------------------------------------------------
@@ -200,24 +201,25 @@ def _attractor_rows(ds, k):
 
 
 @functools.lru_cache(maxsize=None)
-def code_hash():
-    """First 12 hex digits of the SHA-256 of the sources a census or a hunt runs
-    (:data:`CODE`), read once per process: a change there (e.g. the census's stopping
-    rule, which moves basin fractions) recomputes them."""
+def code_hash(subs):
+    """First 12 hex digits of the SHA-256 of the sources of the subpackages ``subs`` of
+    vibimpact (:data:`CENSUS_CODE`, :data:`HUNT_CODE`), read once per process: a change
+    there (e.g. the census's stopping rule, which moves basin fractions) recomputes what
+    they computed."""
     h = hashlib.sha256()
-    for sub in CODE:
+    for sub in subs:
         for f in sorted((ROOT / "vibimpact" / sub).rglob("*.py")):
             h.update(f.relative_to(ROOT).as_posix().encode())
             h.update(f.read_bytes())
     return h.hexdigest()[:12]
 
 
-def _memo(cache, kind, inputs, fresh, make):
+def _memo(cache, kind, inputs, fresh, make, code):
     """``make()`` (a JSON-able dict), kept in ``cache/census_claims/KIND_HASH.json`` where
-    HASH is that of ``inputs``, the package version and :func:`code_hash`; read back
-    unless ``fresh``."""
-    key = hashlib.sha1(json.dumps([inputs, vi.__version__, code_hash()], sort_keys=True)
-                       .encode()).hexdigest()[:16]
+    HASH is that of ``inputs``, the package version and :func:`code_hash` of ``code``;
+    read back unless ``fresh``."""
+    key = hashlib.sha1(json.dumps([inputs, vi.__version__, code_hash(code)],
+                                  sort_keys=True).encode()).hexdigest()[:16]
     path = Path(cache) / "census_claims" / f"{kind}_{key}.json"
     if path.exists() and not fresh:
         return json.loads(path.read_text())
@@ -250,7 +252,7 @@ def census(params, etas, starts, cache, fresh=False):
         return dict(rows=[_attractor_rows(ds, k) for k in range(len(etas))], seeds=seeds)
 
     return _memo(cache, "census", [params, [float(e) for e in etas], starts, SEED], fresh,
-                 make)
+                 make, CENSUS_CODE)
 
 
 def from_rest(params, etas):
@@ -278,7 +280,7 @@ def hunt(params, eta, periods, seeds, cache, fresh=False):
                     shots=int(h.counts.get("shots", 0)), seeds=int(len(h.seeds)))
 
     return _memo(cache, "hunt", [params, float(eta), list(periods), seeds, HUNT_RANDOM,
-                                 HUNT, SEED], fresh, make)
+                                 HUNT, SEED], fresh, make, HUNT_CODE)
 
 
 def settings():
