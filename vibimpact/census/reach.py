@@ -27,6 +27,7 @@ from .. import _validate as _v
 from ..points.point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point, \
     point_system
 from ..analysis.classify import Label
+from ..analysis.period import detect_period
 from ..run import Status
 from ..solver import Solver
 from ..system import with_frequency
@@ -111,7 +112,7 @@ class CensusSettings:
         return out
 
 
-def _diverged(status, reason, periods):
+def _diverged(_status, reason, periods):
     return dict(decided_by=DIVERGED, entered=-1, periods=int(periods),
                 regime=REGIME_CODES[Label.DIVERGED], reason=str(reason))
 
@@ -156,22 +157,50 @@ def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
             if hit >= 0:
                 return dict(decided_by=ENTERED, entered=int(hit), periods=periods)
         x = solver.y[:x.size].copy()
-    res = analyse_point(system, x, cs.point).as_dict()
-    used = periods + int(res.get("transient") or 0) + int(res.get("recorded") or 0)
-    if res["regime"] == REGIME_CODES[Label.DIVERGED]:
-        return _diverged(None, res.get("reason", ""), used)
-    n = int(res["period"]) if res["regime"] == PERIODIC else 0
-    if n > 0:
-        cloud = np.asarray(res["samples"])[:n].copy()
-    else:
-        seg = Solver(system, np.asarray(res["final_state"]), check=False).advance(
-            cs.cloud, events=False)
-        if seg.status is not Status.OK:
-            return _diverged(seg.status, seg.reason, used)
-        cloud = seg.strobe[1:].copy()
-        used += cs.cloud
+    res, cloud, used = _settled(system, x, cs, periods)
+    if res is None:
+        return _diverged(None, cloud, used)
     res.update(decided_by=ANALYSED, entered=-1, periods=used, cloud=cloud)
     return res
+
+
+#: a motion the settling evidence finds non-periodic is watched for this many clouds
+#: (``cloud`` periods each) for a period it comes to (transient chaos ending on a periodic
+#: orbit, long at low damping) before it stands as non-periodic, and the evidence is asked
+#: again at most this many times
+SETTLE_AGAIN = 3
+#: relative tolerance of that look: the cloud's last 193 points repeating to 1 % of
+#: their magnitude (no chaotic or quasi-periodic motion does so for that long; an orbit
+#: still closing in slowly does, and the settling evidence then finds it to the period
+#: test's own tolerance)
+CLOUD_PERIOD_TOL = 1e-2
+
+
+def _settled(system, x, cs, periods):
+    """``(result, cloud, periods used)`` of the settling evidence from ``x``; ``(None,
+    reason, periods)`` when the motion diverged.
+
+    A motion the evidence finds non-periodic is watched for :data:`SETTLE_AGAIN` clouds of
+    ``cs.cloud`` stroboscopic points; when the end of one repeats with a period (a
+    chaotic transient, long at low damping, has ended on a periodic orbit), the evidence
+    is asked again from there, at most :data:`SETTLE_AGAIN` times, so that a transient is
+    not taken for an attractor.  The last cloud represents a non-periodic attractor."""
+    used = periods
+    for _ in range(SETTLE_AGAIN + 1):
+        res = analyse_point(system, x, cs.point).as_dict()
+        used += int(res.get("transient") or 0) + int(res.get("recorded") or 0)
+        if res["regime"] == REGIME_CODES[Label.DIVERGED]:
+            return None, res.get("reason", ""), used
+        n = int(res["period"]) if res["regime"] == PERIODIC else 0
+        if n > 0:
+            return res, np.asarray(res["samples"])[:n].copy(), used
+        cloud, used, periodic = _watch(system, np.asarray(res["final_state"]), cs, used)
+        if cloud is None:
+            return None, "the motion diverged", used
+        if not periodic:
+            return res, cloud, used
+        x = cloud[-1].copy()
+    return res, cloud, used
 
 
 @dataclass(frozen=True, eq=False)
@@ -214,3 +243,22 @@ class CensusRound:
                     on_point(task, i, res)
             out.append((i, res))
         return out
+
+
+def _watch(system, x, cs, used):
+    """``(cloud, periods used, periodic)``: up to :data:`SETTLE_AGAIN` clouds integrated
+    from ``x``, stopping at the first whose end repeats with a period (``cloud`` None:
+    the run stopped)."""
+    tail_len = 3 * cs.point.rule.max_period + 1
+    solver = Solver(system, x, check=False)
+    cloud = None
+    for _ in range(SETTLE_AGAIN):
+        seg = solver.advance(cs.cloud, events=False)
+        used += cs.cloud
+        if seg.status is not Status.OK:
+            return None, used, False
+        cloud = seg.strobe[1:].copy()
+        if detect_period(cloud[-min(cloud.shape[0], tail_len):], tol=CLOUD_PERIOD_TOL,
+                         max_period=cs.point.rule.max_period):
+            return cloud, used, True
+    return cloud, used, False
