@@ -234,3 +234,21 @@ def test_a_census_seeds_the_hunt_with_its_attractors_only():
     stable = [o for o in hunt.orbits if o.stable]
     for rep in seeds:
         assert any(np.abs(o.cycle - rep).max() < 1e-6 for o in stable)
+
+
+def test_an_orbit_rolling_on_the_retainer_is_labelled_permanent_contact():
+    """Hypothesis: at fig10, eta = 1.4, a period-1 orbit without impacts that stays in
+    contact (R > 1 along the whole period, checked on a dense run) is labelled
+    "permanent contact", and the impactless one (R < 1 throughout) "0 impacts": the two
+    are different orbits, not one orbit counted twice."""
+    system = vi.System(vi.presets.get("fig10").replace(eta=1.4))
+    seeds = np.array([[0.5213919, -0.88028323, 1.1388129, 0.65084732],
+                      [-0.12037702, 0.29749812, 0.00360356, -0.16846478]])
+    hunt = hunt_orbits(system, [1], seeds=seeds, random=0, continuation=False)
+    labels = {}
+    for o in hunt.orbits:
+        run = vi.simulate(system, periods=1, state0=o.cycle[0], dense=200)
+        r = np.hypot(run.dense[:, 0], run.dense[:, 1])
+        labels[o.label] = (r.min(), r.max())
+    assert labels["P1, permanent contact, stable"][0] > 1.0
+    assert labels["P1, 0 impacts, stable"][1] < 1.0

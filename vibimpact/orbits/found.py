@@ -102,6 +102,9 @@ class FoundOrbit:
         Existence and stability intervals (None: not continued).
     contact : bool
         The model has a contact (without one, the label leaves the impacts out).
+    permanent : bool
+        No impact, and in contact throughout (the rotor rolling or whirling on the
+        retainer): labelled "permanent contact", as a sweep labels it.
     """
 
     period: int
@@ -116,6 +119,7 @@ class FoundOrbit:
     seed: int
     extent: Extent | None = None
     contact: bool = True
+    permanent: bool = False
 
     @property
     def state(self):
@@ -130,7 +134,8 @@ class FoundOrbit:
     @property
     def label(self):
         """E.g. ``"P6, 8 impacts, unstable"``."""
-        return orbit_label(self.period, self.impacts if self.contact else -1, self.stable)
+        return orbit_label(self.period, self.impacts if self.contact else -1, self.stable,
+                           self.permanent)
 
 
 @dataclass(frozen=True)
@@ -182,10 +187,13 @@ class OrbitHunt:
         return orbit_table(self)
 
 
-def orbit_label(period, impacts, stable):
-    """``"P6, 8 impacts, unstable"`` (impacts left out when not counted)."""
+def orbit_label(period, impacts, stable, permanent=False):
+    """``"P6, 8 impacts, unstable"`` (impacts left out when not counted; ``"permanent
+    contact"`` for an orbit without impacts that stays in contact throughout)."""
     parts = [f"P{int(period)}"]
-    if impacts >= 0:
+    if permanent and impacts == 0:
+        parts.append("permanent contact")
+    elif impacts >= 0:
         parts.append(count(int(impacts), "impact"))
     parts.append("stable" if stable else "unstable")
     return ", ".join(parts)
@@ -199,16 +207,22 @@ def canonical_cycle(cycle):
 
 
 def _impacts_and_arcs(system, x, m):
-    """``(impacts, n_arcs, arcs words)`` of the period-``m`` orbit through ``x``."""
-    if system.model.contact is None:
-        return 0, 0, ""
+    """``(impacts, n_arcs, arcs words, permanent)`` of the period-``m`` orbit through
+    ``x``; ``permanent``: no impact, in contact throughout (no contact switch, starting
+    inside, as a sweep point's contact code says it)."""
+    contact = system.model.contact
+    if contact is None:
+        return 0, 0, "", False
     run = system.simulate(periods=m, state0=x,
                           solver=system.settings(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
-        return -1, 0, ""
+        return -1, 0, "", False
     theta = np.asarray(run.impacts["theta"], dtype=float)
     arcs = contact_arcs(theta[np.isfinite(theta)])
-    return int(run.impacts.size), int(arcs.n_arcs), arcs.summary
+    inside = bool(contact.penetration(np.asarray(x, float)[None, :], system.p)[0] > 0.0)
+    permanent = run.impacts.size == 0 and inside and \
+        not np.any(run.events["which"] == contact.switch)
+    return int(run.impacts.size), int(arcs.n_arcs), arcs.summary, bool(permanent)
 
 
 def describe_orbit(system, orb, seed, tol):
@@ -226,10 +240,10 @@ def describe_orbit(system, orb, seed, tol):
     if not again.converged or again.minimal_period != m:
         return None
     cycle = canonical_cycle(again.cycle[:m])
-    impacts, n_arcs, arcs = _impacts_and_arcs(system, cycle[0], m)
+    impacts, n_arcs, arcs, permanent = _impacts_and_arcs(system, cycle[0], m)
     return FoundOrbit(m, cycle, again.multipliers, again.stable, impacts, n_arcs, arcs,
                       float(again.residual), int(orb.n), int(seed),
-                      contact=system.model.contact is not None)
+                      contact=system.model.contact is not None, permanent=permanent)
 
 
 def interval_text(pairs):
