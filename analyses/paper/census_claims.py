@@ -541,12 +541,12 @@ def main(argv=None):
     if args.smoke is not None:  # two claims, 16 starts, one reading, coarse sweeps
         tiny(args.smoke)
         args.cache, args.fresh, step = args.smoke / "cache", True, 0.1
-    import paper
+    import paper_sweeps
 
     Path(args.cache).mkdir(parents=True, exist_ok=True)
     sweeps = {}
     for p in sorted({c.preset for c in selected_claims()}):
-        sweeps[p] = paper._sweep_one((p, step, str(args.cache), False, {}))[1]
+        sweeps[p] = paper_sweeps.sweep_one((p, step, str(args.cache), False, {}))[1]
     text, summary = section(sweeps, args.cache, args.fresh, args.smoke)
     out = smoke.moved(Path(args.cache) / "census_claims.json", args.smoke)
     out.parent.mkdir(parents=True, exist_ok=True)

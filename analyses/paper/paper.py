@@ -19,7 +19,6 @@ are kept in ``.paper-cache/`` (``--fresh`` recomputes them).
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import sys
@@ -35,6 +34,7 @@ from vibimpact.paper import claims as C
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 from _common import smoke  # noqa: E402
 import census_claims  # noqa: E402
+from paper_sweeps import cache_path as _cache_path, sweep_one as _sweep_one  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports"
@@ -42,7 +42,6 @@ FIGURES = REPORTS / "figures"
 #: the calibration's dataset (read only; written by calibrate.py)
 CALIBRATION = REPORTS / "calibration.nc"
 PRESETS = ("fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "rr10")
-ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov")
 #: presets whose interval boundaries get a transition type (the figures with interval
 #: claims)
 TYPED = ("fig8", "fig10", "fig11")
@@ -65,31 +64,6 @@ XY_POINTS = {
     "fig11": [("11b", 1.06), ("11c", 1.165), ("11d", 1.315)],
     "rr10": [("", 1.06), ("", 1.165), ("", 1.315)],
 }
-
-
-def _cache_path(name, step, cache, overrides, suffix=""):
-    p = vi.presets.get(name).replace(**overrides)
-    key = hashlib.sha1(json.dumps([p.as_dict(), step, ANALYSES, vi.__version__],
-                                  sort_keys=True).encode()).hexdigest()[:12]
-    return p, Path(cache) / f"{name}_{key}{suffix}.nc"
-
-
-def _sweep_one(task):
-    name, step, cache, fresh, overrides = task
-    import xarray as xr
-
-    p, path = _cache_path(name, step, cache, overrides)
-    if path.exists() and not fresh:
-        return name, xr.load_dataset(path), 0.0
-    t = time.perf_counter()
-    eta = np.round(np.arange(0.9, 1.5 + 1e-9, step), 6)
-    ds = vi.sweep(p, eta, direction="both", analyses=ANALYSES,
-                  continuation=vi.Continuation(blocks=1))
-    ds.attrs.update(command=f"analyses/paper/paper.py ({name})", preset=name)
-    tmp = path.with_suffix(".tmp")
-    ds.to_netcdf(tmp)
-    os.replace(tmp, path)
-    return name, ds, time.perf_counter() - t
 
 
 def warm_up():

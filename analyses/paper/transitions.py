@@ -54,9 +54,9 @@ BRANCH_POINTS_LOW, BRANCH_POINTS_IMPACTING = 200, 150
 def _sweep(name):
     """The paper report's sweep of ``name`` (cached), or the same sweep computed here."""
     try:
-        from paper import _sweep_one  # the paper report's own sweep (and cache)
+        from paper_sweeps import sweep_one  # the paper report's own sweep (and cache)
         CACHE.mkdir(exist_ok=True)
-        return _sweep_one((name, STEP, str(CACHE), False, {}))[1]
+        return sweep_one((name, STEP, str(CACHE), False, {}))[1]
     except ImportError:
         eta = np.round(np.arange(0.9, 1.5 + 1e-9, STEP), 6)
         return vi.sweep(vi.presets.get(name), eta, direction="both",
