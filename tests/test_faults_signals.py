@@ -147,7 +147,10 @@ def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, t
     seconds (no hang) with exit status 2 and one line naming the dead worker, the saved
     points and --resume; the checkpoint holds exactly that many points, nothing goes on
     computing afterwards, no temporary file is left, and --resume writes the
-    uninterrupted sweep bit for bit."""
+    uninterrupted sweep bit for bit.  A worker that dies idle after the last point was
+    computed (near the end, the other worker finishing) leaves a complete sweep: then the
+    command writes it, exit 0, no line, no checkpoint, bit for bit the uninterrupted
+    one."""
     from vibimpact.io import read_netcdf
 
     ckpt = tmp_path / "c.nc.partial"
@@ -163,6 +166,11 @@ def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, t
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
+    if status == 0:  # the worker died idle, after its last point: the sweep was complete
+        assert not messages(tmp_path)
+        assert_same_data(read_netcdf(tmp_path / "c.nc"), references["classify"])
+        assert files(tmp_path) == ["c.nc"]
+        return
     assert status == 2 and elapsed < 10, (status, elapsed,
                                           (tmp_path / "err.txt").read_text())
     lines = messages(tmp_path)
