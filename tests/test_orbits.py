@@ -252,3 +252,29 @@ def test_an_orbit_rolling_on_the_retainer_is_labelled_permanent_contact():
         labels[o.label] = (r.min(), r.max())
     assert labels["P1, permanent contact, stable"][0] > 1.0
     assert labels["P1, 0 impacts, stable"][1] < 1.0
+
+
+def test_continuations_on_workers_and_resumed_are_the_serial_ones(tmp_path):
+    """Hypothesis: the orbits' continuations run as engine tasks: on 2 worker processes,
+    and resumed from a checkpoint that lost an entry, they give the serial hunt's
+    existence and stability intervals bit for bit."""
+    system = vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.1,
+                                        omega=1.2))
+    serial = hunt_orbits(system, [1], random=6)
+    parallel = hunt_orbits(system, [1], random=6, execution=vi.Execution(workers=2))
+    ckpt = tmp_path / "ck"
+    hunt_orbits(system, [1], random=6, execution=vi.Execution(checkpoint=ckpt))
+    entries = sorted(ckpt.glob("*.npz"))
+    assert len(entries) == len(serial.orbits) >= 2
+    entries[0].unlink()
+    resumed = hunt_orbits(system, [1], random=6,
+                          execution=vi.Execution(checkpoint=ckpt, resume=True))
+    for other in (parallel, resumed):
+        assert len(other.orbits) == len(serial.orbits)
+        for a, b in zip(serial.orbits, other.orbits):
+            ea, eb = a.extent, b.extent
+            assert (ea.lo, ea.hi, ea.lo_reason, ea.hi_reason, ea.stable,
+                    ea.same_impacts) == (eb.lo, eb.hi, eb.lo_reason, eb.hi_reason,
+                                         eb.stable, eb.same_impacts)
+            for name in ("values", "stable_points", "impacts", "abs_max"):
+                assert np.array_equal(getattr(ea, name), getattr(eb, name)), name

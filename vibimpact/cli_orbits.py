@@ -7,13 +7,11 @@ work is :func:`vibimpact.orbits.hunt_orbits`, the file
 :func:`vibimpact.plotting.orbits.plot_orbits`.
 """
 import os
-import shlex
-import time
 
 from .cli_args import number, parse_sets, positive_int
 from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output, read_input
+from .cli_figures import add_figure_options
+from .cli_files import read_input
 
 _ORBITS_EPILOG = """\
 examples:
@@ -22,6 +20,7 @@ examples:
       --window 0.02 -o orbits.nc --plot orbits.png
   vibimpact orbits --preset duffing --set omega=1.2 --period 1:3 --no-continue -o d.nc
   vibimpact orbits --preset fig11 --eta 1.06 --seeds census.nc -o orbits.nc
+  vibimpact orbits --preset fig11 --eta 1.06 --period 1:8 --workers 2 -o o.nc --resume
 
 Seeds: the states of --seeds FILE.nc (every variable whose last dimension is 'state': a
 census's representatives, a sweep's final_state, a run's strobe; each is itself a Newton
@@ -99,11 +98,12 @@ def _seeds(args, system):
 
 
 def _cmd_orbits(args):
-    out = check_output(os.fspath(args.output), args.overwrite, "output file")
-    if args.plot is not None:
-        image_ext_ok(os.fspath(args.plot), "--plot")
-        check_output(os.fspath(args.plot), args.overwrite, "image file")
-    opts = figure_options(args, drawing=args.plot is not None)
+    from .cli_checkpoints import checkpoint_of
+    from .cli_census_steps import check_outputs, draw, run_and_write
+
+    out = os.fspath(args.output)
+    ckpt = checkpoint_of(out)
+    resuming, opts = check_outputs(args, out, ckpt)
     periods = parse_periods(args.period)
     if not args.window > 0:
         raise UsageError(f"--window must be a finite number > 0, got {args.window:g}")
@@ -112,29 +112,26 @@ def _cmd_orbits(args):
 
     from .orbits import hunt_orbits, hunt_to_dataset, write_orbits
 
-    t0 = time.perf_counter()
-    try:
+    hunts = []
+
+    def compute(run):
         hunt = hunt_orbits(system, periods, seeds=seeds, random=args.random,
                            seed=args.seed, continuation=not args.no_continue,
-                           window=args.window)
-    except ValueError as exc:
-        raise UsageError(error_text(exc)) from None
-    elapsed = time.perf_counter() - t0
-    command = shlex.join(["vibimpact"] + list(args.argv))
-    ds = hunt_to_dataset(hunt, system, command=command,
-                         attrs={"preset": args.preset, "wall_time_s": round(elapsed, 3)})
-    try:
-        write_orbits(ds, out, overwrite=args.overwrite)
-    except (ValueError, OSError) as exc:
-        raise UsageError(error_text(exc)) from None
+                           window=args.window, execution=run)
+        hunts.append(hunt)
+        return hunt_to_dataset(hunt, system)
+
+    ds, status, elapsed = run_and_write(args, out, ckpt, resuming, "orbits", compute,
+                                        write_orbits)
+    if ds is None:
+        return status
+    hunt = hunts[0]
     print("\n".join(hunt.table()))
     print(f"wrote {out} ({elapsed:.1f} s: hunt {hunt.timings['hunt_s']:.1f} s, "
           f"continuation {hunt.timings['continuation_s']:.1f} s)")
-    if args.plot is not None:
-        from .plotting.orbits import plot_orbits
+    from .plotting.orbits import plot_orbits
 
-        plot_orbits(ds, os.fspath(args.plot), **opts)
-        print(f"wrote {args.plot}")
+    draw(args, ds, out, plot_orbits, opts)
     return 0
 
 
@@ -175,6 +172,15 @@ def add_parser(sub, fmt):
     c.add_argument("--plot", default=None, metavar="FILE.png",
                    help="also draw each orbit's interval against eta")
     add_figure_options(c, "the --plot image")
+    c.add_argument("--workers", type=positive_int(1, 4096), default=1, metavar="N",
+                   help="local processes continuing the orbits (default: 1); never "
+                        "changes a number")
+    c.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from its checkpoint OUT.partial (the "
+                        "orbits already continued are loaded)")
+    c.add_argument("--keep-checkpoint", action="store_true",
+                   help="keep OUT.partial after the file is written")
+    c.add_argument("--no-progress", action="store_true", help="no progress bar")
     c.add_argument("--overwrite", action="store_true", help="replace existing files")
     c.set_defaults(func=_cmd_orbits)
 

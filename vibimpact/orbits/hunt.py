@@ -43,6 +43,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ..analysis import Steps
+    from ..engine.execution import Execution
     from ..params import DuffingParams, Params
     from ..system import System
 
@@ -199,7 +200,8 @@ def hunt_orbits(system: System | Params | DuffingParams,
                 record: int | None = None, starts: int = 2, max_return: float = 0.2,
                 max_iter: int = 12, tol: float = 1e-9, continuation: bool = True,
                 window: float = 0.05, steps: Steps | None = None,
-                progress: Callable[[int, int], None] | None = None) -> OrbitHunt:
+                progress: Callable[[int, int], None] | None = None,
+                execution: Execution | None = None) -> OrbitHunt:
     """Periodic orbits of the stroboscopic map, stable or not, by multi-start Newton
     shooting; each continued in the forcing frequency to where it exists and is stable.
 
@@ -261,7 +263,11 @@ def hunt_orbits(system: System | Params | DuffingParams,
         Step controls of :func:`vibimpact.analysis.continue_orbit` (default
         ``Steps(max_points=60)``).
     progress : callable, optional
-        ``progress(done, total)`` after each seed and each orbit continued.
+        ``progress(done, total)`` after each seed.
+    execution : Execution, optional
+        Where the orbits' continuations run (:class:`vibimpact.Execution`: ``workers``,
+        ``scheduler``, ``checkpoint``, ``resume``, ``progress``), as engine tasks, one
+        orbit each (:mod:`vibimpact.orbits.extent_tasks`); none of it changes a number.
 
     Returns
     -------
@@ -288,6 +294,9 @@ def hunt_orbits(system: System | Params | DuffingParams,
     continuation = _v.flag("continuation", continuation)
     own = user_seeds(seeds, d)
     rnd = random_seeds(system.model, random, seed, box)
+    from ..engine.execution import as_execution
+
+    execution = as_execution(execution)
     if progress is not None and not callable(progress):
         raise _v.WrongType(f"progress must be callable, got {type(progress).__name__}")
     t0 = time.perf_counter()
@@ -302,14 +311,10 @@ def hunt_orbits(system: System | Params | DuffingParams,
     orbits = sorted(hunter.orbits, key=lambda o: (o.period, o.impacts, -o.state[0]))
     t1 = time.perf_counter()
     if continuation:
-        from .extent import orbit_extent
+        from .extent_tasks import run_extents
 
-        done = []
-        for j, o in enumerate(orbits):
-            done.append(replace(o, extent=orbit_extent(system, o, st["window"], steps)))
-            if progress is not None:
-                progress(j + 1, len(orbits))
-        orbits = done
+        extents = run_extents(system, orbits, st["window"], steps, execution)
+        orbits = [replace(o, extent=e) for o, e in zip(orbits, extents)]
     mdl = system.model
     return OrbitHunt(tuple(orbits), mdl.param_names[mdl.omega_index], system.omega,
                      periods, everything, own.shape[0], int(seed), hunter.counts, st,

@@ -108,7 +108,7 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
         ax.set_yticks(np.arange(k))
         ax.set_yticklabels([f"{lab} ({arcs})" if arcs else str(lab) for lab, arcs in
                             zip(ds["label"].values, ds["arcs"].values)])
-        ax.set_ylim(k - 0.5, -0.5)
+        ax.set_ylim(max(k, 1) - 0.5, -0.5)  # no orbit found: an empty row
         ax.set_xlabel("η" if param == "eta" else param)
         ax.grid(True, axis="x", alpha=0.5)
         handles = [Line2D([], [], color="k", lw=width(2.0), label="stable"),
