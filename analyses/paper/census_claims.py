@@ -90,7 +90,7 @@ ONLY = None
 MAX_READINGS = None
 #: the subpackages whose sources key the cache of a census, and of a hunt
 CENSUS_CODE = ("census", "points", "engine", "_kernel", "analysis")
-HUNT_CODE = ("orbits", "points", "engine", "_kernel", "analysis")
+HUNT_CODE = ("orbits", "census", "points", "engine", "_kernel", "analysis")
 
 
 # --- what is computed -----------------------------------------------------------------

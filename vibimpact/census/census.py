@@ -118,8 +118,8 @@ def separated(library):
     return out
 
 
-def _tasks(p, etas, states, libraries, cs, scales, span, done):
-    policy = CensusRound(tuple(tuple(lib) for lib in libraries), cs, tuple(scales))
+def _tasks(p, etas, states, libraries, cs, span, done):
+    policy = CensusRound(tuple(tuple(lib) for lib in libraries), cs)
     a, b = span
     n = states.shape[0]
     cuts = block_starts(b - a, max(1, -(-(b - a) // TASK_STARTS)))
@@ -217,8 +217,7 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
                if i not in done.get((r, STATES), {}))
     with prog.callback(execution.progress, todo, "census") as report:
         for span in rounds(n):
-            tasks = _tasks(system, etas, states, libraries, settings, [scale] * etas.size,
-                           span, done)
+            tasks = _tasks(system, etas, states, libraries, settings, span, done)
             got = {r: dict(done.get((r, STATES), {})) for r in range(etas.size)}
 
             def on_task(task, points, got=got):

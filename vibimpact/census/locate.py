@@ -19,7 +19,7 @@ __all__ = ["locate", "LOCATE_TOL"]
 LOCATE_TOL = 0.05
 
 
-def _sweep_points(sweep, d, names):
+def _sweep_points(sweep, names):
     """``(direction, eta, sample, state)`` Poincare samples of every state of a sweep."""
     cols = []
     for j, name in enumerate(names):
@@ -65,7 +65,7 @@ def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr
     common = np.intersect1d(np.round(census.eta.values, 12), np.round(sweep.eta.values, 12))
     if common.size == 0:
         raise ValueError("census and sweep share no eta")
-    pts = _sweep_points(sweep, len(names), names)
+    pts = _sweep_points(sweep, names)
     scale = float(census.attrs.get("box_scale", 1.0))
     ce = np.round(census.eta.values, 12)
     se = np.round(sweep.eta.values, 12)

@@ -112,12 +112,12 @@ class CensusSettings:
         return out
 
 
-def _diverged(_status, reason, periods):
+def _diverged(reason, periods):
     return dict(decided_by=DIVERGED, entered=-1, periods=int(periods),
                 regime=REGIME_CODES[Label.DIVERGED], reason=str(reason))
 
 
-def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
+def reach(system, x0, library, cs: CensusSettings) -> dict:
     """Integrate ``x0`` until it is known which attractor it reaches.
 
     Parameters
@@ -128,9 +128,6 @@ def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
     library : sequence of Attractor
         The attractors known at this point before the start's round.
     cs : CensusSettings
-    scale : float
-        The unit of ``cs.radius``-type distances (not used for the library's radii,
-        which are absolute).
 
     Returns
     -------
@@ -151,7 +148,7 @@ def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
             step = min(cs.chunk, cs.max_periods - periods)
             seg = solver.advance(step, events=False)
             if seg.status is not Status.OK:
-                return _diverged(seg.status, seg.reason, periods + step)
+                return _diverged(seg.reason, periods + step)
             periods += step
             hit = entered(seg.strobe[1:], library, (counts, first))
             if hit >= 0:
@@ -159,7 +156,7 @@ def reach(system, x0, library, cs: CensusSettings, scale: float = 1.0) -> dict:
         x = solver.y[:x.size].copy()
     res, cloud, used = _settled(system, x, cs, periods)
     if res is None:
-        return _diverged(None, cloud, used)
+        return _diverged(cloud, used)
     res.update(decided_by=ANALYSED, entered=-1, periods=used, cloud=cloud)
     return res
 
@@ -213,13 +210,10 @@ class CensusRound:
     libraries : tuple of tuple of Attractor
         One per parameter point (the task's ``row``).
     census : CensusSettings
-    scales : tuple of float
-        The distance unit of each point.
     """
 
     libraries: tuple
     census: CensusSettings
-    scales: tuple
     blocks: int = 1
 
     continued = False
@@ -238,7 +232,7 @@ class CensusRound:
                     system = point_system(with_frequency(task.p, float(task.etas[i])),
                                           self.census.point)
                 res = reach(system, task.state_at(i), self.libraries[task.row],
-                            self.census, self.scales[task.row])
+                            self.census)
                 if on_point is not None:
                     on_point(task, i, res)
             out.append((i, res))

@@ -22,8 +22,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import math
-
 import numpy as np
 
 from .. import _validate as _v
@@ -38,12 +36,12 @@ __all__ = ["random_seeds", "seed_box", "seeds_from_dataset", "close_returns", "u
 
 
 def seed_box(model: Model) -> tuple[np.ndarray, tuple[int, int] | None]:
-    """The box random seeds are drawn in, as the model declares itself.
+    """The box random seeds are drawn in: the attractor census' documented box
+    (:func:`vibimpact.census.starts.default_box`), one box for both.
 
     Every state variable is uniform in ``[-1, 1]``, except that for a model with a
     planar contact (two position coordinates, :attr:`vibimpact.Contact.positions`: the
-    rotor's ``X, Y``) those two are uniform in the disk of the contact circle
-    (:attr:`vibimpact.models.PlotSpec.circle`, radius 1: the clearance).
+    rotor's ``X, Y``) those two are uniform in the unit disk (the clearance).
 
     Parameters
     ----------
@@ -55,20 +53,16 @@ def seed_box(model: Model) -> tuple[np.ndarray, tuple[int, int] | None]:
         ``bounds`` of shape (d, 2) (low, high of each state variable), and the indices of
         the two positions drawn in the disk (None: none).
     """
-    d = len(model.state_names)
-    bounds = np.tile([-1.0, 1.0], (d, 1))
-    contact = model.contact
-    if contact is not None and len(contact.positions) == 2:
-        radius = getattr(model.plot, "circle", None) or 1.0
-        a, b = contact.positions
-        bounds[[a, b]] = (-radius, radius)
-        return bounds, (int(a), int(b))
-    return bounds, None
+    from ..census.starts import default_box
+
+    box = default_box(model)
+    return np.column_stack([box.lo, box.hi]), box.disk
 
 
 def random_seeds(model: Model, count: int, seed: int = 0,
                  box: ArrayLike | None = None) -> np.ndarray:
-    """Random states, reproducibly: ``numpy.random.default_rng(seed)``.
+    """Random states, reproducibly, drawn as the attractor census draws its starts
+    (:func:`vibimpact.census.starts.random_starts`, ``numpy.random.default_rng(seed)``).
 
     Parameters
     ----------
@@ -91,25 +85,21 @@ def random_seeds(model: Model, count: int, seed: int = 0,
     ValueError
         Naming ``random``, ``seed`` or ``box``.
     """
+    from ..census.starts import Box, default_box, random_starts
+
     count = _v.count("random", count, 0)
     seed = _v.count("seed", seed, 0)
     d = len(model.state_names)
-    bounds, disk = seed_box(model)
-    if box is not None:
+    if box is None:
+        where = default_box(model)
+    else:
         bounds = _v.numeric("box", box, "low and high of each state variable")
         if bounds.shape != (d, 2) or not np.all(np.isfinite(bounds)) or \
                 np.any(bounds[:, 1] < bounds[:, 0]):
             raise ValueError(f"box must be ({d}, 2) finite (low, high) pairs with low <= "
                              f"high, got shape {bounds.shape}")
-        disk = None
-    u = np.random.default_rng(seed).uniform(size=(count, d))
-    x = bounds[:, 0] + u * (bounds[:, 1] - bounds[:, 0])
-    if disk is not None:  # uniform in the disk: radius sqrt(u), angle 2 pi u
-        a, b = disk
-        radius = bounds[a, 1]
-        r, phi = radius * np.sqrt(u[:, a]), 2.0 * math.pi * u[:, b]
-        x[:, a], x[:, b] = r * np.cos(phi), r * np.sin(phi)
-    return x
+        where = Box(bounds[:, 0], bounds[:, 1])
+    return random_starts(where, count, seed) if count else np.zeros((0, d))
 
 
 def user_seeds(seeds: ArrayLike | None, d: int) -> np.ndarray:
