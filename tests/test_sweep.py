@@ -297,3 +297,20 @@ def test_a_dead_worker_process_is_an_error_not_a_hang(monkeypatch):
     with pytest.raises(RuntimeError, match="worker process died"):
         vi.sweep(FIG8, GRID[:4], continuation=vi.Continuation(blocks=2),
                  execution=vi.Execution(workers=2))
+
+
+def test_grid_is_the_command_lines_grid():
+    """Hypothesis: vi.grid gives exactly the values the command line parses for the same
+    text (not np.arange's, which differ by rounding), refuses eta <= 0, lets another
+    parameter's grid cross zero, and refuses what is not a range's text, naming it."""
+    from vibimpact.sweeps import parse_range
+
+    for text in ("0.9:1.5:0.002", "1.29:1.395:0.005", "1.0,1.1,1.25"):
+        assert np.array_equal(vi.grid(text), parse_range(text))
+    assert not np.array_equal(vi.grid("0.9:1.5:0.002"), np.arange(0.9, 1.5 + 1e-12, 0.002))
+    np.testing.assert_array_equal(vi.grid("-0.002:0:0.001", name="k3"),
+                                  [-0.002, -0.001, 0.0])
+    with pytest.raises(ValueError, match="eta"):
+        vi.grid("-1:1:1")
+    with pytest.raises(ValueError, match="kh"):
+        vi.grid(120.0, name="kh")

@@ -298,9 +298,12 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     return _check_unchanged(raw, grid, name, text)
 
 
-def grid(text: str, name: str = "eta") -> np.ndarray:
+def grid(text: str, name: str = "eta", positive: bool | None = None) -> np.ndarray:
     """The grid of ``"START:STOP:STEP"`` (or ``"V1,V2,..."``) exactly as the command line
     parses it (:func:`parse_range`).
+
+    ``positive`` refuses values ``<= 0``; by default only for ``eta`` (a forcing
+    frequency), so that a grid of another parameter may cross zero.
 
     Where attractors coexist a grid built by hand (``np.arange(0.9, 1.5 + 1e-12,
     0.002)``, which differs from the command line's by about 1e-16) can make a sweep's
@@ -311,11 +314,15 @@ def grid(text: str, name: str = "eta") -> np.ndarray:
     >>> import vibimpact as vi
     >>> vi.grid("0.9:1.0:0.05").tolist()
     [0.9, 0.95, 1.0]
+    >>> vi.grid("-0.002:0:0.001", name="k3").tolist()
+    [-0.002, -0.001, 0.0]
     """
     if not isinstance(text, str):
         raise _v.WrongType(f"{name} must be a str 'START:STOP:STEP' or 'V1,V2,...', got "
                            f"{type(text).__name__}")
-    return parse_range(text, name=name)
+    if positive is None:
+        positive = name == "eta"
+    return parse_range(text, name=name, positive=_v.flag("positive", positive))
 
 
 #: range values from this magnitude on are not rounded to 12 decimals (below a float's
