@@ -278,3 +278,18 @@ def test_continuations_on_workers_and_resumed_are_the_serial_ones(tmp_path):
                                          eb.stable, eb.same_impacts)
             for name in ("values", "stable_points", "impacts", "abs_max"):
                 assert np.array_equal(getattr(ea, name), getattr(eb, name)), name
+
+
+def test_the_file_says_which_orbit_rolls_on_the_retainer(tmp_path):
+    """Hypothesis: an orbit file keeps the permanent-contact flag (1 for the rolling P1
+    of fig10 at eta = 1.4, 0 for the impactless one), and it survives the NetCDF round
+    trip."""
+    system = vi.System(vi.presets.get("fig10").replace(eta=1.4))
+    seeds = np.array([[0.5213919, -0.88028323, 1.1388129, 0.65084732],
+                      [-0.12037702, 0.29749812, 0.00360356, -0.16846478]])
+    hunt = hunt_orbits(system, [1], seeds=seeds, random=0, continuation=False)
+    ds = hunt_to_dataset(hunt, system)
+    write_orbits(ds, tmp_path / "o.nc")
+    back = read_orbits(tmp_path / "o.nc")
+    flags = dict(zip(back["label"].values, back["permanent_contact"].values))
+    assert flags == {"P1, permanent contact, stable": 1, "P1, 0 impacts, stable": 0}

@@ -68,6 +68,11 @@ def _orbit_vars(orbits, d):
                  dict(long_name="where the impacts fall, in words")),
         "stable": ("orbit", np.array([o.stable for o in orbits], dtype="i1"),
                    dict(long_name="orbit stable (every |mu| < 1)", **_FLAG)),
+        "permanent_contact": ("orbit", np.array([o.permanent for o in orbits], dtype="i1"),
+                              dict(long_name="no impact, in contact throughout (rolling "
+                                             "or whirling on the retainer)",
+                                   flag_values=np.array([0, 1], dtype="i1"),
+                                   flag_meanings="not_permanent permanent_contact")),
         "label": ("orbit", np.array([o.label for o in orbits], dtype=object),
                   dict(long_name="period, impacts per period and stability")),
         "orbit_point": (("orbit", "phase", "state"), pts, dict(one, long_name=(
@@ -161,7 +166,7 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
     -------
     xarray.Dataset
         Per orbit: ``period``, ``impacts_per_period``, ``n_arcs``, ``arcs``, ``stable``
-        (flag), ``label``, ``orbit_point`` (orbit, phase, state), ``floquet_real``,
+        (flag), ``permanent_contact`` (flag), ``label``, ``orbit_point`` (orbit, phase, state), ``floquet_real``,
         ``floquet_imag`` (orbit, multiplier), ``floquet_abs_max``, ``residual``,
         ``found_as``, ``seed_index``; the intervals ``exists_lo``, ``exists_hi``,
         ``exists_lo_reason``, ``exists_hi_reason``, ``stable_lo``, ``stable_hi``
