@@ -28,8 +28,9 @@ plot_orbits(hunt_to_dataset(hunt, vi.System(duffing)))
 # Coexisting orbits of the rotor at fig11, eta = 1.06
 # ---------------------------------------------------
 # Random simulations settle here on a P8 with 11 impacts or a P14 with 21.  The hunt
-# finds both, and the unstable orbits around them; each orbit's bar shows where it
-# exists (solid: stable, dashed: unstable) within +-0.005 of the hunt's eta.
+# finds both (and whatever unstable orbits of these periods its seeds lead to); each
+# orbit's bar shows where it exists (solid: stable, dashed: unstable) within +-0.005 of
+# the hunt's eta.
 p = vi.presets.get("fig11").replace(eta=1.06)
 hunt = vi.hunt_orbits(p, periods=[6, 8, 14], random=12, seed=0, window=0.005)
 print("\n".join(hunt.table()))
