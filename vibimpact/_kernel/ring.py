@@ -1,0 +1,316 @@
+"""The rotor of eq. (5) with a turning retainer ring, as a kernel model (all ``@njit``).
+
+State ``y = (X, Y, X', Y', Vr)``: the rotor of :mod:`.rotor` plus ``Vr``, the speed of the
+ring's inner surface (``r_i Omega_r`` in the units of ``X'``; positive along
+``e_t = (-Y, X)/R``).  Parameter vector ``p`` laid out as :data:`PARAM_NAMES`: the rotor's
+eleven entries in its order (so the rotor's force functions read this vector as theirs),
+then the ring's inertia ``Jr`` (``J / (m r_i^2)``), the viscous drag ``cr`` and the Coulomb
+drag ``Mr`` of the ring's bearing (both as tangential forces at the inner surface).
+
+The contact's friction and tangential damping act on the *slip* velocity
+``v_s = L/R + Rr eta - Vr`` (shaft surface minus ring surface), and their reaction drives
+the ring::
+
+    T   = -BT v_s - f F_r sgn(v_s)                  (tangential force on the rotor)
+    Jr Vr' = -T - cr Vr - Mr sgn(Vr)
+
+The discrete mode has three entries:
+
+``mode[0]``
+    0 = free flight, 1 = contact (``R > 1``).
+``mode[1]``
+    contact friction: +1 / -1 slipping with ``v_s`` of that sign, 0 sticking (rolling
+    without slip, the Filippov sliding mode on ``v_s = 0``).
+``mode[2]``
+    the ring's bearing: +1 / -1 turning with ``Vr`` of that sign, 0 stuck (``Vr = 0``);
+    always +1 when ``Mr = 0`` (no Coulomb torque, nothing to stick).
+
+Stick forces (Filippov 1988; Leine & Nijmeijer 2004, ch. 2): with ``T0`` the force that
+holds the rotor's own ``v_t`` (:func:`.rotor._stick_force`) and ``D = cr Vr + Mr s_r`` the
+ring's drag, ``dv_s/dtau = T - T0 - Vr' = 0`` gives ``T = (T0 - D/Jr) / (1 + 1/Jr)`` for a
+turning ring and ``T = T0`` for a stuck one.  Contact stick holds while
+``|T + BT v_s| <= f F_r``; the ring's bearing holds while ``|T| <= Mr``.
+
+=====  ====================================================  ==========
+index  switching function                                    kind
+=====  ====================================================  ==========
+0      free: ``1 - R``; contact: ``R - 1``                     terminal
+1      slip: ``s_c v_s``; stick: ``f F_r - |T + BT v_s|``;     terminal
+       inactive (1) out of contact, for ``f = 0`` or ``eps > 0``
+2      turning: ``s_r Vr``; stuck: ``Mr - |T|``; inactive     terminal
+       (1) for ``Mr = 0``
+3      ``dR/dtau`` (extrema of ``R``)                          observer
+=====  ====================================================  ==========
+
+The Jacobian is taken by central differences of the right-hand side within a mode
+(:func:`jac`); the saltation matrices at every switch are the generic ones of
+:mod:`.variational`.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .jitopts import ALLOC, INNER, LEAF
+from .registry import KernelModel
+from .rotor import (I_BT, I_EPS, I_ETA, I_F, I_RR, _external, _geometry, _normal_force,
+                    _stick_force)
+from .rotor import step_cap as _rotor_step_cap
+from .variational import fd_step, saltation_transition, tangent_rhs
+
+PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps",
+               "Jr", "cr", "Mr")
+I_JR, I_CR, I_MR = 11, 12, 13
+
+N_STATE = 5
+N_MODE = 3
+TERMINAL = np.array([1, 1, 1, 0], dtype=np.int64)
+
+SW_CONTACT = 0
+SW_FRICTION = 1
+SW_RING = 2
+SW_EXTREMUM = 3
+
+
+@njit(**INNER)
+def _sticks(p):
+    """Whether contact friction is exact Coulomb friction (Filippov stick possible)."""
+    return p[I_F] > 0.0 and p[I_EPS] == 0.0
+
+
+@njit(**INNER)
+def _forces(s, y, p, contact, sc, sr):
+    """Tangential force on the rotor, the ring's acceleration and what the switches read.
+
+    Returns ``(T, Vr', F_r, v_s, lam)`` in the mode ``(contact, sc, sr)``; ``lam = T + BT
+    v_s`` is the friction part of ``T``.
+    """
+    W = y[4]
+    Jr = p[I_JR]
+    drag = p[I_CR] * W
+    ring_stuck = sr == 0 and p[I_MR] > 0.0
+    if p[I_MR] > 0.0 and not ring_stuck:
+        drag += p[I_MR] * sr
+    if contact != 1:
+        if ring_stuck:
+            return 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, -drag / Jr, 0.0, 0.0, 0.0
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    Fr, _, _ = _normal_force(R, Rd, p)
+    vs = vt - W
+    if sc == 0 and _sticks(p):
+        T0 = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+        if ring_stuck:
+            T = T0
+        else:
+            T = (T0 - drag / Jr) / (1.0 + 1.0 / Jr)
+    else:
+        T = -p[I_BT] * vs
+        if p[I_F] > 0.0:
+            if p[I_EPS] > 0.0:
+                T -= p[I_F] * Fr * math.tanh(vs / p[I_EPS])
+            else:
+                T -= p[I_F] * Fr * sc
+    if ring_stuck:
+        Wd = 0.0
+    else:
+        Wd = (-T - drag) / Jr
+    return T, Wd, Fr, vs, T + p[I_BT] * vs
+
+
+@njit(**LEAF)
+def rhs(s, y, p, mode, out):
+    """Right-hand side in the given mode; writes ``out`` (shape (5,))."""
+    ax, ay = _external(s, y, p)
+    T, Wd, Fr, vs, lam = _forces(s, y, p, mode[0], mode[1], mode[2])
+    if mode[0] == 1:
+        R, nx, ny, Rd, vt = _geometry(y, p)
+        ax += -Fr * nx - T * ny
+        ay += -Fr * ny + T * nx
+    out[0] = y[2]
+    out[1] = y[3]
+    out[2] = ax
+    out[3] = ay
+    out[4] = Wd
+
+
+@njit(**ALLOC)
+def jac(s, y, p, mode, J):
+    """Jacobian ``d rhs / d y`` in the given mode by central differences (step
+    :func:`.variational.fd_step` of each entry); writes ``J`` (shape (5, 5))."""
+    yp = y[:N_STATE].copy()
+    fp = np.empty(N_STATE)
+    fm = np.empty(N_STATE)
+    for j in range(N_STATE):
+        d = fd_step(y[j])
+        yp[j] = y[j] + d
+        rhs(s, yp, p, mode, fp)
+        yp[j] = y[j] - d
+        rhs(s, yp, p, mode, fm)
+        yp[j] = y[j]
+        for i in range(N_STATE):
+            J[i, j] = (fp[i] - fm[i]) / (2.0 * d)
+
+
+@njit(**LEAF)
+def switches(s, y, p, mode, g):
+    """Switching functions (see module docstring); writes ``g`` (shape (4,))."""
+    R, nx, ny, Rd, vt = _geometry(y, p)
+    T, Wd, Fr, vs, lam = _forces(s, y, p, mode[0], mode[1], mode[2])
+    if mode[0] == 1:
+        g[0] = R - 1.0
+        if _sticks(p):
+            g[1] = p[I_F] * Fr - abs(lam) if mode[1] == 0 else mode[1] * vs
+        else:
+            g[1] = 1.0
+    else:
+        g[0] = 1.0 - R
+        g[1] = 1.0
+    if p[I_MR] > 0.0:
+        g[2] = p[I_MR] - abs(T) if mode[2] == 0 else mode[2] * y[4]
+    else:
+        g[2] = 1.0
+    g[3] = Rd
+
+
+@njit(**INNER)
+def _zero(v, p):
+    """Whether a slip or ring speed counts as zero at an event (the rotor's tolerance)."""
+    return abs(v) <= 1e-9 * (1.0 + abs(p[I_RR] * p[I_ETA]))
+
+
+@njit(**INNER)
+def _sign(v):
+    return 1 if v > 0.0 else -1
+
+
+@njit(**INNER)
+def _consistent(s, y, p, contact, sc, sr, free_c, free_r):
+    """Whether mode ``(contact, sc, sr)`` is Filippov-consistent at ``y``: a stick holds
+    within its cone; a slip chosen at zero speed (``free_c``, ``free_r``) accelerates
+    the speed in its own direction."""
+    T, Wd, Fr, vs, lam = _forces(s, y, p, contact, sc, sr)
+    if contact == 1 and _sticks(p):
+        if sc == 0:
+            if abs(lam) > p[I_F] * Fr:
+                return False
+        elif free_c:
+            R, nx, ny, Rd, vt = _geometry(y, p)
+            T0 = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+            if sc * (T - T0 - Wd) <= 0.0:
+                return False
+    if p[I_MR] > 0.0:
+        if sr == 0:
+            if abs(T) > p[I_MR]:
+                return False
+        elif free_r and sr * Wd <= 0.0:
+            return False
+    return True
+
+
+@njit(**INNER)
+def _choose(s, y, p, mode, no_stick_c, no_stick_r):
+    """Filippov choice of the friction and ring modes at a state (``mode[0]`` given).
+
+    A speed that is not zero fixes its mode's sign.  At zero speed stick is preferred
+    where it holds (``no_stick_c`` / ``no_stick_r``: the stick has just ended, so the
+    mode leaves it); otherwise the direction the unbalanced force drives.  With both
+    speeds free, the four combinations are tried in the order stick/stick,
+    stick/turn, slip/stick, slip/turn.
+    """
+    contact = mode[0]
+    W = y[4]
+    # the ring's candidates
+    if p[I_MR] <= 0.0:
+        r_opts = (1, 1, 1)
+        n_r = 1
+        free_r = False
+    elif not _zero(W, p):
+        r_opts = (_sign(W), 0, 0)
+        n_r = 1
+        free_r = False
+    else:
+        r_opts = (0, 1, -1)
+        n_r = 3
+        free_r = True
+        if no_stick_r:
+            # the bearing lets go: the ring turns the way the contact's torque drives it
+            T, Wd, Fr, vs, lam = _forces(s, y, p, contact, mode[1], 0)
+            r_opts = (-_sign(T), 0, 0)
+            n_r = 1
+    # the contact's candidates
+    if contact != 1 or not _sticks(p):
+        c_opts = (0, 0, 0)
+        n_c = 1
+        free_c = False
+    else:
+        R, nx, ny, Rd, vt = _geometry(y, p)
+        vs = vt - W
+        if not _zero(vs, p):
+            c_opts = (_sign(vs), 0, 0)
+            n_c = 1
+            free_c = False
+        else:
+            c_opts = (0, 1, -1)
+            n_c = 3
+            free_c = True
+            if no_stick_c:
+                T, Wd, Fr, vs, lam = _forces(s, y, p, contact, 0, r_opts[0])
+                c_opts = (-_sign(lam), 0, 0)
+                n_c = 1
+    for i in range(n_c):
+        for j in range(n_r):
+            if _consistent(s, y, p, contact, c_opts[i], r_opts[j], free_c, free_r):
+                mode[1] = c_opts[i]
+                mode[2] = r_opts[j]
+                return
+    # no candidate holds strictly (a corner of the cones): the first one that does not
+    # stick, in the direction the stick force points
+    sc = c_opts[0]
+    sr = r_opts[0]
+    if free_c and sc == 0:
+        T, Wd, Fr, vs, lam = _forces(s, y, p, contact, 0, sr)
+        sc = -_sign(lam)
+    if free_r and sr == 0:
+        T, Wd, Fr, vs, lam = _forces(s, y, p, contact, sc, 0)
+        sr = -_sign(T)
+    mode[1] = sc
+    mode[2] = sr
+
+
+@njit(**LEAF)
+def init_mode(s, y, p, mode):
+    """Mode consistent with a state (contact iff ``R > 1``; Filippov choice of the
+    friction and ring modes)."""
+    R = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    mode[0] = 1 if R > 1.0 else 0
+    mode[1] = 0
+    mode[2] = 1
+    _choose(s, y, p, mode, False, False)
+
+
+@njit(**LEAF)
+def transition(s, y, p, mode, which):
+    """Mode change at a located event of terminal switch ``which``."""
+    if which == SW_CONTACT:
+        mode[0] = 0 if mode[0] == 1 else 1
+        mode[1] = 0
+        _choose(s, y, p, mode, False, False)
+    elif which == SW_FRICTION:
+        _choose(s, y, p, mode, mode[1] == 0, False)
+    elif which == SW_RING:
+        _choose(s, y, p, mode, False, mode[2] == 0)
+
+
+@njit(**INNER)
+def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
+    """The rotor's Hertz step cap (:func:`.rotor.step_cap`; the contact is the rotor's)."""
+    return _rotor_step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out)
+
+
+KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
+                           init_mode=init_mode, var_rhs=tangent_rhs(rhs, jac, N_STATE),
+                           var_transition=saltation_transition(rhs, switches, transition,
+                                                               N_STATE, TERMINAL.size),
+                           step_cap=step_cap, n_state=N_STATE, n_mode=N_MODE,
+                           terminal=TERMINAL, param_names=PARAM_NAMES)
