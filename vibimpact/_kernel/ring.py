@@ -26,7 +26,7 @@ The discrete mode has three entries:
     always +1 when ``Mr = 0`` (no Coulomb torque, nothing to stick).
 
 Stick forces (Filippov 1988; Leine & Nijmeijer 2004, ch. 2): with ``T0`` the force that
-holds the rotor's own ``v_t`` (:func:`.rotor._stick_force`) and ``D = cr Vr + Mr s_r`` the
+holds the rotor's own ``v_t`` (:func:`.rotor.stick_force`) and ``D = cr Vr + Mr s_r`` the
 ring's drag, ``dv_s/dtau = T - T0 - Vr' = 0`` gives ``T = (T0 - D/Jr) / (1 + 1/Jr)`` for a
 turning ring and ``T = T0`` for a stuck one.  Contact stick holds while
 ``|T + BT v_s| <= f F_r``; the ring's bearing holds while ``|T| <= Mr``.
@@ -53,8 +53,8 @@ from numba import njit
 
 from .jitopts import ALLOC, INNER, LEAF
 from .registry import KernelModel
-from .rotor import (I_BT, I_EPS, I_ETA, I_F, I_RR, _external, _geometry, _normal_force,
-                    _stick_force)
+from .rotor import (I_BT, I_EPS, I_ETA, I_F, I_RR, external_force, geometry, normal_force,
+                    stick_force)
 from .rotor import step_cap as _rotor_step_cap
 from .variational import fd_step, saltation_transition, tangent_rhs
 
@@ -95,11 +95,11 @@ def _forces(s, y, p, contact, sc, sr):
         if ring_stuck:
             return 0.0, 0.0, 0.0, 0.0, 0.0
         return 0.0, -drag / Jr, 0.0, 0.0, 0.0
-    R, nx, ny, Rd, vt = _geometry(y, p)
-    Fr, _, _ = _normal_force(R, Rd, p)
+    R, nx, ny, Rd, vt = geometry(y, p)
+    Fr, _, _ = normal_force(R, Rd, p)
     vs = vt - W
     if sc == 0 and _sticks(p):
-        T0 = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+        T0 = stick_force(s, y, p, R, nx, ny, Rd, vt)
         if ring_stuck:
             T = T0
         else:
@@ -121,10 +121,10 @@ def _forces(s, y, p, contact, sc, sr):
 @njit(**LEAF)
 def rhs(s, y, p, mode, out):
     """Right-hand side in the given mode; writes ``out`` (shape (5,))."""
-    ax, ay = _external(s, y, p)
+    ax, ay = external_force(s, y, p)
     T, Wd, Fr, vs, lam = _forces(s, y, p, mode[0], mode[1], mode[2])
     if mode[0] == 1:
-        R, nx, ny, Rd, vt = _geometry(y, p)
+        R, nx, ny, Rd, vt = geometry(y, p)
         ax += -Fr * nx - T * ny
         ay += -Fr * ny + T * nx
     out[0] = y[2]
@@ -155,7 +155,7 @@ def jac(s, y, p, mode, J):
 @njit(**LEAF)
 def switches(s, y, p, mode, g):
     """Switching functions (see module docstring); writes ``g`` (shape (4,))."""
-    R, nx, ny, Rd, vt = _geometry(y, p)
+    R, nx, ny, Rd, vt = geometry(y, p)
     T, Wd, Fr, vs, lam = _forces(s, y, p, mode[0], mode[1], mode[2])
     if mode[0] == 1:
         g[0] = R - 1.0
@@ -195,8 +195,8 @@ def _consistent(s, y, p, contact, sc, sr, free_c, free_r):
             if abs(lam) > p[I_F] * Fr:
                 return False
         elif free_c:
-            R, nx, ny, Rd, vt = _geometry(y, p)
-            T0 = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+            R, nx, ny, Rd, vt = geometry(y, p)
+            T0 = stick_force(s, y, p, R, nx, ny, Rd, vt)
             if sc * (T - T0 - Wd) <= 0.0:
                 return False
     if p[I_MR] > 0.0:
@@ -244,7 +244,7 @@ def _choose(s, y, p, mode, no_stick_c, no_stick_r):
         n_c = 1
         free_c = False
     else:
-        R, nx, ny, Rd, vt = _geometry(y, p)
+        R, nx, ny, Rd, vt = geometry(y, p)
         vs = vt - W
         if not _zero(vs, p):
             c_opts = (_sign(vs), 0, 0)

@@ -58,7 +58,7 @@ SW_EXTREMUM = 2
 
 
 @njit(**INNER)
-def _geometry(y, p):
+def geometry(y, p):
     """Radius, unit normal, unit tangent, radial speed, tangential contact speed."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
     R = math.sqrt(X * X + Y * Y)
@@ -74,7 +74,7 @@ def _geometry(y, p):
 
 
 @njit(**INNER)
-def _normal_force(R, Rd, p):
+def normal_force(R, Rd, p):
     """Hertz force ``F_r = kh (R-1)^{3/2} (1 + Bh R')`` and its partials dF/dR, dF/dR'."""
     d = R - 1.0
     if d <= 0.0:
@@ -86,7 +86,7 @@ def _normal_force(R, Rd, p):
 
 
 @njit(**INNER)
-def _external(s, y, p):
+def external_force(s, y, p):
     """Forcing, weight and magnetic-support force (everything outside the contact)."""
     X, Y, U, V = y[0], y[1], y[2], y[3]
     eta = p[I_ETA]
@@ -99,7 +99,7 @@ def _external(s, y, p):
 
 
 @njit(**INNER)
-def _stick_force(s, y, p, R, nx, ny, Rd, vt):
+def stick_force(s, y, p, R, nx, ny, Rd, vt):
     """Total tangential force that holds ``dv_t/dtau = 0`` (Filippov sliding)."""
     eta = p[I_ETA]
     amp = p[I_EC] * eta * eta
@@ -118,12 +118,12 @@ def rhs(s, y, p, mode, out):
 def rhs_mode(s, y, p, contact, friction, out):
     """:func:`rhs` with the two mode entries as scalars (for callers without a mode
     array, such as a C callback of an external integrator)."""
-    ax, ay = _external(s, y, p)
+    ax, ay = external_force(s, y, p)
     if contact == 1:
-        R, nx, ny, Rd, vt = _geometry(y, p)
-        Fr, _, _ = _normal_force(R, Rd, p)
+        R, nx, ny, Rd, vt = geometry(y, p)
+        Fr, _, _ = normal_force(R, Rd, p)
         if friction == 0 and p[I_F] > 0.0 and p[I_EPS] == 0.0:
-            T = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+            T = stick_force(s, y, p, R, nx, ny, Rd, vt)
         else:
             T = -p[I_BT] * vt
             if p[I_F] > 0.0:
@@ -161,8 +161,8 @@ def jac_rows(s, y, p, mode):
     j32 = 0.0
     if mode[0] != 1:
         return j20, j21, j22, j23, j30, j31, j32, j33
-    R, nx, ny, Rd, vt = _geometry(y, p)
-    Fr, dF_dR, dF_dRd = _normal_force(R, Rd, p)
+    R, nx, ny, Rd, vt = geometry(y, p)
+    Fr, dF_dR, dF_dRd = normal_force(R, Rd, p)
     # partials of the geometric quantities w.r.t. (X, Y, U, V)
     dR = (nx, ny, 0.0, 0.0)
     # dn/dx = (I - n n^T)/R ; e_t = (-ny, nx)
@@ -183,7 +183,7 @@ def jac_rows(s, y, p, mode):
         amp = p[I_EC] * eta * eta
         fx = amp * math.cos(eta * s) - B * U
         fy = amp * math.sin(eta * s) + p[I_G] - B * V
-        T = _stick_force(s, y, p, R, nx, ny, Rd, vt)
+        T = stick_force(s, y, p, R, nx, ny, Rd, vt)
         w = (vt - p[I_RR] * eta) / R  # = L / R^2
         # T = w Rd - (-ny fx + nx fy);  w = L/R^2
         dL = (V, -U, -Y, X)
@@ -298,7 +298,7 @@ def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
     """
     if mode[0] != 1 or p[I_KH] <= 0.0:
         return 1e300
-    R, nx, ny, Rd, vt = _geometry(y, p)
+    R, nx, ny, Rd, vt = geometry(y, p)
     f = p[I_F]
     # scaled norm of a unit velocity error along the normal plus f times the tangent
     sx = atol + rtol * abs(y[2])
@@ -334,13 +334,13 @@ def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
 @njit(**LEAF)
 def switches(s, y, p, mode, g):
     """Switching functions (see module docstring); writes ``g`` (shape (3,))."""
-    R, nx, ny, Rd, vt = _geometry(y, p)
+    R, nx, ny, Rd, vt = geometry(y, p)
     if mode[0] == 1:
         g[0] = R - 1.0
         if p[I_F] > 0.0 and p[I_EPS] == 0.0:
             if mode[1] == 0:
-                Fr, _, _ = _normal_force(R, Rd, p)
-                lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+                Fr, _, _ = normal_force(R, Rd, p)
+                lam = stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
                 g[1] = p[I_F] * Fr - abs(lam)
             else:
                 g[1] = mode[1] * vt
@@ -360,9 +360,9 @@ def _friction_state(s, y, p):
     friction cone can hold the rotor (``|lambda| < f F_r``), otherwise slip in the
     direction the unbalanced tangential force drives it.
     """
-    R, nx, ny, Rd, vt = _geometry(y, p)
-    Fr, _, _ = _normal_force(R, Rd, p)
-    lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+    R, nx, ny, Rd, vt = geometry(y, p)
+    Fr, _, _ = normal_force(R, Rd, p)
+    lam = stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
     if abs(vt) > 1e-9 * (1.0 + abs(p[I_RR] * p[I_ETA])):
         return 1 if vt > 0.0 else -1
     if abs(lam) < p[I_F] * Fr:
@@ -393,9 +393,9 @@ def transition(s, y, p, mode, which):
             if p[I_F] > 0.0 and p[I_EPS] == 0.0:
                 mode[1] = _friction_state(s, y, p)
     elif which == SW_FRICTION:
-        R, nx, ny, Rd, vt = _geometry(y, p)
-        Fr, _, _ = _normal_force(R, Rd, p)
-        lam = _stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
+        R, nx, ny, Rd, vt = geometry(y, p)
+        Fr, _, _ = normal_force(R, Rd, p)
+        lam = stick_force(s, y, p, R, nx, ny, Rd, vt) + p[I_BT] * vt
         if mode[1] == 0:
             mode[1] = -1 if lam > 0.0 else 1
         elif abs(lam) < p[I_F] * Fr:
