@@ -224,3 +224,23 @@ def test_bad_arguments_raise_value_error_naming_them(call, name):
     """Invalid arguments raise ValueError naming the argument (a System is required)."""
     with pytest.raises(ValueError, match=name):
         call(System(preset("fig8")))
+
+
+def test_a_direction_annihilated_by_a_stick_phase_has_exponent_minus_infinity():
+    """A tangent direction that a Filippov stick phase projects to zero (the ring model's
+    speed while its bearing holds the ring: the saltation matrix of the sliding surface
+    removes it) has log |R_cc| = -inf every period: its exponent is -inf with error 0, the
+    other exponents are finite, and no invalid-value warning is raised on the way."""
+    import warnings
+
+    s = System(vi.presets.get("fig8-ring").replace(eta=1.2))
+    # fig8 has no friction and no tangential damping: nothing drives the ring, whose
+    # bearing (Mr > 0) holds it; its speed's tangent direction is projected out
+    av = Averaging(transient=20, min_periods=100, max_periods=100, block=20, align=20)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = vi.analysis.lyapunov_spectrum(s, state0=[0.9, 0.3, 0.0, 0.0, 0.0], averaging=av)
+    lam = np.asarray(res.exponents)
+    assert np.isneginf(lam).sum() == 1 and np.isneginf(lam[-1])
+    assert np.all(np.isfinite(lam[:-1]))
+    assert np.asarray(res.stderr)[-1] == 0.0

@@ -336,7 +336,10 @@ class Solver:
         y[:n] = x0
         for c in range(tangents):
             y[n + c * n + c] = 1.0
-        self._start(system, settings, options, y, variational=True, x0=x0)
+        # a built-in model's init_mode sees the tangent vectors, to project those that a
+        # start in a sliding mode annihilates (the ring model's stuck bearing)
+        self._start(system, settings, options, y, variational=True,
+                    x0=None if system.model.builtin else x0)
         self.clock = _kb.new_clock(self.problem, options, h0=first_step, steps=False)
         return self
 

@@ -23,6 +23,7 @@ def renormalise(y, n, bound, logs, states, j):
     and stored as row ``j`` of ``states``; the ``m`` tangent columns ``y[n + c n : n +
     (c + 1) n]`` are replaced by the columns of ``Q`` of their QR factorisation, signed
     so that ``R`` has a positive diagonal, and ``log |R_cc|`` goes to ``logs[j, c]``
+    (a column with ``R_cc = 0``, a direction the flow annihilated, stays zero: ``-inf``)
     (Benettin, Galgani, Giorgilli & Strelcyn 1980, Meccanica 15, 9-30).  Returns the
     status.
     """
@@ -38,7 +39,15 @@ def renormalise(y, n, bound, logs, states, j):
     q, r = qr(Q)
     for c in range(m):
         rc = r[c, c]
-        logs[j, c] = math.log(abs(rc)) if rc != 0.0 else -np.inf
+        if rc == 0.0:
+            # a direction the flow has annihilated (a saltation matrix onto a sliding
+            # surface that attracts in finite time): it stays lost -- Q's column would be
+            # an arbitrary complement, and integrating it would invent an exponent
+            logs[j, c] = -np.inf
+            for i in range(n):
+                y[n + c * n + i] = 0.0
+            continue
+        logs[j, c] = math.log(abs(rc))
         sg = 1.0 if rc >= 0.0 else -1.0
         for i in range(n):
             y[n + c * n + i] = sg * q[i, c]

@@ -185,16 +185,22 @@ def _sign(v):
 
 
 @njit(**INNER)
-def _consistent(s, y, p, contact, sc, sr, free_c, free_r):
-    """Whether mode ``(contact, sc, sr)`` is Filippov-consistent at ``y``: a stick holds
-    within its cone; a slip chosen at zero speed (``free_c``, ``free_r``) accelerates
-    the speed in its own direction."""
+def _consistent(s, y, p, contact, sc, sr, test_c, test_r):
+    """Whether mode ``(contact, sc, sr)`` is Filippov-consistent at ``y``.
+
+    A stick holds within its cone (``|T + BT v_s| <= f F_r``; a stuck ring:
+    ``|T| <= Mr``).  A slip or turn chosen at (nearly) zero speed (``test_c``,
+    ``test_r``) must have its switching function positive: the speed is of its sign
+    already, or it is exactly zero and accelerates that way.
+    """
     T, Wd, Fr, vs, lam = _forces(s, y, p, contact, sc, sr)
     if contact == 1 and _sticks(p):
         if sc == 0:
             if abs(lam) > p[I_F] * Fr:
                 return False
-        elif free_c:
+        elif test_c and sc * vs <= 0.0:
+            if vs != 0.0:
+                return False
             R, nx, ny, Rd, vt = geometry(y, p)
             T0 = stick_force(s, y, p, R, nx, ny, Rd, vt)
             if sc * (T - T0 - Wd) <= 0.0:
@@ -203,90 +209,119 @@ def _consistent(s, y, p, contact, sc, sr, free_c, free_r):
         if sr == 0:
             if abs(T) > p[I_MR]:
                 return False
-        elif free_r and sr * Wd <= 0.0:
-            return False
+        elif test_r and sr * y[4] <= 0.0:
+            if y[4] != 0.0 or sr * Wd <= 0.0:
+                return False
     return True
 
 
 @njit(**INNER)
 def _choose(s, y, p, mode, no_stick_c, no_stick_r):
-    """Filippov choice of the friction and ring modes at a state (``mode[0]`` given).
+    """Filippov choice of the friction and ring modes at a state (``mode[0]`` given;
+    ``mode[1:]`` the modes before the event).
 
-    A speed that is not zero fixes its mode's sign.  At zero speed stick is preferred
-    where it holds (``no_stick_c`` / ``no_stick_r``: the stick has just ended, so the
-    mode leaves it); otherwise the direction the unbalanced force drives.  With both
-    speeds free, the four combinations are tried in the order stick/stick,
-    stick/turn, slip/stick, slip/turn.
+    A speed beyond the zero tolerance fixes its mode's sign.  Within it, stick is
+    preferred where its cone holds; otherwise a slip (turn) of the speed's own sign --
+    or, at exactly zero speed, of the sign it accelerates to.  A stick that has just
+    broken (``no_stick_c`` / ``no_stick_r``: its cone's switch fired) leaves in the
+    direction its force points, as in :func:`.rotor.transition`.  With both speeds
+    free, the combinations are tried stick/stick, stick/turn, slip/stick, slip/turn;
+    when none holds strictly (a corner of the cones, equal to rounding) the contact
+    slips the way its stick force points and the ring stays stuck if its bearing holds.
     """
     contact = mode[0]
     W = y[4]
     # the ring's candidates
+    test_r = False
     if p[I_MR] <= 0.0:
         r_opts = (1, 1, 1)
         n_r = 1
-        free_r = False
     elif not _zero(W, p):
         r_opts = (_sign(W), 0, 0)
         n_r = 1
-        free_r = False
+    elif no_stick_r:
+        T, Wd, Fr, vs, lam = _forces(s, y, p, contact, mode[1], 0)
+        r_opts = (-_sign(T), 0, 0)
+        n_r = 1
+    elif W != 0.0:
+        r_opts = (0, _sign(W), 0)
+        n_r = 2
+        test_r = True
     else:
         r_opts = (0, 1, -1)
         n_r = 3
-        free_r = True
-        if no_stick_r:
-            # the bearing lets go: the ring turns the way the contact's torque drives it
-            T, Wd, Fr, vs, lam = _forces(s, y, p, contact, mode[1], 0)
-            r_opts = (-_sign(T), 0, 0)
-            n_r = 1
+        test_r = True
     # the contact's candidates
+    test_c = False
     if contact != 1 or not _sticks(p):
         c_opts = (0, 0, 0)
         n_c = 1
-        free_c = False
     else:
         R, nx, ny, Rd, vt = geometry(y, p)
         vs = vt - W
         if not _zero(vs, p):
             c_opts = (_sign(vs), 0, 0)
             n_c = 1
-            free_c = False
+        elif no_stick_c:
+            T, Wd, Fr, vs2, lam = _forces(s, y, p, contact, 0, mode[2])
+            c_opts = (-_sign(lam), 0, 0)
+            n_c = 1
+        elif vs != 0.0:
+            c_opts = (0, _sign(vs), 0)
+            n_c = 2
+            test_c = True
         else:
             c_opts = (0, 1, -1)
             n_c = 3
-            free_c = True
-            if no_stick_c:
-                T, Wd, Fr, vs, lam = _forces(s, y, p, contact, 0, r_opts[0])
-                c_opts = (-_sign(lam), 0, 0)
-                n_c = 1
+            test_c = True
     for i in range(n_c):
         for j in range(n_r):
-            if _consistent(s, y, p, contact, c_opts[i], r_opts[j], free_c, free_r):
+            if _consistent(s, y, p, contact, c_opts[i], r_opts[j], test_c, test_r):
                 mode[1] = c_opts[i]
                 mode[2] = r_opts[j]
                 return
-    # no candidate holds strictly (a corner of the cones): the first one that does not
-    # stick, in the direction the stick force points
     sc = c_opts[0]
+    if test_c and sc == 0:
+        T, Wd, Fr, vs, lam = _forces(s, y, p, contact, 0, mode[2])
+        if abs(lam) > p[I_F] * Fr:
+            sc = -_sign(lam)
     sr = r_opts[0]
-    if free_c and sc == 0:
-        T, Wd, Fr, vs, lam = _forces(s, y, p, contact, 0, sr)
-        sc = -_sign(lam)
-    if free_r and sr == 0:
+    if test_r:
         T, Wd, Fr, vs, lam = _forces(s, y, p, contact, sc, 0)
-        sr = -_sign(T)
+        sr = 0 if abs(T) <= p[I_MR] else -_sign(T)
     mode[1] = sc
     mode[2] = sr
+
+
+@njit(**INNER)
+def _stop_ring(y, p, mode):
+    """A stuck ring stands still: its speed, zero to the tolerance at the event that
+    stuck it, is set to 0 exactly (so that it stays 0, not a residue of 1e-12)."""
+    if mode[2] == 0 and p[I_MR] > 0.0:
+        y[4] = 0.0
 
 
 @njit(**LEAF)
 def init_mode(s, y, p, mode):
     """Mode consistent with a state (contact iff ``R > 1``; Filippov choice of the
-    friction and ring modes)."""
+    friction and ring modes).
+
+    Given a variational state (``y.size = 5 (1 + m)``: tangent vectors after the state),
+    a start with the ring stuck also removes the tangents' ``Vr`` component: the stuck
+    bearing is a sliding surface that attracts in finite time (a ring nudged to speed
+    ``dVr`` stops again within ``Jr |dVr| / Mr``), so the flow's derivative along it is
+    zero -- the projection that the saltation matrix applies when the ring sticks
+    during a run (without it a stuck ring would add a spurious multiplier 1).
+    """
     R = math.sqrt(y[0] * y[0] + y[1] * y[1])
     mode[0] = 1 if R > 1.0 else 0
     mode[1] = 0
     mode[2] = 1
     _choose(s, y, p, mode, False, False)
+    _stop_ring(y, p, mode)
+    if mode[2] == 0 and p[I_MR] > 0.0:
+        for b in range(N_STATE, y.size, N_STATE):
+            y[b + 4] = 0.0
 
 
 @njit(**LEAF)
@@ -300,6 +335,7 @@ def transition(s, y, p, mode, which):
         _choose(s, y, p, mode, mode[1] == 0, False)
     elif which == SW_RING:
         _choose(s, y, p, mode, False, mode[2] == 0)
+    _stop_ring(y, p, mode)
 
 
 @njit(**INNER)

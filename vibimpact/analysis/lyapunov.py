@@ -87,10 +87,16 @@ def _estimate(logs, T, block):
     # the last axis named: fewer periods than a block leave no block (and no -1 to infer)
     means = logs[: nb * block].reshape(nb, block, logs.shape[1]).mean(axis=1) / T
     lam = logs.mean(axis=0) / T
+    # a tangent direction that a Filippov stick phase annihilates (the sliding surface's
+    # saltation matrix projects it out: a stuck ring's speed, a sticking contact) has
+    # log |R_cc| = -inf: its exponent is -inf exactly, with no error to estimate
+    lost = np.isneginf(lam)
     if nb >= 2:
-        err = means.std(axis=0, ddof=1) / math.sqrt(nb)
+        with np.errstate(invalid="ignore"):
+            err = means.std(axis=0, ddof=1) / math.sqrt(nb)
     else:
         err = np.full(logs.shape[1], np.inf)
+    err[lost] = 0.0
     history = np.cumsum(means, axis=0) / np.arange(1, nb + 1)[:, None]
     return lam, err, history
 
