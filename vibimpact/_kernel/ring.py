@@ -185,21 +185,22 @@ def _sign(v):
 
 
 @njit(**INNER)
-def _consistent(s, y, p, contact, sc, sr, test_c, test_r):
+def _consistent(s, y, p, contact, sc, sr, test_c, test_r, exact_c):
     """Whether mode ``(contact, sc, sr)`` is Filippov-consistent at ``y``.
 
     A stick holds within its cone (``|T + BT v_s| <= f F_r``; a stuck ring:
     ``|T| <= Mr``).  A slip or turn chosen at (nearly) zero speed (``test_c``,
     ``test_r``) must have its switching function positive: the speed is of its sign
-    already, or it is exactly zero and accelerates that way.
+    already, or it is exactly zero (``exact_c``: the slip speed has just crossed zero,
+    whatever residue of rounding it shows) and accelerates that way.
     """
     T, Wd, Fr, vs, lam = _forces(s, y, p, contact, sc, sr)
     if contact == 1 and _sticks(p):
         if sc == 0:
             if abs(lam) > p[I_F] * Fr:
                 return False
-        elif test_c and sc * vs <= 0.0:
-            if vs != 0.0:
+        elif test_c and (exact_c or sc * vs <= 0.0):
+            if vs != 0.0 and not exact_c:
                 return False
             R, nx, ny, Rd, vt = geometry(y, p)
             T0 = stick_force(s, y, p, R, nx, ny, Rd, vt)
@@ -216,7 +217,7 @@ def _consistent(s, y, p, contact, sc, sr, test_c, test_r):
 
 
 @njit(**INNER)
-def _choose(s, y, p, mode, no_stick_c, no_stick_r):
+def _choose(s, y, p, mode, no_stick_c, no_stick_r, exact_c):
     """Filippov choice of the friction and ring modes at a state (``mode[0]`` given;
     ``mode[1:]`` the modes before the event).
 
@@ -224,7 +225,9 @@ def _choose(s, y, p, mode, no_stick_c, no_stick_r):
     preferred where its cone holds; otherwise a slip (turn) of the speed's own sign --
     or, at exactly zero speed, of the sign it accelerates to.  A stick that has just
     broken (``no_stick_c`` / ``no_stick_r``: its cone's switch fired) leaves in the
-    direction its force points, as in :func:`.rotor.transition`.  With both speeds
+    direction its force points, as in :func:`.rotor.transition`; a slip whose speed has
+    just crossed zero (``exact_c``) counts it as zero, so it may stick or turn back
+    but never keeps the sign of its rounding residue.  With both speeds
     free, the combinations are tried stick/stick, stick/turn, slip/stick, slip/turn;
     when none holds strictly (a corner of the cones, equal to rounding) the contact
     slips the way its stick force points and the ring stays stuck if its bearing holds.
@@ -259,14 +262,14 @@ def _choose(s, y, p, mode, no_stick_c, no_stick_r):
     else:
         R, nx, ny, Rd, vt = geometry(y, p)
         vs = vt - W
-        if not _zero(vs, p):
+        if not exact_c and not _zero(vs, p):
             c_opts = (_sign(vs), 0, 0)
             n_c = 1
         elif no_stick_c:
             T, Wd, Fr, vs2, lam = _forces(s, y, p, contact, 0, mode[2])
             c_opts = (-_sign(lam), 0, 0)
             n_c = 1
-        elif vs != 0.0:
+        elif vs != 0.0 and not exact_c:
             c_opts = (0, _sign(vs), 0)
             n_c = 2
             test_c = True
@@ -276,7 +279,8 @@ def _choose(s, y, p, mode, no_stick_c, no_stick_r):
             test_c = True
     for i in range(n_c):
         for j in range(n_r):
-            if _consistent(s, y, p, contact, c_opts[i], r_opts[j], test_c, test_r):
+            if _consistent(s, y, p, contact, c_opts[i], r_opts[j], test_c, test_r,
+                           exact_c):
                 mode[1] = c_opts[i]
                 mode[2] = r_opts[j]
                 return
@@ -317,7 +321,7 @@ def init_mode(s, y, p, mode):
     mode[0] = 1 if R > 1.0 else 0
     mode[1] = 0
     mode[2] = 1
-    _choose(s, y, p, mode, False, False)
+    _choose(s, y, p, mode, False, False, False)
     _stop_ring(y, p, mode)
     if mode[2] == 0 and p[I_MR] > 0.0:
         for b in range(N_STATE, y.size, N_STATE):
@@ -330,11 +334,14 @@ def transition(s, y, p, mode, which):
     if which == SW_CONTACT:
         mode[0] = 0 if mode[0] == 1 else 1
         mode[1] = 0
-        _choose(s, y, p, mode, False, False)
+        _choose(s, y, p, mode, False, False, False)
     elif which == SW_FRICTION:
-        _choose(s, y, p, mode, mode[1] == 0, False)
+        # from stick: the cone broke; from a slip: the slip speed crossed zero
+        _choose(s, y, p, mode, mode[1] == 0, False, mode[1] != 0)
     elif which == SW_RING:
-        _choose(s, y, p, mode, False, mode[2] == 0)
+        if mode[2] != 0:
+            y[4] = 0.0  # the ring's speed crossed zero: it is zero, not its residue
+        _choose(s, y, p, mode, False, mode[2] == 0, False)
     _stop_ring(y, p, mode)
 
 
