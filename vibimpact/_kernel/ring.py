@@ -345,10 +345,24 @@ def transition(s, y, p, mode, which):
     _stop_ring(y, p, mode)
 
 
+#: shortest step the ring's stopping cap asks for (time units; a ring within it of
+#: stopping overshoots zero by at most its deceleration times this, and the event
+#: location finds the stop inside the step)
+RING_STOP_FLOOR = 1e-8
+
+
 @njit(**INNER)
 def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
-    """The rotor's Hertz step cap (:func:`.rotor.step_cap`; the contact is the rotor's)."""
-    return _rotor_step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out)
+    """The rotor's Hertz step cap (:func:`.rotor.step_cap`; the contact is the rotor's),
+    and a ring that its bearing's Coulomb torque decelerates stops within two steps'
+    worth of time: at most twice the time to its stop, ``-Vr / Vr'`` (Runge--Kutta is
+    exact for the ring's linear run-down, so its error test would accept a step that
+    carries ``Vr`` far past zero -- with a large ``Mr`` past the divergence bound --
+    before the event location sees the stop)."""
+    cap = _rotor_step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out)
+    if p[I_MR] > 0.0 and mode[2] != 0 and y[4] * f0[4] < 0.0:
+        cap = min(cap, max(2.0 * (-y[4] / f0[4]), RING_STOP_FLOOR))
+    return cap
 
 
 KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
