@@ -264,7 +264,9 @@ def test_stuck_ring_orbit_has_multiplier_zero():
     the monodromy of the period-1 orbit at eta = 1.06 has the multiplier 0 for the ring
     (not 1, and not a small number) besides eq. (5)'s four (to 1e-8), and the Lyapunov
     spectrum's last exponent is -inf, both as Floquet exponents (default) and as QR
-    averages."""
+    averages, with an error of 0 and no invalid-value warning on the way."""
+    import warnings
+
     p = ring("fig8", eta=1.06)
     orb = _orbit(p)
     mu = np.sort(np.abs(orb.multipliers))
@@ -274,10 +276,13 @@ def test_stuck_ring_orbit_has_multiplier_zero():
     np.testing.assert_allclose(mu[1:], np.sort(np.abs(eq5.multipliers)), rtol=0, atol=1e-8)
     np.testing.assert_allclose(orb.state[:4], eq5.state, rtol=0, atol=1e-8)
     for floquet in (True, False):
-        res = lyapunov_spectrum(vi.System(p), state0=orb.state, floquet=floquet,
-                                averaging=Averaging(transient=0, min_periods=300,
-                                                    max_periods=300))
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            res = lyapunov_spectrum(vi.System(p), state0=orb.state, floquet=floquet,
+                                    averaging=Averaging(transient=0, min_periods=300,
+                                                        max_periods=300))
         assert res.exponents[-1] == -np.inf and np.all(np.isfinite(res.exponents[:4]))
+        assert res.stderr[-1] == 0.0
 
 
 # -- 5. Filippov sanity --------------------------------------------------------------------

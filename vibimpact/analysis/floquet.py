@@ -92,7 +92,12 @@ def floquet_lyapunov(system: System, state0: ArrayLike, n: int = 1, *,
         orb.state, orb.n)
     err = np.full(m, np.inf)
     if loose.status is Status.OK and np.all(np.isfinite(loose.matrix)):
-        err = np.abs(floquet_exponents(floquet_multipliers(loose), orb.period)[:m] - lam)
+        lam_loose = floquet_exponents(floquet_multipliers(loose), orb.period)[:m]
+        with np.errstate(invalid="ignore"):
+            err = np.abs(lam_loose - lam)
+        # a multiplier that is 0 at both tolerances (a direction a sliding surface
+        # annihilates: a stuck ring, a rolling contact) is -inf exactly, with no error
+        err[np.isneginf(lam) & np.isneginf(lam_loose)] = 0.0
     if include_phase:
         idx = np.argsort(-np.append(lam, 0.0), kind="stable")
         lam, err = np.append(lam, 0.0)[idx], np.append(err, 0.0)[idx]
