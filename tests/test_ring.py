@@ -377,3 +377,25 @@ def test_out_of_range_ring_parameters_raise_naming_them(name, value):
         RingParams(**{name: value})
     with pytest.raises(ValueError, match=rf"^{name} must be"):
         vi.presets.get("fig11-ring").replace(**{name: value})
+
+
+def test_rolling_contact_orbit_has_exponent_minus_infinity_by_both_routes():
+    """Hypothesis: at fig11-ring, eta = 1.1, the period-1 orbit's contact rolls without
+    slip for part of each period (a sliding mode entered in finite time), so one Floquet
+    multiplier is zero to rounding (about 1e-16): the Floquet route reports its exponent
+    as -inf with error 0, as the QR route does, instead of ln(1e-16)/T, a number set by
+    rounding; the other four exponents are finite, and the routes agree on the largest
+    and on the sum of the four (the log of the volume contraction, which the QR average
+    of 300 periods resolves better than the pairs' split)."""
+    p = ring("fig11", eta=1.1)
+    x = vi.simulate(p, periods=1, transient=300, state0=X0 + [0.0]).final_state
+    orb = shoot_periodic_orbit(vi.System(p), x)
+    assert orb.converged and np.sort(np.abs(orb.multipliers))[0] < 1e-13
+    fl = lyapunov_spectrum(vi.System(p), state0=orb.state)
+    qr = lyapunov_spectrum(vi.System(p), state0=orb.state, floquet=False,
+                           averaging=Averaging(transient=0, min_periods=300, max_periods=300))
+    assert fl.exponents[-1] == -np.inf and fl.stderr[-1] == 0.0
+    assert qr.exponents[-1] == -np.inf
+    assert np.all(np.isfinite(fl.exponents[:4]))
+    assert abs(fl.exponents[0] - qr.exponents[0]) < 5e-4
+    assert abs(fl.exponents[:4].sum() - qr.exponents[:4].sum()) < 1e-4

@@ -166,17 +166,28 @@ def floquet_multipliers(M: ArrayLike) -> np.ndarray:
 def floquet_exponents(multipliers: ArrayLike, period: float) -> np.ndarray:
     """``ln|mu| / period``, descending: Lyapunov exponents of a periodic orbit.
 
+    A multiplier within :data:`ZERO_MULTIPLIER` of the largest one's modulus (or of 1)
+    is zero to the rounding of the monodromy matrix -- a direction that a sliding
+    surface attracting in finite time annihilates (a rolling contact, a stuck ring) --
+    and its exponent is ``-inf``, not a number that rounding sets.
+
     Parameters
     ----------
     multipliers : array_like of complex
     period : float
         The orbit's period in units of time (``n T``).
     """
-    mu = np.asarray(multipliers, dtype=complex).reshape(-1)
+    mu = np.abs(np.asarray(multipliers, dtype=complex).reshape(-1))
     period = _v.positive("period", period)
+    scale = max(1.0, float(mu.max())) if mu.size else 1.0
     with np.errstate(divide="ignore"):
-        lam = np.log(np.abs(mu)) / period
+        lam = np.where(mu <= ZERO_MULTIPLIER * scale, -np.inf, np.log(mu)) / period
     return np.sort(lam)[::-1]
+
+
+#: relative modulus below which a Floquet multiplier is zero to rounding (about 500
+#: units in the last place of the monodromy's entries of order 1)
+ZERO_MULTIPLIER = 1e-13
 
 
 def critical_multiplier(multipliers, tol_imag=1e-6):
