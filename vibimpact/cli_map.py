@@ -70,9 +70,10 @@ def parse_vary(text, preset_params):
                           f"got {text!r}")
     if name == "eta":
         raise UsageError("--vary: eta is the map's other axis; set its grid with --eta")
-    if name not in parameter_names():
+    known = parameter_names(preset_params)  # the preset's model's parameters
+    if name not in known:
         raise UsageError(f"--vary: unknown parameter {name!r}; choose one of "
-                          f"{', '.join(parameter_names())}")
+                          f"{', '.join(known)}")
     try:
         values = parse_range(spec, name=name, positive=False)
     except ValueError as exc:

@@ -79,10 +79,12 @@ examples:
   vibimpact plot fig8.nc --kind intervals --style paper -o intervals.pdf
   vibimpact plot p1.nc -o p1.png                 # a 'vibimpact continue' branch
   vibimpact plot fig8.nc --kind response --branch p1.nc -o overlay.png
+  vibimpact plot ring.nc --kind bifurcation --state Vr -o vr.png
 
 kinds:
   response     X_m and Y_m against eta, up/down sweeps, chaotic points marked (classify)
-  bifurcation  Poincare X and Y against eta (classify with poincare, or bifurcation)
+  bifurcation  Poincare X and Y against eta (classify with poincare, or bifurcation);
+               --state NAME[,NAME...] draws those states instead (a ring's speed Vr)
   intervals    coloured bands per regime along eta, one row per direction (classify)
   xy           the orbit in the (X, Y) clearance plane (a 'vibimpact simulate' file)
   map          regime, period, impacts, exponent over (eta, PARAM) ('vibimpact map';
@@ -251,25 +253,55 @@ def _missing(ds, path, what, analysis):
     return UsageError(f"{path!r} has no {what}: sweep with --analyses including {analysis}")
 
 
+def _states(args, ds, kind):
+    """``{"states": [...]}`` of ``--state`` for the bifurcation diagram, else ``{}``;
+    UsageError for another kind or a name the file holds no samples of."""
+    if args.state is None:
+        return {}
+    if kind != "bifurcation":
+        raise UsageError(f"--state names the states of a bifurcation diagram, not of "
+                         f"--kind {kind}")
+    from .plotting.poincare import poincare_variable
+
+    try:
+        names = [poincare_variable(ds, n)[1] for n in args.state.split(",")]
+    except ValueError as exc:
+        raise UsageError(f"--state: {error_text(exc)}") from None
+    if len(set(names)) != len(names):
+        raise UsageError(f"--state names a state twice: {args.state!r}")
+    return {"states": names}
+
+
+def _no_state(args, what):
+    """``args``, or UsageError when --state is given for a figure of ``what``."""
+    if args.state is not None:
+        raise UsageError(f"--state names the states of a sweep's bifurcation diagram; "
+                         f"{os.fspath(args.file)!r} is {what}")
+    return args
+
+
 def _cmd_plot(args):
     path = os.fspath(args.file)
     if args.branch and args.kind not in (None, "response"):
         raise UsageError(f"--branch draws over response curves, not --kind {args.kind}")
+    if args.state is not None and args.kind not in (None, "bifurcation"):
+        raise UsageError(f"--state names the states of a bifurcation diagram, not of "
+                         f"--kind {args.kind}")
     if args.kind == "map" or os.path.isdir(path):  # a parameter map ('vibimpact map')
         from .cli_map import plot_command
-        return plot_command(args)
+        return plot_command(_no_state(args, "a map"))
     ds = read_input(path)
     if "map_vary" in ds.attrs:
         from .cli_map import plot_command
-        return plot_command(args, ds)
+        return plot_command(_no_state(args, "a map"), ds)
     from .branches import is_branch_dataset
 
     if is_branch_dataset(ds):
         from .cli_continue import plot_command
-        return plot_command(args, ds)
+        return plot_command(_no_state(args, "a branch"), ds)
     if ds.attrs.get("kind") == "census":  # 'vibimpact attractors'
         from .cli_attractors import plot_command
-        return plot_command(args, ds)
+        return plot_command(_no_state(args, "a census"), ds)
     if args.kind == "census":
         raise UsageError(f"--kind census needs a 'vibimpact attractors' file; {path!r} is "
                          "not one")
@@ -283,6 +315,8 @@ def _cmd_plot(args):
     if what is None:
         raise UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
     kind = args.kind
+    if kind is None and args.state is not None and what == "sweep":
+        kind = "bifurcation"
     if kind is None:
         kind = "xy" if what == "run" else (
             "bifurcation" if not _has(ds, "X_m") and _has(ds, "poincare_X") else "response")
@@ -300,6 +334,7 @@ def _cmd_plot(args):
         raise _missing(ds, path, "Lyapunov exponents", "lyapunov")
     if args.branch and kind != "response":
         raise UsageError(f"--branch draws over response curves, not --kind {kind}")
+    states = _states(args, ds, kind)
     branches = []
     if args.branch:
         from .cli_continue import read_branches
@@ -322,7 +357,7 @@ def _cmd_plot(args):
                     "intervals": plotting.plot_intervals,
                     "poincare": plotting.plot_poincare,
                     "lyapunov": plotting.plot_lyapunov}[kind]
-            fig = draw(ds, **figure_options(args))
+            fig = draw(ds, **figure_options(args), **states)
             if branches:
                 from .plotting.branch import overlay_branches
                 overlay_branches(fig.axes[:2], branches,
@@ -405,6 +440,10 @@ def add_parsers(sub, fmt):
     p.add_argument("--branch", action="append", default=[], metavar="BRANCH.nc",
                    help="draw a branch of 'vibimpact continue' (in eta) over the response "
                         "curves (repeatable)")
+    p.add_argument("--state", default=None, metavar="NAME[,NAME...]",
+                   help="--kind bifurcation: the states drawn against eta, one panel each "
+                        "(state names of the model, e.g. Vr or X,Vr; X' is dX; default: "
+                        "the first two, X and Y)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing image")
     add_figure_options(p, "the image")
     p.set_defaults(func=_cmd_plot)

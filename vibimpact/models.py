@@ -70,6 +70,9 @@ class Model:
     presets : mapping, optional
         ``{name: (parameter values, description)}``: the model's named parameter sets
         (:func:`vibimpact.presets.get`).
+    state_text : mapping, optional
+        ``{state name: what it is, in words}``: written into files next to the state
+        (their ``state_<name>`` attribute, the ``long_name`` of its Poincaré samples).
     """
 
     name: str
@@ -89,6 +92,7 @@ class Model:
     contact: Contact = field(default=None, repr=False)
     plot: PlotSpec = field(default=None, repr=False)
     presets: Mapping = field(default_factory=dict, repr=False)
+    state_text: Mapping = field(default_factory=dict, repr=False)
 
     @property
     def builtin(self):
@@ -99,7 +103,8 @@ class Model:
     def builtin_model(cls, name: str, family: str, state_names: Sequence[str],
                       omega_index: int, param_set: type, *, bound: float = 1e3,
                       contact: Contact | None = None, plot: PlotSpec | None = None,
-                      presets: Mapping | None = None) -> Model:
+                      presets: Mapping | None = None,
+                      state_text: Mapping | None = None) -> Model:
         """A built-in model: the kernel module ``family`` (its ``KERNEL_MODEL``) and
         what the model declares about itself.
 
@@ -113,7 +118,7 @@ class Model:
             Index of the forcing frequency in the parameter vector.
         param_set : type
             The frozen parameter dataclass (its fields in the kernel's order).
-        bound, contact, plot, presets
+        bound, contact, plot, presets, state_text
             As the attributes.  The initial mode is the kernel's ``init_mode`` with its
             argument check (:func:`vibimpact._kernel.boundary.initial_mode`).
 
@@ -127,6 +132,10 @@ class Model:
         if names != tuple(km.param_names) or len(state_names) != km.n_state:
             raise ValueError(f"model {name!r}: the parameter set or state layout does not "
                              f"match the kernel module {family!r}")
+        unknown = set(state_text or {}) - set(state_names)
+        if unknown:
+            raise ValueError(f"model {name!r}: state_text names no state: "
+                             f"{', '.join(sorted(unknown))}")
         if contact is not None:
             contact.check(km.n_state, km.terminal.size, km.n_mode, names)
         return cls(name=name, state_names=tuple(state_names), param_names=names,
@@ -134,7 +143,8 @@ class Model:
                    kernel_model=_kb.builtin(family), rhs=km.rhs, jac=km.jac,
                    switches=km.switches, transition=km.transition,
                    init_mode=_kb.initial_mode(family), bound=bound, param_set=param_set,
-                   contact=contact, plot=plot, presets=dict(presets or {}))
+                   contact=contact, plot=plot, presets=dict(presets or {}),
+                   state_text=dict(state_text or {}))
 
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector

@@ -230,6 +230,19 @@ def _state_names(model, n):
     return tuple(f"x{i}" for i in range(n))
 
 
+def state_text(model, name):
+    """What the state ``name`` of ``model`` (a :class:`~vibimpact.models.Model`, or the
+    name of a registered one) is, in words: the model's own words
+    (:attr:`vibimpact.models.Model.state_text`), else the rotor's for its state names;
+    None when neither has any."""
+    from . import models
+
+    own = getattr(model, "state_text", None)
+    if own is None:
+        own = models.get(model).state_text if model in models.names() else {}
+    return own.get(name, _STATE_LONG.get(name))
+
+
 _STATE_LONG = {"X": "horizontal displacement / clearance",
                "Y": "vertical displacement / clearance (+Y down, along gravity)",
                "dX": "horizontal velocity dX/dtau", "dY": "vertical velocity dY/dtau"}
@@ -349,8 +362,9 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
                                {"units": "1", "long_name": "initial state at tau = 0"})
     ds = xr.Dataset(data_vars, coords=coords)
     for name in names:
-        if name in _STATE_LONG:
-            ds.attrs[f"state_{name}"] = _STATE_LONG[name]
+        text = state_text(run.model, name)
+        if text is not None:
+            ds.attrs[f"state_{name}"] = text
 
     glob = {"title": f"vibimpact simulation ({run.model} model)", "model": run.model,
             "status": run.status, "reason": run.reason,

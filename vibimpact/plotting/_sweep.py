@@ -51,8 +51,14 @@ def directions(ds):
     return [(str(ds.attrs.get("sweep_direction", ds.attrs.get("direction", "up"))), ds)]
 
 
+#: the rotor's parameters in a title: always, where not 0, never
+_SHOWN, _NONZERO, _HIDDEN = ("kh", "G", "B", "Ec"), ("Bh", "BT", "f", "Rr"), ("k3", "eps")
+
+
 def title(ds):
-    """``preset, kh = .., G = .., ...`` from the dataset's attributes."""
+    """``preset, kh = .., G = .., ...`` from the dataset's attributes: the rotor's
+    parameters (kh, G, B, Ec; Bh, BT, f, Rr where not 0), then every other parameter the
+    dataset records (a ring's Jr, cr, Mr; another model's own)."""
     a = ds.attrs
     parts = [str(a["preset"])] if a.get("preset") else []
     params = {}
@@ -61,9 +67,14 @@ def title(ds):
             params = json.loads(a["params"])
         except (TypeError, ValueError):
             params = {}
-    for name in ("kh", "G", "B", "Ec", "Bh", "BT", "f", "Rr"):
+    if not isinstance(params, dict):
+        params = {}
+    for name in _SHOWN + _NONZERO:
         v = a.get(f"param_{name}", params.get(name))
-        if v is not None and (name in ("kh", "G", "B", "Ec") or float(v) != 0.0):
+        if v is not None and (name in _SHOWN or float(v) != 0.0):
+            parts.append(f"{name} = {float(v):g}")
+    for name, v in params.items():
+        if name not in _SHOWN + _NONZERO + _HIDDEN and isinstance(v, (int, float)):
             parts.append(f"{name} = {float(v):g}")
     return ", ".join(parts)
 

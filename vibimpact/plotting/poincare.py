@@ -3,11 +3,12 @@ coloured by eta.
 
 A sweep stores, per point, ``n_samples`` stroboscopic (Poincaré) samples ``x(tau_k)``,
 ``tau_k = 2 pi k / eta`` (Guckenheimer & Holmes 1983, sec. 1.5), of its first two states
-(``poincare_X``, ``poincare_Y``; a state ``s`` beyond those as ``poincare_s`` where a
-file stores it).  :func:`plot_poincare` draws the first state against its velocity when
-the file stores that velocity (the Duffing and soft-impact models: ``x`` against ``dx``),
-else against the second stored state (the rotor: ``X`` against ``Y``, the section's
-projection on the clearance plane; its sweep files hold no ``dX`` samples).  A periodic
+(``poincare_X``, ``poincare_Y``) and of every further state ``s`` as ``poincare_s``
+(files written before that hold the first two only; :func:`poincare_variable` finds a
+state's samples by its name).  :func:`plot_poincare` draws the first state against its
+velocity when the file stores that velocity (the rotor: ``X`` against ``dX``; the Duffing
+and soft-impact models: ``x`` against ``dx``), else against the second stored state
+(``X`` against ``Y``, the section's projection on the clearance plane).  A periodic
 orbit of period n shows n dots, quasi-periodic motion a closed curve, chaos a fractal
 cloud (Moon 1987, ch. 2).
 """
@@ -27,7 +28,8 @@ if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["plot_poincare", "section_states", "section_samples"]
+__all__ = ["plot_poincare", "poincare_variable", "section_states", "section_samples",
+           "state_names"]
 
 #: regime code of a diverged point (its samples, where any, are left out)
 _DIVERGED = 4
@@ -55,6 +57,51 @@ def _stored(ds, names):
         if var in ds:
             out[j] = var
     return out
+
+
+def poincare_variable(ds: xr.Dataset, name: str) -> tuple[str, str]:
+    """The variable of a sweep dataset that holds the Poincaré samples of state ``name``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep dataset (:func:`state_names` says which states its model has).
+    name : str
+        A state name of the model (``"X"``, ``"dY"``, ``"Vr"``, ``"x"``), matched exactly,
+        else ignoring case where that is unique; ``"X'"`` (a prime) stands for ``"dX"``.
+
+    Returns
+    -------
+    (str, str)
+        ``(variable, state name)``: ``("poincare_Vr", "Vr")``.
+
+    Raises
+    ------
+    TypeError
+        When ``name`` is not a str.
+    ValueError
+        Naming ``name``: not a state of the model, or a state whose samples the dataset
+        does not hold; the message lists those it holds.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"state must be a state name (str), got {type(name).__name__} "
+                        f"{name!r}"[:200])
+    names = state_names(ds)
+    stored = _stored(ds, names)
+    held = ", ".join(names[j] for j in sorted(stored)) or "none"
+    key = name.strip()
+    key = "d" + key[:-1] if key.endswith("'") else key
+    if key not in names:
+        folded = [n for n in names if n.lower() == key.lower()]
+        if len(folded) != 1:
+            raise ValueError(f"state {name!r} is no state of the model ({', '.join(names)}; "
+                             "X' stands for dX)")
+        key = folded[0]
+    j = names.index(key)
+    if j not in stored:
+        raise ValueError(f"the sweep dataset holds no Poincaré samples of {key}; it holds "
+                         f"those of {held}")
+    return stored[j], key
 
 
 def section_states(ds: xr.Dataset) -> tuple[tuple[str, str], tuple[str, str]]:

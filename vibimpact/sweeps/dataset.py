@@ -19,6 +19,7 @@ from .. import _validate as _v
 from .._fill import complex_parts, not_computed
 from .._text import count
 from ..analysis.classify import Label
+from ..run import state_text
 from ..system import param_dict, to_system
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
                              CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
@@ -191,13 +192,16 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
                         dict(units="1", long_name="stroboscopic samples of X / clearance"))
     ds["poincare_Y"] = (dims + ("sample",), samples[..., 1],
                         dict(units="1", long_name="stroboscopic samples of Y / clearance"))
-    for j in range(2, samples.shape[-1]):  # the other states (the rotor's velocities):
-        # a Poincare section X against X' needs them
+    model = to_system(p).model
+    for j in range(2, samples.shape[-1]):  # the other states (the rotor's velocities, a
+        # ring's speed): a Poincare section X against X' needs them
+        text = state_text(model, names[j])
         ds[f"poincare_{names[j]}"] = (dims + ("sample",), samples[..., j], dict(
-            units="1", long_name=f"stroboscopic samples of {names[j]}"))
+            units="1", long_name=f"stroboscopic samples of {names[j]}"
+                                 + (f": {text}" if text else "")))
     ds["final_state"] = (dims + ("state",), final,
-                         dict(units="1", long_name="state (X, Y, dX, dY) at the end of "
-                              "the point, the next point's initial state"))
+                         dict(units="1", long_name=f"state ({', '.join(names)}) at the "
+                              "end of the point, the next point's initial state"))
     ds = ds.assign_coords(state=("state", np.array(names, dtype=object)))
     # --- issue 8: Floquet multipliers, complex split into real and imaginary parts ---
     if "floquet" in settings.analyses:
@@ -215,7 +219,6 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction
-    model = to_system(p).model
     params = param_dict(p)
     params.pop(model.param_names[model.omega_index], None)
     ds.attrs.update(
