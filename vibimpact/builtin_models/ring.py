@@ -81,6 +81,9 @@ MODEL = Model.builtin_model(
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
     plot=PlotSpec(xy=("X", "Y"), circle=1.0),
+    state_text={"Vr": "speed of the retainer ring's inner surface / (clearance omega0), "
+                      "positive along e_t = (-Y, X)/R (the ring's angular speed is "
+                      "Vr / (Rr + 1) in units of omega0)"},
     presets={f"{fig}-ring": (_preset(fig), f"{_presets.describe(fig)}; with a light "
                              "turning retainer ring (Jr 0.05)")
              for fig in ("fig8", "fig10", "fig11")})
