@@ -42,7 +42,7 @@ PERFORMANCE_SECTIONS = {
     "benchmark_sweep.py": ["sweep", "low-damping"], "profile_sweep.py": ["profile"],
     "work_precision.py": ["work_precision"], "stress.py": ["stress"],
     "benchmark_map.py": ["map"], "lyapunov_error_control.py": ["lyapunov-error-control"],
-    "census_bench.py": ["census"],
+    "census_bench.py": ["census"], "ring_bench.py": ["ring"],
 }
 
 

@@ -183,3 +183,43 @@ def test_reliability_report_counts_are_its_own_cases():
         assert verdicts.count("**hang**") == hangs
         assert sum(r[5] != "-" for r in mine) == left
         assert sum(r[6] == "**lost**" for r in mine) == lost
+
+
+def test_performance_report_judges_the_ring_by_its_own_times():
+    """Hypothesis: the performance report carries the section written by
+    analyses/performance/ring_bench.py for its own request (grid, presets, repeats); each
+    preset's best time is the least of its repeats, the ratio is the ring's best over
+    eq. (5)'s, its verdict is the one the ratio implies against the script's target, and
+    the same-motion ratios of (b) are those of their own times."""
+    import ring_bench
+
+    sec = _section((REPORTS / "performance.md").read_text(), ring_bench.SECTION)
+    assert sec is not None
+    assert f"`vibimpact classify --preset PRESET --eta {ring_bench.GRID}`" in sec
+    assert f"best of {ring_bench.REPEATS}" in sec
+    best = {}
+    for name in ring_bench.PRESETS:
+        row = re.search(rf"^\| {re.escape(name)} \| (\w+) \| ([\d., ]+) \| ([\d.]+) \|", sec,
+                        re.M)
+        assert row is not None, name
+        times = [float(t) for t in row.group(2).split(", ")]
+        assert len(times) == ring_bench.REPEATS and float(row.group(3)) == min(times)
+        best[name] = float(row.group(3))
+    ratio = re.search(r"^Ratio ring / eq\. \(5\): ([\d.]+) \(target <= ([\d.]+)\): "
+                      r"\*\*(met|not met)\*\*\.$", sec, re.M)
+    assert ratio is not None
+    eq5, ring = (best[name] for name in ring_bench.PRESETS)
+    assert float(ratio.group(1)) == pytest.approx(ring / eq5, abs=0.006)
+    assert float(ratio.group(2)) == ring_bench.TARGET
+    assert ratio.group(3) == ("met" if float(ratio.group(1)) <= ring_bench.TARGET
+                              else "not met")
+    same = re.findall(r"^\| [^|]+ \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$", sec, re.M)
+    assert len(same) == 2
+    for rotor, held, r in same:
+        assert float(r) == pytest.approx(float(held) / float(rotor), rel=0.01, abs=0.006)
+    parts = re.findall(r"^\| ([^|]+) \| ([\d.]+) \| [\d-]+ \| ([\d.]+) \| [\d-]+ \| "
+                       r"([\d.]+|nan) \|$", sec, re.M)
+    assert [p[0] for p in parts] == ["whole sweep"] + [p[0] for p in ring_bench.PARTS]
+    for _, eq5_s, ring_s, r in parts:
+        if float(eq5_s) >= 0.1:  # the ratio of the unrounded times; 0.01 s of rounding
+            assert float(r) == pytest.approx(float(ring_s) / float(eq5_s), rel=0.11)
