@@ -399,3 +399,46 @@ def test_rolling_contact_orbit_has_exponent_minus_infinity_by_both_routes():
     assert np.all(np.isfinite(fl.exponents[:4]))
     assert abs(fl.exponents[0] - qr.exponents[0]) < 5e-4
     assert abs(fl.exponents[:4].sum() - qr.exponents[:4].sum()) < 1e-4
+
+
+def test_analytic_jacobian_matches_central_differences_in_every_mode():
+    """Hypothesis: the ring kernel's analytic Jacobian (rotor rows on the slip velocity,
+    the ring's row, the stick forces with the ring turning or stuck, tanh-regularised
+    friction) equals central differences of its right-hand side within the mode, to the
+    differences' own accuracy (1e-8 of the largest entry), at 1,500 random states in
+    and out of contact, in every contact-friction and ring mode."""
+    from vibimpact._kernel import ring as K
+
+    rng = np.random.default_rng(1)
+    base = vi.presets.get("fig11-ring").replace(Rr=3.0, BT=0.05, Bh=0.1)
+    worst = 0.0
+    seen = set()
+    for trial in range(1500):
+        p = base.replace(eta=rng.uniform(0.9, 1.5), eps=0.01 if trial % 5 == 0 else 0.0,
+                         Mr=0.0 if trial % 7 == 0 else 0.01, cr=rng.uniform(0, 0.01),
+                         Jr=10 ** rng.uniform(-2, 2)).as_array()
+        ang = rng.uniform(0, 2 * np.pi)
+        R = rng.uniform(0.5, 0.99) if trial % 2 else rng.uniform(1.01, 1.05)
+        y = np.array([R * np.cos(ang), R * np.sin(ang), rng.normal(), rng.normal(),
+                      0.5 * rng.normal()])
+        mode = np.array([int(R > 1), rng.choice([-1, 0, 1]), rng.choice([-1, 0, 1])],
+                        dtype=np.int64)
+        mode[1] = mode[1] if mode[0] else 0
+        mode[2] = mode[2] if p[13] > 0 else 1
+        seen.add(tuple(mode))
+        s = rng.uniform(0, 10)
+        J = np.zeros((5, 5))
+        K.jac(s, y, p, mode, J)
+        fd = np.zeros((5, 5))
+        fp, fm = np.zeros(5), np.zeros(5)
+        for j in range(5):
+            d = 1e-6 * max(1.0, abs(y[j]))
+            yp, ym = y.copy(), y.copy()
+            yp[j] += d
+            ym[j] -= d
+            K.rhs(s, yp, p, mode, fp)
+            K.rhs(s, ym, p, mode, fm)
+            fd[:, j] = (fp - fm) / (2 * d)
+        worst = max(worst, np.abs(J - fd).max() / max(1.0, np.abs(fd).max()))
+    assert len(seen) == 3 + 9  # free flight x 3 ring modes, contact x 3 x 3
+    assert worst < 1e-8

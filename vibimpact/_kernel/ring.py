@@ -42,21 +42,20 @@ index  switching function                                    kind
 3      ``dR/dtau`` (extrema of ``R``)                          observer
 =====  ====================================================  ==========
 
-The Jacobian is taken by central differences of the right-hand side within a mode
-(:func:`jac`); the saltation matrices at every switch are the generic ones of
-:mod:`.variational`.
+The Jacobian is analytic (:func:`jac_rows`, scalars only); the saltation matrices at
+every switch are the generic ones of :mod:`.variational`.
 """
 import math
 
 import numpy as np
 from numba import njit
 
-from .jitopts import ALLOC, INNER, LEAF
+from .jitopts import INNER, LEAF
 from .registry import KernelModel
-from .rotor import (I_BT, I_EPS, I_ETA, I_F, I_RR, external_force, geometry, normal_force,
-                    stick_force)
+from .rotor import (I_B, I_BT, I_EC, I_EPS, I_ETA, I_F, I_G, I_K3, I_RR, external_force,
+                    geometry, normal_force, stick_force)
 from .rotor import step_cap as _rotor_step_cap
-from .variational import fd_step, saltation_transition, tangent_rhs
+from .variational import saltation_transition
 
 PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps",
                "Jr", "cr", "Mr")
@@ -134,22 +133,152 @@ def rhs(s, y, p, mode, out):
     out[4] = Wd
 
 
-@njit(**ALLOC)
+@njit(**INNER)
+def jac_rows(s, y, p, mode):
+    """Rows 2, 3 and 4 of the analytic Jacobian ``d rhs / d y`` in the given mode.
+
+    Rows 0 and 1 are ``(0, 0, 1, 0, 0)`` and ``(0, 0, 0, 1, 0)``.  Returned as fifteen
+    floats (row 2, row 3, row 4, five entries each), so the variational right-hand side
+    allocates nothing.  The rotor's part follows :func:`.rotor.jac_rows` with the slip
+    velocity ``v_s = v_t - Vr`` in place of ``v_t``; the ring's speed enters through
+    ``v_s`` (slip) or the ring's drag (stick with the ring turning).
+    """
+    X, Y, U, V, W = y[0], y[1], y[2], y[3], y[4]
+    B, k3 = p[I_B], p[I_K3]
+    Jr = p[I_JR]
+    R2 = X * X + Y * Y
+    lin = 1.0 + k3 * R2
+    j20 = -lin - 2.0 * k3 * X * X
+    j21 = -2.0 * k3 * X * Y
+    j22 = -B
+    j23 = 0.0
+    j24 = 0.0
+    j30 = -2.0 * k3 * X * Y
+    j31 = -lin - 2.0 * k3 * Y * Y
+    j32 = 0.0
+    j33 = -B
+    j34 = 0.0
+    stuck = mode[2] == 0 and p[I_MR] > 0.0
+    if mode[0] != 1:
+        j44 = 0.0 if stuck else -p[I_CR] / Jr
+        return (j20, j21, j22, j23, j24, j30, j31, j32, j33, j34,
+                0.0, 0.0, 0.0, 0.0, j44)
+    R, nx, ny, Rd, vt = geometry(y, p)
+    Fr, dF_dR, dF_dRd = normal_force(R, Rd, p)
+    dnx0 = (1.0 - nx * nx) / R
+    dnx1 = -nx * ny / R
+    dny0 = -nx * ny / R
+    dny1 = (1.0 - ny * ny) / R
+    dRd0 = (U - Rd * nx) / R
+    dRd1 = (V - Rd * ny) / R
+    dRd2 = nx
+    dRd3 = ny
+    dF0 = dF_dR * nx + dF_dRd * dRd0
+    dF1 = dF_dR * ny + dF_dRd * dRd1
+    dF2 = dF_dRd * dRd2
+    dF3 = dF_dRd * dRd3
+    if mode[1] == 0 and _sticks(p):
+        # T0 = w Rd - (-ny fx + nx fy), w = L / R^2 (rotor.jac_rows)
+        eta = p[I_ETA]
+        amp = p[I_EC] * eta * eta
+        fx = amp * math.cos(eta * s) - B * U
+        fy = amp * math.sin(eta * s) + p[I_G] - B * V
+        T0 = stick_force(s, y, p, R, nx, ny, Rd, vt)
+        L = X * V - Y * U
+        w = L / R2
+        R3 = R2 * R
+        dT0 = (V / R2 - 2.0 * L * nx / R3) * Rd + w * dRd0 - (-dny0 * fx + dnx0 * fy)
+        dT1 = (-U / R2 - 2.0 * L * ny / R3) * Rd + w * dRd1 - (-dny1 * fx + dnx1 * fy)
+        dT2 = -Y / R2 * Rd + w * dRd2 - ny * B
+        dT3 = X / R2 * Rd + w * dRd3 + nx * B
+        dT4 = 0.0
+        if stuck:
+            T = T0
+        else:
+            drag = p[I_CR] * W + (p[I_MR] * mode[2] if p[I_MR] > 0.0 else 0.0)
+            k = 1.0 / (1.0 + 1.0 / Jr)
+            T = (T0 - drag / Jr) * k
+            dT0 *= k
+            dT1 *= k
+            dT2 *= k
+            dT3 *= k
+            dT4 = -p[I_CR] / Jr * k
+    else:
+        L = X * V - Y * U
+        vs = vt - W
+        T = -p[I_BT] * vs
+        c = -p[I_BT]
+        cf = 0.0
+        if p[I_F] > 0.0:
+            if p[I_EPS] > 0.0:
+                th = math.tanh(vs / p[I_EPS])
+                T -= p[I_F] * Fr * th
+                c -= p[I_F] * Fr * (1.0 - th * th) / p[I_EPS]
+                cf = -p[I_F] * th
+            else:
+                T -= p[I_F] * Fr * mode[1]
+                cf = -p[I_F] * mode[1]
+        # dv_s/dy = (dv_t/dX, dv_t/dY, -ny, nx, -1)
+        dT0 = c * (V - L * nx / R) / R + cf * dF0
+        dT1 = c * (-U - L * ny / R) / R + cf * dF1
+        dT2 = c * (-ny) + cf * dF2
+        dT3 = c * nx + cf * dF3
+        dT4 = -c
+    # contact acceleration: a_x += -Fr nx - T ny ; a_y += -Fr ny + T nx
+    j20 += -dF0 * nx - Fr * dnx0 - dT0 * ny - T * dny0
+    j21 += -dF1 * nx - Fr * dnx1 - dT1 * ny - T * dny1
+    j22 += -dF2 * nx - dT2 * ny
+    j23 += -dF3 * nx - dT3 * ny
+    j24 += -dT4 * ny
+    j30 += -dF0 * ny - Fr * dny0 + dT0 * nx + T * dnx0
+    j31 += -dF1 * ny - Fr * dny1 + dT1 * nx + T * dnx1
+    j32 += -dF2 * ny + dT2 * nx
+    j33 += -dF3 * ny + dT3 * nx
+    j34 += dT4 * nx
+    if stuck:
+        return (j20, j21, j22, j23, j24, j30, j31, j32, j33, j34,
+                0.0, 0.0, 0.0, 0.0, 0.0)
+    # the ring: Vr' = (-T - cr Vr - Mr s_r) / Jr
+    return (j20, j21, j22, j23, j24, j30, j31, j32, j33, j34,
+            -dT0 / Jr, -dT1 / Jr, -dT2 / Jr, -dT3 / Jr, (-dT4 - p[I_CR]) / Jr)
+
+
+@njit(**LEAF)
 def jac(s, y, p, mode, J):
-    """Jacobian ``d rhs / d y`` in the given mode by central differences (step
-    :func:`.variational.fd_step` of each entry); writes ``J`` (shape (5, 5))."""
-    yp = y[:N_STATE].copy()
-    fp = np.empty(N_STATE)
-    fm = np.empty(N_STATE)
+    """Analytic Jacobian ``d rhs / d y`` in the given mode (:func:`jac_rows`); writes
+    ``J`` (shape (5, 5))."""
+    r = jac_rows(s, y, p, mode)
+    for i in range(N_STATE):
+        for j in range(N_STATE):
+            J[i, j] = 0.0
+    J[0, 2] = 1.0
+    J[1, 3] = 1.0
     for j in range(N_STATE):
-        d = fd_step(y[j])
-        yp[j] = y[j] + d
-        rhs(s, yp, p, mode, fp)
-        yp[j] = y[j] - d
-        rhs(s, yp, p, mode, fm)
-        yp[j] = y[j]
-        for i in range(N_STATE):
-            J[i, j] = (fp[i] - fm[i]) / (2.0 * d)
+        J[2, j] = r[j]
+        J[3, j] = r[5 + j]
+        J[4, j] = r[10 + j]
+
+
+@njit(**INNER)
+def var_rhs(s, y, p, mode, out):
+    """Ring model state and tangent vectors (``y.size = 5 (1 + m)``), with the Jacobian
+    as scalars (no array per evaluation: this runs at every stage of the Lyapunov and
+    Floquet integrations)."""
+    rhs(s, y, p, mode, out)
+    r = jac_rows(s, y, p, mode)
+    m = (y.size - N_STATE) // N_STATE
+    for c in range(m):
+        b = N_STATE + N_STATE * c
+        v0 = y[b]
+        v1 = y[b + 1]
+        v2 = y[b + 2]
+        v3 = y[b + 3]
+        v4 = y[b + 4]
+        out[b] = v2
+        out[b + 1] = v3
+        out[b + 2] = r[0] * v0 + r[1] * v1 + r[2] * v2 + r[3] * v3 + r[4] * v4
+        out[b + 3] = r[5] * v0 + r[6] * v1 + r[7] * v2 + r[8] * v3 + r[9] * v4
+        out[b + 4] = r[10] * v0 + r[11] * v1 + r[12] * v2 + r[13] * v3 + r[14] * v4
 
 
 @njit(**LEAF)
@@ -366,7 +495,7 @@ def step_cap(y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
 
 
 KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
-                           init_mode=init_mode, var_rhs=tangent_rhs(rhs, jac, N_STATE),
+                           init_mode=init_mode, var_rhs=var_rhs,
                            var_transition=saltation_transition(rhs, switches, transition,
                                                                N_STATE, TERMINAL.size),
                            step_cap=step_cap, n_state=N_STATE, n_mode=N_MODE,
