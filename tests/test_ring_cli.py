@@ -293,3 +293,27 @@ def test_the_ring_guide_runs_as_pasted(tmp_path):
     for name in ("ring_run.nc", "ring.nc", "ring_vr.png", "jr.nc", "ring_p1.nc",
                  "ring_census.nc", "ring_basins.png", "ring_orbits.nc", "ring_vr_api.png"):
         assert (tmp_path / name).stat().st_size > 0, name
+
+
+def test_orbit_hunt_from_random_seeds_needs_the_ring_to_settle(tmp_path, capfd):
+    """Hypothesis: a light ring's speed settles over tens of periods, so the hunt's
+    default five periods from random states leave Newton's method too far from any orbit
+    (no stable orbit found), while ``--transient 100`` lets the same 12 seeds settle and
+    the hunt finds the stable P1 with 2 impacts that the census sees at eta = 1.06; a
+    negative ``--transient`` is refused with exit status 2."""
+    found = {}
+    for transient in (5, 100):
+        out = tmp_path / f"o{transient}.nc"
+        ok(["orbits", "--preset", "fig11-ring", "--eta", "1.06", "--period", "1:2",
+            "--random", "12", "--transient", transient, "--no-continue", "--no-progress",
+            "-o", out], capfd)
+        ds = records_the_ring(out)
+        stable = ds["stable"].values == 1
+        found[transient] = {(int(n), int(i)) for n, i in
+                            zip(ds["period"].values[stable],
+                                   ds["impacts_per_period"].values[stable])}
+    assert (1, 2) not in found[5]
+    assert (1, 2) in found[100]
+    rc, _, err = run_cli(["orbits", "--preset", "fig11-ring", "--eta", "1.06",
+                          "--transient", "-1"], capfd)
+    assert rc == 2 and "--transient" in err and len(err.strip().splitlines()) == 1

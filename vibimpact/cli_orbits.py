@@ -116,7 +116,8 @@ def _cmd_orbits(args):
 
     def compute(run):
         hunt = hunt_orbits(system, periods, seeds=seeds, random=args.random,
-                           seed=args.seed, continuation=not args.no_continue,
+                           seed=args.seed, transient=args.transient,
+                           continuation=not args.no_continue,
                            window=args.window, execution=run)
         hunts.append(hunt)
         return hunt_to_dataset(hunt, system)
@@ -163,6 +164,10 @@ def add_parser(sub, fmt):
                    help=f"random seed states (default: {DEFAULT_RANDOM})")
     c.add_argument("--seed", type=positive_int(0), default=0, metavar="S",
                    help="seed of the random generator (default: 0)")
+    c.add_argument("--transient", type=positive_int(0, 100_000), default=5, metavar="N",
+                   help="forcing periods each seed is integrated before Newton's method "
+                        "(default: 5; more for a slowly settling state, such as a light "
+                        "retainer ring's speed)")
     c.add_argument("--window", type=number, default=0.05, metavar="W",
                    help="continue each orbit within +-W of --eta (default: 0.05)")
     c.add_argument("--no-continue", action="store_true",
