@@ -53,7 +53,7 @@ from numba import njit
 from .jitopts import INNER, LEAF
 from .registry import KernelModel
 from .rotor import (I_B, I_BT, I_EC, I_EPS, I_ETA, I_F, I_G, I_K3, I_RR, external_force,
-                    geometry, normal_force, stick_force)
+                    geometry, normal_force, slip_friction, stick_force)
 from .rotor import step_cap as _rotor_step_cap
 from .variational import saltation_transition
 
@@ -104,12 +104,7 @@ def _forces(s, y, p, contact, sc, sr):
         else:
             T = (T0 - drag / Jr) / (1.0 + 1.0 / Jr)
     else:
-        T = -p[I_BT] * vs
-        if p[I_F] > 0.0:
-            if p[I_EPS] > 0.0:
-                T -= p[I_F] * Fr * math.tanh(vs / p[I_EPS])
-            else:
-                T -= p[I_F] * Fr * sc
+        T, _, _ = slip_friction(vs, Fr, p, sc)
     if ring_stuck:
         Wd = 0.0
     else:
@@ -205,19 +200,7 @@ def jac_rows(s, y, p, mode):
             dT4 = -p[I_CR] / Jr * k
     else:
         L = X * V - Y * U
-        vs = vt - W
-        T = -p[I_BT] * vs
-        c = -p[I_BT]
-        cf = 0.0
-        if p[I_F] > 0.0:
-            if p[I_EPS] > 0.0:
-                th = math.tanh(vs / p[I_EPS])
-                T -= p[I_F] * Fr * th
-                c -= p[I_F] * Fr * (1.0 - th * th) / p[I_EPS]
-                cf = -p[I_F] * th
-            else:
-                T -= p[I_F] * Fr * mode[1]
-                cf = -p[I_F] * mode[1]
+        T, c, cf = slip_friction(vt - W, Fr, p, mode[1])
         # dv_s/dy = (dv_t/dX, dv_t/dY, -ny, nx, -1)
         dT0 = c * (V - L * nx / R) / R + cf * dF0
         dT1 = c * (-U - L * ny / R) / R + cf * dF1

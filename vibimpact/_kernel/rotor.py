@@ -108,6 +108,26 @@ def stick_force(s, y, p, R, nx, ny, Rd, vt):
     return (vt - p[I_RR] * eta) * Rd / R - (-ny * fx + nx * fy)
 
 
+@njit(**INNER)
+def slip_friction(v, Fr, p, sense):
+    """Tangential force ``T = -BT v - f F_r sgn(v)`` of a slipping contact (``sgn`` is
+    ``sense``, or ``tanh(v / eps)`` for ``eps > 0``) and its partials ``dT/dv`` and
+    ``dT/dF_r``: the rotor's with ``v = v_t``, the ring model's with the slip velocity."""
+    T = -p[I_BT] * v
+    c = -p[I_BT]
+    cf = 0.0
+    if p[I_F] > 0.0:
+        if p[I_EPS] > 0.0:
+            th = math.tanh(v / p[I_EPS])
+            T -= p[I_F] * Fr * th
+            c -= p[I_F] * Fr * (1.0 - th * th) / p[I_EPS]
+            cf = -p[I_F] * th
+        else:
+            T -= p[I_F] * Fr * sense
+            cf = -p[I_F] * sense
+    return T, c, cf
+
+
 @njit(**LEAF)
 def rhs(s, y, p, mode, out):
     """Right-hand side of eq. (5) in the given mode; writes ``out`` (shape (4,))."""
@@ -197,18 +217,7 @@ def jac_rows(s, y, p, mode):
         dT2 = dL[2] / (R * R) * Rd + w * dRd[2] - (-ny * dfx[2])
         dT3 = dL[3] / (R * R) * Rd + w * dRd[3] - (nx * dfy[3])
     else:
-        T = -p[I_BT] * vt
-        c = -p[I_BT]
-        cf = 0.0
-        if p[I_F] > 0.0:
-            if p[I_EPS] > 0.0:
-                th = math.tanh(vt / p[I_EPS])
-                T -= p[I_F] * Fr * th
-                c -= p[I_F] * Fr * (1.0 - th * th) / p[I_EPS]
-                cf = -p[I_F] * th
-            else:
-                T -= p[I_F] * Fr * mode[1]
-                cf = -p[I_F] * mode[1]
+        T, c, cf = slip_friction(vt, Fr, p, mode[1])
         dT0 = c * dvt[0] + cf * dF[0]
         dT1 = c * dvt[1] + cf * dF[1]
         dT2 = c * dvt[2] + cf * dF[2]

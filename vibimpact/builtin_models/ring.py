@@ -15,12 +15,11 @@ A large ``Jr`` (or a ring whose bearing holds it) gives eq. (5) back; the preset
 (``Jr = 0.05``, ``cr = 1e-4``, ``Mr = 1e-3``: a small ball bearing's inner ring on the
 paper's rig, inside the ranges the model page justifies).
 """
-import numpy as np
-
 from .. import presets as _presets
 from ..contact import Contact, ContactLaw
 from ..models import Model, PlotSpec
 from ..params import Domain, Params, param_set
+from .rotor import angle, normal_speed, penetration  # the same retainer circle
 
 _ROTOR_ROWS = [
     ("B", "linear viscous damping of the magnetic support"),
@@ -56,19 +55,6 @@ RingParams = param_set(
     doc="Dimensionless parameters of the rotor with a turning retainer ring.")
 
 
-def _penetration(states, p):
-    return np.hypot(states[:, 0], states[:, 1]) - 1.0
-
-
-def _normal_speed(states, p):
-    X, Y, U, V = (states[:, j] for j in range(4))
-    return (X * U + Y * V) / np.hypot(X, Y)
-
-
-def _angle(states, p):
-    return np.degrees(np.arctan2(states[:, 1], states[:, 0]))
-
-
 def _preset(name):
     return {**_presets.paper_values(name), "eps": 0.0, **RING_DEFAULTS}
 
@@ -76,8 +62,8 @@ def _preset(name):
 MODEL = Model.builtin_model(
     "ring", "ring", ("X", "Y", "dX", "dY", "Vr"), omega_index=9, param_set=RingParams,
     bound=1e3,
-    contact=Contact(switch=0, mode=0, penetration=_penetration, normal_speed=_normal_speed,
-                    angle=_angle, extremum=3, positions=(0, 1),
+    contact=Contact(switch=0, mode=0, penetration=penetration, normal_speed=normal_speed,
+                    angle=angle, extremum=3, positions=(0, 1),
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
     plot=PlotSpec(xy=("X", "Y"), circle=1.0),

@@ -14,23 +14,26 @@ from ..models import Model, PlotSpec
 from ..params import Params
 
 
-def _penetration(states, p):
+def penetration(states, p):
+    """``R - 1`` of states (rows): the retainer circle's gap, negative outside contact."""
     return np.hypot(states[:, 0], states[:, 1]) - 1.0
 
 
-def _normal_speed(states, p):
+def normal_speed(states, p):
+    """``R'``: the speed along the retainer's normal."""
     X, Y, U, V = (states[:, j] for j in range(4))
     return (X * U + Y * V) / np.hypot(X, Y)
 
 
-def _angle(states, p):
+def angle(states, p):
+    """``atan2(Y, X)`` in degrees: where on the retainer circle."""
     return np.degrees(np.arctan2(states[:, 1], states[:, 0]))
 
 
 MODEL = Model.builtin_model(
     "rotor", "rotor", ("X", "Y", "dX", "dY"), omega_index=9, param_set=Params, bound=1e3,
-    contact=Contact(switch=0, mode=0, penetration=_penetration, normal_speed=_normal_speed,
-                    angle=_angle, extremum=2, positions=(0, 1),
+    contact=Contact(switch=0, mode=0, penetration=penetration, normal_speed=normal_speed,
+                    angle=angle, extremum=2, positions=(0, 1),
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
     plot=PlotSpec(xy=("X", "Y"), circle=1.0),
