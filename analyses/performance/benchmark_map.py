@@ -23,6 +23,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.cpu import machine_cpu as _machine_cpu  # noqa: E402
+from _common.cpu import own_cpu as _own_cpu  # noqa: E402
 from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
@@ -72,27 +74,6 @@ def same(a, b):
 
 #: other processes' mean CPU use (cores) above which the report calls the machine shared
 SHARED_CORES = 0.1
-
-
-def _machine_cpu():
-    """CPU seconds all processes of the machine have used (``/proc/stat``), or None."""
-    try:
-        with open("/proc/stat") as fh:
-            f = [int(v) for v in fh.readline().split()[1:]]
-    except (OSError, ValueError):
-        return None
-    busy = f[0] + f[1] + f[2] + sum(f[5:8])     # user nice system irq softirq steal
-    return busy / os.sysconf("SC_CLK_TCK")
-
-
-def _own_cpu():
-    """CPU seconds of this process and of its reaped children (the Dask workers and the
-    full map's subprocess are children, reaped when they stop)."""
-    import resource
-
-    a, b = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
-        resource.RUSAGE_CHILDREN)
-    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
 
 
 def load_sentence(load0, load1, busy0, own0, wall):

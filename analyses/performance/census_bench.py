@@ -29,6 +29,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common.cpu import machine_cpu as _machine_cpu  # noqa: E402
+from _common.cpu import own_cpu as _own_cpu  # noqa: E402
 from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
@@ -46,24 +48,6 @@ FIXED_STARTS, TARGET_C = STARTS, 5.0
 
 def _system():
     return vi.System(vi.presets.get(PRESET).replace(eta=ETA))
-
-
-def _machine_cpu():
-    """CPU seconds all processes of the machine have used (``/proc/stat``), or None."""
-    try:
-        with open("/proc/stat") as fh:
-            f = [int(v) for v in fh.readline().split()[1:]]
-    except (OSError, ValueError):
-        return None
-    return (f[0] + f[1] + f[2] + sum(f[5:8])) / os.sysconf("SC_CLK_TCK")
-
-
-def _own_cpu():
-    import resource
-
-    a, b = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
-        resource.RUSAGE_CHILDREN)
-    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
 
 
 def table(ds):

@@ -34,6 +34,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # profile_sweep
+from _common.cpu import machine_cpu as _machine_cpu  # noqa: E402
+from _common.cpu import own_cpu as _own_cpu  # noqa: E402
 from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
@@ -52,24 +54,6 @@ TARGET = 1.5
 #: (b): the held ring, the speed, the periods integrated, the monodromies, the repeats
 HELD = dict(Jr=1e14, cr=0.0, Mr=0.0)
 ETA_B, PERIODS_B, MONODROMIES_B, REPEATS_B = 1.15, 2000, 100, 3
-
-
-def _machine_cpu():
-    """CPU seconds all processes of the machine have used (``/proc/stat``), or None."""
-    try:
-        with open("/proc/stat") as fh:
-            f = [int(v) for v in fh.readline().split()[1:]]
-    except (OSError, ValueError):
-        return None
-    return (f[0] + f[1] + f[2] + sum(f[5:8])) / os.sysconf("SC_CLK_TCK")
-
-
-def _own_cpu():
-    import resource
-
-    a, b = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
-        resource.RUSAGE_CHILDREN)
-    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
 
 
 def sweep(name, etas):
