@@ -55,9 +55,19 @@ def _tangential_text(st):
                     "preset and takes the ring of `fig8-ring`.  ")
     free = [f for f, v in tg.items() if v["BT"] == 0 and v["f"] == 0]
     if free:
-        bits.append(f"In {', '.join(free)} BT = {tg[free[0]]['BT']:g} and f = "
-                    f"{tg[free[0]]['f']:g}: no tangential force reaches the ring, so the "
-                    "rotor moves as in eq. (5) whatever the ring.  ")
+        text = (f"In {', '.join(free)} BT = {tg[free[0]]['BT']:g} and f = "
+                f"{tg[free[0]]['f']:g}: no tangential force reaches the ring, and the "
+                "rotor's equations are eq. (5)'s")
+        same = [f for f in free if "same_label" in tg[f]]
+        if same:
+            text += (" (the ring's largest speed at a sweep point: "
+                     + ", ".join(f"{f} {tg[f]['vr_max']:g}" for f in same)
+                     + "); the ring model integrates them with its own kernel, whose "
+                     "rounding differs, so that chaotic runs part and a few points get "
+                     "another label: the same label as eq. (5) at "
+                     + ", ".join(f"{_pct(tg[f]['same_label'])} of the points of {f}"
+                                 for f in same))
+        bits.append(text + ".  ")
     return "".join(bits)
 
 

@@ -366,6 +366,18 @@ def _tail(ds):
     return {m: float(np.mean(kinds == k)) for k, m in enumerate(MOTIONS)}
 
 
+def _same(sweeps, fig, key):
+    """eq. (5) against the ring variant ``key`` on ``fig``: the share of sweep points
+    with the same label and the ring's largest speed at a sweep point (a held ring:
+    0)."""
+    a, b = sweeps.get(f"held:{fig}"), sweeps.get(f"{key}:{fig}")
+    if a is None or b is None:
+        return {}
+    vr = np.abs(np.asarray(b["final_state"].values, float)[..., -1])
+    return dict(same_label=float(np.mean(a["label"].values == b["label"].values)),
+                vr_max=float(np.nanmax(vr)))
+
+
 def _paper_md():
     """The eq. (5) verdicts and census outcomes of reports/paper.md (paper.json)."""
     if not PAPER_JSON.exists():
@@ -409,7 +421,8 @@ def summary(comp, elapsed, box):
             version=vi.__version__, columns=columns,
             states=list(vi.models.get("ring").state_names),
             tangential={f: dict(BT=RC.ring_params(f).BT, f=RC.ring_params(f).f,
-                                preset=f"{f}-ring" in vi.presets.names())
+                                preset=f"{f}-ring" in vi.presets.names(),
+                                **_same(sweeps, f, columns["ring"]))
                         for f in RC.FIGURES}),
         timings=dict(comp["timings"], total_s=elapsed),
         variants=[{k: v[k] for k in ("key", "model", "Jr", "cr", "Mr", "figs")}
