@@ -33,6 +33,8 @@ SMOKE = {
     # environments and writes a report of its own
     "performance/kernel_install.py": ["kernel_install.md"],
     "reliability/reliability.py": ["reliability.md"],
+    "ring/ring_study.py": ["ring.md", "ring.json", "figures/ring_map.png",
+                           "figures/ring_motion.png"],
     "tools/bit_identity.py": ["bit_identity.json"],
     "tools/eta_path.py": ["eta_path.txt"],
 }
