@@ -404,3 +404,27 @@ def test_drawing_commands_take_figsize_and_dpi(argv, image, tmp_path, monkeypatc
     assert rc == 0, err
     size, dpi = _png_size(tmp_path / image)
     assert size == (90, 60) and dpi == pytest.approx((30, 30), rel=1e-3)
+
+
+def test_map_colour_bars_sit_beside_their_own_panels():
+    """Hypothesis: every colour bar of a map (period, impacts per period, exponent) lies
+    right beside the panel it belongs to -- its left edge within 2 % of the figure's width
+    of the panel's right edge, at the panel's height -- and no bar of the left column has
+    a side label, which would stand between the columns and read as the right panel's
+    y-axis label.  (Bars given the panel with ``ax=`` floated into the column gap when
+    the regime legend widened the column's margin.)"""
+    fig = plot_map(map_ds())
+    _renderer(fig)
+    panels = [ax for ax in fig.axes if ax.get_title() in (
+        "period n", "impacts per period") or ax.get_title().startswith("largest")]
+    assert len(panels) == 6
+    left_column = min(ax.get_position().x0 for ax in panels)
+    for ax in panels:
+        meshes = [m for m in ax.collections if isinstance(m, QuadMesh)]
+        bar = meshes[0].colorbar
+        assert bar is not None
+        p, b = ax.get_position(), bar.ax.get_position()
+        assert 0.0 <= b.x0 - p.x1 <= 0.02, ax.get_title()
+        assert p.y0 <= b.y0 and b.y1 <= p.y1
+        if p.x0 == left_column:
+            assert bar.ax.get_ylabel() == ""

@@ -199,7 +199,9 @@ def _panels(fig, grid, subs, xe, ye):
         regime_panel(a, xe, ye, regs[k])
         pscale.draw(fig, b, xe, ye, pkeys[k], "T = n 2π/η")
         b.set_title("period n")
-        iscale.draw(fig, c, xe, ye, ikeys[k], "contacts per period")
+        # no side label: between the columns it would read as the exponent panel's
+        # y-axis label; the panel's title names the quantity
+        iscale.draw(fig, c, xe, ye, ikeys[k], None)
         c.set_title("impacts per period")
         exponent_panel(fig, e, xe, ye, lams[k], norm)
         segs = boundaries(sub["label"].values, xe, ye)

@@ -68,11 +68,23 @@ class Discrete:
         for k, key in enumerate(self.keys):
             codes[np.asarray(keys) == key] = k
         m = ax.pcolormesh(xe, ye, codes, cmap=self.cmap(), norm=self.norm())
-        cb = fig.colorbar(m, ax=ax, ticks=np.arange(len(self.keys)), shrink=0.9)
+        # the bar in an inset of the panel itself, right beside it: a bar given the
+        # panel (ax=) floats in the column's margin when another panel of the column
+        # needs a wider one (the regime legend)
+        cb = fig.colorbar(m, cax=_bar_axes(ax), ticks=np.arange(len(self.keys)))
         cb.ax.set_yticklabels(list(self.labels))
         cb.ax.minorticks_off()
-        cb.set_label(label)
+        if label:
+            cb.set_label(label)
         return m
+
+
+def _bar_axes(ax):
+    """The axes of a panel's colour bar: an inset of the panel, right beside it.  A bar
+    given the panel (``fig.colorbar(ax=...)``) sits in the column's margin and floats
+    away from its panel when another panel of the column needs a wider margin (the
+    regime legend, a longer label), where its label reads as the next panel's."""
+    return ax.inset_axes([1.03, 0.05, 0.04, 0.9])
 
 
 def _tab20(k):
@@ -187,7 +199,7 @@ def exponent_panel(fig, ax, xe, ye, lam, norm):
 
     cm = colormaps["RdBu_r"].with_extremes(bad=MISSING)
     m = ax.pcolormesh(xe, ye, np.ma.masked_invalid(lam), cmap=cm, norm=norm)
-    cb = fig.colorbar(m, ax=ax, shrink=0.9)
+    cb = fig.colorbar(m, cax=_bar_axes(ax))
     cb.set_label("λ₁ per unit τ")
     none = not np.isfinite(lam).any()
     ax.set_title("largest Lyapunov exponent" + (" (none computed: all periodic)"
