@@ -256,8 +256,10 @@ def census(params, etas, starts, cache, fresh=False):
 
 
 def from_rest(params, etas):
-    """Labels of a simulation from rest at each eta (no continuation)."""
-    ds = vi.sweep(vi.Params(**params), np.asarray(etas, float), analyses=("period", "impacts"),
+    """Labels of a simulation from rest at each eta (no continuation); ``params``: eq.
+    (5)'s parameters as a dict, or any model's parameter set (the ring study's)."""
+    p = params if hasattr(params, "as_dict") else vi.Params(**params)
+    ds = vi.sweep(p, np.asarray(etas, float), analyses=("period", "impacts"),
                   continuation=False, execution=vi.Execution(workers=1))
     return [dict(name=str(ds["label"].values[k]), regime=int(ds["regime"].values[k]),
                  period=int(ds["period"].values[k]),

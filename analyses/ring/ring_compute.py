@@ -122,18 +122,6 @@ def census(p, eta, starts, cache, fresh=False):
                                      K.SEED], fresh, make, CENSUS_CODE)
 
 
-def from_rest(p, etas):
-    """Labels of a simulation from rest at each eta (no continuation), as
-    :func:`census_claims.from_rest`."""
-    ds = vi.sweep(p, np.asarray(etas, float), analyses=("period", "impacts"),
-                  continuation=False, execution=vi.Execution(workers=1))
-    return [dict(name=str(ds["label"].values[k]), regime=int(ds["regime"].values[k]),
-                 period=int(ds["period"].values[k]),
-                 impacts=float(ds["impacts_per_period"].values[k]),
-                 contact=int(ds["contact"].values[k]) if "contact" in ds else 0)
-            for k in range(len(etas))]
-
-
 def hunt(p, eta, periods, seeds, cache, fresh=False):
     """The orbit hunt at one eta as :func:`census_claims.hunt` runs it, for any built-in
     parameter set."""

@@ -196,7 +196,7 @@ def compute(cache, fresh, workers, log=sys.stderr):
         for f in RC.FIGURES:
             etas = sorted({e for c in claims if c.preset == f for e in K.claim_etas(c)})
             if etas:
-                rows = RC.from_rest(RC.variant_params(f, v), etas)
+                rows = K.from_rest(RC.variant_params(f, v), etas)
                 rest[v["key"]][f] = {f"{e:g}": r for e, r in zip(etas, rows)}
     t3 = time.perf_counter()
     htasks = []
