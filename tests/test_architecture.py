@@ -149,48 +149,244 @@ ANALYSERS = [
 ]
 
 
-@pytest.mark.parametrize("module, name", ANALYSERS, ids=[a[1] for a in ANALYSERS])
-def test_analysers_take_a_system_and_at_most_8_further_parameters(module, name):
-    """Each analyser of a model's trajectories takes a ``System`` first (model,
-    parameters, solver settings in one value) and no more than eight parameters of the
-    analysis itself."""
+def _system_settings():
+    """The names of what a ``System`` holds: its constructor's parameters (parameter set,
+    model, solver settings) and every field of ``SolverSettings``."""
+    import dataclasses
+
+    import vibimpact as vi
+
+    return ({p for p in inspect.signature(vi.System).parameters}
+            | {f.name for f in dataclasses.fields(vi.SolverSettings)})
+
+
+def _takes_a_system(fn):
+    params = list(inspect.signature(fn).parameters.values())
+    return bool(params) and params[0].name == "system"
+
+
+def _analysers():
+    """``ANALYSERS`` and every other public function of the analysis packages whose first
+    parameter is a ``system`` (a new analyser is checked without being listed)."""
     import importlib
+
+    found = {(m, n) for m, n in ANALYSERS}
+    for module in ("vibimpact.analysis", "vibimpact.points", "vibimpact.orbits",
+                   "vibimpact.census"):
+        mod = importlib.import_module(module)
+        for name in getattr(mod, "__all__", ()):
+            obj = getattr(mod, name)
+            if inspect.isfunction(obj) and _takes_a_system(obj):
+                found.add((module, name))
+    return sorted(found)
+
+
+def _documented_parameters(fn):
+    """Parameter names of ``fn``'s numpydoc Parameters section, in order (``a, b : x``
+    documents two; ``**changes`` keeps its stars)."""
+    from numpydoc.docscrape import FunctionDoc
+
+    names = []
+    for p in FunctionDoc(fn)["Parameters"]:
+        names += [n.strip() for n in p.name.split(",") if n.strip()]
+    return names
+
+
+@pytest.mark.parametrize("module, name", _analysers(), ids=[a[1] for a in _analysers()])
+def test_analysers_take_a_system_and_no_setting_of_it(module, name):
+    """Hypothesis: each analyser of a model's trajectories takes a ``System`` first and
+    none of the System's own settings beside it: no parameter is named like an argument
+    of ``System`` (``params``, ``model``, ``method``, ``rtol``, ``atol``, ...) or a field
+    of ``SolverSettings`` (the rule that replaced a parameter count tuned to today's
+    maximum: the model, its parameters and the solver travel in one value)."""
+    import importlib
+
     fn = getattr(importlib.import_module(module), name)
     params = list(inspect.signature(fn).parameters.values())
     assert params[0].name == "system", (name, params[0].name)
-    further = [p for p in params[1:] if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
-    assert len(further) <= 8, (name, [p.name for p in further])
+    clash = sorted({p.name for p in params[1:]} & _system_settings())
+    assert not clash, (name, clash)
 
 
-#: the package's layers, top to bottom: a module may import its own layer and those below
-LAYERS = (("sweeps", "maps", "plotting"), ("engine",), ("points",), ("analysis",),
-          ("simulation",), ("system", "solver"), ("_kernel",))
+@pytest.mark.parametrize("module, name", _analysers(), ids=[a[1] for a in _analysers()])
+def test_every_analyser_parameter_is_documented_in_signature_order(module, name):
+    """Hypothesis: the numpydoc Parameters section of each analyser lists exactly its
+    signature's parameters, in the signature's order (``*args`` / ``**kwargs`` with their
+    stars): a parameter added, removed, renamed or moved without its documentation
+    fails."""
+    import importlib
+
+    fn = getattr(importlib.import_module(module), name)
+    sig = [("**" if p.kind == p.VAR_KEYWORD else "*" if p.kind == p.VAR_POSITIONAL else "")
+           + p.name for p in inspect.signature(fn).parameters.values()]
+    assert _documented_parameters(fn) == sig, name
+
+
+def test_the_analyser_rules_catch_a_settings_parameter_and_an_undocumented_one():
+    """Hypothesis: the two analyser rules above can fail: a function taking ``rtol``
+    beside its system clashes with the System's settings, and one whose Parameters
+    section skips a parameter or swaps two is not in signature order."""
+    def bad(system, state0, *, rtol=1e-8):
+        """Bad.
+
+        Parameters
+        ----------
+        state0 : array_like
+        system : System
+        """
+
+    assert {"rtol"} <= ({p for p in inspect.signature(bad).parameters}
+                        & _system_settings())
+    assert _documented_parameters(bad) != [p for p in inspect.signature(bad).parameters]
+
+
+#: the package's layers, top to bottom: a module may import its own layer and those below.
+#: Every module of the package is in exactly one (test below); a top-level module is named
+#: by its file name, a subpackage by its folder, the package root by "" (it imports no
+#: vibimpact module: its public names are loaded lazily, by name, from the table
+#: ``_EXPORTS``, and an import of one of them is charged to the module that defines it).
+LAYERS = (
+    # outside the core: the paper's claims, the reference solver of the tests
+    ("paper", "testing"),
+    # the command line (every ``cli_*`` module, by its name) and ``python -m vibimpact``
+    ("cli", "cli_*", "__main__"),
+    # figures of any result
+    ("plotting",),
+    # studies over parameters: sweeps, maps, censuses, orbit hunts, branches, curves
+    ("sweeps", "maps", "census", "orbits", "branches", "curves"),
+    # running many points: processes, checkpoints, progress
+    ("engine",),
+    # one point of a study: the decision pipeline
+    ("points",),
+    # analysers of one trajectory or orbit
+    ("analysis",),
+    # simulate
+    ("simulation",),
+    # a System (model, parameters, solver settings) and the Solver that integrates it
+    ("system", "solver"),
+    # files: the formats of runs and datasets
+    ("io",),
+    # the result of one integration
+    ("run",),
+    # the shipped models and the presets (named parameter sets)
+    ("builtin_models", "presets"),
+    # declaring a model: the Model, its parameter sets, contact laws, the model probe
+    ("models", "params", "contact", "model_probe"),
+    # the compiled kernel
+    ("_kernel",),
+    # vocabulary without dependencies: validation, text, limits, fill values, bifurcation
+    # kinds, provenance, and the package root (its version and lazy name table)
+    ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance"),
+)
+
+
+def _unit(dotted):
+    """The layer unit of a module: its subpackage or top-level module name ("" for the
+    package root)."""
+    parts = dotted.split(".")
+    return parts[1] if len(parts) > 1 else ""
 
 
 def _layer(dotted):
-    parts = dotted.split(".")
-    top = parts[1] if len(parts) > 1 else ""
+    unit = _unit(dotted)
     for i, names in enumerate(LAYERS):
-        if top in names:
-            return i
+        for n in names:
+            if unit == n or (n.endswith("*") and unit.startswith(n[:-1])):
+                return i
     return None
 
 
+def _exports():
+    """The package root's lazy table: public name -> defining module (dotted)."""
+    tree = _tree(PKG / "__init__.py")
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+                getattr(t, "id", None) == "_EXPORTS" for t in node.targets):
+            table = ast.literal_eval(node.value)
+            return {k: f"vibimpact.{mod}" for k, (mod, _) in table.items()}
+    raise AssertionError("vibimpact/__init__.py has no _EXPORTS table")
+
+
+def _dependencies(path):
+    """The vibimpact modules ``path`` uses: ``from x import y`` (y a module or a name of
+    x), and for the package root the defining module of every name taken from it
+    (``from vibimpact import sweep``, ``vi.sweep`` after ``import vibimpact as vi``)."""
+    exports = _exports()
+    aliases = set()
+    for node in ast.walk(_tree(path)):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name == "vibimpact":
+                    aliases.add(a.asname or a.name)
+                elif a.name.startswith("vibimpact."):
+                    yield a.name
+        elif isinstance(node, ast.ImportFrom):
+            mod = _resolve(path, node)
+            if not mod.startswith("vibimpact"):
+                continue
+            for a in node.names:
+                sub = f"{mod}.{a.name}"
+                if _is_module(sub):
+                    yield sub
+                elif mod == "vibimpact":
+                    yield exports.get(a.name, "vibimpact")
+                else:
+                    yield mod
+        elif isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) \
+                and node.value.id in aliases:
+            yield exports.get(node.attr, "vibimpact")
+    if aliases:
+        yield "vibimpact"
+
+
+def test_every_module_is_in_exactly_one_layer():
+    """Hypothesis: every module of the package -- top-level modules, the package root and
+    every subpackage -- belongs to exactly one layer of ``LAYERS`` (a new module must be
+    placed, none is let through for being in no layer)."""
+    missing, twice = [], []
+    for path in _modules():
+        unit = _unit(_module_name(path))
+        hits = [i for i, names in enumerate(LAYERS) for n in names
+                if unit == n or (n.endswith("*") and unit.startswith(n[:-1]))]
+        if not hits:
+            missing.append(str(path.relative_to(PKG)))
+        elif len(hits) > 1:
+            twice.append(str(path.relative_to(PKG)))
+    assert not missing and not twice, (missing, twice)
+
+
+def test_the_package_root_imports_no_module_of_the_package():
+    """Hypothesis: ``vibimpact/__init__.py`` imports no vibimpact module by an import
+    statement (its public names load lazily from ``_EXPORTS``), which is what puts the
+    root in the bottom layer."""
+    assert [m for m in _dependencies(PKG / "__init__.py") if m != "vibimpact"] == []
+
+
 def test_packages_import_no_layer_above_their_own():
-    """Hypothesis: sweeps and maps stand on the engine, the engine on the point pipeline,
-    the point pipeline on the analysers, they on simulate, simulate on System and its
-    solver (one layer: a Solver integrates a System), they on the kernel; no module
-    imports from a layer above its own (so no two packages import each other)."""
+    """Hypothesis: every module uses only modules of its own layer or below (``LAYERS``,
+    top to bottom: the CLI on the studies, they on the engine, it on the point pipeline,
+    that on the analysers, they on simulate, simulate on System and its Solver, they on
+    runs and models, models on the kernel), a name taken from the package root counting
+    as its defining module; so no two packages import each other."""
     bad = []
     for path in _modules():
         own = _layer(_module_name(path))
-        if own is None:
-            continue
-        for mod, name in _imports(path):
-            if not mod.startswith("vibimpact"):
-                continue
-            sub = f"{mod}.{name}" if name else mod
-            other = _layer(sub if name and _is_module(sub) else mod)
+        for dep in _dependencies(path):
+            other = _layer(dep)
             if other is not None and other < own:
-                bad.append(f"{path.relative_to(PKG)}: {mod}")
+                bad.append(f"{path.relative_to(PKG)}: {dep}")
     assert not bad, bad
+
+
+def test_the_layer_rule_catches_an_upward_import(tmp_path):
+    """Hypothesis: the layer check fails for a module below the studies that imports
+    ``vibimpact.sweeps`` directly, or takes ``sweep`` from the package root (``from
+    vibimpact import sweep`` or ``vi.sweep``)."""
+    for i, src in enumerate(("from vibimpact.sweeps import sweep\n",
+                             "from vibimpact import sweep\n",
+                             "import vibimpact as vi\nvi.sweep\n")):
+        f = tmp_path / f"probe{i}.py"
+        f.write_text(src)
+        deps = list(_dependencies(f))
+        assert any(_layer(d) is not None and _layer(d) < _layer("vibimpact.run")
+                   for d in deps), (src, deps)
