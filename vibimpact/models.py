@@ -18,6 +18,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import importlib
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from typing import Callable
 
@@ -29,9 +31,10 @@ from ._kernel.boundary import Problem
 from . import _validate as _v
 from .contact import Contact
 from .model_probe import check_model
+from .params import Domain
 
 if TYPE_CHECKING:  # names of the annotations only
-    from collections.abc import Mapping, Sequence
+    from collections.abc import Sequence
 
     from numpy.typing import ArrayLike
 
@@ -73,6 +76,9 @@ class Model:
     state_text : mapping, optional
         ``{state name: what it is, in words}``: written into files next to the state
         (their ``state_<name>`` attribute, the ``long_name`` of its Poincaré samples).
+    domains : mapping, optional
+        ``{parameter name: Domain}``: a user model's declared parameter ranges (a
+        built-in model's are its ``param_set``'s).
     """
 
     name: str
@@ -93,6 +99,7 @@ class Model:
     plot: PlotSpec = field(default=None, repr=False)
     presets: Mapping = field(default_factory=dict, repr=False)
     state_text: Mapping = field(default_factory=dict, repr=False)
+    domains: Mapping = field(default_factory=dict, repr=False)
 
     @property
     def builtin(self):
@@ -146,6 +153,74 @@ class Model:
                    contact=contact, plot=plot, presets=dict(presets or {}),
                    state_text=dict(state_text or {}))
 
+    def domain(self, index: int) -> Domain:
+        """The :class:`~vibimpact.params.Domain` of parameter ``index``: the parameter
+        set's (a built-in model), the declared one (a user model's ``domains``), else any
+        finite number; the forcing frequency is always ``> 0``."""
+        name = self.param_names[index]
+        if self.param_set is not None:
+            return self.param_set.domain(name)
+        dom = self.domains.get(name)
+        if index == self.omega_index and (dom is None or dom.lo < 0.0 or
+                                          (dom.lo == 0.0 and dom.lo_closed)):
+            return Domain(lo=0.0, hi=dom.hi if dom else math.inf,
+                          hi_closed=dom.hi_closed if dom else False)
+        return dom if dom is not None else Domain()
+
+    def check_params(self, p, name: str = "p") -> np.ndarray:
+        """``p`` as this model's validated parameter vector: the one check of every way
+        parameters come in (a parameter set, a ``{name: value}`` mapping, a plain vector).
+
+        Parameters
+        ----------
+        p : parameter set, mapping or array_like
+            A mapping may leave out the parameters that have a default (a built-in
+            model's); a user model's needs them all.
+        name : str
+            The argument's name, for messages about the vector as a whole.
+
+        Returns
+        -------
+        ndarray of float64, shape (n_params,)
+            A new C-contiguous vector.
+
+        Raises
+        ------
+        ValueError
+            Naming the parameter: not a real number (:class:`~vibimpact._validate.WrongType`),
+            not finite, or outside its domain (:meth:`domain`); or naming ``name`` for a
+            vector of the wrong length, or a mapping with unknown or missing names.
+        """
+        names = self.param_names
+        if hasattr(p, "as_array") and self.param_set is not None and \
+                type(p) is self.param_set:
+            return p.as_array()  # validated when it was made
+        if isinstance(p, Mapping):
+            unknown = [str(k) for k in p if k not in names]
+            if unknown:
+                raise ValueError(f"{name}: unknown parameter {', '.join(unknown)}; "
+                                 f"{self.name}'s are {', '.join(names)}"[:300])
+            if self.param_set is not None:
+                defaults = self.param_set().as_dict()
+                p = {**defaults, **p}
+            missing = [n for n in names if n not in p]
+            if missing:
+                raise ValueError(f"{name}: missing parameter {', '.join(missing)}")
+            vec = np.array([_v.finite(n, p[n]) for n in names], dtype=np.float64)
+        else:
+            vec = _v.array1d(name, p.as_array() if hasattr(p, "as_array") else p,
+                             "the parameter vector")
+            if np.ndim(p.as_array() if hasattr(p, "as_array") else p) != 1 or \
+                    vec.size != len(names):
+                raise ValueError(f"{name} must have {len(names)} parameters {names}, got "
+                                 f"shape {np.shape(vec)}")
+        for i, pname in enumerate(names):
+            value = float(vec[i])
+            if not math.isfinite(value):
+                raise ValueError(f"{pname} must be finite, got {value!r}")
+            self.domain(i).check(pname, value)
+        return np.ascontiguousarray(vec)
+
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
@@ -176,7 +251,8 @@ class Model:
                        transition: Callable, init_mode: Callable, terminal: Callable,
                        state_names: Sequence[str], param_names: Sequence[str],
                        omega_index: int, n_mode: int = 1, bound: float = 1e3,
-                       contact: Contact | None = None) -> Model:
+                       contact: Contact | None = None,
+                       domains: Mapping[str, Domain] | None = None) -> Model:
         """A user model from numba functions (compiled on first use, not cached on disk).
 
         Parameters
@@ -197,6 +273,12 @@ class Model:
             The model's contact (:class:`vibimpact.contact.Contact`): with it the model
             gets impact records, impacts per period, contact arcs and contact statistics
             in runs, sweeps and maps.
+        domains : mapping, optional
+            ``{parameter name: vibimpact.params.Domain}``: the values a parameter may
+            take (e.g. ``{"delta": Domain.at_least(0.0)}``); every parameter vector of
+            the model is checked against them, and the continuation steps up to a bound
+            but never past it.  Undeclared: any finite number (the forcing frequency
+            ``> 0``).
         """
         if not isinstance(name, str) or not name:
             raise _v.WrongType(f"name must be a non-empty str, got {name!r}"[:200])
@@ -223,11 +305,31 @@ class Model:
                 raise _v.WrongType(f"contact must be a vibimpact.contact.Contact, got "
                                    f"{type(contact).__name__}")
             contact.check(len(states), term.size, n_mode, params)
+        domains = _domains(domains, params)
         return cls(name=name, state_names=states, param_names=params,
                    omega_index=omega_index, n_mode=n_mode,
                    terminal=term.astype(np.int64), kernel_model=(rhs, switches, transition),
                    rhs=rhs, jac=jac, switches=switches, transition=transition,
-                   init_mode=init_mode, bound=_v.positive("bound", bound), contact=contact)
+                   init_mode=init_mode, bound=_v.positive("bound", bound), contact=contact,
+                   domains=domains)
+
+
+def _domains(value, params):
+    """``{name: Domain}`` of a user model's declared ranges, each name one of
+    ``params``."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise _v.WrongType(f"domains must be a mapping {{parameter name: Domain}}, got "
+                           f"{type(value).__name__}")
+    for key, dom in value.items():
+        if key not in params:
+            raise ValueError(f"domains: {key!r} is not a parameter ({', '.join(params)})"
+                             [:200])
+        if not isinstance(dom, Domain):
+            raise _v.WrongType(f"domains[{key!r}] must be a vibimpact.params.Domain, got "
+                               f"{type(dom).__name__}")
+    return dict(value)
 
 
 def _names(arg, value):
@@ -337,11 +439,12 @@ def resolve(p, model=None):
 
     Parameters
     ----------
-    p : parameter set of a built-in model, or array_like
+    p : parameter set of a built-in model, mapping or array_like
         Parameters (:class:`~vibimpact.Params`, :class:`~vibimpact.DuffingParams`, ...);
-        a plain vector needs ``model``.
+        a plain vector or a ``{name: value}`` mapping needs ``model``.
     model : Model, optional
-        A user model; ``p`` is then its parameter vector.
+        The model ``p`` belongs to (a built-in one such as ``vi.ROTOR``, or a user's);
+        ``p`` is then checked by :meth:`Model.check_params`, as a parameter set is.
 
     Returns
     -------
@@ -350,21 +453,17 @@ def resolve(p, model=None):
     Raises
     ------
     ValueError
-        Naming ``model`` or ``p``.
+        Naming ``model`` or ``p``, or the parameter that is not finite or outside its
+        domain.
     """
     if model is not None:
         if not isinstance(model, Model):
             raise _v.WrongType(f"model must be a vibimpact.models.Model, got "
                                f"{type(model).__name__}")
-        vec = np.ascontiguousarray(p.as_array() if hasattr(p, "as_array") else p,
-                                   dtype=np.float64)
-        if vec.ndim != 1 or vec.size != len(model.param_names):
-            raise ValueError(f"p must have {len(model.param_names)} parameters "
-                             f"{model.param_names}")
-        return model, vec
+        return model, model.check_params(p)
     model = of_params(p)
     if model is not None:
-        return model, p.as_array()
+        return model, model.check_params(p)
     raise _v.WrongType(f"p must be the parameter set of a model ({param_set_names()}), "
                        f"got {type(p).__name__}")
 

@@ -83,11 +83,14 @@ class System:
 
     Parameters
     ----------
-    params : Params, DuffingParams or array_like
-        Parameters; a plain vector with a user ``model``.
+    params : Params, DuffingParams, mapping or array_like
+        Parameters; a plain vector or a ``{name: value}`` mapping with ``model``.  Every
+        form is checked the same way (:meth:`vibimpact.Model.check_params`): each value
+        finite and inside its parameter's domain.
     model : Model, optional
-        A user model (:meth:`vibimpact.Model.from_functions`); the built-in rotor or
-        Duffing oscillator is taken from the type of ``params`` otherwise.
+        The model of a plain vector or mapping: a built-in one (``vi.ROTOR``, ...) or a
+        user's (:meth:`vibimpact.Model.from_functions`); taken from the type of
+        ``params`` otherwise.
     method : {"dop853", "dp5", "rk4"}, optional
     rtol, atol, max_step, event_tol : float, optional
         Solver settings as keywords; each given one replaces the same setting of
@@ -98,7 +101,7 @@ class System:
     Raises
     ------
     ValueError
-        Naming the offending argument.
+        Naming the offending argument or parameter (``"f must be >= 0, got -1.0"``).
     """
 
     params: object
@@ -163,8 +166,9 @@ class System:
         The built-in models' parameter sets state their domains
         (:meth:`vibimpact.Params.domain`: the dampings, stiffness, friction, radius,
         eccentricity and ``eps`` ``>= 0``, ``eta > 0``; :class:`vibimpact.DuffingParams`:
-        ``delta >= 0``, ``omega > 0``); a user model's vector is unbounded but for its
-        forcing frequency (``> 0``).
+        ``delta >= 0``, ``omega > 0``); a user model's are those it declares
+        (``Model.from_functions(..., domains=)``), any finite number otherwise, its
+        forcing frequency ``> 0``.
 
         Parameters
         ----------
@@ -188,10 +192,7 @@ class System:
         >>> vi.System(vi.presets.get("fig8")).param_domain("BT").rule("BT")
         'BT must be >= 0'
         """
-        i = self._index(name)
-        if self.model.param_set is not None:  # also for a plain vector of the rotor
-            return self.model.param_set.domain(self.model.param_names[i])
-        return Domain.above(0.0) if i == self.model.omega_index else Domain()
+        return self.model.domain(self._index(name))
 
     def _index(self, name):
         names = self.model.param_names
@@ -215,7 +216,8 @@ class System:
             return replace(self, params=self.params.replace(**changes))
         vec = self.p.copy()
         for name, value in changes.items():
-            vec[self._index(name)] = float(value)
+            i = self._index(name)
+            vec[i] = _v.finite(self.model.param_names[i], value)
         return replace(self, params=vec)
 
     def with_param(self, name: str | int, value: float) -> System:
@@ -223,9 +225,9 @@ class System:
         i = self._index(name)
         if hasattr(self.params, "replace"):
             return replace(self, params=self.params.replace(
-                **{self.model.param_names[i]: float(value)}))
+                **{self.model.param_names[i]: value}))
         vec = self.p.copy()
-        vec[i] = float(value)
+        vec[i] = _v.finite(self.model.param_names[i], value)
         return replace(self, params=vec)
 
     def with_solver(self, **settings) -> System:
