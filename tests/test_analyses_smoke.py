@@ -128,10 +128,11 @@ def _profile_sweep():
 
 
 def test_a_profile_entry_that_matches_nothing_fails_the_profile():
-    """Hypothesis: profile_sweep.bucket_times raises UnmatchedProfileEntry naming the part
-    whose function the profile never saw (the rot that printed 0.00 s for the Lyapunov
-    kernel and the Floquet step), and returns each part's seconds -- alternatives summed,
-    tottime or cumtime as asked -- when every part matched."""
+    """Hypothesis: profile_sweep.bucket_times raises UnmatchedProfileEntry naming every
+    entry whose function the profile never saw (the rot that printed 0.00 s for the
+    Lyapunov kernel and the Floquet step) -- also an entry of a part whose other entry
+    matched, which would silently drop its share -- and returns each part's seconds
+    (entries of one part summed, tottime or cumtime as asked) when every entry matched."""
     ps = _profile_sweep()
     # pstats layout: (file, line, function) -> (calls, primitive calls, tottime, cumtime,
     # callers)
@@ -140,12 +141,32 @@ def test_a_profile_entry_that_matches_nothing_fails_the_profile():
              ("/x/vibimpact/analysis/period.py", 9, "detect_period"): (2, 2, 0.25, 0.75, {})}
     buckets = (("kernel", "_kernel/driver.py", "integrate", "tottime"),
                ("kernel", "_kernel/variational.py", "integrate", "tottime"),
-               ("kernel", "_kernel/gone.py", "integrate", "tottime"),
                ("periods", "analysis/period.py", "detect_period", "cumtime"))
     assert ps.bucket_times(stats, buckets) == {"kernel": 2.0, "periods": 0.75}
-    gone = buckets + (("Floquet step", "sweeps/point.py", "_floquet", "cumtime"),)
-    with pytest.raises(ps.UnmatchedProfileEntry, match="Floquet step.*sweeps/point.py"):
-        ps.bucket_times(stats, gone)
+    for gone in (("Floquet step", "sweeps/point.py", "_floquet", "cumtime"),
+                 ("kernel", "_kernel/gone.py", "integrate", "tottime")):
+        with pytest.raises(ps.UnmatchedProfileEntry,
+                           match=f"{gone[0]}.*{gone[1]}:{gone[2]}"):
+            ps.bucket_times(stats, buckets + (gone,))
+
+
+def test_the_profile_section_shows_every_part_the_script_profiles():
+    """Hypothesis: the profile section of reports/performance.md has one row per part of
+    profile_sweep.BUCKETS (the parts the script profiles today, in its order) and no part
+    it no longer profiles, each with a time above 0.00 s in both columns: a report
+    written by an older script, with parts that matched nothing, fails."""
+    ps = _profile_sweep()
+    text = (ROOT / "reports" / "performance.md").read_text()
+    sec = text.split("<!-- section:profile -->")[1].split("<!-- /section:profile -->")[0]
+    rows = [r for r in sec.splitlines() if r.startswith("| ") and r.endswith("|")]
+    table = rows[:rows.index(next(r for r in rows if r.startswith("| **total")))]
+    parts = [r.split(" | ")[0][2:] for r in table[2:]]
+    names = list(dict.fromkeys(b[0] for b in ps.BUCKETS))
+    assert parts[:len(names)] == names
+    assert parts[len(names):] == ["Python around the kernels (wall - kernels)"]
+    for r in table[2:2 + len(names)]:
+        times = [float(c) for c in r.strip("| ").split(" | ")[1:]]
+        assert len(times) == 2 and min(times) > 0.0, r
 
 
 def test_the_profile_names_functions_that_exist():

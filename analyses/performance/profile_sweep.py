@@ -66,31 +66,29 @@ class UnmatchedProfileEntry(LookupError):
 def bucket_times(stats, buckets=BUCKETS):
     """Seconds of each part of ``buckets`` in ``stats`` (:attr:`pstats.Stats.stats`).
 
-    A part may have several entries (alternatives, their times summed: a function
-    that may be profiled under either of two names); it must match at least one
-    function the profile saw.
+    A part may have several entries (their times summed: a part spread over two
+    functions); every entry must match a function the profile saw.
 
     Raises
     ------
     UnmatchedProfileEntry
-        Naming every part none of whose entries matched: the function was renamed or
-        moved, and the report would show 0 s for it.
+        Naming every entry that matched no function: the function was renamed or moved,
+        and the report would show 0 s for it (or silently leave its share out of a part).
     """
-    out, seen = {}, set()
+    out, missing = {}, []
     for name, suffix, func, col in buckets:
-        t = 0.0
+        t, hit = 0.0, False
         for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
             if fname.endswith(suffix) and fn == func:
                 t += tt if col == "tottime" else ct
-                seen.add(name)
+                hit = True
+        if not hit:
+            missing.append(f"{name!r} ({suffix}:{func})")
         out[name] = out.get(name, 0.0) + t
-    missing = [name for name in out if name not in seen]
     if missing:
         raise UnmatchedProfileEntry(
-            "profile parts that match no function the sweep called (renamed or moved? "
-            "fix BUCKETS in analyses/performance/profile_sweep.py): "
-            + "; ".join(f"{n!r} ({', '.join(f'{s}:{f}' for m, s, f, _ in buckets if m == n)})"
-                        for n in missing))
+            "profile entries that match no function the sweep called (renamed or moved? "
+            "fix BUCKETS in analyses/performance/profile_sweep.py): " + "; ".join(missing))
     return out
 
 
