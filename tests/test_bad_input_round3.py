@@ -153,3 +153,176 @@ def test_user_model_domains_of_wrong_form_are_refused(domains, match):
     Domains."""
     with pytest.raises(ValueError, match=match):
         _user(domains)
+
+
+def _public_functions():
+    """(qualified name, function, bool argument) of every public function of the API
+    modules that takes an argument annotated ``bool``."""
+    import importlib
+
+    out, seen = [], set()
+    for mod in ("vibimpact", "vibimpact.analysis", "vibimpact.plotting", "vibimpact.maps",
+                "vibimpact.census", "vibimpact.orbits"):
+        module = importlib.import_module(mod)
+        for name in getattr(module, "__all__", ()):
+            fn = getattr(module, name)
+            if not inspect.isfunction(fn) or id(fn) in seen:
+                continue
+            seen.add(id(fn))
+            for arg, prm in inspect.signature(fn).parameters.items():
+                if prm.annotation in ("bool", bool):
+                    out.append((f"{mod}.{name}", fn, arg))
+    return out
+
+
+_FLAGS = _public_functions()
+
+
+def test_the_api_has_bool_arguments_to_check():
+    """The enumeration below finds the API's bool arguments (so the rule cannot pass by
+    finding none)."""
+    names = {f"{q}:{a}" for q, _, a in _FLAGS}
+    assert {"vibimpact.analysis.lyapunov_spectrum:floquet",
+            "vibimpact.analysis.shoot_periodic_orbit:damping",
+            "vibimpact.plotting.plot_response:bands"} <= names
+
+
+@pytest.mark.parametrize("value", ["no", "False", 1, None, np.array([True])])
+@pytest.mark.parametrize("qualname, fn, arg", _FLAGS, ids=[f"{q}:{a}" for q, _, a in _FLAGS])
+def test_every_public_bool_argument_refuses_what_is_not_a_bool(qualname, fn, arg, value):
+    """A bool argument of any public function refuses a string ('no' is true to Python),
+    an int, None or an array with a ValueError naming the argument, before the function
+    looks at its other arguments (none are given)."""
+    with pytest.raises(ValueError, match=rf"^{arg} must be True or False"):
+        fn(**{arg: value})
+
+
+# --- arrays that were coerced instead of checked ------------------------------------
+
+_SYS = None
+
+
+def _system():
+    global _SYS
+    if _SYS is None:
+        _SYS = vi.System(vi.presets.get("fig8"))
+    return _SYS
+
+
+_BAD_STATES = {
+    "complex": (np.array([0.1 + 1j, 0, 0, 0]), "imaginary part"),
+    "digit strings": (["0.1", "0", "0", "0"], "must be"),
+    "object strings": (np.array(["a", "b", "c", "d"], dtype=object), "must be"),
+    "booleans": ([True, False, False, False], "must be"),
+    "nan": ([math.nan, 0, 0, 0], "finite"),
+}
+
+_STATE_TAKERS = {
+    "simulate": lambda s, v: vi.simulate(s, 1, state0=v),
+    "sweep": lambda s, v: vi.sweep(s, [1.0, 1.01], state0=v, analyses=("period",)),
+    "map2d": lambda s, v: vi.map2d(s, [1.0], {"B": [0.01]}, state0=v, analyses=("period",)),
+    "lyapunov_spectrum": lambda s, v: vi.analysis.lyapunov_spectrum(s, v),
+    "classify_params": lambda s, v: vi.classify_params(s, v),
+    "monodromy": lambda s, v: s.monodromy(v),
+    "shoot_periodic_orbit": lambda s, v: vi.analysis.shoot_periodic_orbit(s, v),
+    "basins(base)": lambda s, v: vi.basins(s, grid=(5, 5), base=v),
+    "hunt_orbits(seeds)": lambda s, v: vi.hunt_orbits(s, [1], seeds=[v]),
+    "attractors(starts)": lambda s, v: vi.attractors(s, starts=np.array([v])),
+}
+
+
+@pytest.mark.parametrize("taker", sorted(_STATE_TAKERS))
+@pytest.mark.parametrize("kind", sorted(_BAD_STATES))
+def test_a_state_that_is_not_real_numbers_is_refused_everywhere(taker, kind):
+    """Every function that takes a state refuses a complex state (whose imaginary part was
+    dropped), digit strings (read as numbers), an object array of strings (read as
+    zeros), booleans and NaN with a ValueError naming the state argument."""
+    value, words = _BAD_STATES[kind]
+    with pytest.raises(ValueError, match=rf"^(state0|base|seeds|starts)\b.*{words}"):
+        _STATE_TAKERS[taker](_system(), value)
+
+
+_BAD_GRIDS = {
+    "digit strings": ["1.0", "1.01"],
+    "object strings": np.array(["1.0", "1.01"], dtype=object),
+    "complex": [1.0 + 0j, 1.01 + 0j],
+    "booleans": [True, True],
+}
+
+_GRID_TAKERS = {
+    "sweep(eta)": (lambda s, v: vi.sweep(s, v, analyses=("period",)), "eta"),
+    "map2d(eta)": (lambda s, v: vi.map2d(s, v, {"B": [0.01]}, analyses=("period",)),
+                   "eta"),
+    "map2d(vary)": (lambda s, v: vi.map2d(s, [1.0], {"B": v}, analyses=("period",)),
+                    "vary B"),
+    "attractors(eta)": (lambda s, v: vi.attractors(s, v, starts=2), "eta"),
+    "detect_period": (lambda s, v: vi.analysis.detect_period(v), "points"),
+    "extrapolate_limit": (lambda s, v: vi.analysis.extrapolate_limit(v), "seq"),
+}
+
+
+@pytest.mark.parametrize("taker", sorted(_GRID_TAKERS))
+@pytest.mark.parametrize("kind", sorted(_BAD_GRIDS))
+def test_a_grid_or_series_that_is_not_real_numbers_is_refused(taker, kind):
+    """Grids of eta (and of a varied parameter) and the analysers' series refuse strings
+    (sweep(eta=['1.0', '1.01']) ran), complex numbers and booleans, naming the argument."""
+    fn, name = _GRID_TAKERS[taker]
+    with pytest.raises(ValueError, match=rf"^({name})\b"):
+        fn(_system(), _BAD_GRIDS[kind])
+
+
+def test_solver_setting_adaptive_no_is_refused():
+    """SolverSettings(adaptive='no') (true to Python) is refused naming adaptive."""
+    with pytest.raises(ValueError, match=r"^adaptive must be True or False"):
+        vi.SolverSettings(adaptive="no")
+
+
+# --- analysers at extreme magnitudes and with too few points ------------------------
+
+_CYCLE = np.tile([[1.0, 2.0], [-1.0, 3.0]], (20, 1))
+
+
+@pytest.mark.parametrize("factor", [1.0, 1e308 / 3.0, 1e-308, 1e-320, 1e-200, 1e200])
+def test_detect_period_is_the_same_at_every_magnitude(factor):
+    """A clean 2-cycle is period 2 whatever its magnitude: near 1e308 the differences
+    overflowed to inf and lag 1 was accepted; subnormal values fell under an absolute
+    floor.  The windowed detector agrees."""
+    from vibimpact.analysis.period import detect_period_windows
+
+    assert vi.analysis.detect_period(_CYCLE * factor) == 2
+    assert detect_period_windows(_CYCLE * factor, (12, 40)) == 2
+
+
+def test_detect_period_of_mixed_magnitudes_and_extreme_constants():
+    """A 2-cycle near the largest float with a subnormal second component is period 2; a
+    constant at the largest float and the zero sequence are period 1; a 2-cycle between
+    +-1.7e308 (whose difference overflows) is period 2."""
+    mixed = _CYCLE.copy()
+    mixed[:, 0] *= 5e307
+    mixed[:, 1] = 1e-320
+    assert vi.analysis.detect_period(mixed) == 2
+    assert vi.analysis.detect_period(np.full((20, 1), 1.7e308)) == 1
+    assert vi.analysis.detect_period(np.zeros((20, 2))) == 1
+    assert vi.analysis.detect_period(np.tile([[1.7e308], [-1.7e308]], (20, 1))) == 2
+
+
+@pytest.mark.parametrize("m", [1, 2])
+def test_extrapolate_limit_of_too_few_iterates_is_refused(m):
+    """extrapolate_limit of fewer than 3 iterates (it returned NaNs without a word) is a
+    ValueError naming seq and saying how many it needs."""
+    with pytest.raises(ValueError, match=r"^seq must hold at least 3 iterates"):
+        vi.analysis.extrapolate_limit(np.ones((m, 2)))
+
+
+@pytest.mark.parametrize("fn, arg, name", [
+    ("test01", [1.0], "series"),
+    ("lyapunov_from_series", [1.0, 2.0], "series"),
+    ("classify", np.zeros((1, 2)), "points"),
+    ("torus_evidence", np.zeros((2, 2)), "points"),
+    ("lyapunov_from_jacobians", np.zeros((1, 2, 2)), "jacobians"),
+])
+def test_analysers_refuse_too_few_points_naming_the_argument(fn, arg, name):
+    """Every analyser that cannot answer from too few points says so, naming its data
+    argument, instead of returning NaN."""
+    with pytest.raises(ValueError, match=rf"^{name}\b"):
+        getattr(vi.analysis, fn)(arg)

@@ -10,6 +10,8 @@ line) catch both with ``except ValueError``.
 """
 from __future__ import annotations
 
+import functools
+import inspect
 import math
 import numbers
 import os
@@ -181,6 +183,29 @@ def flag(name, value):
         raise WrongType(f"{name} must be True or False, got {type(value).__name__} "
                         f"{value!r}"[:200])
     return bool(value)
+
+
+def checks_flags(fn):
+    """Decorate ``fn`` so that every argument annotated ``bool`` is checked by
+    :func:`flag` before ``fn`` runs: ``adaptive='no'``, ``1``, ``None`` or a one-element
+    array is :class:`WrongType` naming the argument, whatever else ``fn`` is given (a
+    call that does not fit the signature is left to ``fn``'s own ``TypeError``)."""
+    sig = inspect.signature(fn)
+    names = tuple(n for n, p in sig.parameters.items() if p.annotation in ("bool", bool))
+
+    @functools.wraps(fn)
+    def checked(*args, **kwargs):
+        try:
+            given = sig.bind_partial(*args, **kwargs).arguments
+        except TypeError:
+            given = {}
+        for name in names:
+            if name in given:
+                flag(name, given[name])
+        return fn(*args, **kwargs)
+
+    checked.checked_flags = names
+    return checked
 
 
 def path(name, value, allow_empty=False):

@@ -111,6 +111,7 @@ def period_doubling_point(system: System, branch: Branch, index: int | None = No
     return float(lam), np.asarray(x, dtype=float), v / np.linalg.norm(v)
 
 
+@_v.checks_flags
 def switch_branch(system: System, branch: Branch, index: int | None = None, *,
                   stop: float | tuple | None = None, h: float | None = None,
                   steps: Steps = Steps(), refine: float | None = None,

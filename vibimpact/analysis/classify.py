@@ -219,6 +219,7 @@ def decide(n, lam_map, err_map, k01, rule=DEFAULT_RULE, torus=None):
     return Label.UNSETTLED, 0, 0.0, "no period found and no other test available"
 
 
+@_v.checks_flags
 def classify(points: ArrayLike, *, lyapunov: float | None = None,
              lyapunov_err: float | None = None, period: float = 1.0,
              k01: float | None = None, impacts_per_period: float | None = None,

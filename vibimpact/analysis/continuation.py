@@ -405,6 +405,7 @@ def _window(stop, lam0):
     return tuple(sorted((_v.finite("stop", stop[0]), _v.finite("stop", stop[1]))))
 
 
+@_v.checks_flags
 def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str = "eta",
                    stop: float, steps: Steps = Steps(), direction: int = 1,
                    amplitude: bool = True, refine: float | None = None) -> Branch:

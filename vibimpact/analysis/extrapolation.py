@@ -49,13 +49,13 @@ def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
     Returns
     -------
     ndarray, shape (d,)
-        The extrapolated limit, or NaNs when the sequence does not determine one (fewer
-        than 3 iterates, a singular least-squares problem, a non-finite result).
+        The extrapolated limit, or NaNs when the sequence does not determine one (a
+        singular least-squares problem, a non-finite result).
 
     Raises
     ------
     ValueError
-        Naming ``seq`` (not a finite 2-D array) or ``order``.
+        Naming ``seq`` (not a finite 2-D array, or fewer than 3 iterates) or ``order``.
 
     Notes
     -----
@@ -78,7 +78,8 @@ def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
         raise ValueError(f"seq must be a finite array of shape (m, d), got shape {x.shape}")
     m, d = x.shape
     if m < 3:
-        return np.full(d, np.nan)
+        raise ValueError(f"seq must hold at least 3 iterates (shape (m, d) with m >= 3), "
+                         f"got shape {x.shape}")
     k = min(d, m - 2) if order is None else order
     if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 1 <= k <= m - 2:
         raise ValueError(f"order must be an integer in 1 .. {m - 2}, got {order!r}")

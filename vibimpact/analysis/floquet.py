@@ -24,6 +24,7 @@ if TYPE_CHECKING:  # names of the annotations only
 __all__ = ["floquet_lyapunov"]
 
 
+@_v.checks_flags
 def floquet_lyapunov(system: System, state0: ArrayLike, n: int = 1, *,
                      n_exponents: int | None = None, include_phase: bool = False,
                      tol: float = 1e-9, max_iter: int = 20) -> LyapunovResult:

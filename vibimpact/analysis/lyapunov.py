@@ -173,6 +173,7 @@ def _period_watch(states, shoot, tol, max_period, window, attempts=3):
     return watch
 
 
+@_v.checks_flags
 def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
                       n_exponents: int | None = None, averaging: Averaging = Averaging(),
                       include_phase: bool = False, tangent_tol: float = TANGENT_TOL,

@@ -37,8 +37,9 @@ if TYPE_CHECKING:  # names of the annotations only
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]
 
-#: relative floor of the reference length, so that an exactly constant sequence at the
-#: origin still has a positive scale (and is recognised as period 1)
+#: floor of the reference length, relative to the data's largest magnitude, so that an
+#: exactly constant sequence at the origin still has a positive scale (and is recognised
+#: as period 1)
 SCALE_FLOOR = 1e-12
 #: a period n is refused (0 returned) when a proper divisor d of n repeats within this
 #: many times the tolerance: the data are then a transient spiralling into the d-cycle
@@ -68,7 +69,10 @@ def detect_period(points: ArrayLike, tol: float = 1e-6, max_period: int = 64,
     scale : float, optional
         Reference length of the tolerance.  Default: the larger of the attractor's size
         (largest component range ``max_j (max_k x_kj - min_k x_kj)``) and its magnitude
-        ``max |x_kj|``, floored at :data:`SCALE_FLOOR`.  The magnitude matters for a fixed
+        ``max |x_kj|``, floored at :data:`SCALE_FLOOR` times the data's largest magnitude.
+        The rule is the same at every magnitude (the data are normalised by a power of
+        two first): values near ``1e308`` or subnormal ones get the period their shape
+        has.  The magnitude matters for a fixed
         point, whose size is only the integration noise (about ``rtol * |x|``), so that a
         size-only scale would never accept it; a size-only scale can be had by passing
         ``scale=np.ptp(points, axis=0).max()``.
@@ -118,6 +122,25 @@ def detect_period(points: ArrayLike, tol: float = 1e-6, max_period: int = 64,
     return detect_period_windows(x, (m,), tol, max_period, min_repeats, scale=scale)
 
 
+def _normalised(x, scale):
+    """``x`` and ``scale`` divided by a power of two, so that ``1 <= max |x| < 2``.
+
+    Exact (a power of two only moves the exponent) for all but values below about
+    ``2**-1022`` times the largest, which are negligible against it: the decisions are
+    those on ``x`` itself, without the overflow of differences and ranges of data near
+    ``1e308`` (which made every lag's residual ``inf`` and accepted lag 1) and without
+    subnormal data falling under an absolute floor.  The rule is thereby the same at every
+    magnitude: ``detect_period(c * x) == detect_period(x)`` for ``c > 0``.
+    """
+    peak = float(np.max(np.abs(x))) if x.size else 0.0
+    if peak == 0.0:
+        return x, scale
+    factor = np.ldexp(1.0, int(np.frexp(peak)[1]) - 1)  # at most 2**1023: finite
+    if scale is not None:
+        scale = max(scale / factor, np.finfo(float).smallest_subnormal)
+    return x / factor, scale
+
+
 def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=3, *,
                           scale=None):
     """:func:`detect_period` on the trailing windows of a sequence, in one pass.
@@ -161,6 +184,7 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
     min_repeats = _v.count("min_repeats", min_repeats)
     if scale is not None:
         scale = _v.real_positive("scale", scale)
+    x, scale = _normalised(x, scale)
     ws = []
     for w in windows:
         w = _v.count("windows", w)

@@ -271,6 +271,7 @@ def _minimal_period(strobe, n, tol):
     return n
 
 
+@_v.checks_flags
 def shoot_periodic_orbit(system: System, state0: ArrayLike, n: int = 1, *,
                          tol: float = 1e-9, max_iter: int = 20,
                          damping: bool = True) -> PeriodicOrbit:

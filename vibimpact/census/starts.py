@@ -130,10 +130,7 @@ def as_starts(starts, d: int, box: Box, seed: int) -> np.ndarray:
         raise _v.WrongType(f"starts must be a count or an array of states, got {starts!r}")
     if isinstance(starts, (int, np.integer)):
         return random_starts(box, int(starts), seed)
-    arr = np.asarray(starts)
-    if arr.dtype.kind not in "fiu":
-        raise _v.WrongType(f"starts must be a count or a real array of shape (m, {d}), got "
-                           f"dtype {arr.dtype}")
+    arr = _v.numeric("starts", starts, f"a count or an array of shape (m, {d})")
     arr = np.array(arr, dtype=np.float64, ndmin=2)
     if arr.ndim != 2 or arr.shape[1] != d or arr.shape[0] < 1:
         raise ValueError(f"starts must have shape (m, {d}), got {np.shape(starts)}")

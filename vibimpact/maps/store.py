@@ -54,6 +54,7 @@ def _chunks(ds):
     return enc
 
 
+@_v.checks_flags
 def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
               overwrite: bool = False) -> None:
     """Write a map dataset atomically as Zarr (``*.zarr``) or NetCDF (``*.nc``).

@@ -225,6 +225,7 @@ def is_orbit_dataset(ds: xr.Dataset) -> bool:
     return ds.attrs.get("title") == TITLE and "orbit" in ds.dims
 
 
+@_v.checks_flags
 def write_orbits(ds: xr.Dataset, path: str | os.PathLike[str],
                  overwrite: bool = False) -> None:
     """Write a hunt's dataset to NetCDF atomically (:func:`vibimpact.io.write_netcdf`).

@@ -193,6 +193,7 @@ def _settings(periods, transient, record, starts, max_return, max_iter, tol):
                 max_iter=_v.count("max_iter", max_iter, 1), tol=_v.positive("tol", tol))
 
 
+@_v.checks_flags
 def hunt_orbits(system: System | Params | DuffingParams,
                 periods: int | Iterable[int] = range(1, 17), *,
                 seeds: ArrayLike | None = None, random: int = DEFAULT_RANDOM,

@@ -5,6 +5,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import _validate as _v
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
                      grid_step, new_figure, title)
 from .style import look, width
@@ -24,6 +25,7 @@ LONG_PERIOD_COLOR = "#d9ef8b"
 HATCHES = {"///": "hatched ///: impactless", "...": "dotted ...: permanent contact"}
 
 
+@_v.checks_flags
 def plot_response(ds: xr.Dataset, ax: Axes | None = None,
                   path: str | os.PathLike[str] | None = None, bands: bool = True, *,
                   figsize: tuple[float, float] | None = None, dpi: float | None = None,

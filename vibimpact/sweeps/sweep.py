@@ -232,6 +232,7 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
                       blocks=blocks, command=None)
 
 
+@_v.checks_flags
 def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarray:
     """``"START:STOP:STEP"`` or ``"V1,V2,..."`` -> a strictly increasing grid.
 

@@ -398,6 +398,7 @@ def _classify(p, a, b, settings, tol, refine, cache):
     return out
 
 
+@_v.checks_flags
 def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None = None, *,
                      refine: bool = True, tol: float = 1e-4, direction: str | None = None,
                      settings: SweepSettings | None = None,
