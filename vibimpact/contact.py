@@ -38,6 +38,24 @@ IMPACT_DTYPE = np.dtype([
     ("duration", "f8"),     # t_exit - t_entry; NaN while the contact is still open at the end
     ("t_exit", "f8"),       # time of contact exit (R = 1); NaN: still open at the end
     ("period", "i8"),       # forcing period of the entry, counted from the recorded start
+    # the contact's angular extent, degrees on the branch of ``theta`` (so they may leave
+    # (-180, 180]): entry to exit with the sliding in between (see :func:`contact_spans`)
+    ("theta_exit", "f8"),   # angle at exit, theta + the angle travelled; NaN: still open
+    ("theta_min", "f8"),    # smallest angle reached in contact (<= theta)
+    ("theta_max", "f8"),    # largest angle reached in contact (>= theta)
+])
+
+#: fields of a contact span: one interval of contact inside a recorded window, entered
+#: there or already open at its start (:func:`contact_spans`)
+SPAN_DTYPE = np.dtype([
+    ("t_start", "f8"),      # entry, or the window's start for a contact open there
+    ("t_end", "f8"),        # exit, or the window's end for a contact still open there
+    ("theta_start", "f8"),  # angle at t_start, degrees in (-180, 180]
+    ("theta_end", "f8"),    # angle at t_end on theta_start's branch (theta_start + travel)
+    ("theta_min", "f8"),    # smallest angle reached on that branch
+    ("theta_max", "f8"),    # largest angle reached on that branch
+    ("entered", "?"),       # the span begins with an entry inside the window
+    ("exited", "?"),        # the span ends with an exit inside the window
 ])
 
 _NORMAL_LAWS = ("hertz", "linear")
@@ -163,7 +181,8 @@ class Contact:
                                  f"({', '.join(param_names)})")
 
 
-def impacts_from_events(contact, p, t, which, mode_before, state, t0, period):
+def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
+                        samples=None):
     """Contact records from a run's event log (vectorised).
 
     Parameters
@@ -179,6 +198,9 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period):
         Start of the recorded window.
     period : float
         Forcing period (for the ``period`` field).
+    samples : (ndarray, ndarray), optional
+        ``(times, states)`` of further states known in the window (stroboscopic, dense):
+        points of the angle's path inside long contacts (:func:`contact_spans`).
 
     Returns
     -------
@@ -186,7 +208,9 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period):
         One record per contact entered: its entry and exit (the first exit event after the
         entry; NaN when the window ends first), angle, normal speed at entry, the forcing
         period it started in, duration and peak penetration (the largest penetration at
-        the extremum events inside the contact).
+        the extremum events inside the contact), and the angles it covers from entry to
+        exit, sliding included (:func:`contact_spans`; the last known state for a
+        contact still open).
     """
     in_contact = mode_before[:, contact.mode]
     switch = which == contact.switch
@@ -224,4 +248,109 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period):
         depth = contact.penetration(state[ext], p)
         np.maximum.at(pen, owner[inside], depth[inside])
     out["penetration"] = pen
+    spans = contact_spans(contact, p, t, which, mode_before, state, (t0, np.inf), samples)
+    spans = spans[spans["entered"]]                    # one per entry, in the same order
+    out["theta_min"], out["theta_max"] = spans["theta_min"], spans["theta_max"]
+    out["theta_exit"] = np.where(spans["exited"], spans["theta_end"], np.nan)
+    return out
+
+
+def wrap_degrees(angle):
+    """``angle`` (degrees, array or number) wrapped to (-180, 180]."""
+    return 180.0 - np.mod(180.0 - np.asarray(angle, dtype=float), 360.0)
+
+
+def contact_spans(contact, p, t, which, mode_before, state, window, samples=None,
+                  inside0=False):
+    """The intervals of contact in a recorded window, with the angles each one covers.
+
+    A span runs from an entry to the next exit (the contact switch's events); a contact
+    already open at the window's start begins there, one still open at its end ends
+    there, and a window without contact events is one span when it starts in contact
+    (``inside0``: a permanent contact).  The angles of every state known inside a span
+    (its events: entry, exit, extrema of the penetration, friction switches; and the
+    ``samples``: stroboscopic and dense samples) are joined into one continuous angle,
+    each step taken the short way round; the span's extent is the least and largest of
+    them.  That assumes the contact point moves less than 180 degrees between two known
+    states of one contact: a run that rolls round the retainer needs samples at least
+    three times per turn (dense output) for its extent to be whole.
+
+    Parameters
+    ----------
+    contact : Contact
+        The model's contact.
+    p : ndarray
+        Parameter vector.
+    t, which : ndarray, shape (m,)
+        Event times (ascending) and switch indices (:attr:`vibimpact.Run.events`).
+    mode_before : ndarray, shape (m, n_mode)
+    state : ndarray, shape (m, n_state)
+    window : (float, float)
+        Start and end of the recorded window (``inf`` for an open end).
+    samples : (ndarray, ndarray), optional
+        ``(times, states)`` of further states known in the window.
+    inside0 : bool
+        In contact at the window's start (read only when the log has no contact event).
+
+    Returns
+    -------
+    ndarray of :data:`SPAN_DTYPE`
+        In time order; angles NaN for a span without any known state.
+
+    Examples
+    --------
+    >>> from vibimpact.models import ROTOR
+    >>> st = np.array([[np.cos(a), np.sin(a), 0.0, 0.0] for a in np.radians([30, 60])])
+    >>> s = contact_spans(ROTOR.contact, None, np.array([1.0, 2.0]), np.array([0, 0]),
+    ...                   np.array([[0, 0], [1, 0]]), st, (0.0, 3.0))
+    >>> [round(float(s[f][0]), 9) for f in ("theta_min", "theta_max")]
+    [30.0, 60.0]
+    """
+    t = np.asarray(t, dtype=float)
+    t0, t1 = float(window[0]), float(window[1])
+    sw = np.flatnonzero(np.asarray(which) == contact.switch)
+    is_exit = np.asarray(mode_before)[sw, contact.mode] == 1
+    starts, ends = list(t[sw[~is_exit]]), t[sw[is_exit]]
+    opened = bool(is_exit[0]) if sw.size else bool(inside0)
+    if opened:
+        starts.insert(0, t0)
+    starts = np.asarray(starts, dtype=float)
+    j = np.searchsorted(ends, starts)            # each span ends at the next exit
+    exited = j < ends.size
+    stop = np.full(starts.size, t1)
+    stop[exited] = ends[j[exited]]
+    out = np.zeros(starts.size, dtype=SPAN_DTYPE)
+    out["t_start"], out["t_end"], out["exited"] = starts, stop, exited
+    out["entered"] = True
+    if opened and starts.size:
+        out["entered"][0] = False
+    for f in ("theta_start", "theta_end", "theta_min", "theta_max"):
+        out[f] = np.nan
+    if starts.size == 0:
+        return out
+    # every state known in the window, in time order (events first at equal times)
+    times, states = [t], [np.asarray(state, dtype=float)]
+    if samples is not None:
+        times.append(np.asarray(samples[0], dtype=float).ravel())
+        states.append(np.asarray(samples[1], dtype=float).reshape(times[-1].size, -1))
+    tk, sk = np.concatenate(times), np.concatenate(states)
+    o = np.argsort(tk, kind="stable")
+    tk, sk = tk[o], sk[o]
+    k = np.searchsorted(starts, tk, side="right") - 1
+    member = (k >= 0) & (tk <= stop[np.maximum(k, 0)]) & (tk >= t0)
+    if not np.any(member):
+        return out
+    k, theta = k[member], wrap_degrees(contact.angle(sk[member], p))
+    step = wrap_degrees(np.diff(theta))
+    step[k[1:] != k[:-1]] = 0.0
+    walked = np.concatenate([[0.0], np.cumsum(step)])
+    first = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
+    last = np.r_[first[1:] - 1, k.size - 1]
+    owner = np.repeat(np.arange(first.size), np.diff(np.r_[first, k.size]))
+    u = theta[first][owner] + walked - walked[first][owner]
+    span = k[first]
+    out["theta_start"][span] = u[first]
+    out["theta_end"][span] = u[last]
+    out["theta_min"][span] = np.minimum.reduceat(u, first)
+    out["theta_max"][span] = np.maximum.reduceat(u, first)
     return out

@@ -2,7 +2,8 @@
 
 The paper [1] describes its regimes by impacts per period ("period 3 with 8 impacts") and
 where they fall ("bottom half", "two small loaded arcs", "whole circle"); :func:`impact_count`
-and :func:`contact_arcs` turn :attr:`vibimpact.Run.impacts` into those words, and
+and :func:`contact_arcs` turn a run's contacts into those words (the loaded arcs are the
+angles each contact covers from entry to exit, sliding included), and
 :func:`impact_statistics` gives the speeds and penetrations that govern retainer wear.
 Angles are ``theta = atan2(Y, X)`` in degrees in (-180, 180]; gravity acts along +Y, so the
 bottom of the retainer is theta = +90 deg and the top -90 deg (gravity acts along +Y).
@@ -31,12 +32,14 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from numpy.typing import ArrayLike
 
-__all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "ImpactStatistics",
-           "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS", "HALF_TOLERANCE",
-           "WHOLE_CIRCLE_GAP"]
+__all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "contact_spans_of",
+           "ImpactStatistics", "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS",
+           "HALF_TOLERANCE", "WHOLE_CIRCLE_GAP"]
 
-#: an arc narrower than this (degrees) is "small"
-SMALL_ARC_WIDTH = 30.0
+#: an arc narrower than this (degrees, an eighth of the circle) is "small": a contact
+#: slides while it lasts, and the paper's "two small segments" of a periodic impact motion
+#: are about 35 degrees wide each (fig8 at eta = 1.185: 27..62 and 117..152 degrees)
+SMALL_ARC_WIDTH = 45.0
 #: at most this many small arcs are reported as "k small arcs"
 MAX_SMALL_ARCS = 4
 #: tolerance (degrees) of "all angles within the bottom / top half"
@@ -127,21 +130,29 @@ def impact_count(impact_period: ArrayLike, n_periods: int, period: int = 1) -> I
 
 @dataclass(frozen=True, eq=False)
 class ContactArcs:
-    """Arcs of the retainer circle where the rotor hits it.
+    """Arcs of the retainer circle where the rotor is in contact with it (loaded).
 
     Attributes
     ----------
     start, end : ndarray, shape (n_arcs,)
         First and last angle of each arc, degrees in (-180, 180]; the arc runs in the
         direction of increasing theta from ``start`` to ``end``, so an arc through 180 deg
-        has ``start > end``.  Sorted by ``start``.
+        has ``start > end``.  Sorted by ``start``.  The whole circle is one arc with
+        ``start = end = 180`` and ``width = 360``.
     width : ndarray, shape (n_arcs,)
-        Angular extent ``(end - start) mod 360`` (0 for a single point).
+        Angular extent in degrees, ``(end - start) mod 360`` (0 for a single point, 360
+        for the whole circle).
     share : ndarray, shape (n_arcs,)
-        Fraction of the angles in each arc (sums to 1).
+        Share of the contact time spent on each arc (sums to 1); for contacts without
+        duration (angles given as points) the share of the contacts.
+    loaded : ndarray, shape (n_arcs,)
+        Fraction of the recorded time the contact is on each arc (the arc is loaded that
+        fraction of the time; the sum is the fraction of time in contact); NaN when the
+        recorded time is unknown.
     n_arcs : int
     largest_gap : float
-        Widest empty circular gap between contacts, degrees (360 without angles).
+        Widest circular gap no contact covers, degrees (360 without contacts, 0 when the
+        contacts cover the whole circle).
     summary : str
         The paper's words, see :func:`summarize_arcs`.
     """
@@ -150,63 +161,209 @@ class ContactArcs:
     end: np.ndarray
     width: np.ndarray
     share: np.ndarray
+    loaded: np.ndarray
     n_arcs: int
     largest_gap: float
     summary: str
 
     def to_text(self) -> str:
-        """E.g. ``"2 small arcs (84..97°, 120..131°)"``; ``"none"`` without contacts."""
-        deg = [(f"{s:.0f}".replace("-0", "0"), f"{e:.0f}".replace("-0", "0"))
-               for s, e in zip(self.start, self.end)]   # "-0" only: no zero padding
-        arcs = ", ".join(f"{s}°" if s == e else f"{s}..{e}°" for s, e in deg)
-        return f"{self.summary} ({arcs})" if self.n_arcs else self.summary
+        """E.g. ``"2 arcs (27..62°, 117..152°)"``; ``"none"`` without contacts."""
+        def deg(x):
+            return f"{x:.0f}".replace("-0", "0")   # "-0" only: no zero padding
+        parts = ["0..360°" if w >= 360.0 else f"{deg(s)}°" if deg(s) == deg(e) else
+                 f"{deg(s)}..{deg(e)}°" for s, e, w in zip(self.start, self.end, self.width)]
+        return f"{self.summary} ({', '.join(parts)})" if self.n_arcs else self.summary
     __str__ = to_text
 
+    def table(self) -> np.ndarray:
+        """The arcs as an ``(n_arcs, 4)`` array of ``start, end, width, loaded``."""
+        return np.column_stack([self.start, self.end, self.width, self.loaded]) \
+            if self.n_arcs else np.zeros((0, 4))
 
-def summarize_arcs(theta, width, largest_gap):
-    """The paper's words for a set of contact angles (the one place they are decided).
 
-    ``theta`` (m,) are the angles in (-180, 180], ``width`` (n_arcs,) the arc widths and
-    ``largest_gap`` the widest empty gap, all in degrees.  First matching rule wins:
+def summarize_arcs(start, width, largest_gap):
+    """The paper's words for a set of loaded arcs (the one place they are decided).
 
-    1. no angles: ``"none"``;
+    ``start`` and ``width`` (n_arcs,) are the arcs in degrees (start in (-180, 180]),
+    ``largest_gap`` the widest uncovered gap.  First matching rule wins:
+
+    1. no arcs: ``"none"``;
     2. at most :data:`MAX_SMALL_ARCS` arcs, each narrower than :data:`SMALL_ARC_WIDTH`:
        ``"1 small arc"`` / ``"k small arcs"``;
-    3. all angles in the bottom half [0, 180] deg (+-:data:`HALF_TOLERANCE`):
-       ``"bottom half"``; in the top half [-180, 0]: ``"top half"``;
-    4. largest empty gap narrower than :data:`WHOLE_CIRCLE_GAP`: ``"whole circle"``;
+    3. every arc inside the bottom half [0, 180] deg (+-:data:`HALF_TOLERANCE`):
+       ``"bottom half"``; inside the top half [-180, 0]: ``"top half"``;
+    4. largest uncovered gap narrower than :data:`WHOLE_CIRCLE_GAP`: ``"whole circle"``;
     5. otherwise ``"1 arc"`` / ``"k arcs"``.
     """
+    start, width = np.asarray(start, float), np.asarray(width, float)
     k, tol = len(width), HALF_TOLERANCE
-    if theta.size == 0:
+    if k == 0:
         return "none"
-    if k <= MAX_SMALL_ARCS and np.all(np.asarray(width) < SMALL_ARC_WIDTH):
+    if k <= MAX_SMALL_ARCS and np.all(width < SMALL_ARC_WIDTH):
         return count(k, "small arc")
-    for half, t in (("bottom half", theta), ("top half", -theta)):
-        if np.all((t >= -tol) | (t <= -180.0 + tol) | (t >= 180.0 - tol)):
+    for half, lo in (("bottom half", 0.0), ("top half", -180.0)):
+        s = np.mod(start - (lo - tol), 360.0)          # start, from the half's low end
+        if np.all(s + width <= 180.0 + 2.0 * tol):
             return half
     if largest_gap < WHOLE_CIRCLE_GAP:
         return "whole circle"
     return count(k, "arc")
 
 
-def contact_arcs(angles: ArrayLike, gap: float = 10.0) -> ContactArcs:
-    """Group contact angles into arcs of the retainer circle and describe them.
+def contact_spans_of(run) -> np.ndarray:
+    """The contact intervals of a run, with the angles each covers.
 
-    Angles are sorted on the circle and split wherever the circular gap between neighbours
-    exceeds ``gap``; a cluster across +-180 deg is one arc.
+    :func:`vibimpact.contact.contact_spans` on the run's event log over its recorded
+    window (the stroboscopic times' first to last), with its stroboscopic and dense
+    samples as further points of the angle's path; a run that starts in contact and
+    never switches is one span over the whole window (a permanent contact).
 
     Parameters
     ----------
-    angles : array_like, shape (m,)
-        Contact angles ``theta`` in degrees (:attr:`vibimpact.Run.impacts` ``["theta"]``);
-        any finite value, wrapped to (-180, 180].
+    run : Run
+        A :class:`vibimpact.Run` of a model that declares a contact.
+
+    Returns
+    -------
+    ndarray of :data:`vibimpact.contact.SPAN_DTYPE`
+        Empty for a model without a contact.
+    """
+    from ..contact import SPAN_DTYPE, contact_spans
+
+    contact = getattr(run, "contact", None)
+    if contact is None or len(run.t_strobe) == 0:
+        return np.zeros(0, dtype=SPAN_DTYPE)
+    p = run.params.as_array() if hasattr(run.params, "as_array") else \
+        np.asarray(run.params, float)
+    times, states = [np.asarray(run.t_strobe, float)], [np.asarray(run.strobe, float)]
+    if run.dense is not None and run.t_dense is not None:
+        times.append(np.asarray(run.t_dense, float))
+        states.append(np.asarray(run.dense, float))
+    inside0 = bool(contact.penetration(states[0][:1], p)[0] > 0.0)
+    ev = run.events
+    return contact_spans(contact, p, ev["t"], ev["which"], ev["mode_before"], ev["state"],
+                         (float(run.t_strobe[0]), float(run.t_strobe[-1])),
+                         (np.concatenate(times), np.concatenate(states)), inside0)
+
+
+def _wrap(x):
+    return 180.0 - np.mod(180.0 - np.asarray(x, dtype=float), 360.0)
+
+
+def _union(lo, width, gap):
+    """Arcs ``(start in [0, 360), width, members)`` covering the intervals ``[lo, lo +
+    width]`` on the circle, gaps of at most ``gap`` closed; ``members[i]`` is the arc of
+    interval ``i``.  One arc of width 360 when they (with closed gaps) cover the circle."""
+    s = np.mod(lo, 360.0)
+    if np.any(width + gap >= 360.0):
+        return np.array([0.0]), np.array([360.0]), np.zeros(s.size, dtype=np.int64)
+    o = np.argsort(s, kind="stable")
+    so, eo = s[o], s[o] + width[o]
+    reach = np.maximum.accumulate(eo)
+    new = np.r_[True, so[1:] > reach[:-1] + gap]
+    grp = np.cumsum(new) - 1
+    starts = so[new]
+    ends = np.maximum.reduceat(eo, np.flatnonzero(new))
+    # the last arc may run past 360 onto the first ones: merge them into it
+    alias = np.arange(starts.size)
+    first = 0
+    while starts.size - first > 1 and starts[first] + 360.0 <= ends[-1] + gap:
+        ends[-1] = max(ends[-1], ends[first] + 360.0)
+        alias[first] = starts.size - 1
+        first += 1
+    if ends[-1] - starts[-1] + gap >= 360.0:
+        return np.array([0.0]), np.array([360.0]), np.zeros(s.size, dtype=np.int64)
+    keep = np.arange(first, starts.size)
+    renum = np.full(starts.size, -1)
+    renum[keep] = np.arange(keep.size)
+    members = np.empty(s.size, dtype=np.int64)
+    members[o] = renum[alias[grp]]
+    return starts[keep], (ends - starts)[keep], members
+
+
+def _largest_gap(lo, width):
+    """Widest circular gap no interval covers (degrees)."""
+    if lo.size == 0:
+        return 360.0
+    s, w, _ = _union(lo, width, 0.0)
+    if w[0] >= 360.0:
+        return 0.0
+    gaps = np.r_[s[1:] - (s[:-1] + w[:-1]), s[0] + 360.0 - (s[-1] + w[-1])]
+    return float(max(gaps.max(), 0.0))
+
+
+def _intervals(contacts):
+    """``(lo, width, duration, window)`` of the contacts: a Run, spans, impact records,
+    a run's dataset, or angles (points, no duration, window unknown)."""
+    if hasattr(contacts, "events") and hasattr(contacts, "strobe"):     # a Run
+        spans = contact_spans_of(contacts)
+        window = float(contacts.t_strobe[-1] - contacts.t_strobe[0]) \
+            if len(contacts.t_strobe) > 1 else np.nan
+        contacts = spans
+    elif hasattr(contacts, "data_vars"):                                # a run's dataset
+        return _dataset_intervals(contacts)
+    else:
+        window = np.nan
+    names = getattr(getattr(contacts, "dtype", None), "names", None) or ()
+    if "theta_min" in names:                    # spans or impact records
+        lo, hi = contacts["theta_min"], contacts["theta_max"]
+        if "t_start" in names:
+            dur = contacts["t_end"] - contacts["t_start"]
+        else:
+            dur = np.where(np.isfinite(contacts["duration"]), contacts["duration"], 0.0)
+        ok = np.isfinite(lo) & np.isfinite(hi)
+        return lo[ok], (hi - lo)[ok], np.asarray(dur, float)[ok], window
+    theta = _v.array1d("angles", contacts)
+    if np.ndim(contacts) != 1 or not np.all(np.isfinite(theta)):
+        raise ValueError(f"angles must be 1-D and finite, got shape {np.shape(contacts)}")
+    return theta, np.zeros(theta.size), np.zeros(theta.size), np.nan
+
+
+def _dataset_intervals(ds):
+    """Intervals of a run's dataset: its ``impact_theta_min`` / ``impact_theta_max``
+    (entry angles only, as points, in a file written before they were stored)."""
+    if "impact_theta" not in ds:
+        return np.zeros(0), np.zeros(0), np.zeros(0), np.nan
+    t = ds["t_strobe"].values if "t_strobe" in ds else np.zeros(0)
+    window = float(t[-1] - t[0]) if t.size > 1 else np.nan
+    theta = np.asarray(ds["impact_theta"].values, float)
+    if "impact_theta_min" in ds and "impact_theta_max" in ds:
+        lo = np.asarray(ds["impact_theta_min"].values, float)
+        hi = np.asarray(ds["impact_theta_max"].values, float)
+    else:
+        lo = hi = theta
+    dur = np.asarray(ds["impact_duration"].values, float) if "impact_duration" in ds \
+        else np.zeros(theta.size)
+    ok = np.isfinite(lo) & np.isfinite(hi)
+    return lo[ok], (hi - lo)[ok], np.where(np.isfinite(dur), dur, 0.0)[ok], window
+
+
+def contact_arcs(angles, gap: float = 10.0) -> ContactArcs:
+    """The loaded arcs of the retainer: where the contacts are, entry to exit.
+
+    Each contact covers the angles from its entry to its exit with the sliding in between
+    (:func:`vibimpact.contact.contact_spans`); the arcs are the union of those intervals
+    on the circle over the whole record, every uncovered gap of at most ``gap`` degrees
+    closed (the arcs' resolution: contacts of a chaotic motion that fall that close
+    together load one arc).  An arc across +-180 deg is one arc.
+
+    Parameters
+    ----------
+    angles : Run, Dataset, ndarray or array_like
+        The contacts: a :class:`vibimpact.Run` (its contact intervals from the event log, with its
+        stroboscopic and dense samples, including a contact open at the record's start
+        and a permanent one); or a run's dataset (``impact_theta_min`` /
+        ``impact_theta_max``); or records of :data:`vibimpact.run.IMPACT_DTYPE` or
+        :data:`vibimpact.contact.SPAN_DTYPE`; or plain contact angles in degrees (any
+        finite values, each a point: the entry angles of older files).
     gap : float
-        Largest gap (degrees) inside one arc, in (0, 360).
+        Widest uncovered gap (degrees) closed inside one arc, in (0, 360).
 
     Returns
     -------
     ContactArcs
+        ``loaded`` is known for a Run and a run's dataset (their recorded time), NaN
+        otherwise.
 
     Raises
     ------
@@ -218,31 +375,30 @@ def contact_arcs(angles: ArrayLike, gap: float = 10.0) -> ContactArcs:
     >>> str(contact_arcs([175.0, 179.0, -178.0, -176.0]))
     '1 small arc (175..-176°)'
     """
-    theta = _v.array1d("angles", angles)
-    if np.ndim(angles) != 1 or not np.all(np.isfinite(theta)):
-        raise ValueError(f"angles must be 1-D and finite, got shape {theta.shape}")
     if isinstance(gap, bool) or not isinstance(gap, numbers.Real) or not 0.0 < gap < 360.0:
         raise ValueError(f"gap must be a number in (0, 360) degrees, got {gap!r}")
-    if theta.size == 0:
-        return ContactArcs(*[_frozen_array([])] * 4, 0, 360.0, "none")
-    theta = np.mod(theta + 180.0, 360.0) - 180.0          # wrap to (-180, 180]
-    theta[theta <= -180.0] = 180.0
-    s = np.sort(theta)
-    # gaps[i]: empty arc after s[i] going up to the next angle (the last one wraps round)
-    gaps = np.append(np.diff(s), s[0] + 360.0 - s[-1])
-    largest = int(np.argmax(gaps))
-    # walk the circle starting just after the largest gap, so no arc straddles the start
-    ring, ring_gaps = np.roll(s, -(largest + 1)), np.roll(gaps, -(largest + 1))
-    cut = np.flatnonzero(ring_gaps[:-1] > gap)          # arc ends inside the walk
-    first, last = np.r_[0, cut + 1], np.r_[cut, s.size - 1]
-    inner = np.concatenate([[0.0], np.cumsum(ring_gaps[:-1])])   # angle walked from start
-    width, share = inner[last] - inner[first], (last - first + 1) / s.size
-    start, end = ring[first], ring[last]
+    lo, width, dur, window = _intervals(angles)
+    if lo.size == 0:
+        return ContactArcs(*[_frozen_array([])] * 5, 0, 360.0, "none")
+    lo = _wrap(lo)
+    lo[lo <= -180.0] = 180.0
+    s, w, members = _union(lo, width, float(gap))
+    total = float(dur.sum())
+    on = np.bincount(members, weights=dur, minlength=s.size)
+    share = on / total if total > 0.0 else np.bincount(members, minlength=s.size) / lo.size
+    loaded = on / window if np.isfinite(window) and window > 0.0 else np.full(s.size, np.nan)
+    start = _wrap(s)
+    start[start <= -180.0] = 180.0
+    if w[0] >= 360.0:
+        start = np.array([180.0])
+    end = _wrap(start + w)
+    end[end <= -180.0] = 180.0
     o = np.argsort(start, kind="stable")
-    largest_gap = float(gaps[largest])
-    return ContactArcs(*(_frozen_array(a[o]) for a in (start, end, width, share)),
-                       n_arcs=int(first.size), largest_gap=largest_gap,
-                       summary=summarize_arcs(theta, width, largest_gap))
+    largest_gap = _largest_gap(lo, width)
+    start, w = start[o], w[o]
+    return ContactArcs(*(_frozen_array(a) for a in (start, end[o], w, share[o], loaded[o])),
+                       n_arcs=int(s.size), largest_gap=largest_gap,
+                       summary=summarize_arcs(start, w, largest_gap))
 
 
 @dataclass(frozen=True)

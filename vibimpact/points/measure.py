@@ -88,9 +88,10 @@ def _impacts(res, run, n, rec, start_inside, contact):
     switched = np.any(run.events["which"] == contact.switch)
     res.contact = (CONTACT_IMPACTING if imp.size else
                    CONTACT_PERMANENT if (start_inside and not switched) else CONTACT_NONE)
-    arcs = contact_arcs(imp["theta"])
+    arcs = contact_arcs(run)   # the contact intervals: entry to exit, sliding included
     res.arcs = arcs.summary
     res.n_arcs = arcs.n_arcs
+    res.arc_table = arcs.table()   # start, end, width (degrees), loaded (time fraction)
     if imp.size:
         res.v_impact_max = float(imp["v_impact"].max())
         res.v_impact_mean = float(imp["v_impact"].mean())
