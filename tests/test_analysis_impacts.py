@@ -108,9 +108,9 @@ def test_angles_are_wrapped_and_minus_180_is_180():
 
 
 def test_summary_thresholds_are_module_constants():
-    """The words come from named module-level thresholds (30 deg, 4 arcs, 2 deg, 90 deg)."""
+    """The words come from named module-level thresholds (45 deg, 4 arcs, 2 deg, 90 deg)."""
     assert (ia.SMALL_ARC_WIDTH, ia.MAX_SMALL_ARCS, ia.HALF_TOLERANCE,
-            ia.WHOLE_CIRCLE_GAP) == (30.0, 4, 2.0, 90.0)
+            ia.WHOLE_CIRCLE_GAP) == (45.0, 4, 2.0, 90.0)
     five = np.r_[0.0, 40.0, 80.0, 120.0, 160.0]
     assert contact_arcs(five).summary == "bottom half"
 
@@ -170,3 +170,34 @@ def test_contact_still_open_at_the_end_of_the_window_keeps_its_peak_penetration(
     assert imp.size == 1
     assert imp["penetration"][0] == pytest.approx(0.003)
     assert np.isnan(imp["duration"][0])
+
+
+def _records(lo, hi, duration):
+    rec = np.zeros(len(lo), dtype=IMPACT_DTYPE)
+    rec["theta"], rec["theta_min"], rec["theta_max"] = lo, lo, hi
+    rec["theta_exit"], rec["duration"] = hi, duration
+    return rec
+
+
+def test_an_arc_with_both_ends_in_the_bottom_half_that_runs_over_the_top_is_not_bottom():
+    """Hypothesis: the half a set of arcs lies in is decided by the arcs, not their ends:
+    a contact sliding from 170 deg the long way round to 10 deg (200 deg over the top)
+    has both ends in the bottom half, yet is '1 arc', while 10..170 deg is 'bottom half'."""
+    over = contact_arcs(_records([170.0], [370.0], [1.0]))
+    assert over.n_arcs == 1 and over.width[0] == pytest.approx(200.0)
+    assert over.start[0] == 170.0 and over.end[0] == pytest.approx(10.0)
+    assert over.summary == "1 arc"
+    assert contact_arcs(_records([10.0], [170.0], [1.0])).summary == "bottom half"
+
+
+def test_impact_records_give_arcs_from_their_extent_and_time_shares():
+    """Hypothesis: impact records are arcs from theta_min to theta_max; an arc's share is
+    its contacts' duration over all contact time (not their number), and without the
+    recorded time its loaded fraction is unknown (NaN)."""
+    arcs = contact_arcs(_records([20.0, 22.0, 120.0], [40.0, 41.0, 125.0], [1.0, 1.0, 2.0]))
+    np.testing.assert_allclose(arcs.start, [20.0, 120.0])
+    np.testing.assert_allclose(arcs.end, [41.0, 125.0])
+    np.testing.assert_allclose(arcs.width, [21.0, 5.0])
+    np.testing.assert_allclose(arcs.share, [0.5, 0.5])
+    assert np.all(np.isnan(arcs.loaded))
+    assert str(arcs) == "2 small arcs (20..41\N{DEGREE SIGN}, 120..125\N{DEGREE SIGN})"
