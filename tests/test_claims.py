@@ -140,3 +140,36 @@ def test_claim_with_a_direction_ignores_the_other_sweep():
                                                  name="direction"))
     best = C.detect(ds, claim)
     assert [d.direction for d in best] == ["up"] and best[0].score == 0.0
+
+
+AT = C.Claim("t-at", "fig8", "at 1.185 two impacts", "periodic", 1.185, 1.185, period=1,
+             impacts=2)
+
+
+def test_a_one_speed_claim_is_the_motion_at_that_speed_whatever_the_branch_around_it():
+    """Hypothesis: a one-speed claim (lo == hi, not near) agrees and scores 1 when the
+    grid point at its eta shows the motion, even inside a long branch of that motion
+    (which an interval rule could never call 'agree'), and disagrees with score 0 when
+    that point shows another motion, even with the motion one step beside it."""
+    assert AT.at_speed and not CHAOS.at_speed
+    reg, per, imp = background()            # P1 with 2 impacts everywhere: a long branch
+    d = C.detect_one(sweep_like(reg, per, imp), AT)
+    assert d.agree and d.score == 1.0 and d.start < 1.185 < d.end
+    k = int(np.argmin(np.abs(ETA - 1.185)))
+    imp[k] = 1.0                            # the point itself shows one impact
+    d = C.detect_one(sweep_like(reg, per, imp), AT)
+    assert not d.agree and d.score == 0.0
+    from dataclasses import replace
+
+    off = replace(AT, lo=1.1875, hi=1.1875)  # half a step off the grid: nearest point
+    reg, per, imp = background()
+    assert C.detect_one(sweep_like(reg, per, imp), off).agree
+    off = replace(AT, lo=1.1885, hi=1.1885)  # beyond the last point (1.180) by > half a step
+    assert not C.detect_one(sweep_like(reg, per, imp)[{"eta": slice(0, 37)}], off).agree
+
+
+def test_the_papers_one_speed_claims_are_scored_as_one_speed():
+    """Hypothesis: the paper's claim of the orbit with impacts A and B at eta = 1.185
+    (fig8-AB) is a one-speed claim, so its verdict is whether the orbit is there."""
+    ab = next(c for c in C.CLAIMS if c.key == "fig8-AB")
+    assert ab.at_speed

@@ -12,6 +12,8 @@ import numpy as np
 
 from calibrate_search import best_pair, damping_values, evaluate, is_interior
 
+from vibimpact.paper import claims as C
+
 
 def _atomic(path, write):
     tmp = path.with_name(path.name + ".tmp")
@@ -72,7 +74,7 @@ def save_dataset(path, readings, lands, rows, claims, attrs):
          "fig_Ec": ("fig_pair", np.array([a[2] for a in fig])),
          "fig_objective": ("fig_pair", np.array([a[3] for a in fig])),
          "fig_agree_count": ("fig_pair", np.array([a[4] for a in fig], dtype=np.int32))},
-        coords={"claim": keys}, attrs=attrs)
+        coords={"claim": keys}, attrs={**attrs, "claims_scoring": C.SCORING_VERSION})
     _atomic(path, lambda tmp: ds.to_netcdf(tmp, format="NETCDF4"))
 
 

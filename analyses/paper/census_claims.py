@@ -379,7 +379,7 @@ def _distance(row, claim):
 def _sweep_reached(ds, claim, etas):
     """Whether the up/down sweep reaches the claim, with its evidence."""
     det = C.detect(ds, claim)[0]
-    if det.agree:
+    if det.agree and not claim.at_speed:  # a one-speed claim: its point, below
         return True, (f"the sweep's detection agrees: {det.start:.3f}–{det.end:.3f} "
                       f"({det.direction})")
     dirs = [str(d) for d in ds["direction"].values] if "direction" in ds.dims else ["up"]

@@ -34,6 +34,9 @@ from vibimpact.paper import claims as C
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 from _common import smoke  # noqa: E402
 import census_claims  # noqa: E402
+import paper_notes  # noqa: E402
+import paper_sweeps  # noqa: E402
+from paper_compare import ALIKE_CHAOS, ALIKE_RESPONSE, comparative_rows  # noqa: E402
 from paper_sweeps import cache_path as _cache_path, sweep_one as _sweep_one  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -102,6 +105,8 @@ def _types_one(task):
     _, path = _cache_path(name, step, cache, overrides, "_transitions")
     if path.exists() and not fresh:
         return name, xr.load_dataset(path), 0.0
+    if paper_sweeps.CACHE_ONLY:
+        raise paper_sweeps.NotCached(f"{path} is not in the cache")
     t = time.perf_counter()
     tt = vi.transition_types(ds, tol=1e-4)
     tmp = path.with_suffix(".tmp")
@@ -185,8 +190,9 @@ def trajectory(ds, eta, periods=None):
     return run_to_dataset(run), str(sub["label"].values[k]), run
 
 
-def xy_figure(name, ds, path):
-    """Panels of X-Y trajectories for one preset; returns the panel descriptions."""
+def xy_figure(name, ds, path, draw=True):
+    """Panels of X-Y trajectories for one preset; returns the panel descriptions (the
+    figure is saved to ``path`` only when ``draw``)."""
     from matplotlib.figure import Figure
 
     from vibimpact.analysis import contact_arcs
@@ -207,7 +213,8 @@ def xy_figure(name, ds, path):
         rows.append((tag, float(rds.attrs["param_eta"]), label, arcs))
     fig.suptitle(f"{name}: X-Y trajectories (up sweep; +Y down, along gravity)",
                  fontsize="medium")
-    save_figure(fig, path, dpi=150)
+    if draw:
+        save_figure(fig, path, dpi=150)
     return rows
 
 
@@ -241,160 +248,73 @@ def claim_rows(data, step, prefix=""):
         if prefix + c.preset not in data:
             continue
         ds = data[prefix + c.preset]
-        best = C.detect(ds, c)[0]
+        verdict, best = C.judge(ds, c)
         eta = ds["eta"].values
         inside = (eta >= c.lo - 1e-9) & (eta <= c.hi + 1e-9)
         sub = ds.sel(direction=best.direction)
         found = sorted(set(str(x) for x in sub["label"].values[inside])) if inside.any() \
             else []
-        if best.agree:
-            verdict, reason = "agree", f"both ends within {step:g}" if not c.near else \
+        if c.at_speed:
+            k = int(np.argmin(np.abs(sub["eta"].values - c.lo)))
+            reason = (f"one speed: at η = {float(sub['eta'].values[k]):.3f} the "
+                      f"{best.direction} sweep shows {sub['label'].values[k]}")
+        elif verdict == "agree":
+            reason = f"both ends within {step:g}" if not c.near else \
                 "starts within 0.02 of the stated eta"
         elif not np.isfinite(best.start):
-            verdict = "disagree"
             reason = (f"no {_what(c)} within ±{C.WINDOW:g} of the claim; the sweep shows "
                       + "; ".join(found[:4]) if found else "nothing there")
         else:
-            verdict = "partly" if best.score >= 0.5 else "disagree"
             reason = (f"start {best.start - c.lo:+.3f}, end {best.end - c.hi:+.3f} "
                       f"(Jaccard {best.score:.2f})")
         rows.append(dict(claim=c, det=best, found=found, verdict=verdict, reason=reason))
     return rows
 
 
-def _curve_diff(a, b, var):
-    """Largest |a - b| of a response variable over both directions (NaN-safe)."""
-    d = np.abs(np.asarray(a[var].values, float) - np.asarray(b[var].values, float))
-    return float(np.nanmax(d)) if np.isfinite(d).any() else float("nan")
-
-
-def _label_agreement(a, b):
-    la, lb = a["label"].values, b["label"].values
-    return float(np.mean(la == lb))
-
-
-def _irregular(ds):
-    ok = []
-    for d in ds["direction"].values:
-        ok.append(C.match_points(ds.sel(direction=d), C.IRREGULAR))
-    return np.array(ok)
-
-
-def _irregular_spans(ds, direction="up"):
-    sub = ds.sel(direction=direction)
-    ok = C.match_points(sub, C.IRREGULAR)
-    eta = sub["eta"].values
-    return ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C.runs(ok)) or "none"
-
-
-def comparative_rows(data):
-    """The claims that compare figures or describe a curve's shape, measured."""
-    rows = []
-    f4 = data["fig4"]
-    up = f4.sel(direction="up")
-    hi = np.asarray(up["R_m"].values) >= 0.98
-    eta_hi = up["eta"].values[hi]
-    rise = float(np.ptp(up["X_m"].values[hi])) if hi.any() else float("nan")
-    slope = rise / float(np.ptp(eta_hi)) if hi.sum() > 1 else float("nan")
-    whirl = float(np.mean(up["contact"].values[hi] == 2)) if hi.any() else 0.0
-    rows.append(("fig4", "upper branch almost horizontal: the mass circulating in the "
-                 "central symmetric field",
-                 f"upper branch (R_m ≥ 0.98, η {_fmt_span(*_span(up, hi))}): permanent-"
-                 f"contact whirl at {whirl:.0%} of its points; X_m rises by {rise:.2f} "
-                 f"(slope {slope:.2f} per unit η)",
-                 "agree" if whirl >= 0.8 else "disagree",
-                 "the upper branch is the circulating motion (permanent contact); its slope "
-                 "is the growing Hertz penetration (soft contact, kh = 10)"))
-    f5 = data["fig5"]
-    dxy5 = _curve_diff(f5.assign(Y_m=f5["X_m"]), f5.assign(X_m=f5["Y_m"]), "X_m")
-    rows.append(("fig5", "Y differs from X (G = 0.3)", f"max |X_m − Y_m| = {dxy5:.3f}",
-                 "agree" if dxy5 > 0.05 else "disagree", "gravity shifts the orbit along +Y"))
-    a, b = _rising(f5.sel(direction="up"))
-    ok = abs(a - 0.97) <= 0.02 and abs(b - 1.12) <= 0.02
-    rows.append(("fig5", "rising part of the response curve in (0.97, 1.12)",
-                 f"Y_m rises on the impacting branch over {_fmt_span(a, b)} (up sweep)",
-                 "agree" if ok else "partly", "ends compared within 0.02"))
-    for name in ("fig5", "fig6"):
-        spans = _multi_spans(data[name], 1.1, 1.3)
-        rows.append((name, "double line near η = 1.2" if name == "fig5" else
-                     "double line gone",
-                     f"motion other than P1 with a repeated orbit (Poincaré section "
-                     f"multi-valued) in 1.1–1.3: {spans}",
-                     "see note", "we read the paper's double line as a response that "
-                     "is not a single closed curve (P2 or longer, QP); the report shows "
-                     "the bifurcation diagram"))
-    for x, y, text in (("fig6", "fig7", "kh = 80: no considerable change from fig6"),
-                       ("fig8", "fig9", "Bh = 0.05: insignificant change from fig8")):
-        A, B = data[x], data[y]
-        d = max(_curve_diff(A, B, "X_m"), _curve_diff(A, B, "Y_m"))
-        same = _label_agreement(A, B)
-        ia, ib = _irregular(A), _irregular(B)
-        jac = float((ia & ib).sum() / max((ia | ib).sum(), 1))
-        rows.append((y, text, f"max |Δ response| = {d:.3f}; same label at {same:.0%} of the "
-                     f"points; chaos overlap (Jaccard) {jac:.2f}; chaos in {y}: "
-                     f"{_irregular_spans(B)} vs {x}: {_irregular_spans(A)}",
-                     "agree" if d < 0.1 and jac >= 0.5 else "partly",
-                     "response within 0.1 clearance and chaos overlapping by half"))
-    A, B = data["fig11"], data["rr10"]
-    same = _label_agreement(A, B)
-    d = max(_curve_diff(A, B, "X_m"), _curve_diff(A, B, "Y_m"))
-    rows.append(("rr10", "Rr = 10: similar properties as fig11 (graphs not published)",
-                 f"same label as fig11 at {same:.0%} of the points, max |Δ response| = "
-                 f"{d:.3f}; chaos in rr10: {_irregular_spans(B)}",
-                 "prediction", "with BT = 0, Rr enters only through sgn(v_t): "
-                 "identical to fig11 wherever the whirl keeps its direction"))
-    return rows
-
-
-def _span(sub, mask):
-    eta = sub["eta"].values[mask]
-    return (float(eta.min()), float(eta.max())) if eta.size else (np.nan, np.nan)
-
-
-def _rising(sub):
-    """The rising stretch of Y_m on the impacting branch around eta = 1 (up sweep)."""
-    eta = sub["eta"].values
-    y = np.asarray(sub["Y_m"].values, float)
-    imp = np.asarray(sub["impacts_per_period"].values, float) > 0
-    k0 = int(np.argmin(np.abs(eta - 1.03)))
-    if not imp[k0]:
-        return np.nan, np.nan
-    a = b = k0
-    while a > 0 and imp[a - 1] and y[a - 1] <= y[a] + 1e-3:
-        a -= 1
-    while b + 1 < eta.size and imp[b + 1] and y[b + 1] >= y[b] - 1e-3:
-        b += 1
-    return float(eta[a]), float(eta[b])
-
-
-def _multi_spans(ds, lo, hi):
-    out = []
-    for d in ds["direction"].values:
-        sub = ds.sel(direction=d)
-        eta = sub["eta"].values
-        per = sub["period"].values
-        ok = (eta >= lo) & (eta <= hi) & (per != 1) & (sub["regime"].values != 4)
-        spans = ", ".join(_fmt_span(eta[a], eta[b]) for a, b in C.runs(ok))
-        out.append(f"{d}: {spans or 'none'}")
-    return "; ".join(out)
-
-
 # --- report -----------------------------------------------------------------------------
 
 
-def figures(data):
-    """All figures; returns preset -> X-Y panel rows."""
+def figures(data, draw=True):
+    """All figures (drawn only when ``draw``); returns preset -> X-Y panel rows."""
     from vibimpact.plotting import plot_bifurcation, plot_response
 
     FIGURES.mkdir(parents=True, exist_ok=True)
     panels = {}
     for name in PRESETS:
         ds = data[name]
-        plot_response(ds, path=FIGURES / f"response_{name}.png")
-        plot_bifurcation(ds, path=FIGURES / f"bifurcation_{name}.png")
-        panels[name] = xy_figure(name, ds, FIGURES / f"xy_{name}.png")
-        print(f"  figures {name}", file=sys.stderr)
+        if draw:
+            plot_response(ds, path=FIGURES / f"response_{name}.png")
+            plot_bifurcation(ds, path=FIGURES / f"bifurcation_{name}.png")
+        panels[name] = xy_figure(name, ds, FIGURES / f"xy_{name}.png", draw)
+        print(f"  figures {name}{'' if draw else ' (rows only)'}", file=sys.stderr)
     return panels
+
+
+def cached_census(data, path):
+    """The census section from the census summary stored in ``path`` (``paper.json``),
+    for a render-only run: the computed part (censuses, runs from rest, hunts) is kept,
+    whether the up/down sweep reaches each claim is decided again on ``data`` (the claim
+    detection may have changed since).
+
+    Raises
+    ------
+    paper_sweeps.NotCached
+        When a claim the stored summary found "reached" by the sweep is no longer reached:
+        its other outcomes were never computed, so the census must be run again.
+    """
+    from census_claims_report import render
+
+    summary = json.loads(Path(path).read_text())["census_claims"]
+    for row in summary["claims"]:
+        claim = next(c for c in C.CLAIMS if c.key == row["key"])
+        reached, why = census_claims._sweep_reached(data[claim.preset], claim, row["etas"])
+        if reached:
+            row.update(outcome="reached", evidence=why)
+        elif row["outcome"] == "reached":
+            raise paper_sweeps.NotCached(
+                f"{claim.key}: the sweep no longer reaches the claim and the census's "
+                "other outcomes are not stored: run without --render-only")
+    return render(summary), summary
 
 
 def _md_table(head, rows):
@@ -403,22 +323,47 @@ def _md_table(head, rows):
     return "\n".join(out)
 
 
-def evidence_section():
-    """Best score of each claim over all calibrated (B, Ec) pairs, from calibration.nc."""
+def _calibration(path=None):
+    """``(dataset, claim keys whose stored scores are today's, keys left out)`` of
+    ``calibration.nc`` (None without the file): scores stored under an older scoring rule
+    (its ``claims_scoring`` attribute) are left out for the claims whose rule changed."""
     import xarray as xr
 
-    path = CALIBRATION
-    if not path.exists():
-        return "(run `python analyses/paper/calibrate.py` for the evidence over B and Ec)"
+    path = CALIBRATION if path is None else path
+    if not Path(path).exists():
+        return None, [], []
     cal = xr.load_dataset(path)
+    version = int(cal.attrs.get("claims_scoring", 1))
+    by_key = {c.key: c for c in C.CLAIMS}
+    keys = [str(k) for k in cal["claim"].values]
+    ok = [k for k in keys if k in by_key and C.scored_alike(by_key[k], version)]
+    return cal, ok, [k for k in keys if k not in ok]
+
+
+def calibration_best(path=None):
+    """Claim key -> its best score over every calibrated (B, Ec) of ``calibration.nc``
+    (empty without the file; claims scored by an older rule left out)."""
+    cal, keys, _ = _calibration(path)
+    return {k: float(cal["score"].sel(claim=k).values.max()) for k in keys}
+
+
+def evidence_section():
+    """Best score of each claim over all calibrated (B, Ec) pairs, from calibration.nc."""
+    cal, keys, stale = _calibration()
+    if cal is None:
+        return "(run `python analyses/paper/calibrate.py` for the evidence over B and Ec)"
     rows = []
     reading = cal["reading"].values if "reading" in cal else None
-    for key in cal["claim"].values:
+    for key in keys:
         sc = cal["score"].sel(claim=key).values
         k = int(np.argmax(sc))
         where = (f"({reading[k]}) " if reading is not None else "") + \
             f"B = {float(cal['B'][k]):g}, Ec = {float(cal['Ec'][k]):g}"
         rows.append((str(key), f"{sc.max():.2f}", where, f"{np.mean(sc > 0):.0%}"))
+    left = (f"  Left out: {', '.join(stale)}, scored by the calibration under an earlier "
+            f"rule (its `claims_scoring` {int(cal.attrs.get('claims_scoring', 1))}, today "
+            f"{C.SCORING_VERSION}: one-speed claims are now scored as the motion at that "
+            "speed); `calibrate.py` scores them again." if stale else "")
     B = cal["B"].values
     pos = B[B > 0]
     zero = " and B = 0" if np.any(B == 0) else ""
@@ -430,11 +375,12 @@ def evidence_section():
         "each claim over all of them (1 = reproduced point for point; a P-n window found "
         "with another period scores at most 0.5), where it is reached, and the share of "
         "combinations where the claim scores at all: for a claim that disagrees at the "
-        "defaults, the nearest the model comes to it.", "",
+        "defaults, the nearest the model comes to it." + left, "",
         _md_table(("claim", "best score", "at", "share > 0"), rows)])
 
 
-def report(data, cost, panels, step, elapsed, overrides, types=None, census=None):
+def report(data, cost, panels, step, elapsed, overrides, types=None, census=None,
+           notes=True):
     from vibimpact.sweeps.dataset import format_intervals
 
     p8 = vi.presets.get("fig8").replace(**overrides)
@@ -448,8 +394,11 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
         "",
         f"Generated by `python analyses/paper/paper.py` (vibimpact {vi.__version__}): up and "
         f"down sweeps of every preset on η = 0.9:1.5:{step:g} with pure continuation, all "
-        f"analysers; {elapsed / 60:.1f} min on this machine"
-        + (" (sweeps partly from the cache)" if any(v == 0 for v in cost.values()) else "")
+        + (f"analysers; rendered from the cached sweeps in {elapsed / 60:.1f} min"
+           if all(v == 0 for v in cost.values()) else
+           f"analysers; {elapsed / 60:.1f} min on this machine"
+           + (" (sweeps partly from the cache)" if any(v == 0 for v in cost.values())
+              else ""))
         + ".",
         "",
         f"Parameters the paper does not state: **B = {p8.B:g}, Ec = {p8.Ec:g}**"
@@ -482,11 +431,32 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
         lines += ["", census[0]]
     lines += ["", "## Comparative and shape claims", ""]
     lines.append(_md_table(("figure", "paper", "measured", "verdict", "criterion / reason"),
-                           [(a, b, c, f"**{d}**", e) for a, b, c, d, e in comp]))
+                           [(a, b, c, f"**{d}**", e) for a, b, c, d, e, _ in comp]))
     lines += ["", evidence_section()]
-    notes = ROOT / "analyses" / "paper" / "paper_notes.md"
-    if notes.exists():
-        lines += ["", notes.read_text().strip()]
+    summary = dict(B=p8.B, Ec=p8.Ec, agree=n_agree, claims=len(crow),
+                   agree_previous=n_prev, claims_previous=len(prev), previous=PREVIOUS,
+                   verdicts={r["claim"].key: r["verdict"] for r in crow},
+                   verdicts_previous={k: r["verdict"] for k, r in prev.items()},
+                   comparative={f"{a}: {b}": d for a, b, c, d, e, _ in comp},
+                   comparative_values={f"{a}: {b}": v for a, b, c, d, e, v in comp},
+                   detections={r["claim"].key: dict(
+                       direction=r["det"].direction, start=r["det"].start,
+                       end=r["det"].end, score=r["det"].score,
+                       labels=list(r["det"].labels), reason=r["reason"],
+                       lo=r["claim"].lo, hi=r["claim"].hi) for r in crow},
+                   calibration_best=calibration_best(),
+                   step=step, grid=f"0.9:1.5:{step:g}",
+                   alike=dict(response=ALIKE_RESPONSE, chaos=ALIKE_CHAOS),
+                   partly=C.PARTLY, relaxed_credit=C.RELAXED_CREDIT)
+    if census:
+        summary.update(census_claims=census[1], census_outcomes={
+            r["key"]: r["outcome"] for r in census[1]["claims"]})
+    summary = census_claims._finite(summary)
+    if overrides or not notes:
+        lines += ["", "(The hand-written reading of `analyses/paper/paper_notes.md` is about "
+                  "the shipped defaults on the full grid; left out of this run.)"]
+    else:
+        lines += ["", paper_notes.render(summary)]
     if types:
         lines += ["", transition_section(types)]
     lines += ["", "## Figures", ""]
@@ -506,14 +476,6 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, out)
     if not overrides:
-        summary = dict(B=p8.B, Ec=p8.Ec, agree=n_agree, claims=len(crow),
-                       agree_previous=n_prev, claims_previous=len(prev), previous=PREVIOUS,
-                       verdicts={r["claim"].key: r["verdict"] for r in crow},
-                       verdicts_previous={k: r["verdict"] for k, r in prev.items()},
-                       comparative={f"{a}: {b}": d for a, b, c, d, e in comp})
-        if census:
-            summary.update(census_claims=census[1], census_outcomes={
-                r["key"]: r["outcome"] for r in census[1]["claims"]})
         js = REPORTS / "paper.json"
         tmp = js.with_suffix(".tmp")
         tmp.write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
@@ -532,7 +494,12 @@ def main(argv=None):
     ap.add_argument("--fresh", action="store_true", help="recompute cached sweeps")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a parameter of every preset (e.g. B=0.05)")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render the report from the cached sweeps and transition types "
+                    "and the census stored in reports/paper.json, computing nothing long "
+                    "(a missing cache entry is an error) and redrawing no figure")
     args = ap.parse_args(argv)
+    paper_sweeps.CACHE_ONLY = args.render_only
     if args.smoke is not None:  # coarse grid, fresh cache, outputs under the smoke dir
         REPORTS, FIGURES = args.smoke, args.smoke / "figures"
         REPORTS.mkdir(parents=True, exist_ok=True)
@@ -541,11 +508,15 @@ def main(argv=None):
     t0 = time.perf_counter()
     data, cost = sweeps(args.step, args.cache, args.fresh, args.workers, overrides)
     types = transitions(data, args.step, args.cache, args.fresh, args.workers, overrides)
-    panels = figures(data)
-    census = None if overrides else census_claims.section(
-        data, args.cache, args.fresh, smoke_dir=args.smoke)
+    panels = figures(data, draw=not args.render_only)
+    if overrides:
+        census = None
+    elif args.render_only:
+        census = cached_census(data, REPORTS / "paper.json")
+    else:
+        census = census_claims.section(data, args.cache, args.fresh, smoke_dir=args.smoke)
     out, k, n = report(data, cost, panels, args.step, time.perf_counter() - t0, overrides,
-                       types, census)
+                       types, census, notes=args.smoke is None)
     print(f"{k}/{n} interval claims agree -> {out}")
     if not overrides:
         import readme_summary

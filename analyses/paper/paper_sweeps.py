@@ -18,6 +18,12 @@ import numpy as np
 import vibimpact as vi
 
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov")
+#: read sweeps from the cache only (``paper.py --render-only``): a missing one is an error
+CACHE_ONLY = False
+
+
+class NotCached(LookupError):
+    """A render-only run needs a sweep (or result) that the cache does not hold."""
 
 
 def cache_path(name, step, cache, overrides, suffix=""):
@@ -37,6 +43,8 @@ def sweep_one(task):
     p, path = cache_path(name, step, cache, overrides)
     if path.exists() and not fresh:
         return name, xr.load_dataset(path), 0.0
+    if CACHE_ONLY:
+        raise NotCached(f"{path} is not in the cache (run without --render-only)")
     t = time.perf_counter()
     eta = np.round(np.arange(0.9, 1.5 + 1e-9, step), 6)
     ds = vi.sweep(p, eta, direction="both", analyses=ANALYSES,

@@ -68,6 +68,10 @@ class Claim:
     direction : {"up", "down"}, optional
         Only this sweep direction is compared (a jump off the impacting branch is a claim
         about the branch reached from below, the up sweep); both when None.
+
+    A claim with ``lo == hi`` and not ``near`` is a *one-speed* claim (:attr:`at_speed`):
+    the paper shows a motion at one speed and says nothing of the speeds around it, so
+    it is scored as that motion at that speed, not as an interval.
     """
 
     key: str
@@ -85,12 +89,30 @@ class Claim:
     multi: bool = False
     direction: str | None = None
 
+    @property
+    def at_speed(self):
+        """A one-speed claim: the motion at eta = ``lo`` (``lo == hi``, not ``near``)."""
+        return self.lo == self.hi and not self.near
+
     def relaxed(self):
         """The claim without its period and impact count: any periodic impacting window
         of period >= 2 (the "a subharmonic window is there" part of a P-n claim)."""
         from dataclasses import replace
 
         return replace(self, period=None, impacts=None, multi=True)
+
+
+#: version of the scoring rule (:func:`detect_one`), stored with every set of stored
+#: scores (``reports/calibration.nc``) so that scores of an older rule are not read as
+#: today's: 1 the interval rule for every claim; 2 one-speed claims scored as the motion
+#: at that speed (:attr:`Claim.at_speed`)
+SCORING_VERSION = 2
+
+
+def scored_alike(claim, version):
+    """Whether a score of ``claim`` stored under rule ``version`` (:data:`SCORING_VERSION`)
+    is what today's rule gives."""
+    return version >= 2 or not claim.at_speed
 
 
 #: how far "near eta" may be from the detected start
@@ -196,10 +218,13 @@ class Detection:
         claim; NaN if no point in the window matches.
     score : float
         Jaccard index in [0, 1] of the claimed and the matching grid points inside the
-        claim widened by :data:`WINDOW`.
+        claim widened by :data:`WINDOW`; for a one-speed claim (:attr:`Claim.at_speed`)
+        1 when the grid point at the claimed eta (within half a step) shows the motion,
+        else 0.
     agree : bool
         Both ends within one sweep step of the paper's (``near`` claims: start within
-        :data:`NEAR`, and a matching point at the claimed eta).
+        :data:`NEAR`, and a matching point at the claimed eta; one-speed claims: the
+        motion at the grid point of the claimed eta, whatever the run around it).
     labels : tuple of str
         The distinct labels of the detected interval's points.
     """
@@ -227,6 +252,17 @@ def runs(ok):
     return runs
 
 
+def _at_speed(eta, ok, claim, step):
+    """Index of the grid point at a one-speed claim's eta (None: not on the grid within
+    half a step), and whether it shows the motion."""
+    if eta.size == 0:
+        return None, False
+    k = int(np.argmin(np.abs(eta - claim.lo)))
+    if abs(eta[k] - claim.lo) > 0.5 * step * (1 + 1e-6):
+        return None, False
+    return k, bool(ok[k])
+
+
 def detect_one(sub, claim, direction="up"):
     """Compare one claim with a one-direction sweep; see :class:`Detection`."""
     eta = np.asarray(sub["eta"].values, dtype=float)
@@ -237,6 +273,9 @@ def detect_one(sub, claim, direction="up"):
     found = ok & window
     union = claimed | found
     score = float((claimed & found).sum() / union.sum()) if union.any() else 0.0
+    if claim.at_speed:
+        k, there = _at_speed(eta, ok, claim, step)
+        score = 1.0 if there else 0.0
     near_runs = [(a, b) for a, b in runs(ok) if window[a:b + 1].any()]
     if not near_runs:
         return Detection(direction, np.nan, np.nan, score, False, ())
@@ -251,7 +290,9 @@ def detect_one(sub, claim, direction="up"):
     a, b = min(near_runs, key=distance)
     start, end = float(eta[a]), float(eta[b])
     tol = step * (1 + 1e-6)
-    if claim.near:
+    if claim.at_speed:
+        agree = there
+    elif claim.near:
         agree = abs(start - claim.lo) <= NEAR + tol and bool(ok[claimed].any())
     else:
         agree = abs(start - claim.lo) <= tol and abs(end - claim.hi) <= tol
@@ -281,6 +322,34 @@ def detect(ds, claim):
         subs = [(d, sub) for d, sub in subs if d == claim.direction] or subs
     out = [detect_one(sub, claim, d) for d, sub in subs]
     return sorted(out, key=lambda x: -x.score)
+
+
+#: a detected interval that does not agree is "partly" there from this score on
+PARTLY = 0.5
+#: the verdicts of :func:`verdict`
+VERDICTS = ("agree", "partly", "disagree")
+
+
+def verdict(det):
+    """The verdict on a claim from its :class:`Detection` (the best direction's).
+
+    ``"agree"`` when the detection agrees; ``"partly"`` when an interval of the claimed
+    motion was found whose Jaccard index reaches :data:`PARTLY`; else ``"disagree"``.
+    The paper report, the performance report and the tests of the shipped defaults all
+    judge by this one rule.
+    """
+    if det.agree:
+        return "agree"
+    if np.isfinite(det.start) and det.score >= PARTLY:
+        return "partly"
+    return "disagree"
+
+
+def judge(ds, claim):
+    """``(verdict, detection)`` of one claim on a sweep: :func:`verdict` of the best
+    direction of :func:`detect`."""
+    det = detect(ds, claim)[0]
+    return verdict(det), det
 
 
 def claim_score(ds, claim):
