@@ -248,53 +248,6 @@ def test_basins_in_a_plane_of_x_and_vr(tmp_path, capfd):
     assert is_png(tmp_path / "b.png")
 
 
-def _doc_blocks(path):
-    """``[(language, text), ...]`` of the code blocks of a reStructuredText page, in
-    order."""
-    import re
-    import textwrap
-
-    blocks, lines = [], path.read_text().splitlines()
-    i = 0
-    while i < len(lines):
-        m = re.match(r"\.\. code-block:: (\w+)\s*$", lines[i])
-        i += 1
-        if not m:
-            continue
-        body = []
-        while i < len(lines) and (not lines[i].strip() or lines[i].startswith("   ")):
-            body.append(lines[i])
-            i += 1
-        blocks.append((m.group(1), textwrap.dedent("\n".join(body)).strip()))
-    return blocks
-
-
-@pytest.mark.slow
-def test_the_ring_guide_runs_as_pasted(tmp_path):
-    """Hypothesis: every command block of docs/user_guide/ring.rst, pasted in order into a
-    shell (bash) or a Python interpreter (python) in one empty folder, exits 0; the
-    files the page names are written."""
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    blocks = _doc_blocks(root / "docs" / "user_guide" / "ring.rst")
-    assert [lang for lang, _ in blocks].count("bash") >= 3
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join(
-        [str(root), *filter(None, [os.environ.get("PYTHONPATH")])]))
-    for lang, text in blocks:
-        argv = ["bash", "-e", "-c", text] if lang == "bash" else [sys.executable, "-c",
-                                                                    text]
-        r = subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True,
-                           timeout=900)
-        assert r.returncode == 0, (text, r.stderr[-3000:])
-    for name in ("ring_run.nc", "ring.nc", "ring_vr.png", "jr.nc", "ring_p1.nc",
-                 "ring_census.nc", "ring_basins.png", "ring_orbits.nc", "ring_vr_api.png"):
-        assert (tmp_path / name).stat().st_size > 0, name
-
-
 def test_orbit_hunt_from_random_seeds_needs_the_ring_to_settle(tmp_path, capfd):
     """Hypothesis: a light ring's speed settles over tens of periods, so the hunt's
     default five periods from random states leave Newton's method too far from any orbit

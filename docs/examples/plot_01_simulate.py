@@ -13,7 +13,6 @@ a periodic motion with two impacts at the bottom of the retainer (η = 1.185) an
 # ----------
 # :func:`vibimpact.presets.get` returns a frozen, validated :class:`vibimpact.Params`;
 # ``replace`` makes a changed copy.
-import numpy as np
 
 import vibimpact as vi
 from vibimpact.analysis import contact_arcs, detect_period, impact_count
@@ -30,7 +29,7 @@ print(p)
 # the paper is reached by continuation, as a sweep does: each speed starts from the
 # final state of the previous one.
 state = None
-for eta in np.arange(1.0, 1.185, 0.02):
+for eta in vi.grid("1.0:1.18:0.02"):
     run = vi.simulate(p.replace(eta=eta), periods=1, transient=100, state0=state)
     state = run.final_state
 
@@ -58,7 +57,7 @@ ax_periodic = plot_xy(run_to_dataset(run))
 # Chaos with impacts on the whole circle
 # --------------------------------------
 state = run.final_state
-for eta in np.arange(1.19, 1.25, 0.01):
+for eta in vi.grid("1.19:1.24:0.01"):
     state = vi.simulate(p.replace(eta=eta), periods=1, transient=100,
                         state0=state).final_state
 run2 = vi.simulate(p.replace(eta=1.25), periods=60, transient=200, state0=state, dense=200)

@@ -10,13 +10,12 @@ or quasi-periodic one a cloud.  This is what ``vibimpact bifurcation`` draws.
 # %%
 # A sweep that computes only the period and the Poincaré samples (what the bifurcation
 # command asks for) runs faster than a full classification.
-import numpy as np
 
 import vibimpact as vi
 from vibimpact.plotting import plot_bifurcation
 
 p = vi.presets.get("fig10")
-eta = np.round(np.arange(1.05, 1.35 + 1e-9, 0.005), 6)
+eta = vi.grid("1.05:1.35:0.005")
 ds = vi.sweep(p, eta, direction="both", analyses=("period", "poincare"))
 print(vi.intervals(ds, direction="up").to_dataframe()[["start", "end", "label"]].to_string())
 

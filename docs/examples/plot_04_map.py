@@ -12,14 +12,13 @@ serially in this process.
 import tempfile
 from pathlib import Path
 
-import numpy as np
 
 import vibimpact as vi
 from vibimpact.maps import open_map, write_map
 from vibimpact.plotting.map2d import plot_map
 
 p = vi.presets.get("fig8")
-eta = np.round(np.arange(1.0, 1.32 + 1e-9, 0.02), 6)
+eta = vi.grid("1.0:1.32:0.02")
 ds = vi.map2d(p, eta, vary={"kh": [40.0, 80.0, 120.0]})
 print(ds.period.to_pandas())
 

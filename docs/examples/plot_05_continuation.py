@@ -41,7 +41,7 @@ ax.legend()
 # sweep in :ref:`the sweep example <sphx_glr_auto_examples_plot_02_sweep_intervals.py>`.
 rotor = vi.presets.get("fig8")
 state = None
-for eta in np.arange(1.0, 1.15, 0.02):
+for eta in vi.grid("1.0:1.14:0.02"):
     state = vi.simulate(rotor.replace(eta=eta), periods=1, transient=100,
                         state0=state).final_state
 system = vi.System(rotor.replace(eta=1.15))

@@ -106,6 +106,6 @@ system = vi.System(params, model=model)
 orbit = shoot_periodic_orbit(system, run.final_state, 1)
 print("converged:", orbit.converged, " |mu|:", np.abs(orbit.multipliers).round(4))
 
-w = np.round(np.arange(0.8, 1.3 + 1e-9, 0.02), 6)
+w = vi.grid("0.8:1.3:0.02", name="w")
 ds = vi.sweep(system, w, direction="up", analyses=("period",))
 print(vi.intervals(ds).to_dataframe()[["start", "end", "label"]].to_string())

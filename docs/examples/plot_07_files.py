@@ -12,7 +12,6 @@ the solver settings, the vibimpact version and the command line, with CF-style u
 import tempfile
 from pathlib import Path
 
-import numpy as np
 
 import vibimpact as vi
 from vibimpact.io import differences, read_netcdf, run_to_dataset, write_netcdf
@@ -33,7 +32,7 @@ print(f"{compared} variables compared, {len(diffs)} differ")
 # saved points instead of recomputing them (after Ctrl-C or a killed job), and the result
 # is identical to an uninterrupted run.
 p = vi.presets.get("fig8")
-eta = np.round(np.arange(1.1, 1.2 + 1e-9, 0.01), 6)
+eta = vi.grid("1.1:1.2:0.01")
 first = vi.sweep(p, eta, execution=vi.Execution(checkpoint=tmp / "sweep.partial"))
 again = vi.sweep(p, eta,
                  execution=vi.Execution(checkpoint=tmp / "sweep.partial", resume=True))
