@@ -39,7 +39,8 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     ds : xarray.Dataset or Run
         The dataset of a run (rotor model), as :meth:`vibimpact.Run.to_dataset` makes it
         and ``vibimpact simulate`` writes it, or the Run itself: uses ``trajectory`` if
-        present, else ``strobe``, and ``impact_theta``.
+        present, else ``strobe``, and the impact records (``impact_theta``,
+        ``impact_theta_min``, ``impact_theta_max``).
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
     ax : matplotlib.axes.Axes, optional
@@ -68,8 +69,17 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     acts along +Y, so the Y axis is inverted: the bottom of the retainer
     (``theta = +90`` degrees) is drawn at the bottom.  Impact markers sit at the contact
     entry point ``(cos theta, sin theta)``; the loaded arcs of
-    :func:`vibimpact.analysis.contact_arcs` are drawn as a thick band just outside the
-    retainer (the paper's figs 8a, 10a-c and 11b-d mark the same).
+    :func:`vibimpact.analysis.contact_arcs` (each contact from entry to exit, sliding
+    included) are drawn as thick bands on the retainer from their start to their end
+    (the paper's figs 8a, 10a-c and 11b-d mark the same).
+
+    The trajectory is drawn as straight segments between samples, none longer than
+    :data:`vibimpact.plotting.xy_dense.MAX_SEGMENT_PX` pixels of the figure: where the
+    run's own dense samples are coarser (a chaotic impact motion would show as a
+    polygon), the run is integrated again from its recorded start with enough samples
+    per forcing period for the figure's size and resolution (the same motion: dense
+    samples do not change the integrator's steps, and the stroboscopic samples are
+    checked to be the recorded ones).
 
     Examples
     --------
@@ -81,7 +91,7 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     from ..io import as_run_dataset
     from .style import look
 
-    ds = as_run_dataset(ds)
+    value, ds = ds, as_run_dataset(ds)
     lk = look(figsize, dpi, style, ax)
     states = [str(s) for s in ds["state"].values]
     spec = _plot_spec(ds, states)
@@ -93,9 +103,9 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
         if own:
             ax = lk.figure((6, 6.6), 4.2).add_subplot()
         if spec.circle is not None:
-            _orbit(ds, ax, lk, own)
+            _orbit(value, ds, ax, lk, own)
         else:
-            _phase(ds, ax, lk, own, [states.index(s) for s in spec.xy], spec.xy)
+            _phase(value, ds, ax, lk, own, [states.index(s) for s in spec.xy], spec.xy)
         lk.finish(ax.figure, path)
     return ax
 
@@ -113,13 +123,16 @@ def _plot_spec(ds, states):
     return models.PlotSpec(xy=tuple(states[:2]))
 
 
-def _phase(ds, ax, lk, own, cols, names):
+def _phase(value, ds, ax, lk, own, cols, names):
     """The orbit and its stroboscopic points in the plane of the states ``names`` (a
     model whose contact is no circle around the origin)."""
     from .style import width
+    from .xy_dense import trajectory_for
 
     if "trajectory" in ds:
-        traj = ds["trajectory"].values
+        raw = ds["trajectory"].values[:, cols]
+        span = float(np.nanmax(np.ptp(raw, axis=0))) * 1.1 if raw.size else 1.0
+        traj = trajectory_for(value, ds, ax, cols, span if span > 0 else 1.0, lk.dpi)
         ax.plot(traj[:, cols[0]], traj[:, cols[1]], color="C0", lw=width(0.47), alpha=0.8,
                 label="trajectory")
     strobe = ds["strobe"].values
@@ -133,32 +146,27 @@ def _phase(ds, ax, lk, own, cols, names):
     ax.grid(True, alpha=0.5)
 
 
-def _orbit(ds, ax, lk, own):
+def _orbit(value, ds, ax, lk, own):
     """The retainer, the orbit, its stroboscopic points, impacts and loaded arcs on
     ``ax``, with the legend below the axes (``own``: the figure is plot_xy's)."""
     from .style import width
+    from .xy_dense import trajectory_for
 
     phi = np.linspace(0.0, 2.0 * np.pi, 721)
     ax.plot(np.cos(phi), np.sin(phi), color="0.3", lw=width(1.0), label="retainer R = 1")
     if "trajectory" in ds:
-        traj = ds["trajectory"].values
+        traj = trajectory_for(value, ds, ax, [0, 1], 2.4, lk.dpi)
         ax.plot(traj[:, 0], traj[:, 1], color="C0", lw=width(0.47), alpha=0.8,
                 label="trajectory")
     strobe = ds["strobe"].values
     ax.plot(strobe[:, 0], strobe[:, 1], ls="none", marker="o", ms=3.5, color="C1",
             mfc="none" if "trajectory" in ds else "C1",
             label=f"stroboscopic points ({len(strobe)})")
+    arcs = loaded_arcs(value, ds)
+    if arcs is not None and arcs.n_arcs:
+        draw_arcs(ax, arcs, width(3.3))
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
-        from ..analysis.impacts import contact_arcs
-
         deg = ds["impact_theta"].values
-        arcs = contact_arcs(deg)
-        for k, (a, w) in enumerate(zip(arcs.start, arcs.width)):
-            phi = np.radians(a + np.linspace(0.0, max(w, 2.0), 60) - (1.0 if w < 2 else 0.0))
-            ax.plot(1.04 * np.cos(phi), 1.04 * np.sin(phi), color="C3", lw=width(3.3),
-                    alpha=0.45,
-                    solid_capstyle="butt",
-                    label=f"loaded arcs: {arcs.summary}" if k == 0 else None)
         th = np.radians(deg)
         ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=width(1.0),
                 color="C3",
@@ -171,3 +179,40 @@ def _orbit(ds, ax, lk, own):
     lk.title(ax, _title(ds))
     lk.legend_below(ax, own, ax.get_legend_handles_labels()[0], ncol=2)
     ax.grid(True, alpha=0.5)
+
+
+#: an arc narrower than this (degrees) is drawn this wide, centred on it, to be seen
+MIN_DRAWN_ARC = 2.0
+
+
+def loaded_arcs(value, ds):
+    """The loaded arcs of a run (:func:`vibimpact.analysis.contact_arcs`): from the Run
+    itself when given one (every contact interval, a permanent contact included), else
+    from the dataset's impact records; None for a model without a contact."""
+    from ..analysis.impacts import contact_arcs
+
+    if hasattr(value, "events") and hasattr(value, "strobe"):
+        return contact_arcs(value) if getattr(value, "contact", None) is not None else None
+    if "impact_theta" not in ds:
+        return None
+    return contact_arcs(ds)
+
+
+def arc_points(start, width, radius=1.0):
+    """``(x, y)`` of an arc of the circle of ``radius`` from ``start`` (degrees) over
+    ``width`` degrees in the direction of increasing theta (one point a quarter degree;
+    an arc narrower than :data:`MIN_DRAWN_ARC` is drawn that wide about its middle)."""
+    if width < MIN_DRAWN_ARC:
+        start, width = start + 0.5 * width - 0.5 * MIN_DRAWN_ARC, MIN_DRAWN_ARC
+    phi = np.radians(start + np.linspace(0.0, width, max(8, int(np.ceil(width * 4.0)) + 1)))
+    return radius * np.cos(phi), radius * np.sin(phi)
+
+
+def draw_arcs(ax, arcs, lw):
+    """The loaded arcs as thick bands on the retainer circle from start to end, labelled
+    with their words and their extent in degrees."""
+    for k, (s, w) in enumerate(zip(arcs.start, arcs.width)):
+        x, y = arc_points(float(s), float(w))
+        ax.plot(x, y, color="C3", lw=lw, alpha=0.45, solid_capstyle="butt",
+                label=f"loaded arcs: {arcs if arcs.n_arcs <= 4 else arcs.summary}"
+                if k == 0 else None)
