@@ -10,7 +10,9 @@ read back with netCDF4 or zarr directly, not through xarray's decoding:
   the command line) are present and parse;
 * every numeric data variable has ``units`` or is a flag variable whose ``flag_values``
   (the variable's type) and ``flag_meanings`` (valid words) have the same length and
-  cover every value present in the data; the integer-coded variables are flag variables;
+  cover every value present in the data (``period`` declares only its special value 0,
+  no period; its other values are periods, at least 1); the integer-coded variables are
+  flag variables;
 * no coordinate has a ``_FillValue``;
 * the provenance attributes are present and true for this process.
 
@@ -153,6 +155,8 @@ def _flag_problems(name, attrs, values):
             fv.astype(values.dtype), fv)):
         bad.append(f"{name}: flag_values {fv.dtype} for a {values.dtype} variable")
     missing = set(np.unique(values).tolist()) - set(fv.tolist())
+    if name == "period":  # flags declare its one special value, 0; the rest are periods
+        missing = {v for v in missing if v < 1}
     if missing:
         bad.append(f"{name}: values {sorted(missing)} not in flag_values")
     return bad

@@ -64,11 +64,81 @@ def as_run_dataset(value: xr.Dataset | Run, name: str = "ds") -> xr.Dataset:
     return value
 
 
-def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, Any]]:
-    """``(dataset, encoding)`` to write ``ds`` as a file: a shallow copy (the data are
-    shared, ``ds`` is not changed) whose global attributes carry the CF and provenance
-    attributes of :func:`vibimpact.provenance.file_attrs`, and the encoding that writes no
-    ``_FillValue`` on any coordinate (CF: coordinates have no missing values).
+#: the integer types CF-1.8 allows (its section 2.2: byte, short, int); CF-1.9 added the
+#: unsigned and 64-bit ones, which readers of CF-1.8 need not know
+CF_INTEGERS = ("int8", "int16", "int32")
+#: attributes whose type must be the variable's (NUG, CF 2.5.1 and 3.5)
+_TYPED_ATTRS = ("flag_values", "valid_min", "valid_max", "valid_range", "_FillValue",
+                "missing_value")
+
+
+def _cf_integer(values):
+    """The CF-1.8 integer dtype for integer ``values`` of another type (int64, unsigned):
+    int32 when every value fits it, float64 otherwise (exact to 2**53)."""
+    info = np.iinfo(np.int32)
+    if values.size == 0 or (int(values.min()) >= info.min and int(values.max()) <= info.max):
+        return np.dtype(np.int32)
+    return np.dtype(np.float64)
+
+
+def _typed(attrs, dtype):
+    """``attrs`` with those of :data:`_TYPED_ATTRS` of another numeric type as ``dtype``
+    where their values survive the conversion (JSON, Zarr's attributes, has no types)."""
+    out = dict(attrs)
+    for key in _TYPED_ATTRS:
+        if key not in out:
+            continue
+        value = np.asarray(out[key])
+        if value.dtype.kind not in "biuf" or value.dtype == dtype:
+            continue
+        new = value.astype(dtype)
+        if np.array_equal(new, value):
+            out[key] = new
+    return out
+
+
+def _cf_types(out):
+    """``out`` with every integer variable of a type CF-1.8 does not know (int64, the
+    unsigned types) as int32 (or float64 when its values do not fit), and the attributes
+    that must have the variable's type (:data:`_TYPED_ATTRS`: ``flag_values``, the valid
+    range) of every numeric variable in its type."""
+    for name in list(out.variables):
+        var = out.variables[name]
+        if var.dtype.kind not in "biuf":
+            continue
+        if var.dtype.kind in "iu" and var.dtype.name not in CF_INTEGERS:
+            values = np.asarray(var.values)
+            new = var.copy(data=values.astype(_cf_integer(values)))
+        elif any(key in var.attrs for key in _TYPED_ATTRS):
+            new = var.copy(deep=False)
+        else:
+            continue
+        new.attrs = _typed(var.attrs, new.dtype)
+        if name in out.coords:  # an index coordinate stays one
+            out = out.assign_coords({name: new})
+        else:
+            out[name] = new
+    return out
+
+
+def for_file(ds: xr.Dataset, call: str | None, *,
+             netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
+    """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
+    copy (the data are shared, ``ds`` is not changed) whose global attributes carry the CF
+    and provenance attributes of :func:`vibimpact.provenance.file_attrs`, and the encoding
+    that writes no ``_FillValue`` on any coordinate (CF: coordinates have no missing
+    values).
+
+    The copy also gets what CF-1.8 asks of the data themselves, whatever built ``ds``:
+
+    * an integer variable of a type CF-1.8 does not have (int64, unsigned: its section 2.2
+      allows byte, short and int) is written as int32 when its values fit (else float64),
+      its ``flag_values`` and valid range alike;
+    * a dimension coordinate of text (``state``: X, Y, ...; ``direction``: up, down) is
+      written as characters (``state(state, string2)``): a coordinate variable must be
+      numeric and monotonic (CF 1.3), a character array labels its dimension instead
+      (CF 6.1) and reads back as the same index of text (NetCDF only: Zarr has no
+      character type of its own, and CF's rule is NetCDF's).
 
     Every writer of the package (:func:`write_netcdf`, :func:`vibimpact.maps.write_map`)
     goes through this function.
@@ -78,6 +148,9 @@ def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, An
     ds : xarray.Dataset
     call : str
         The writing function, named in ``history`` when ``ds`` records no ``command``.
+    netcdf : bool, optional
+        The file is NetCDF (text coordinates as characters); by default every call but
+        :func:`vibimpact.maps.write_map`'s (a Zarr store).
 
     Returns
     -------
@@ -85,9 +158,15 @@ def for_file(ds: xr.Dataset, call: str | None) -> tuple[xr.Dataset, dict[str, An
     """
     from .provenance import file_attrs
 
-    out = ds.copy(deep=False)
+    if netcdf is None:
+        netcdf = call != "vibimpact.maps.write_map"
+
+    out = _cf_types(ds.copy(deep=False))
     out.attrs = file_attrs(ds.attrs, call)
     encoding = {name: {"_FillValue": None} for name in out.coords}
+    for name in out.indexes if netcdf else ():
+        if name in out.dims and out[name].dtype.kind in _TEXT:
+            encoding[name]["dtype"] = "S1"
     return out, encoding
 
 

@@ -5,8 +5,10 @@ the dataset's global attributes through :func:`file_attrs`, which adds
 
 * the CF attributes ``Conventions`` (:data:`CONVENTIONS`), ``history`` (one line per
   write: the ISO-8601 UTC time and the command line or call that wrote the file, appended
-  to an existing history) and ``date_created`` (ISO-8601 UTC; kept when the dataset
-  already has one, e.g. a file read and written again);
+  to an existing history), ``date_created`` (ISO-8601 UTC; kept when the dataset
+  already has one, e.g. a file read and written again), ``title`` (kept when the dataset
+  has one), ``source`` (the package and its version) and ``references``
+  (:data:`REFERENCES`, the paper);
 * the provenance the bit-identity promise depends on (:func:`provenance`): the package
   version and, when the package runs from a git checkout, its commit; the versions of the
   numerical and I/O dependencies imported by this process; the Python version, the
@@ -33,6 +35,9 @@ from typing import Any
 
 #: the CF version the files follow
 CONVENTIONS = "CF-1.8"
+#: the CF ``references`` of every file: the paper whose model (eq. 5) the package is built on
+REFERENCES = ("L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
+              "with impacts (the rotor model, eq. 5)")
 #: distributions whose version is recorded, when this process has imported them
 DEPENDENCIES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "zarr", "dask")
 #: global attributes that change from one write of the same data to the next
@@ -117,6 +122,21 @@ def provenance() -> dict[str, str | int]:
     return out
 
 
+def _title(command: str) -> str:
+    """``"vibimpact <subcommand> output"`` from a recorded command line, else ``"vibimpact
+    output"`` (an API call)."""
+    try:
+        words = shlex.split(command)
+    except ValueError:
+        words = command.split()
+    for i, word in enumerate(words[:-1]):
+        if os.path.basename(word) in ("vibimpact", "__main__.py") or word == "vibimpact.cli":
+            nxt = words[i + 1]
+            if nxt.isidentifier():
+                return f"vibimpact {nxt} output"
+    return "vibimpact output"
+
+
 def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     """The global attributes of a file about to be written: ``attrs`` plus the CF and
     provenance attributes (a new dict; ``attrs`` is not changed).
@@ -143,9 +163,13 @@ def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     out["history"] = f"{old}\n{line}" if old else line
     out.setdefault("date_created", stamp)
     out.setdefault("source", f"vibimpact {__version__}")
+    out.setdefault("references", REFERENCES)
+    if not str(out.get("title") or "").strip():  # CF 2.6.2: a file says what it holds
+        kind = str(out.get("kind") or "").strip()
+        out["title"] = f"vibimpact {kind}".strip() if kind else _title(command)
     out.update(provenance())
     return out
 
 
-__all__ = ["CONVENTIONS", "DEPENDENCIES", "VOLATILE", "cpu_model", "dependency_versions",
+__all__ = ["CONVENTIONS", "DEPENDENCIES", "REFERENCES", "VOLATILE", "cpu_model", "dependency_versions",
            "file_attrs", "git_commit", "provenance", "utc_now"]

@@ -25,7 +25,7 @@ import xarray as xr
 from ..points.point import REGIME_CODES, REGIME_FLAGS
 from ..analysis.classify import Label
 from ..system import param_dict
-from ..sweeps.dataset import label_text
+from ..sweeps.dataset import label_text, period_attrs
 from .reach import DECIDED_FLAGS
 from .library import nearest_distances
 
@@ -126,11 +126,12 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
     rep = np.full((m, A, d), np.nan)
     samples = np.full((m, A, N_SAMPLES, d), np.nan)
     names = np.full(shape, "", dtype=object)
-    first = np.full(shape, -1, dtype=np.int64)
-    gid = np.full(shape, -1, dtype=np.int64)
-    label = np.stack(labels).astype(np.int64)
+    # int32, not int64: the integer types of CF-1.8 (byte, short, int) hold every count
+    first = np.full(shape, -1, dtype=np.int32)
+    gid = np.full(shape, -1, dtype=np.int32)
+    label = np.stack(labels).astype(np.int32)
     decided = np.array([[int(r["decided_by"]) for r in row] for row in results], np.int8)
-    periods = np.array([[int(r["periods"]) for r in row] for row in results], np.int64)
+    periods = np.array([[int(r["periods"]) for r in row] for row in results], np.int32)
     ids = continue_attractors(libraries, box.scale)
     next_gid = max([max(x) for x in ids if x] + [-1]) + 1
     for i, lib in enumerate(libraries):
@@ -168,39 +169,66 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
     states_names = list(model.state_names)
     ds = xr.Dataset(
         dict(
-            start_state=(("start", "state"), states),
+            start_state=(("start", "state"), states, dict(
+                long_name="starting state", units="1")),
             label=(("eta", "start"), label, dict(
-                long_name="attractor reached (index along attractor)")),
+                long_name="attractor reached (index along attractor)", units="1")),
             decided_by=(("eta", "start"), decided, dict(
+                long_name="how the start's attractor was known",
                 flag_values=np.arange(3, dtype=np.int8), flag_meanings=DECIDED_FLAGS)),
             periods=(("eta", "start"), periods, dict(
                 long_name="forcing periods integrated", units="1")),
-            fraction=(("eta", "attractor"), f, dict(long_name="basin fraction")),
+            fraction=(("eta", "attractor"), f, dict(long_name="basin fraction",
+                                                     units="1")),
             fraction_se=(("eta", "attractor"), se, dict(
-                long_name="standard error of the basin fraction")),
+                long_name="standard error of the basin fraction", units="1")),
             regime=(("eta", "attractor"), regime, dict(
+                long_name="kind of motion (flag)",
                 flag_values=np.arange(1, 6, dtype=np.int8), flag_meanings=REGIME_FLAGS)),
             period=(("eta", "attractor"), period, dict(
-                long_name="period n (T = n 2 pi / eta); 0: not periodic")),
-            impacts_per_period=(("eta", "attractor"), ipp),
-            n_arcs=(("eta", "attractor"), n_arcs),
+                long_name="period n (T = n 2 pi / eta); 0: not periodic", units="1",
+                **period_attrs(period.dtype))),
+            impacts_per_period=(("eta", "attractor"), ipp, dict(
+                long_name="contacts per motion period (per forcing period when period "
+                          "= 0)", units="1")),
+            n_arcs=(("eta", "attractor"), n_arcs, dict(
+                long_name="number of loaded arcs of the retainer (-1: not measured)",
+                units="1")),
             lyapunov=(("eta", "attractor"), lyap, dict(
-                long_name="largest Lyapunov exponent (non-periodic attractors)")),
-            floquet_abs_max=(("eta", "attractor"), fam),
-            multiplier_re=(("eta", "attractor", "multiplier"), mre),
-            multiplier_im=(("eta", "attractor", "multiplier"), mim),
-            representative=(("eta", "attractor", "state"), rep),
+                long_name="largest Lyapunov exponent (non-periodic attractors)",
+                units="1")),
+            floquet_abs_max=(("eta", "attractor"), fam, dict(
+                long_name="largest |Floquet multiplier| (periodic attractors)",
+                units="1")),
+            multiplier_re=(("eta", "attractor", "multiplier"), mre, dict(
+                long_name="Floquet multipliers, real part", units="1")),
+            multiplier_im=(("eta", "attractor", "multiplier"), mim, dict(
+                long_name="Floquet multipliers, imaginary part", units="1")),
+            representative=(("eta", "attractor", "state"), rep, dict(
+                long_name="one stroboscopic point of the attractor", units="1")),
             samples=(("eta", "attractor", "sample", "state"), samples, dict(
-                long_name="stroboscopic points on the attractor")),
-            name=(("eta", "attractor"), names.astype(str)),
+                long_name="stroboscopic points on the attractor", units="1")),
+            name=(("eta", "attractor"), names.astype(str), dict(
+                long_name="attractor in words")),
             found_by=(("eta", "attractor"), first, dict(
-                long_name="the start that found the attractor (-1: none)")),
+                long_name="the start that found the attractor (-1: none)", units="1")),
             global_id=(("eta", "attractor"), gid, dict(
-                long_name="attractor followed across eta (global continuation)")),
+                long_name="attractor followed across eta (global continuation)",
+                units="1")),
         ),
-        coords=dict(eta=("eta", etas), start=np.arange(n), attractor=np.arange(A),
-                    state=("state", states_names), sample=np.arange(N_SAMPLES),
-                    multiplier=np.arange(d)),
+        coords=dict(eta=("eta", etas, dict(long_name="forcing frequency ratio eta",
+                                           units="1")),
+                    start=("start", np.arange(n, dtype=np.int32), dict(
+                        long_name="starting state index", units="1")),
+                    attractor=("attractor", np.arange(A, dtype=np.int32), dict(
+                        long_name="attractor index at each eta", units="1")),
+                    state=("state", states_names, dict(
+                        long_name="state variable of the model ("
+                                  + ", ".join(states_names) + ")")),
+                    sample=("sample", np.arange(N_SAMPLES, dtype=np.int32), dict(
+                        long_name="stroboscopic sample index", units="1")),
+                    multiplier=("multiplier", np.arange(d, dtype=np.int32), dict(
+                        long_name="Floquet multiplier index", units="1"))),
         attrs=dict(kind="census", model=model.name, seed=int(seed), box=box.describe(),
                    box_lo=box.lo, box_hi=box.hi, box_scale=box.scale,
                    n_starts=int(n),

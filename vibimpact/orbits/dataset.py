@@ -59,7 +59,8 @@ def _orbit_vars(orbits, d):
     one = dict(units="1")
     return {
         "period": ("orbit", ints("period"), dict(one, long_name="minimal period of the "
-                                                  "orbit in forcing periods")),
+                                                  "orbit in forcing periods",
+                                                  valid_min=np.int32(1))),
         "impacts_per_period": ("orbit", ints("impacts"), dict(one, long_name=(
             "impacts (contact entries) per period of the orbit (-1: not counted)"))),
         "n_arcs": ("orbit", ints("n_arcs"), dict(one, long_name="contact arcs the "

@@ -103,6 +103,23 @@ FLAGS = {
 }
 
 
+#: the one special value of a ``period`` variable: 0, no period (not periodic, not
+#: resolved or not computed); every other value is the period n itself
+PERIOD_FLAGS = ((0,), "none")
+
+
+def period_attrs(dtype):
+    """The CF attributes that declare ``period`` = 0 (no period) of a ``period``
+    variable of ``dtype``: ``flag_values`` = [0], ``flag_meanings`` = "none" and a
+    ``comment`` saying that the other values are periods (CF 3.5 lets a variable declare
+    its special values so; a ``_FillValue`` would turn the integers into floats in
+    readers that mask it)."""
+    values, meanings = PERIOD_FLAGS
+    return dict(flag_values=np.array(values, dtype=dtype), flag_meanings=meanings,
+                comment="0: no period (not periodic, not resolved or not computed); any "
+                        "other value is the period n in forcing periods")
+
+
 def flag_attrs(name, dtype):
     """The CF attributes ``flag_values`` (of ``dtype``, the variable's) and
     ``flag_meanings`` of the flag variable ``name`` (:data:`FLAGS`)."""
@@ -185,6 +202,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
                               dict(long_name="sweep direction"))})
     for name in FLAGS:
         ds[name].attrs.update(flag_attrs(name, ds[name].dtype))
+    ds["period"].attrs.update(period_attrs(ds["period"].dtype))
     ds["label"] = (dims, labels, dict(long_name="regime in words"))
     ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the retainer, in words"))
     ds["reason"] = (dims, reason, dict(long_name="classifier's decision branch"))
@@ -202,7 +220,8 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     ds["final_state"] = (dims + ("state",), final,
                          dict(units="1", long_name=f"state ({', '.join(names)}) at the "
                               "end of the point, the next point's initial state"))
-    ds = ds.assign_coords(state=("state", np.array(names, dtype=object)))
+    ds = ds.assign_coords(state=("state", np.array(names, dtype=object), dict(
+        long_name="state variable of the model (" + ", ".join(names) + ")")))
     # --- issue 8: Floquet multipliers, complex split into real and imaginary parts ---
     if "floquet" in settings.analyses:
         mu = not_computed((len(dirs), n, d_state), complex)
@@ -340,7 +359,8 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
          "label": ("interval", np.array(cols["label"], dtype=object)),
          "regime": ("interval", np.array(cols["regime"], dtype="i1"),
                     flag_attrs("regime", "i1")),
-         "period": ("interval", np.array(cols["period"], dtype="i4")),
+         "period": ("interval", np.array(cols["period"], dtype="i4"), dict(
+             units="1", long_name="period n in forcing periods", **period_attrs("i4"))),
          "impacts": ("interval", np.array(cols["impacts"])),
          "arcs": ("interval", np.array(cols["arcs"], dtype=object)),
          "points": ("interval", np.array(cols["points"], dtype="i4")),
