@@ -149,6 +149,7 @@ def test_coarse_grid_matches_the_issue():
     assert S.COARSE_EC[0] == 0.02 and S.COARSE_EC[-1] == 0.15
 
 
+@pytest.mark.slow
 def test_quick_run_writes_report_json_dataset_and_figure(tmp_path):
     """Hypothesis: ``calibrate.py --quick`` on a 3-point eta grid writes the report, its
     winner JSON block (keys reading, B, Ec, objective, agree_count, presets with Bh/BT/f),

@@ -267,6 +267,7 @@ def _points(ckpt):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig,workers", [("SIGINT", 1), ("SIGKILL", 1), ("SIGINT", 2)])
 def test_interrupted_sweep_resumes_bit_identical(sig, workers, tmp_path, reference):
     """A classify run stopped by a real signal after >= 5 saved points (SIGINT: exit 130

@@ -356,6 +356,7 @@ def _cli(*args, cwd):
                             stderr=subprocess.PIPE, text=True)
 
 
+@pytest.mark.slow
 def test_cli_killed_map_resumes_to_the_uninterrupted_map(tmp_path, capsys):
     """Hypothesis: 'vibimpact map' SIGKILLed after some rows keeps them in its Zarr
     checkpoint OUT.partial, which 'vibimpact plot --kind map' can draw; '--resume' loads

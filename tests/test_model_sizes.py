@@ -59,6 +59,7 @@ def _model(**changes):
     return vi.Model.from_functions(**kw)
 
 
+@pytest.mark.slow
 def test_a_model_of_the_right_sizes_runs_and_its_probe_changes_nothing():
     """The probe accepts a model whose functions stay inside the declared arrays (the
     linear oscillator of tests/test_user_model.py, whose kernel is compiled once for

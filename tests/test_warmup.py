@@ -3,6 +3,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 _SCRIPT = """
 import multiprocessing as mp, os, sys
 from vibimpact.engine import warmup
@@ -23,6 +25,7 @@ def _cache_files(cache):
                   for f in files if f.endswith((".nbi", ".nbc")))
 
 
+@pytest.mark.slow
 def test_the_helper_fills_an_empty_cache_with_the_array_routines(tmp_path):
     """Hypothesis: in a fresh process with an empty numba cache, warmup.start() runs one
     helper process that exits cleanly after writing the six array routines (dot, matmul,
