@@ -188,3 +188,31 @@ def test_plot_refuses_a_file_with_damaged_eta_or_undeclared_codes(eta, regime, w
     line = _refused(["plot", "s.nc", "--kind", kind, "-o", "p.png"], tmp_path,
                     monkeypatch, capfd)
     assert words in line
+
+
+@pytest.mark.parametrize("name, value", [
+    ("param_kh", "abc"), ("param_kh", -5.0), ("params", "{not json"),
+    ("solver_rtol", 1e-3), ("preset", "fig11"), ("param_kh", None),
+], ids=["kh-text", "kh-negative", "params-bad-json", "rtol", "preset", "kh-removed"])
+def test_rerun_reports_a_file_whose_run_attributes_contradict_its_command(
+        name, value, tmp_path, monkeypatch, capfd):
+    """rerun said 'identical' for a file whose parameter attributes had been changed; it
+    now compares the attributes that say what was computed with those the recorded
+    command writes again, and reports each that differs by name (exit 1)."""
+    import xarray as xr
+
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = run_cli(["simulate", "--periods", "2", "--transient", "0", "-o",
+                            "s.nc"], capfd)
+    assert rc == 0, err
+    rc, out, err = run_cli(["rerun", "s.nc"], capfd)
+    assert rc == 0 and out.startswith("identical: "), (out, err)
+    ds = xr.load_dataset("s.nc")
+    if value is None:
+        del ds.attrs[name]
+    else:
+        ds.attrs[name] = value
+    ds.to_netcdf("t.nc")
+    rc, out, err = run_cli(["rerun", "t.nc"], capfd)
+    assert rc == 1, (out, err)
+    assert out.startswith("different: ") and f"attribute {name}:" in out, out
