@@ -1,6 +1,7 @@
 """The type of every interval boundary of fig8, fig10 and fig11, and the checks behind it.
 
-Run as ``python analyses/paper/transitions.py`` (about 5 minutes on 2 cores); writes
+Run as ``python analyses/paper/transitions.py`` (minutes: it shoots and continues the
+orbit on each side of every boundary); writes
 ``reports/transitions.md`` and ``reports/figures/branches_fig8.png``.  The sweeps are the
 paper report's (``analyses/paper/paper.py``: eta = 0.9:1.5:0.005, up and down, pure
 continuation): read from its cache ``.paper-cache/`` when there, else computed and put

@@ -1,7 +1,8 @@
 """Regenerate the whole of ``reports/performance.md`` with one command.
 
-Run as ``python analyses/performance/performance.py [--no-full-map]`` (about 15 minutes on 2 cores,
-6 of them the 30,000-point map).  Each benchmark is its own script, run here in a
+Run as ``python analyses/performance/performance.py [--no-full-map]`` (long: each section
+states what its script measured; the 30,000-point map, left out by ``--no-full-map``, is
+the longest part).  Each benchmark is its own script, run here in a
 fresh process one after the other (never two at once: they time the machine), and each
 replaces its own section of the report:
 
