@@ -216,3 +216,24 @@ def test_rerun_reports_a_file_whose_run_attributes_contradict_its_command(
     rc, out, err = run_cli(["rerun", "t.nc"], capfd)
     assert rc == 1, (out, err)
     assert out.startswith("different: ") and f"attribute {name}:" in out, out
+
+
+def test_every_help_example_names_an_existing_preset():
+    """The examples of every command's --help name only presets that exist (orbits'
+    used '--preset duffing', which is not one)."""
+    import re
+
+    from vibimpact import presets
+    from vibimpact.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if hasattr(a, "choices") and
+               isinstance(a.choices, dict))
+    named = []
+    for command in sub.choices.values():
+        examples = [ln for ln in (command.epilog or "").splitlines()
+                    if ln.strip().startswith("vibimpact ")]
+        named += re.findall(r"--preset[ =]([\w.-]+)", "\n".join(examples))
+    assert named, "no --preset example found"
+    unknown = sorted(set(named) - set(presets.names()))
+    assert not unknown, unknown

@@ -8,7 +8,8 @@ work is :func:`vibimpact.orbits.hunt_orbits`, the file
 """
 import os
 
-from .cli_args import number, parse_sets, positive_int
+from ._text import parse_integer
+from .cli_args import number, parse_sets, positive_int, MAX_WORKERS
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options
 from .cli_files import read_input
@@ -18,7 +19,7 @@ examples:
   vibimpact orbits --preset fig11 --eta 1.06 --period 1:16 -o orbits.nc
   vibimpact orbits --preset fig11 --eta 1.06 --period 6,8,14 --random 100 --seed 3 \\
       --window 0.02 -o orbits.nc --plot orbits.png
-  vibimpact orbits --preset duffing --set omega=1.2 --period 1:3 --no-continue -o d.nc
+  vibimpact orbits --preset soft-impact --period 1:3 --no-continue -o s.nc
   vibimpact orbits --preset fig11 --eta 1.06 --seeds census.nc -o orbits.nc
   vibimpact orbits --preset fig11 --eta 1.06 --period 1:8 --workers 2 -o o.nc --resume
 
@@ -56,8 +57,8 @@ def parse_periods(text):
     for part in str(text).split(","):
         a, sep, b = part.strip().partition(":")
         try:
-            lo = int(a)
-            hi = int(b) if sep else lo
+            lo = parse_integer(a)
+            hi = parse_integer(b) if sep else lo
         except ValueError:
             raise UsageError(f"--period expects N, A:B or a comma list, got {text!r}") \
                 from None
@@ -177,7 +178,7 @@ def add_parser(sub, fmt):
     c.add_argument("--plot", default=None, metavar="FILE.png",
                    help="also draw each orbit's interval against eta")
     add_figure_options(c, "the --plot image")
-    c.add_argument("--workers", type=positive_int(1, 4096), default=1, metavar="N",
+    c.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",
                    help="local processes continuing the orbits (default: 1); never "
                         "changes a number")
     c.add_argument("--resume", action="store_true",

@@ -227,14 +227,15 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
 
     Parameters
     ----------
-    p : System, Params or DuffingParams
-        The system, or the parameters of a built-in model (its forcing frequency and
-        its value of the varied parameter are ignored).
+    p : System or a built-in model's parameter set (Params, DuffingParams, ...)
+        The system (any model, a user model too), or the parameters of a built-in model
+        (its forcing frequency and its value of the varied parameter are ignored).
     eta : array_like, shape (n,)
         Strictly increasing grid of the forcing frequency ratio.
     vary : dict
-        One entry ``{name: values}``: a :class:`Params` field other than ``eta`` and its
-        strictly increasing, finite values, e.g. ``{"kh": np.arange(10, 121, 10)}``.
+        One entry ``{name: values}``: a parameter of the model other than its forcing
+        frequency (:attr:`vibimpact.Model.param_names`) and its strictly increasing,
+        finite values, e.g. ``{"kh": np.arange(10, 121, 10)}`` for the rotor.
     direction : {"up", "down", "both"}
         Direction of the continuation along eta in every row.
     analyses : sequence of str
@@ -242,7 +243,7 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
         impacts per period, and the largest exponent only where no period is found.
     settings : SweepSettings, optional
         Transients, record lengths, exponent and classifier settings of every point.
-    state0 : array_like, shape (4,), optional
+    state0 : array_like, shape (n_state,), optional
         State at the first point of every row (rest by default).
     execution : Execution, optional
         Where and how it runs, none of which changes a number (:class:`vibimpact.

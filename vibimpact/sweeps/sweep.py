@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import _limits
 from .. import _validate as _v
-from .._text import count
+from .._text import count, parse_real
 from .. import models
 from ..params import DuffingParams, Params
 from ..system import System, param_dict, to_system, with_frequency
@@ -68,31 +68,72 @@ def check_grid(eta):
 def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
                     eta_start: float = 1.0, step: float = 0.02, transient: int = 200,
                     state0: ArrayLike | None = None) -> np.ndarray:
-    """State on the branch reached by sweeping ``eta`` from ``eta_start`` (up, or down
-    when ``eta < eta_start``).
+    """State on the branch reached by sweeping the forcing frequency from ``eta_start``
+    to ``eta`` (up, or down when ``eta < eta_start``).
 
     ``transient`` forcing periods at every grid point ``eta_start, eta_start ± step,
     ...`` up (down) to ``eta`` (and at ``eta`` itself when it is off that grid), each
     starting from the previous point's final state (rest, or ``state0``, at the first).
-    With the default B = Ec = 0.1 the impacting upper branch of fig8-fig11 above eta ~
-    1.18 is reached only this way: from rest the rotor stays on the low, impactless
-    branch.
+    A branch that coexists with the one a start from rest reaches (a hysteresis loop's
+    other side) is reached this way.
+
+    Parameters
+    ----------
+    p : Params, DuffingParams, System or str
+        The parameters (any built-in model's parameter set), a System (run with its own
+        solver settings), or a preset's name (:func:`vibimpact.presets.get`).
+    eta : float
+        The forcing frequency of the returned state (``eta`` of the rotor, the model's
+        forcing frequency otherwise), > 0.
+    eta_start : float
+        Where the sweep starts, > 0.
+    step : float
+        The grid's spacing, > 0.
+    transient : int
+        Forcing periods at each grid point, >= 0.
+    state0 : array_like, optional
+        The state at the first point (rest by default).
 
     Returns
     -------
-    ndarray, shape (4,)
+    ndarray, shape (n_state,)
         The state at the start of a forcing period at ``eta``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``p`` (not a parameter set, System or preset name; an unknown preset),
+        ``eta``, ``eta_start``, ``step``, ``transient`` or ``state0``.
     """
-    x = state0
+    if isinstance(p, str):
+        from .. import presets
+
+        try:
+            p = presets.get(p)
+        except ValueError as exc:
+            raise ValueError(f"p: {exc}") from None
+    elif not isinstance(p, System):
+        try:
+            p = to_system(p)
+        except ValueError:
+            raise _v.WrongType(f"p must be a parameter set ({models.param_set_names()}), "
+                               f"a vibimpact.System or a preset's name, got "
+                               f"{type(p).__name__}") from None
+    system = to_system(p)
+    eta = _v.positive("eta", eta)
+    eta_start = _v.positive("eta_start", eta_start)
+    step = _v.positive("step", step)
+    transient = _v.count("transient", transient, 0)
+    x = None if state0 is None else _v.state("state0", state0, system.n_state)
     last = eta_start
     sign = 1.0 if eta >= eta_start else -1.0
     for e in np.arange(eta_start, eta + sign * 1e-9, sign * step):
-        x = simulate(p.replace(eta=float(e)), periods=1, transient=transient,
-                     state0=x).final_state
+        x = with_frequency(system, float(e)).simulate(periods=1, transient=transient,
+                                                      state0=x).final_state
         last = e
     if abs(eta - last) > 1e-9:
-        x = simulate(p.replace(eta=float(eta)), periods=1, transient=transient,
-                     state0=x).final_state
+        x = with_frequency(system, eta).simulate(periods=1, transient=transient,
+                                                 state0=x).final_state
     return x
 
 
@@ -269,7 +310,7 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     if len(parts) != 3:
         raise ValueError(f"{name} must be START:STOP:STEP or V1,V2,..., got {text!r}")
     try:
-        a, b, h = (float(x) for x in parts)
+        a, b, h = (parse_real(x) for x in parts)
     except ValueError:
         raise ValueError(f"{name} must be three numbers START:STOP:STEP, got "
                          f"{text!r}") from None
@@ -362,7 +403,7 @@ def _parse_list(text, name, positive):
     items = text.split(",")
     _limits.check_points(len(items), name=name)
     try:
-        values = np.array([float(x) for x in items], dtype=np.float64)
+        values = np.array([parse_real(x) for x in items], dtype=np.float64)
     except ValueError:
         raise ValueError(f"{name} values must be numbers (START:STOP:STEP or a list "
                          f"V1,V2,...), got {text!r}") from None
