@@ -157,30 +157,112 @@ def _abandon(client):
 
 @contextlib.contextmanager
 def _local_cluster(workers):
-    """A ``LocalCluster`` of ``workers`` single-threaded processes and its client."""
+    """A ``LocalCluster`` of ``workers`` single-threaded processes and its client.
+
+    Closing it never waits on a stopped worker (SIGSTOP): those are killed first (a
+    nanny asks its worker to close and waits for an answer that a stopped process never
+    gives)."""
+    import multiprocessing as mp
+
     import dask
     from distributed import Client, LocalCluster
 
+    before = set(mp.active_children())
     try:
         with dask.config.set(WORKER_CONFIG):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1,
+            # no workers yet: the constructor would wait for them itself, unwatched
+            cluster = LocalCluster(n_workers=0, threads_per_worker=1,
                                    processes=True, dashboard_address=":0",
                                    silence_logs=logging.CRITICAL)  # errors: ours
     except Exception as exc:
-        raise RuntimeError(
-            f"cannot start {workers} local Dask worker processes ({exc}); worker processes "
-            "are spawned and import the main module, so a script must call map2d under "
-            "`if __name__ == '__main__':` (not needed in Jupyter or the command line)") \
-            from exc
+        raise _cannot_start(workers, exc) from exc
+    # the worker processes its nannies start in this process (the cluster's own
+    # records of them lag behind while they start)
+    cluster.vibimpact_children = lambda: {
+        p.pid: "a Dask worker process" for p in set(mp.active_children()) - before}
     try:
         client = Client(cluster, set_as_default=False)
+        client.local_cluster = cluster  # its worker processes are watched (Dask.run)
         try:
-            client.wait_for_workers(workers, timeout=CONNECT_TIMEOUT)
+            with dask.config.set(WORKER_CONFIG):
+                cluster.scale(workers)
+            _wait_for_workers(client, cluster, workers)
             yield client
         finally:
+            _kill_stopped(cluster)
             client.close()
     finally:
-        cluster.close()
+        _kill_stopped(cluster)
+        _close(cluster)
+
+
+def _close(cluster):
+    """Close the local ``cluster`` in at most :data:`CONNECT_TIMEOUT` s; a cluster that
+    does not close (a worker killed while it started leaves its nanny waiting) has its
+    worker processes killed and is left out of Dask's clean-up at exit (which would
+    wait for it again, then print an AssertionError)."""
+    import signal
+
+    try:
+        cluster.close(timeout=CONNECT_TIMEOUT)
+        return
+    except BaseException:  # TimeoutError; or a second Ctrl-C: leave at once
+        for pid in local_workers(cluster):
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+        with contextlib.suppress(Exception):
+            cluster.shutdown_on_close = False
+        raise
+
+
+def _cannot_start(workers, exc):
+    return RuntimeError(
+        f"cannot start {workers} local Dask worker processes ({one_line(exc)}); worker "
+        "processes are spawned and import the main module, so a script must call map2d "
+        "under `if __name__ == '__main__':` (not needed in Jupyter or the command line)")
+
+
+def _wait_for_workers(client, cluster, workers):
+    """Wait (at most :data:`CONNECT_TIMEOUT` s) until ``workers`` workers of the local
+    ``cluster`` are up, its processes watched meanwhile (one stopped while starting
+    ends the wait: :class:`~vibimpact.engine.watch.StoppedChild`)."""
+    import time
+
+    from .watch import Watch
+
+    watch = Watch(lambda: local_workers(cluster))
+    deadline = time.monotonic() + CONNECT_TIMEOUT
+    while True:
+        try:
+            client.wait_for_workers(workers, timeout=0.1)
+            return
+        except TimeoutError:
+            pass
+        except Exception as exc:  # a worker that failed to start
+            raise _cannot_start(workers, exc) from exc
+        watch.check()
+        if time.monotonic() > deadline:
+            raise _cannot_start(workers, TimeoutError(
+                f"not up after {CONNECT_TIMEOUT} s"))
+
+
+def local_workers(cluster):
+    """``{pid: "a Dask worker process"}`` of the worker processes of a local cluster
+    started by :func:`_local_cluster` (none for another cluster)."""
+    children = getattr(cluster, "vibimpact_children", None)
+    return {} if children is None else children()
+
+
+def _kill_stopped(cluster):
+    """SIGKILL the local cluster's worker processes that are stopped."""
+    import signal
+
+    from .watch import is_stopped
+
+    for pid in local_workers(cluster):
+        if is_stopped(pid):
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
 
 
 @contextlib.contextmanager
@@ -218,21 +300,33 @@ class Dask:
     def run(self, make_jobs, on_point, on_task):
         """See :mod:`vibimpact.engine.executors`.  On any exception (a failing job,
         Ctrl-C) the jobs not yet finished are cancelled before it propagates; results
-        already passed to ``on_task`` stay delivered."""
+        already passed to ``on_task`` stay delivered.  The worker processes of a local
+        cluster are watched while the results are awaited: one that stays stopped
+        (SIGSTOP) ends the run (:class:`~vibimpact.engine.watch.StoppedChild`)."""
+        import time
+
         from distributed import KilledWorker, as_completed
 
         from . import plan
         from .executors import WorkerLost
+        from .watch import Watch
 
         with _client(self.scheduler, self.workers) as client:
+            cluster = getattr(client, "local_cluster", None)
+            watch = Watch(lambda: {} if cluster is None else local_workers(cluster))
             jobs = make_jobs(slots(client))
             prefix = f"{self.prefix}-{uuid.uuid4().hex[:12]}"
             futures = [client.submit(plan.run_job, job, key=f"{prefix}-{k:06d}",
                                      pure=False) for k, job in enumerate(jobs)]
             index = {f.key: k for k, f in enumerate(futures)}
             try:
-                for fut, results in as_completed(futures, with_results=True,
-                                                 loop=client.loop):
+                done = as_completed(futures, with_results=True, loop=client.loop)
+                while not done.is_empty():
+                    if not done.has_ready():  # short waits, the workers watched between
+                        watch.check()
+                        time.sleep(0.05)
+                        continue
+                    fut, results = next(done)
                     for task, res in zip(jobs[index[fut.key]], results):
                         on_task(task, res)
                     fut.release()

@@ -28,8 +28,10 @@ An ensemble or GPU backend is such an object: it needs no change to
   forked on Linux); points travel back through a queue of a manager process.  A worker
   (or the queue's process) that dies, killed by the OOM killer or ``kill -9``, ends the
   run at once with :class:`WorkerLost` instead of a hang; the points finished before are
-  reported (saved in the checkpoint), so a resumed run loses nothing else.  Ctrl-C or
-  any error kills the workers at once.
+  reported (saved in the checkpoint), so a resumed run loses nothing else.  A worker
+  or queue process that stays stopped (SIGSTOP) ends the run alike
+  (:mod:`vibimpact.engine.watch`): no wait on a child is unbounded.  Ctrl-C, SIGTERM or
+  any error kills the workers and the queue's process at once (stopped ones too).
 * :class:`vibimpact.engine.cluster.Dask`: a Dask cluster (local or remote).
 
 Which executor runs a plan never changes a number.
@@ -46,16 +48,11 @@ from typing import Protocol, runtime_checkable
 
 from . import plan
 from .children import worker_setup
+from .watch import Watch, WorkerLost  # noqa: F401 -- WorkerLost: this module's name too
 
 
 #: what :class:`WorkerLost` says of a pool worker that died
 DIED = "a worker process died unexpectedly (killed by the system or a signal)"
-
-
-class WorkerLost(RuntimeError):
-    """A worker process (or the process of the points' queue, or a Dask worker more
-    often than Dask retries a task) died while the run needed it; the points finished
-    before it are reported, the ones in flight are lost."""
 
 
 @runtime_checkable
@@ -132,11 +129,20 @@ class Processes:
             before = set(mp.active_children())  # the manager's process: not a worker
             pool = ProcessPoolExecutor(min(self.workers, len(jobs)), mp_context=ctx,
                                        initializer=worker_setup)
+
+            def children():
+                out = {p.pid: "a worker process"
+                       for p in set(mp.active_children()) - before}
+                if manager is not None and getattr(manager, "_process", None):
+                    out[manager._process.pid] = "the points' queue process"
+                return out
+
             try:
-                self._loop(pool, jobs, manager, on_point, on_task)
+                self._loop(pool, jobs, manager, on_point, on_task, Watch(children))
             except BaseException:
-                # Ctrl-C or an error: kill the workers now (the finished points are
-                # already reported; the points in flight are lost)
+                # Ctrl-C, SIGTERM, an error or a lost worker: kill the workers now (the
+                # finished points are already reported; the points in flight are lost);
+                # a stopped worker dies of SIGKILL too
                 _kill(set(mp.active_children()) - before)
                 pool.shutdown(wait=False, cancel_futures=True)
                 raise
@@ -147,10 +153,10 @@ class Processes:
             _end(set(mp.active_children()) - before, grace=2.0)
         finally:
             if manager is not None:
-                manager.shutdown()
+                _end_manager(manager)
 
     @staticmethod
-    def _loop(pool, jobs, manager, on_point, on_task):
+    def _loop(pool, jobs, manager, on_point, on_task, watch):
         q = None if manager is None else manager.Queue()
         tasks = {(t.row, t.direction, t.start): t for job in jobs for t in job}
         try:
@@ -165,18 +171,20 @@ class Processes:
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
-            _drain(q, tasks, on_point)
+            _drain(q, tasks, on_point, watch)
             for f in done:
                 try:
                     results = f.result()  # re-raises a worker's exception
                 except BrokenProcessPool as exc:
-                    _drain(q, tasks, on_point)  # what the others finished meanwhile
+                    _drain(q, tasks, on_point, watch)  # what the others finished
                     raise WorkerLost(DIED) from exc
                 except (EOFError, ConnectionError) as exc:  # the queue's process died
                     raise _queue_died(exc) from exc
                 for task, res in zip(futures[f], results):
                     on_task(task, res)
-        _drain(q, tasks, on_point)
+            if pending:
+                watch.check()  # a stopped worker or queue process ends the run
+        _drain(q, tasks, on_point, watch)
 
 
 def _queue_died(exc):
@@ -187,17 +195,54 @@ def _queue_died(exc):
     return WorkerLost(f"the points' queue process died unexpectedly ({why})")
 
 
-def _drain(q, tasks, on_point):
+def _get_nowait(q, watch):
+    """``q.get_nowait()`` on a manager's queue proxy, its answer awaited in short polls
+    with :meth:`Watch.check` between them: a stopped queue process ends the run
+    (:class:`StoppedChild`) instead of blocking this process in ``recv`` for good."""
+    from multiprocessing.managers import convert_to_error
+
+    try:
+        conn = q._tls.connection
+    except AttributeError:
+        try:
+            q._connect()
+            conn = q._tls.connection
+        except AttributeError:  # another implementation of the proxies: plain call
+            return q.get_nowait()
+    conn.send((q._id, "get_nowait", (), {}))
+    while not conn.poll(0.05):
+        watch.check()
+    kind, result = conn.recv()
+    if kind == "#RETURN":
+        return result
+    raise convert_to_error(kind, result)
+
+
+def _drain(q, tasks, on_point, watch):
     if q is None:
         return
     while True:
         try:
-            row, d, start, i, res = q.get_nowait()
+            row, d, start, i, res = _get_nowait(q, watch)
         except _queue.Empty:
             return
         except (EOFError, ConnectionError) as exc:  # the manager process died
             raise _queue_died(exc) from exc
         on_point(tasks[(row, d, start)], i, res)
+
+
+def _end_manager(manager):
+    """End the points' queue process: killed, never asked (a stopped or dying manager
+    would not answer ``shutdown``, and every point is drained or lost by now), then the
+    manager's own clean-up, which finds its process gone."""
+    proc = getattr(manager, "_process", None)
+    if proc is not None:
+        _kill([proc])
+        proc.join(5.0)  # a SIGKILLed process is reaped at once; bounded all the same
+    try:
+        manager.shutdown()
+    except Exception:  # noqa: BLE001 -- a manager that never started, already ended
+        pass
 
 
 def _end(processes, grace):

@@ -32,10 +32,27 @@ def start():
         return
     import multiprocessing as mp
 
+    import atexit
+
     _started = True
     log.debug("compiling the array routines in a warm-up process")
-    mp.get_context("fork").Process(target=_compile, name="vibimpact-warm-up",
-                                   daemon=True).start()
+    helper = mp.get_context("fork").Process(target=_compile, name="vibimpact-warm-up",
+                                            daemon=True)
+    helper.start()
+    # at exit multiprocessing sends a daemon child SIGTERM and joins it: a helper that
+    # was stopped (SIGSTOP) would never die of it, and the exit would wait for good.
+    # Registered after multiprocessing's own exit function, this one runs first.
+    atexit.register(_end, helper)
+
+
+def _end(helper):
+    """Kill the helper if it still runs (stopped or not) and reap it."""
+    try:
+        if helper.is_alive():
+            helper.kill()
+        helper.join(5.0)
+    except (OSError, ValueError, AssertionError):  # already reaped, or not our child
+        pass
 
 
 def _compile():
