@@ -326,3 +326,34 @@ def test_analysers_refuse_too_few_points_naming_the_argument(fn, arg, name):
     argument, instead of returning NaN."""
     with pytest.raises(ValueError, match=rf"^{name}\b"):
         getattr(vi.analysis, fn)(arg)
+
+
+# --- continued_state ---------------------------------------------------------------
+
+def test_continued_state_takes_a_parameter_set_a_system_or_a_preset_name():
+    """continued_state gives the same state from a parameter set, a System (which raised
+    AttributeError) and a preset's name (which raised a raw TypeError)."""
+    from vibimpact.sweeps.sweep import continued_state
+
+    p = vi.presets.get("fig8")
+    kw = dict(eta_start=1.0, step=0.05, transient=2)
+    a = continued_state(p, 1.05, **kw)
+    np.testing.assert_array_equal(a, continued_state(vi.System(p), 1.05, **kw))
+    np.testing.assert_array_equal(a, continued_state("fig8", 1.05, **kw))
+
+
+@pytest.mark.parametrize("args, kw, match", [
+    ((42, 1.1), {}, r"^p must be a parameter set"),
+    (("nope", 1.1), {}, r"^p: unknown preset 'nope'"),
+    (("fig8", 0.0), {}, r"^eta must be finite and > 0"),
+    (("fig8", 1.1), dict(step=-0.1), r"^step must be"),
+    (("fig8", 1.1), dict(eta_start=math.nan), r"^eta_start must be"),
+    (("fig8", 1.1), dict(transient=-1), r"^transient must be"),
+    (("fig8", 1.1), dict(state0=["0", "0", "0", "0"]), r"^state0 must be"),
+])
+def test_continued_state_refuses_bad_input_naming_the_argument(args, kw, match):
+    """continued_state's every argument is checked before any run, naming it."""
+    from vibimpact.sweeps.sweep import continued_state
+
+    with pytest.raises(ValueError, match=match):
+        continued_state(*args, **kw)

@@ -184,7 +184,13 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
         "floquet")``; only these are computed ("period" always runs, it ends the
-        transients).
+        transients).  ``period``: the period in forcing periods and the regime;
+        ``impacts``: contacts per period and contact statistics; ``response``: the
+        amplitudes ``X_m``, ``Y_m`` from dense samples; ``poincare``: stroboscopic
+        samples for bifurcation diagrams; ``lyapunov``: the largest Lyapunov exponent;
+        ``test01``: the 0-1 test for chaos; ``floquet``: the Floquet multipliers of
+        each periodic point by Newton shooting (``floquet_abs_max``, ``stable``,
+        ``floquet_exponent``, the multipliers).
     state0 : array_like, shape (d,), optional
         State at the first point of each direction (rest by default).
     settings : SweepSettings, optional
