@@ -167,7 +167,8 @@ class Model:
                           hi_closed=dom.hi_closed if dom else False)
         return dom if dom is not None else Domain()
 
-    def check_params(self, p, name: str = "p") -> np.ndarray:
+    def check_params(self, p: ArrayLike | Mapping[str, float],
+                     name: str = "p") -> np.ndarray:
         """``p`` as this model's validated parameter vector: the one check of every way
         parameters come in (a parameter set, a ``{name: value}`` mapping, a plain vector).
 
