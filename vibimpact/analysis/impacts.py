@@ -26,6 +26,7 @@ import numpy as np
 
 from .. import _validate as _v
 from .._text import count
+from ..contact import wrap_degrees as _wrap
 
 if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
@@ -246,10 +247,6 @@ def contact_spans_of(run) -> np.ndarray:
                          (np.concatenate(times), np.concatenate(states)), inside0)
 
 
-def _wrap(x):
-    return 180.0 - np.mod(180.0 - np.asarray(x, dtype=float), 360.0)
-
-
 def _union(lo, width, gap):
     """Arcs ``(start in [0, 360), width, members)`` covering the intervals ``[lo, lo +
     width]`` on the circle, gaps of at most ``gap`` closed; ``members[i]`` is the arc of
@@ -350,10 +347,10 @@ def contact_arcs(angles, gap: float = 10.0) -> ContactArcs:
     Parameters
     ----------
     angles : Run, Dataset, ndarray or array_like
-        The contacts: a :class:`vibimpact.Run` (its contact intervals from the event log, with its
-        stroboscopic and dense samples, including a contact open at the record's start
-        and a permanent one); or a run's dataset (``impact_theta_min`` /
-        ``impact_theta_max``); or records of :data:`vibimpact.run.IMPACT_DTYPE` or
+        The contacts: a :class:`vibimpact.Run` (its contact intervals from the event
+        log, with its stroboscopic and dense samples, including a contact open at the
+        record's start and a permanent one); or a run's dataset (``impact_theta_min``
+        / ``impact_theta_max``); or records of :data:`vibimpact.run.IMPACT_DTYPE` or
         :data:`vibimpact.contact.SPAN_DTYPE`; or plain contact angles in degrees (any
         finite values, each a point: the entry angles of older files).
     gap : float
