@@ -237,3 +237,32 @@ def test_every_help_example_names_an_existing_preset():
     assert named, "no --preset example found"
     unknown = sorted(set(named) - set(presets.names()))
     assert not unknown, unknown
+
+
+def _map(vary=(0.0, 0.01), regime=((1, 3), (1, 1))):
+    import xarray as xr
+
+    shape = (2, 2)
+    flags = {"flag_values": np.array([1, 2, 3, 4, 5, 0], dtype="i1"),
+             "flag_meanings": "periodic quasi_periodic chaotic diverged unsettled "
+                              "not_computed"}
+    return xr.Dataset({"regime": (("B", "eta"), np.array(regime, dtype="i1"), flags),
+                       "period": (("B", "eta"), np.ones(shape, dtype="i4")),
+                       "label": (("B", "eta"), np.full(shape, "P1")),
+                       "impacts_per_period": (("B", "eta"), np.ones(shape)),
+                       "lyapunov": (("B", "eta"), np.full(shape, np.nan))},
+                      coords={"B": list(vary), "eta": [1.0, 1.01]},
+                      attrs={"map_vary": "B"})
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(vary=(0.0, np.nan)), "B holds 1 non-finite"),
+    (dict(regime=((1, 7), (1, 1))), "regime holds code(s) 7"),
+])
+def test_plot_map_refuses_a_damaged_grid_or_undeclared_codes(kw, words):
+    """A map whose varied parameter holds NaN or whose regime holds a code outside its
+    flag_values is refused by plot_map, naming the variable, before anything is drawn."""
+    from vibimpact.plotting.map2d import plot_map
+
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        plot_map(_map(**kw))
