@@ -192,6 +192,25 @@ def _legend(lk, axes):
         lk.legend(axes[0], handles=list(seen.values()))
 
 
+def _without_param(ds, name):
+    """An object with the attributes of ``ds`` less those of parameter ``name`` (its
+    ``param_NAME`` and its entry in the ``params`` JSON), for :func:`title`: the
+    subtitle lists the parameters held fixed, never the one the branch varies (its
+    value in the file is only where the continuation started)."""
+    import json
+    from types import SimpleNamespace
+
+    attrs = {k: v for k, v in ds.attrs.items() if k != f"param_{name}"}
+    try:
+        params = json.loads(attrs["params"])
+    except (KeyError, TypeError, ValueError):
+        params = None
+    if isinstance(params, dict) and name in params:
+        params.pop(name)
+        attrs["params"] = json.dumps(params, sort_keys=True)
+    return SimpleNamespace(attrs=attrs)
+
+
 def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                        figsize: tuple[float, float] | None = None,
                        dpi: float | None = None, style: str | None = None) -> Figure:
@@ -246,7 +265,7 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
         axes[-1].set_xlabel("η" if branch.param == "eta" else str(branch.param))
         _legend(lk, axes)
         x = np.asarray(branch.values, dtype=float)
-        head = title(ds)
+        head = title(_without_param(ds, branch.param))
         lk.title(fig, f"{label} in {branch.param} from {x[0]:.6g} to {x[-1]:.6g}, "
                       f"{count(x.size, 'orbit')}" + (f"\n{head}" if head else ""))
         return lk.finish(fig, path)

@@ -8,7 +8,8 @@ import numpy as np
 from .. import _validate as _v
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
                      grid_step, new_figure, title)
-from .style import look, width
+from .style import (BAND_ALPHA, LONG_PERIOD_COLOR, PERIOD_COLORS, REGIME_COLORS, class_color,
+                    look, text_color, width)
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -17,10 +18,10 @@ if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-#: regime code -> band colour of :func:`plot_intervals` (periodic: by period, below)
-REGIME_COLORS = {0: "0.85", 2: "tab:orange", 3: "tab:red", 4: "0.15", 5: "tab:purple"}
-PERIOD_COLORS = ("#a1d99b", "#31a354", "#74c476", "#006d2c", "#c7e9c0", "#41ab5d")
-LONG_PERIOD_COLOR = "#d9ef8b"
+# the band colours (REGIME_COLORS, PERIOD_COLORS, LONG_PERIOD_COLOR, imported above and
+# kept importable from here) are the regime classes' of vibimpact.plotting.style
+__all__ = ["LONG_PERIOD_COLOR", "PERIOD_COLORS", "REGIME_COLORS", "band_legend",
+           "plot_intervals", "plot_response"]
 #: hatching of a band -> its legend entry, which says what it means
 HATCHES = {"///": "hatched ///: impactless", "...": "dotted ...: permanent contact"}
 
@@ -116,16 +117,7 @@ def _band(iv, k, h):
     """
     a = min(iv["start"].values[k], iv["end"].values[k]) - h / 2
     b = max(iv["start"].values[k], iv["end"].values[k]) + h / 2
-    reg = int(iv["regime"].values[k])
-    per = int(iv["period"].values[k])
-    if reg == 1 and per:
-        color = PERIOD_COLORS[(per - 1) % len(PERIOD_COLORS)]
-        name, key = f"P{per}", (1, per)
-    elif reg == 1:
-        color, name, key = LONG_PERIOD_COLOR, "periodic, long period", (1, 10**6)
-    else:
-        color = REGIME_COLORS.get(reg, "0.85")
-        name, key = REGIME_NAMES.get(reg, "?"), (reg if reg else 9, 0)
+    color, name, key = class_color(iv["regime"].values[k], iv["period"].values[k])
     hatch = None
     if float(iv["impacts"].values[k]) == 0.0:
         hatch = "..." if "permanent contact" in str(iv["label"].values[k]) else "///"
@@ -175,10 +167,10 @@ def _bands(ds, axes, lk, own):
         lo, hi = (0.0, 1.0) if not two else ((0.5, 1.0) if row == 0 else (0.0, 0.5))
         bands.append(band)
         for ax in axes:
-            ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=0.35, lw=0,
+            ax.axvspan(a, b, ymin=lo, ymax=hi, facecolor=color, alpha=BAND_ALPHA, lw=0,
                        hatch=hatch, edgecolor="0.6" if hatch else None, zorder=0)
     if bands:
-        band_legend(axes[-1], own, bands, lk, alpha=0.35,
+        band_legend(axes[-1], own, bands, lk, alpha=BAND_ALPHA,
                     title="bands: up sweep (upper half), down sweep (lower half)"
                     if two else None)
 
@@ -257,7 +249,7 @@ def _interval_rows(ds, ax, lk, own):
             ax.text((a + b) / 2, row, _short(iv["label"].values[k], reg,
                                              int(iv["period"].values[k])),
                     ha="center", va="center", fontsize="small",
-                    color="white" if reg in (3, 4) else "black")
+                    color=text_color(color))
     dirs = directions(ds)
     ax.set_yticks(range(len(dirs)), [f"sweep {d}" for d, _ in dirs])
     ax.set_ylim(len(dirs) - 0.5, -0.5)

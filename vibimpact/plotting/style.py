@@ -30,8 +30,70 @@ from .. import _validate as _v
 if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.figure import Figure
 
-__all__ = ["COLUMN_WIDTH", "DEFAULT_STYLE", "PAPER_STYLE", "STYLES", "Look", "look",
-           "save_figure", "width"]
+__all__ = ["BAND_ALPHA", "COLUMN_WIDTH", "DEFAULT_STYLE", "LONG_PERIOD_COLOR",
+           "PAPER_STYLE", "PERIOD_COLORS", "REGIME_COLORS", "STYLES", "Look", "class_color",
+           "look", "save_figure", "width"]
+
+# --- the colours of the regime classes ---------------------------------------------------
+# One colour per class a sweep's figures tell apart (the regime bands of plot_response and
+# plot_intervals, the points of the Lyapunov plot): every pair differs by CIEDE2000
+# Delta E >= 12 as drawn (opaque, and at BAND_ALPHA over white), well above the ~2.3 of a
+# just-noticeable difference (Sharma 2003) and the ~10 at which two colours read as
+# different categories rather than shades (Szafir 2017, small marks); the set started from
+# the anchors chaotic red, quasi-periodic orange, unsettled purple, diverged black, not
+# computed grey and was filled from ColorBrewer, Tableau and Paul Tol colours by largest
+# smallest difference.  The old shades of green for P1..P6 differed by 2.7 (P2/P6) and 7.7
+# (P1/P3): near-identical.  tests/test_figures_palette.py measures it.
+
+#: regime code -> colour (periodic: by period, :data:`PERIOD_COLORS`)
+REGIME_COLORS = {0: "#d9d9d9", 2: "#ff8c00", 3: "#e8001c", 4: "#262626", 5: "#9b30d9"}
+#: colour of P1, P2, ... P8
+PERIOD_COLORS = ("#2ca02c", "#386cb0", "#ffff33", "#17becf", "#fb9a99", "#a65628",
+                 "#882255", "#999933")
+#: colour of a periodic motion whose period is longer than len(PERIOD_COLORS) or not
+#: resolved
+LONG_PERIOD_COLOR = "#bc80bd"
+#: opacity of the regime bands behind the response curves
+BAND_ALPHA = 0.5
+_REGIME_NAMES = {0: "not computed", 2: "quasi-periodic", 3: "chaotic", 4: "diverged",
+                 5: "unsettled"}
+
+
+def class_color(regime: int, period: int) -> tuple[str, str, tuple[int, int]]:
+    """Colour, legend name and legend order of a regime class.
+
+    Parameters
+    ----------
+    regime : int
+        The regime code (CF flag of the ``regime`` variable; 1 periodic).
+    period : int
+        The period n of a periodic motion (0: not resolved).
+
+    Returns
+    -------
+    (str, str, (int, int))
+        P1 ... P8 each their own colour; a longer or unresolved period one colour
+        ("periodic, long period"); the other regimes theirs.
+    """
+    regime, period = int(regime), int(period)
+    if regime == 1 and 0 < period <= len(PERIOD_COLORS):
+        return PERIOD_COLORS[period - 1], f"P{period}", (1, period)
+    if regime == 1:
+        return (LONG_PERIOD_COLOR, f"periodic, period > {len(PERIOD_COLORS)} or long",
+                (1, 10**6))
+    return (REGIME_COLORS.get(regime, REGIME_COLORS[0]), _REGIME_NAMES.get(regime, "?"),
+            (regime if regime else 9, 0))
+
+
+def text_color(color: str) -> str:
+    """Black or white, whichever reads better on ``color`` (its relative luminance, WCAG
+    2: white below 0.179, where both contrasts are equal)."""
+    from matplotlib.colors import to_rgb
+
+    lin = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+           for c in to_rgb(color)]
+    lum = 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2]
+    return "white" if lum < 0.179 else "black"
 
 #: rcParams of the ``"default"`` style (matplotlib's, with smaller legends)
 DEFAULT_STYLE = {"legend.fontsize": "small", "legend.title_fontsize": "small",
