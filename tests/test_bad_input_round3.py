@@ -187,14 +187,17 @@ def test_the_api_has_bool_arguments_to_check():
             "vibimpact.plotting.plot_response:bands"} <= names
 
 
-@pytest.mark.parametrize("value", ["no", "False", 1, None, np.array([True])])
+_NOT_BOOLS = ["no", "False", 1, None, np.array([True])]
+
+
 @pytest.mark.parametrize("qualname, fn, arg", _FLAGS, ids=[f"{q}:{a}" for q, _, a in _FLAGS])
-def test_every_public_bool_argument_refuses_what_is_not_a_bool(qualname, fn, arg, value):
+def test_every_public_bool_argument_refuses_what_is_not_a_bool(qualname, fn, arg):
     """A bool argument of any public function refuses a string ('no' is true to Python),
     an int, None or an array with a ValueError naming the argument, before the function
     looks at its other arguments (none are given)."""
-    with pytest.raises(ValueError, match=rf"^{arg} must be True or False"):
-        fn(**{arg: value})
+    for value in _NOT_BOOLS:
+        with pytest.raises(ValueError, match=rf"^{arg} must be True or False"):
+            fn(**{arg: value})
 
 
 # --- arrays that were coerced instead of checked ------------------------------------
@@ -232,14 +235,13 @@ _STATE_TAKERS = {
 
 
 @pytest.mark.parametrize("taker", sorted(_STATE_TAKERS))
-@pytest.mark.parametrize("kind", sorted(_BAD_STATES))
-def test_a_state_that_is_not_real_numbers_is_refused_everywhere(taker, kind):
+def test_a_state_that_is_not_real_numbers_is_refused_everywhere(taker):
     """Every function that takes a state refuses a complex state (whose imaginary part was
     dropped), digit strings (read as numbers), an object array of strings (read as
     zeros), booleans and NaN with a ValueError naming the state argument."""
-    value, words = _BAD_STATES[kind]
-    with pytest.raises(ValueError, match=rf"^(state0|base|seeds|starts)\b.*{words}"):
-        _STATE_TAKERS[taker](_system(), value)
+    for kind, (value, words) in _BAD_STATES.items():
+        with pytest.raises(ValueError, match=rf"^(state0|base|seeds|starts)\b.*{words}"):
+            _STATE_TAKERS[taker](_system(), value)
 
 
 _BAD_GRIDS = {
@@ -262,13 +264,13 @@ _GRID_TAKERS = {
 
 
 @pytest.mark.parametrize("taker", sorted(_GRID_TAKERS))
-@pytest.mark.parametrize("kind", sorted(_BAD_GRIDS))
-def test_a_grid_or_series_that_is_not_real_numbers_is_refused(taker, kind):
+def test_a_grid_or_series_that_is_not_real_numbers_is_refused(taker):
     """Grids of eta (and of a varied parameter) and the analysers' series refuse strings
     (sweep(eta=['1.0', '1.01']) ran), complex numbers and booleans, naming the argument."""
     fn, name = _GRID_TAKERS[taker]
-    with pytest.raises(ValueError, match=rf"^({name})\b"):
-        fn(_system(), _BAD_GRIDS[kind])
+    for kind, value in _BAD_GRIDS.items():
+        with pytest.raises(ValueError, match=rf"^({name})\b"):
+            fn(_system(), value)
 
 
 def test_solver_setting_adaptive_no_is_refused():
