@@ -231,8 +231,10 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     link, anything that is not a regular file (a device such as ``/dev/full``, a pipe,
     a socket) even with ``overwrite``, an existing path without ``overwrite``, a missing
     or unwritable directory, a name too long for the file system (the writer's own
-    temporary name ``.NAME.XXXXXXXX.tmp`` is created and removed, which also tests a
-    read-only mount), and a file system with less than ``free`` bytes free.
+    temporary name ``.NAME.PID-XXXXXXXX.tmp`` is created and removed, which also tests a
+    read-only mount), and a file system with less than ``free`` bytes free.  The
+    temporaries of ``path`` that writers killed with SIGKILL left beside it (their
+    process gone) are removed first.
 
     Parameters
     ----------
@@ -286,19 +288,25 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     if not os.path.isdir(directory):
         raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} does "
                          "not exist")
-    try:  # os.access says yes to root and knows nothing of read-only mounts: try it
-        fd, probe = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".",
-                                     suffix=".tmp", dir=directory)
-    except OSError as exc:
-        import errno
+    from ._writing import held_signals, remove_dead_temporaries, temp_prefix
 
-        if exc.errno == errno.ENAMETOOLONG:
-            raise ValueError(f"{what} {path!r}: the name is too long for the file "
-                             "system") from None
-        raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} is not "
-                         f"writable ({exc.strerror or exc})") from None
-    os.close(fd)
-    os.unlink(probe)
+    # what writers of this output killed with SIGKILL left (their pid is in the name)
+    remove_dead_temporaries(path)
+    with held_signals() as held:  # a signal between creating and removing the probe
+        try:  # os.access says yes to root and knows nothing of read-only mounts: try it
+            fd, probe = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp",
+                                         dir=directory)
+        except OSError as exc:
+            import errno
+
+            if exc.errno == errno.ENAMETOOLONG:
+                raise ValueError(f"{what} {path!r}: the name is too long for the file "
+                                 "system") from None
+            raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} is "
+                             f"not writable ({exc.strerror or exc})") from None
+        held.temporaries.append(probe)
+        os.close(fd)
+        os.unlink(probe)
     try:
         st = os.statvfs(directory)
         left = st.f_bavail * st.f_frsize
@@ -353,6 +361,11 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
 
     The file is written to a temporary file in the target directory and renamed into
     place, so a reader never sees a partial file and a failed write leaves nothing behind.
+    SIGINT and SIGTERM received while the file is written end the write once netCDF4
+    returns (the temporary removed, nothing put in place) and are then delivered; a
+    second one ends the process at once.  The temporary's name carries this process's
+    id, so that a later write of ``path`` removes what a killed one left
+    (:mod:`vibimpact._writing`).
     It carries the CF global attributes (``Conventions``, ``history``, ``date_created``)
     and the provenance of :mod:`vibimpact.provenance`, and no ``_FillValue`` on its
     coordinates (:func:`for_file`); ``ds`` itself is not changed.
@@ -387,28 +400,37 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     import netCDF4  # noqa: F401 -- imported before the provenance records its version
 
     out, encoding = for_file(ds, "vibimpact.io.write_netcdf")
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
-                               dir=directory)
-    os.close(fd)
-    try:
+    from ._writing import held_signals, temp_prefix
+
+    # SIGINT / SIGTERM wait until netCDF4 returns (it holds locks while it writes; a
+    # signal raised inside one deadlocked the clean-up), then end the write: the
+    # temporary is removed and the file not put in place
+    with held_signals() as held:
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp",
+                                   dir=directory)
+        held.temporaries.append(tmp)
+        os.close(fd)
         try:
-            out.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4",
-                          encoding=encoding)
-            os.chmod(tmp, 0o666 & ~_umask())
-        except (OSError, RuntimeError) as exc:  # a full disk: "NetCDF: HDF error"
-            raise write_failed(path, exc) from None
-        if overwrite:
-            _rename(tmp, path)
-        else:
             try:
-                os.link(tmp, path)  # fails if path appeared meanwhile: never clobber
-            except FileExistsError:  # made while ds was written: refused alike
-                raise OutputExists("output file", path) from None
-            except OSError:  # no hard links on this file system
+                out.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4",
+                              encoding=encoding)
+                os.chmod(tmp, 0o666 & ~_umask())
+            except (OSError, RuntimeError) as exc:  # a full disk: "NetCDF: HDF error"
+                raise write_failed(path, exc) from None
+            if held.signum is not None:  # stopped meanwhile: nothing is put in place
+                return
+            if overwrite:
                 _rename(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+            else:
+                try:
+                    os.link(tmp, path)  # fails if path appeared meanwhile: never clobber
+                except FileExistsError:  # made while ds was written: refused alike
+                    raise OutputExists("output file", path) from None
+                except OSError:  # no hard links on this file system
+                    _rename(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
 
 
 def _rename(tmp, path):

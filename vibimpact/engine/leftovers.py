@@ -54,12 +54,17 @@ def remove_stale_temporaries(out):
     """Remove what an earlier run killed while writing ``out`` left beside it: the
     temporary files and stores of :func:`vibimpact.io.write_netcdf` and
     :func:`vibimpact.maps.write_map` (``.OUT.*.tmp``, ``.OUT.*.old``) and the temporary
-    entries of its checkpoint (``OUT.partial/.tmp-*``).  Returns their number."""
+    entries of its checkpoint (``OUT.partial/.tmp-*``).  A temporary whose name carries
+    the id of a process still running (:mod:`vibimpact._writing`) is left alone.
+    Returns their number."""
     import glob
+
+    from .._writing import running, temporary_pid
 
     directory, name = os.path.split(os.path.abspath(out))
     pattern = glob.escape(os.path.join(directory, "." + name + "."))
-    stale = glob.glob(pattern + "*.tmp") + glob.glob(pattern + "*.old")
+    stale = [p for p in glob.glob(pattern + "*.tmp") + glob.glob(pattern + "*.old")
+             if (pid := temporary_pid(out, p)) is None or not running(pid)]
     remove_paths(stale)
     return len(stale) + remove_checkpoint_temporaries(out + ".partial")
 

@@ -91,32 +91,42 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
         out[name].encoding = {}
     for name, chunks in _chunks(out).items():
         encoding.setdefault(name, {}).update(chunks)
-    tmp = tempfile.mkdtemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
-                           dir=directory)
-    old = None
-    try:
-        with warnings.catch_warnings():  # consolidated metadata is a zarr-python
-            # extension of format 3, and what lets xarray.open_zarr(path) open it quietly
-            warnings.filterwarnings("ignore", message="Consolidated metadata is currently")
-            try:
-                out.to_zarr(tmp, mode="w", consolidated=True, zarr_format=3,
-                            encoding=encoding)
-            except (OSError, RuntimeError) as exc:  # a full disk
-                raise vio.write_failed(path, exc) from None
-        if os.path.lexists(path):
-            old = tempfile.mkdtemp(prefix="." + os.path.basename(path) + ".", suffix=".old",
-                                   dir=directory)
-            os.rmdir(old)
-            os.rename(path, old)
+    from .._writing import held_signals, temp_prefix
+
+    # SIGINT / SIGTERM wait until zarr returns, then end the write: the temporary store
+    # is removed and nothing put in place (see vibimpact._writing)
+    with held_signals() as held:
+        tmp = tempfile.mkdtemp(prefix=temp_prefix(path), suffix=".tmp", dir=directory)
+        held.temporaries.append(tmp)
+        old = None
         try:
-            os.rename(tmp, path)
-        except OSError as exc:
-            raise vio.write_failed(path, exc) from None
-    finally:
-        if os.path.exists(tmp):
-            shutil.rmtree(tmp, ignore_errors=True)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+            with warnings.catch_warnings():  # consolidated metadata is a zarr-python
+                # extension of format 3, and what lets xarray.open_zarr(path) open it
+                warnings.filterwarnings("ignore",
+                                        message="Consolidated metadata is currently")
+                try:
+                    # every chunk written, the ones that hold only the fill value
+                    # too: a chunk missing from the store is then damage (open_map)
+                    out.to_zarr(tmp, mode="w", consolidated=True, zarr_format=3,
+                                encoding=encoding, write_empty_chunks=True)
+                except (OSError, RuntimeError) as exc:  # a full disk
+                    raise vio.write_failed(path, exc) from None
+            if held.signum is not None:  # stopped meanwhile: nothing is put in place
+                return
+            if os.path.lexists(path):
+                old = tempfile.mkdtemp(prefix=temp_prefix(path), suffix=".old",
+                                       dir=directory)
+                os.rmdir(old)
+                os.rename(path, old)
+            try:
+                os.rename(tmp, path)
+            except OSError as exc:
+                raise vio.write_failed(path, exc) from None
+        finally:
+            if os.path.exists(tmp):
+                shutil.rmtree(tmp, ignore_errors=True)
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
 
 
 def _as_objects(ds):
@@ -145,6 +155,38 @@ def _consolidated(path):
         return False
 
 
+def check_store(path: str) -> None:
+    """ValueError naming ``path`` and the variable when the Zarr store ``path`` lacks a
+    variable its metadata lists (its directory or ``zarr.json``) or a chunk of one.
+
+    :func:`write_map` writes every chunk (``write_empty_chunks``), so a missing one is
+    damage: Zarr would read it as the fill value (0, "not computed", for ``regime``) and
+    a plot would show a blank map.
+    """
+    import json
+
+    import zarr
+
+    try:
+        with open(os.path.join(path, "zarr.json"), encoding="utf-8") as fh:
+            meta = json.load(fh)
+        listed = (meta.get("consolidated_metadata") or {}).get("metadata") or {}
+    except (OSError, ValueError, AttributeError):
+        listed = {}
+    for name, info in sorted(listed.items()):
+        if isinstance(info, dict) and info.get("node_type") == "array" and \
+                not os.path.isfile(os.path.join(path, name, "zarr.json")):
+            raise ValueError(f"map {path!r} is damaged: variable {name!r} is missing "
+                             f"({os.path.join(path, name)!r} has no zarr.json)")
+    group = zarr.open_group(path, mode="r", use_consolidated=False)
+    for name, arr in sorted(group.arrays(), key=lambda kv: kv[0]):
+        have, want = arr.nchunks_initialized, arr.nchunks
+        if have < want:
+            raise ValueError(f"map {path!r} is damaged: {want - have} of {want} chunks "
+                             f"of variable {name!r} are missing (they would read as "
+                             "the fill value)")
+
+
 def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
     """Read a map written by :func:`write_map` (fully loaded, file closed).
 
@@ -157,6 +199,12 @@ def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
+
+    Raises
+    ------
+    ValueError
+        For a damaged Zarr store (:func:`check_store`): a variable or a chunk missing,
+        which Zarr would read as the fill value (a blank map).
     """
     import xarray as xr
 
@@ -170,6 +218,7 @@ def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
 
         return partial_map(path)
     if os.path.isdir(path):
+        check_store(path)
         with xr.open_zarr(path, consolidated=_consolidated(path), chunks=None) as ds:
             ds = ds.load()
     else:
