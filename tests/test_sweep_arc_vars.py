@@ -8,8 +8,8 @@ from vibimpact.sweeps.arc_vars import MAX_STORED_ARCS
 from vibimpact.sweeps.dataset import to_dataset
 
 
-def _result(table):
-    r = PointResult.empty(4, SweepSettings().n_samples).as_dict()
+def _result(table, n_state=4):
+    r = PointResult.empty(n_state, SweepSettings().n_samples).as_dict()
     if table is not None:
         r["arc_table"] = np.asarray(table, float).reshape(-1, 4)
     return r
@@ -61,4 +61,14 @@ def test_results_without_arc_tables_add_no_arc_variables():
     """Hypothesis: results that carry no arc table (a model without a contact, or a
     checkpoint written before arcs were stored) give a dataset without arc variables."""
     ds = _dataset(up=[None, None], down=[None, None])
+    assert not any(name.startswith("arc_") for name in ds.data_vars)
+
+
+def test_a_model_without_contact_gets_no_arc_variables_even_with_empty_tables():
+    """Hypothesis: a sweep of a model that declares no contact (Duffing) stores no arc
+    variables, even when its points carry (empty) arc tables."""
+    etas = np.array([1.0, 1.1])
+    res = [_result(np.zeros((0, 4)), n_state=2), _result(np.zeros((0, 4)), n_state=2)]
+    ds = to_dataset(vi.DuffingParams(), etas, ("up",), {"up": res}, SweepSettings(),
+                    direction="up", continuation=True, blocks=1, command="")
     assert not any(name.startswith("arc_") for name in ds.data_vars)

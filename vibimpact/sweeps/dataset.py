@@ -236,8 +236,9 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
                                      "part, by decreasing modulus (shooting, monodromy from "
                                      "the variational equations)"))
     # the loaded arcs' start, end, width (degrees) and loaded share, on dimension "arc"
-    from .arc_vars import add_arc_variables
-    ds = add_arc_variables(ds, results, dirs, n, dims)
+    if model.contact is not None:
+        from .arc_vars import add_arc_variables
+        ds = add_arc_variables(ds, results, dirs, n, dims)
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction
