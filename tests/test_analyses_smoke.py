@@ -41,7 +41,7 @@ SMOKE = {
 #: the sections of performance.md each performance script writes (run by performance.py)
 PERFORMANCE_SECTIONS = {
     "benchmark_kernel.py": ["kernel"], "first_run.py": ["first_run"],
-    "benchmark_sweep.py": ["sweep", "low-damping"], "profile_sweep.py": ["profile"],
+    "benchmark_sweep.py": ["sweep", "sweep-claims", "low-damping"], "profile_sweep.py": ["profile"],
     "work_precision.py": ["work_precision"], "stress.py": ["stress"],
     "benchmark_map.py": ["map"], "lyapunov_error_control.py": ["lyapunov-error-control"],
     "census_bench.py": ["census"], "ring_bench.py": ["ring"],

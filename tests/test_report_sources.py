@@ -223,3 +223,33 @@ def test_performance_report_judges_the_ring_by_its_own_times():
     for _, eq5_s, ring_s, r in parts:
         if float(eq5_s) >= 0.1:  # the ratio of the unrounded times; 0.01 s of rounding
             assert float(r) == pytest.approx(float(ring_s) / float(eq5_s), rel=0.11)
+
+
+def _section(text, name):
+    return text.split(f"<!-- section:{name} -->")[1].split(f"<!-- /section:{name} -->")[0]
+
+
+def test_every_verdict_on_fig8s_chaos_in_the_reports_is_the_claims_rule():
+    """Hypothesis: wherever reports/performance.md judges fig8's chaos against the paper,
+    it is by the paper report's rule: each row's verdict is claims.verdict of the
+    detection the row states (interval, Jaccard, agree); the paper report's verdict it
+    quotes is reports/paper.json's; and no section judges the chaos by another wording
+    (the old 'within one sweep step' span test that said 'not within' where paper.md
+    said 'partly')."""
+    import math
+
+    from vibimpact.paper import claims as C
+
+    text = (REPORTS / "performance.md").read_text()
+    sec = _section(text, "sweep-claims")
+    rows = [r for r in sec.splitlines() if r.startswith("| ") and "**" in r]
+    assert rows
+    for r in rows:
+        cells = [c.strip() for c in r.strip("|").split("|")]
+        span, score, agree, verdict = cells[1], float(cells[2]), cells[3], cells[4]
+        a, b = (float(x) for x in span.split(" to ")) if span != "none" else (math.nan,) * 2
+        det = C.Detection("up", a, b, score, agree == "True", ())
+        assert verdict == f"**{C.verdict(det)}**", r
+    paper = json.loads((REPORTS / "paper.json").read_text())
+    assert f"gives it **{paper['verdicts']['fig8-chaos']}**" in sec
+    assert "one sweep step." not in text.replace(sec, "")
