@@ -6,10 +6,11 @@ continue, plot, rerun) is given each kind of impossible output name, and each re
 whose arrays grow with a user number (--dense, --blocks, the Poincaré samples of a sweep)
 is given one far over the limit.  Each must end at once (before any point is computed)
 with exit status 2, one line ``vibimpact: error: ...`` naming the problem, and no file
-created or removed.
+created or removed.  "Before any work" is proved by what was done, never by a clock: no
+integration was started (every one goes through ``Solver._start``, counted by the
+fixture ``integrations``) and no file was written.
 """
 import os
-import time
 
 import numpy as np
 import pytest
@@ -64,9 +65,37 @@ def _case(command, output):
 CASES = [(c, o) for c in COMMANDS for o in OUTPUTS]
 
 
+@pytest.fixture
+def integrations(monkeypatch):
+    """A list that grows by one with every integration started in this process (every
+    simulate, sweep point, seeding pass and orbit goes through ``Solver._start``)."""
+    from vibimpact.solver import Solver
+
+    started = []
+    original = Solver._start
+
+    def counted(self, *args, **kwargs):
+        started.append(1)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(Solver, "_start", counted)
+    return started
+
+
+def test_the_integration_counter_sees_a_command_that_computes(integrations, tmp_path,
+                                                              monkeypatch, capfd):
+    """Hypothesis: the counter the refusals below rely on does count: a simulate that is
+    not refused starts at least one integration (so 'none started' means refused before
+    any work, not a counter that sees nothing)."""
+    monkeypatch.chdir(tmp_path)
+    rc, _, err = run_cli([*SIM, "-o", "r.nc"], capfd)
+    assert rc == 0, err
+    assert integrations
+
+
 @pytest.mark.parametrize("command,output", CASES)
 def test_impossible_output_is_refused_before_computing(command, output, tmp_path,
-                                                       monkeypatch, capfd):
+                                                       monkeypatch, capfd, integrations):
     """Every writing command refuses every impossible output name (trailing '/', empty,
     too long, not UTF-8, a dangling link, a device even with --overwrite) at once: exit 2,
     one line naming it, no file created or removed."""
@@ -79,10 +108,9 @@ def test_impossible_output_is_refused_before_computing(command, output, tmp_path
         argv = [*argv, "--overwrite"]
     before = listing(tmp_path)
     monkeypatch.chdir(tmp_path)
-    start = time.perf_counter()
     rc, stdout, err = run_cli(argv, capfd)
     assert_refused(rc, stdout, err, needle)
-    assert time.perf_counter() - start < 20  # before any point: no sweep or run
+    assert not integrations  # before any point: no sweep or run
     assert listing(tmp_path) == before
 
 
@@ -105,7 +133,7 @@ LIMITS = {
     "simulate --dense 1e9": ([*SIM, "--dense", "1000000000", "-o", "r.nc"],
                              "of memory for its arrays; at most 4 GiB", None),
     "simulate --dense 1e30": ([*SIM, "--dense", "1" + "0" * 30, "-o", "r.nc"],
-                              "of memory for its arrays", None),
+                              "--dense", None),
     "rerun of --dense 1e9": (["rerun", "c.nc", "-o", "new.nc"], "of memory for its arrays",
                              _recorded("vibimpact simulate --eta 1.2 --periods 5 "
                                        "--transient 5 --dense 1000000000 -o c.nc")),
@@ -125,7 +153,7 @@ LIMITS = {
 
 @pytest.mark.parametrize("case", list(LIMITS))
 def test_request_over_a_limit_is_refused_before_computing(case, tmp_path, monkeypatch,
-                                                          capfd):
+                                                          capfd, integrations):
     """Arrays that grow with a user number (--dense, also through rerun), a --blocks
     that cannot be recorded, a resume onto an unrelated file without --overwrite: exit 2
     at once, one line, no file created or removed."""
@@ -134,10 +162,9 @@ def test_request_over_a_limit_is_refused_before_computing(case, tmp_path, monkey
         setup(tmp_path)
     before = listing(tmp_path)
     monkeypatch.chdir(tmp_path)
-    start = time.perf_counter()
     rc, out, err = run_cli(argv, capfd)
     assert_refused(rc, out, err, needle)
-    assert time.perf_counter() - start < 20
+    assert not integrations
     assert listing(tmp_path) == before
 
 
@@ -156,16 +183,15 @@ API_LIMITS = {
 
 
 @pytest.mark.parametrize("case", list(API_LIMITS))
-def test_api_refuses_the_same_limits(case):
+def test_api_refuses_the_same_limits(case, integrations):
     """The API applies the same memory limit as the command line, before any work:
-    ValueError naming the number, in well under a second."""
+    ValueError naming the number, no integration started."""
     import vibimpact as vi
 
     call, needle = API_LIMITS[case]
-    start = time.perf_counter()
     with pytest.raises(ValueError, match=needle):
         call(vi, vi.presets.get("fig8"))
-    assert time.perf_counter() - start < 5
+    assert not integrations
 
 
 def test_api_writers_vet_the_path_as_the_commands_do(tmp_path):

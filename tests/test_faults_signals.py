@@ -32,16 +32,21 @@ MAP = ["--eta", "1.0:1.1:0.01", "--vary", "kh=10:80:10", "--preset", "fig8",
        "--direction", "both", "--no-progress"]
 
 #: runs the command line with every dataset write stalled after its temporary file is
-#: complete (it says WRITING on stderr first), so that a signal lands while writing
+#: complete (it says WRITING on stderr first), so that a signal lands while writing; the
+#: stalled write returns when the file GO appears (the test makes it after its signal:
+#: a write holds SIGINT and SIGTERM until the file library returns) or after 120 s
 STALL = r"""
-import sys, time
+import os, sys, time
 import xarray as xr
 def stall(write):
     def stalled(self, *args, **kwargs):
         out = write(self, *args, **kwargs)
         sys.stderr.write("WRITING\n")
         sys.stderr.flush()
-        time.sleep(120)
+        for _ in range(12000):
+            if os.path.exists("GO"):
+                break
+            time.sleep(0.01)
         return out
     return stalled
 xr.Dataset.to_netcdf = stall(xr.Dataset.to_netcdf)
@@ -75,11 +80,13 @@ def start(args, cwd, stall=False, env=None):
 
 
 def wait_for(condition, proc, what, timeout=120):
-    """Poll ``condition()`` until true; fail if ``proc`` ends first or on timeout."""
+    """Poll ``condition()`` until true; fail if ``proc`` ends first, or (a guard against
+    a hang, not a claim about speed) after ``timeout`` seconds."""
     deadline = time.monotonic() + timeout
     while not condition():
         assert proc.poll() is None, f"ended before {what}"
-        assert time.monotonic() < deadline, f"no {what} in {timeout} s"
+        if time.monotonic() > deadline:
+            pytest.fail(f"no {what} in {timeout} s")
         time.sleep(0.005)
 
 
@@ -160,9 +167,7 @@ def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, t
                  len(_points(ckpt)) >= moment * N_SWEEP, proc, "pool workers")
         victim = children(proc.pid)[-1]  # the pool's workers start after the queue's
         os.kill(victim, signal.SIGKILL)
-        t0 = time.monotonic()
         status = finish(proc)
-        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -171,8 +176,7 @@ def test_killed_sweep_worker_ends_classify_with_a_resumable_checkpoint(moment, t
         assert_same_data(read_netcdf(tmp_path / "c.nc"), references["classify"])
         assert files(tmp_path) == ["c.nc"]
         return
-    assert status == 2 and elapsed < 10, (status, elapsed,
-                                          (tmp_path / "err.txt").read_text())
+    assert status == 2, (status, (tmp_path / "err.txt").read_text())
     lines = messages(tmp_path)
     assert len(lines) == 1, lines
     saved = _points(ckpt)
@@ -224,14 +228,11 @@ def test_killed_worker_ends_bifurcation_with_one_line_and_no_file(tmp_path):
         wait_for(lambda: len(children(proc.pid)) >= 3, proc, "pool workers")
         time.sleep(0.5)
         os.kill(children(proc.pid)[-1], signal.SIGKILL)
-        t0 = time.monotonic()
         status = finish(proc)
-        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert status == 2 and elapsed < 10, (status, elapsed,
-                                          (tmp_path / "err.txt").read_text())
+    assert status == 2, (status, (tmp_path / "err.txt").read_text())
     assert messages(tmp_path) == ["vibimpact: error: a worker process died unexpectedly "
                                   "(killed by the system or a signal); nothing written"]
     assert files(tmp_path) == []
@@ -264,9 +265,7 @@ def test_killed_dask_worker_is_replaced_or_ends_the_map_resumably(retries, tmp_p
         assert workers, children(proc.pid)
         os.kill(workers[-1], signal.SIGKILL)
         assert len(_points(ckpt)) < 16  # 8 rows, 2 directions: killed mid-run
-        t0 = time.monotonic()
         status = finish(proc, timeout=120)
-        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -274,7 +273,7 @@ def test_killed_dask_worker_is_replaced_or_ends_the_map_resumably(retries, tmp_p
         assert status == 0, messages(tmp_path)
     else:
         lines = messages(tmp_path)
-        assert status == 2 and elapsed < 15 and len(lines) == 1, (status, elapsed, lines)
+        assert status == 2 and len(lines) == 1, (status, lines)
         m = re.fullmatch(r"vibimpact: error: Dask workers died running a task more often "
                          r"than Dask retries one \(distributed\.scheduler\.allowed-"
                          r"failures\): (\d+) rows? saved in m\.zarr\.partial; rerun with "
@@ -289,15 +288,20 @@ def test_killed_dask_worker_is_replaced_or_ends_the_map_resumably(retries, tmp_p
 
 # --- SIGTERM / SIGINT at every phase --------------------------------------------------
 
-def interrupt_while_writing(args, cwd, signum=signal.SIGTERM, stall=True):
-    """Run ``args`` with its writes stalled, send ``signum`` once it writes; the exit
-    status and the stderr lines."""
+def interrupt_while_writing(args, cwd, signum=signal.SIGTERM, stall=True, times=1):
+    """Run ``args`` with its writes stalled, send ``signum`` ``times`` times once it
+    writes, then let the write return (the file GO, removed again); the exit status and
+    the stderr lines."""
     proc = start(args, cwd, stall=stall)
     try:
         wait_for(lambda: "WRITING" in (Path(cwd) / "err.txt").read_text(), proc,
                  "a write")
-        proc.send_signal(signum)
+        for _ in range(times):
+            proc.send_signal(signum)
+        if times == 1:
+            (Path(cwd) / "GO").touch()
         status = finish(proc)
+        (Path(cwd) / "GO").unlink(missing_ok=True)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -401,16 +405,14 @@ def test_group_sigterm_while_computing_keeps_the_saved_points(name, tmp_path,
     try:
         wait_for(lambda: len(_points(ckpt)) >= 2, proc, "2 saved entries")
         os.killpg(proc.pid, signal.SIGTERM)
-        t0 = time.monotonic()
         status = finish(proc)
-        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
     lines = messages(tmp_path)
     saved = _points(ckpt)
     n = len(saved) if unit == "point" else len({f.split("-")[0] for f in saved})
-    assert status == 143 and elapsed < 15, (status, elapsed)
+    assert status == 143, status
     assert lines == [f"vibimpact: interrupted: {n} {unit}{'s' * (n != 1)} saved in "
                      f"{out}.partial; rerun with --resume"]
     time.sleep(0.5)
@@ -431,13 +433,11 @@ def test_sigterm_while_simulating_leaves_nothing(tmp_path):
         time.sleep(2.5)
         assert proc.poll() is None, messages(tmp_path)
         proc.send_signal(signal.SIGTERM)
-        t0 = time.monotonic()
         status = finish(proc)
-        elapsed = time.monotonic() - t0
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert status == 143 and elapsed < 10, (status, elapsed)
+    assert status == 143, status
     assert messages(tmp_path) == ["vibimpact: interrupted"]
     assert files(tmp_path) == []
 
@@ -498,18 +498,22 @@ def test_next_rerun_removes_what_a_killed_rerun_left(tmp_path):
     ("adir", "a directory, not a scheduler file"),
     ("foo://bar", "unknown protocol 'foo'"),
     ("tcp://somehost", "missing port number")])
-def test_map_with_an_impossible_scheduler_fails_at_once(scheduler, needle, tmp_path):
+def test_map_with_an_impossible_scheduler_is_refused_before_connecting(scheduler, needle,
+                                                                       tmp_path):
     """Hypothesis: 'map --scheduler' with a garbage file, a directory, an unknown
-    protocol or an address without a port ends in seconds with one line and exit 2:
-    no 40 s wait and no 'Exception ignored in Client.__del__' traceback afterwards."""
+    protocol or an address without a port is refused before any connection is tried
+    (the line is the address check's, which runs before a Client exists): one line,
+    exit 2, no 'Exception ignored in Client.__del__' traceback afterwards (what a
+    Client that failed to connect printed after a 40 s wait) and no file."""
     (tmp_path / "garbage.json").write_text("not json")
     (tmp_path / "adir").mkdir()
-    t0 = time.monotonic()
-    r = subprocess.run([sys.executable, "-m", "vibimpact.cli", "map", "--eta",
-                        "1.0:1.02:0.01", "--vary", "kh=10:20:10", "--scheduler",
-                        scheduler, "-o", "m.zarr"], cwd=tmp_path, env=_env(),
-                       capture_output=True, text=True, timeout=60)
-    assert time.monotonic() - t0 < 15
+    try:  # a guard against a hang; that no connection was tried is what the line says
+        r = subprocess.run([sys.executable, "-m", "vibimpact.cli", "map", "--eta",
+                            "1.0:1.02:0.01", "--vary", "kh=10:20:10", "--scheduler",
+                            scheduler, "-o", "m.zarr"], cwd=tmp_path, env=_env(),
+                           capture_output=True, text=True, timeout=120)
+    except subprocess.TimeoutExpired:
+        pytest.fail("still running after 120 s: a hang")
     assert r.returncode == 2 and r.stderr.splitlines() == [r.stderr.strip()], r.stderr
     assert r.stderr.startswith("vibimpact: error: --scheduler: cannot connect to the Dask "
                                f"scheduler {scheduler!r}: ") and needle in r.stderr
