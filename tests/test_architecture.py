@@ -275,8 +275,10 @@ LAYERS = (
     # the compiled kernel
     ("_kernel",),
     # vocabulary without dependencies: validation, text, limits, fill values, bifurcation
-    # kinds, provenance, and the package root (its version and lazy name table)
-    ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance"),
+    # kinds, provenance, signal-safe file writes, and the package root (its version and
+    # lazy name table)
+    ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance",
+     "_writing"),
 )
 
 
