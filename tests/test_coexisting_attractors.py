@@ -42,7 +42,7 @@ def label_of(ds):
     periods = ds.sizes["sample"] - 1
     ipp = ds.sizes["impact"] / periods
     regime = classify(ds["strobe"].values, impacts_per_period=ipp)
-    arcs = contact_arcs(ds["impact_theta"].values).summary
+    arcs = contact_arcs(ds).summary
     return label_text(REGIME_CODES[regime.label], regime.n, regime.impacts_per_period, arcs)
 
 

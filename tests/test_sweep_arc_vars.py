@@ -10,7 +10,9 @@ from vibimpact.sweeps.dataset import to_dataset
 
 def _result(table, n_state=4):
     r = PointResult.empty(n_state, SweepSettings().n_samples).as_dict()
-    if table is not None:
+    if table is None:           # a result without an arc table (an older checkpoint's)
+        r.pop("arc_table", None)
+    else:
         r["arc_table"] = np.asarray(table, float).reshape(-1, 4)
     return r
 

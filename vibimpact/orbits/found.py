@@ -217,8 +217,7 @@ def _impacts_and_arcs(system, x, m):
                           solver=system.settings(**CONTINUATION_SOLVER))
     if run.status is not Status.OK:
         return -1, 0, "", False
-    theta = np.asarray(run.impacts["theta"], dtype=float)
-    arcs = contact_arcs(theta[np.isfinite(theta)])
+    arcs = contact_arcs(run)
     inside = bool(contact.penetration(np.asarray(x, float)[None, :], system.p)[0] > 0.0)
     permanent = run.impacts.size == 0 and inside and \
         not np.any(run.events["which"] == contact.switch)

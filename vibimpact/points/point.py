@@ -159,6 +159,9 @@ class PointResult:
         Loaded arcs of the retainer, e.g. "2 small arcs".
     reason : str
         Why the label (or why the run stopped).
+    arc_table : ndarray, shape (n_arcs, 4)
+        Loaded arcs: start, end, width (degrees) and loaded share
+        (:meth:`vibimpact.analysis.ContactArcs.table`).
     samples : ndarray, shape (n_samples, d)
         Poincaré points.
     final_state : ndarray, shape (d,)
@@ -197,6 +200,7 @@ class PointResult:
     orbit_distance: float = np.nan
     arcs: str = ""
     reason: str = ""
+    arc_table: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     samples: np.ndarray = field(default_factory=lambda: not_computed((64, 4)))
     final_state: np.ndarray = field(default_factory=lambda: _nan(4))
     orbit_point: np.ndarray = field(default_factory=lambda: _nan(4))
@@ -227,7 +231,8 @@ class PointResult:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
-_ARRAYS = ("arcs", "reason", "samples", "final_state", "orbit_point", "multipliers")
+_ARRAYS = ("arcs", "reason", "samples", "final_state", "orbit_point", "multipliers",
+           "arc_table")
 #: scalar result fields of a point, with their fill value
 SCALARS = {f.name: f.default for f in fields(PointResult) if f.name not in _ARRAYS}
 
