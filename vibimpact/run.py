@@ -256,6 +256,12 @@ _IMPACT_ATTRS = {
     "duration": ("1", "contact duration in tau (NaN: still in contact at the end)"),
     "t_exit": ("1", "dimensionless time tau of contact exit (NaN: still in contact)"),
     "period": ("1", "forcing period of the entry, counted from the end of the transient"),
+    "theta_exit": ("degree", "contact angle at exit on the branch of theta (theta + angle "
+                   "travelled in contact); NaN: still in contact"),
+    "theta_min": ("degree", "smallest contact angle reached during the contact, on the "
+                  "branch of theta"),
+    "theta_max": ("degree", "largest contact angle reached during the contact, on the "
+                  "branch of theta"),
 }
 
 _TAU = "dimensionless time tau = omega_0 t"
