@@ -359,3 +359,29 @@ def test_continued_state_refuses_bad_input_naming_the_argument(args, kw, match):
 
     with pytest.raises(ValueError, match=match):
         continued_state(*args, **kw)
+
+
+@pytest.mark.parametrize("make, arg", [
+    (lambda v: vi.SolverSettings(adaptive=v), "adaptive"),
+    (lambda v: vi.Execution(resume=v), "resume"),
+    (lambda v: Domain(lo_closed=v), "lo_closed"),
+    (lambda v: Domain(hi_closed=v), "hi_closed"),
+    (lambda v: vi.Solver(_system(), check=v), "check"),
+], ids=["SolverSettings.adaptive", "Execution.resume", "Domain.lo_closed",
+        "Domain.hi_closed", "Solver.check"])
+def test_settings_classes_refuse_a_flag_that_is_not_a_bool(make, arg):
+    """The settings and helper classes' bool arguments refuse 'no', 1 and an array as the
+    functions' do (None stays 'the default' where the class says so)."""
+    for value in ("no", 1, np.array([True])):
+        with pytest.raises(ValueError, match=rf"^{arg} must be True or False"):
+            make(value)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(lo="0"), r"^lo must be a real number"), (dict(lo=math.nan), r"^lo must be"),
+    (dict(lo=1.0, hi=0.0), r"^lo must be <= hi"),
+])
+def test_a_domain_of_wrong_bounds_is_refused(kw, match):
+    """A Domain's bounds are real numbers or infinities, lo <= hi."""
+    with pytest.raises(ValueError, match=match):
+        Domain(**kw)

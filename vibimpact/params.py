@@ -63,6 +63,17 @@ class Domain:
     lo_closed: bool = False
     hi_closed: bool = False
 
+    def __post_init__(self):
+        for name in ("lo", "hi"):
+            value = _v._real(name, getattr(self, name), "a real number (or +-inf)")
+            if math.isnan(value):
+                raise ValueError(f"{name} must be a number or +-inf, got nan")
+            object.__setattr__(self, name, value)
+        for name in ("lo_closed", "hi_closed"):
+            object.__setattr__(self, name, _v.flag(name, getattr(self, name)))
+        if self.lo > self.hi:
+            raise ValueError(f"lo must be <= hi, got lo = {self.lo!r}, hi = {self.hi!r}")
+
     @classmethod
     def at_least(cls, lo: float) -> Domain:
         """``[lo, inf)``: the value ``>= lo``."""

@@ -305,6 +305,8 @@ class Solver:
 
     def __init__(self, system: SystemLike, state0: ArrayLike | None = None,
                  settings: SolverSettings | None = None, *, check: bool = True):
+        if check is not True and check is not False:  # cheap: the loops pass a bool
+            _v.flag("check", check)
         settings = (system.solver if settings is None else settings).filled()
         y = _v.state("state0", state0, system.n_state) if check else \
             np.array(state0, dtype=np.float64)
