@@ -8,13 +8,14 @@ of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read
 at compile time (a rotor run compiles no Duffing code) and branch at run time on the
 model's id within the family, 0 for the model and 1 for its variational equations (a
 classify run integrates the rotor and its variational equations with one compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
-user model ``model`` is a tuple ``(rhs, switches, transition)`` of numba functions, called
-directly (compiled per process: numba cannot cache functions passed as arguments).
+user model ``model`` is a tuple ``(USER_TAG, rhs, switches, transition)`` of numba
+functions behind a number (:func:`kernel_model`), called directly (compiled per process:
+numba cannot cache functions passed as arguments).
 
 The *variational* versions of the models (state followed by tangent vectors, saltation at
 every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
-:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple ``(rhs, switches, transition, jac, n_state, n_switch)``
-for a user model.  Their switching functions are the base model's (they read the first
+:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple ``(USER_TAG, rhs, switches,
+transition, jac, n_state, n_switch)`` for a user model.  Their switching functions are the base model's (they read the first
 ``n_state`` entries only).
 """
 from llvmlite import ir
@@ -94,10 +95,22 @@ ROTOR_VAR = builtin("rotor", True)
 DUFFING_VAR = builtin("duffing", True)
 
 
+#: the first entry of a user model's tuple as the kernel receives it.  numba tries to
+#: unify a tuple whose first entry is a function into one first-class function type, and
+#: warns (NumbaExperimentalFeatureWarning, "First-class function type feature is
+#: experimental") every time it types such a tuple, even where it does not unify it; a
+#: tuple that starts with a number is an ordinary heterogeneous tuple, whose functions
+#: numba calls as the dispatchers they are
+USER_TAG = 0
+
+
 def kernel_model(model):
-    """What the kernel receives for ``model``: a :class:`BuiltinModel` or a user model's
-    tuple, unchanged."""
-    return model
+    """What the kernel receives for ``model``: a :class:`BuiltinModel` unchanged, a user
+    model's tuple of functions behind :data:`USER_TAG` (``(0, rhs, switches, transition)``
+    and ``(0, rhs, switches, transition, jac, n_state, n_switch)``)."""
+    if isinstance(model, BuiltinModel):
+        return model
+    return (USER_TAG,) + tuple(model)
 
 
 class ModelFamily(types.Type):
@@ -175,13 +188,13 @@ def _ol_rhs(model, s, y, p, mode, out):
             else:
                 var(s, y, p, mode, out)
         return impl_builtin
-    if len(model.types) == 6:
+    if len(model.types) == 7:
         def impl_var(model, s, y, p, mode, out):
-            variational.user_rhs(model[0], model[3], model[4], s, y, p, mode, out)
+            variational.user_rhs(model[1], model[4], model[5], s, y, p, mode, out)
         return impl_var
 
     def impl_user(model, s, y, p, mode, out):
-        _user_call(model[0], s, y, p, mode, out)
+        _user_call(model[1], s, y, p, mode, out)
     return impl_user
 
 
@@ -196,7 +209,7 @@ def _ol_switches(model, s, y, p, mode, g):
         return impl_builtin
 
     def impl_user(model, s, y, p, mode, g):
-        _user_call(model[1], s, y, p, mode, g)
+        _user_call(model[2], s, y, p, mode, g)
     return impl_user
 
 
@@ -212,14 +225,14 @@ def _ol_transition(model, s, y, p, mode, which):
             else:
                 var(s, y, p, mode, which)
         return impl_builtin
-    if len(model.types) == 6:
+    if len(model.types) == 7:
         def impl_var(model, s, y, p, mode, which):
-            variational.user_transition(model[0], model[1], model[2], model[4], model[5], s,
+            variational.user_transition(model[1], model[2], model[3], model[5], model[6], s,
                                         y, p, mode, which)
         return impl_var
 
     def impl_user(model, s, y, p, mode, which):
-        _user_call(model[2], s, y, p, mode, which)
+        _user_call(model[3], s, y, p, mode, which)
     return impl_user
 
 
