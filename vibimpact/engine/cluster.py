@@ -167,6 +167,7 @@ def _local_cluster(workers):
     import dask
     from distributed import Client, LocalCluster
 
+    quiet_resource_tracker()
     before = set(mp.active_children())
     try:
         with dask.config.set(WORKER_CONFIG):
@@ -213,6 +214,46 @@ def _close(cluster):
         with contextlib.suppress(Exception):
             cluster.shutdown_on_close = False
         raise
+
+
+def quiet_resource_tracker():
+    """Have multiprocessing's resource tracker (it tracks the semaphores of the spawned
+    worker processes) relaunched quietly after it died.
+
+    A tracker killed mid-run (SIGKILL, the OOM killer) is relaunched by the next
+    semaphore made or freed, with a UserWarning here and, from the new tracker, a
+    ``KeyError`` traceback for each semaphore it never saw registered: a run that
+    succeeds would end in tracebacks.  The relaunch keeps working; the tracker is
+    started with its stderr on the null device and the warning is not shown.  Idempotent.
+    """
+    import warnings
+    from multiprocessing import resource_tracker
+
+    tracker = getattr(resource_tracker, "_resource_tracker", None)
+    if tracker is None or getattr(tracker, "vibimpact_quiet", False):
+        return
+    launch = tracker.ensure_running
+
+    def ensure_running():
+        alive = getattr(tracker, "_check_alive", None)
+        if getattr(tracker, "_fd", None) is not None and alive is not None and alive():
+            return launch()  # running: nothing is started, stderr is left alone
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="resource_tracker: process died")
+            saved = os.dup(2)
+            try:
+                null = os.open(os.devnull, os.O_WRONLY)
+                try:
+                    os.dup2(null, 2)  # inherited by a tracker started now
+                finally:
+                    os.close(null)
+                return launch()
+            finally:
+                os.dup2(saved, 2)
+                os.close(saved)
+
+    tracker.ensure_running = ensure_running
+    tracker.vibimpact_quiet = True
 
 
 def _cannot_start(workers, exc):
