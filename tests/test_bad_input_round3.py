@@ -385,3 +385,35 @@ def test_a_domain_of_wrong_bounds_is_refused(kw, match):
     """A Domain's bounds are real numbers or infinities, lo <= hi."""
     with pytest.raises(ValueError, match=match):
         Domain(**kw)
+
+
+def _affine_iterates(factor):
+    A = np.array([[0.5, 0.3], [-0.2, 0.8]])
+    b = np.array([1.0, 2.0]) * factor
+    xs = [np.zeros(2)]
+    for _ in range(6):
+        xs.append(A @ xs[-1] + b)
+    return np.array(xs)
+
+
+@pytest.mark.parametrize("factor", [1e308 / 4, 1e-300, 1e-308])
+def test_extrapolate_limit_is_the_same_at_every_magnitude(factor):
+    """The extrapolated limit of an affine iteration scales with its data: near 1e308
+    (overflow) and at 1e-308 (subnormal underflow) it returned NaN."""
+    exact = vi.analysis.extrapolate_limit(_affine_iterates(1.0))
+    got = vi.analysis.extrapolate_limit(_affine_iterates(factor)) / factor
+    np.testing.assert_allclose(got, exact, rtol=1e-9)
+
+
+_SERIES = np.sin(0.7 * np.arange(500)) + 0.3 * np.sin(1.9 * np.arange(500))
+
+
+@pytest.mark.parametrize("factor", [1e308 / 4, 1e200])
+def test_test01_of_huge_values_equals_that_of_the_scaled_series(factor):
+    """test01 of a series near 1e308 (its squares overflowed) gives the K of the same
+    series at magnitude 1, without a warning."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert vi.analysis.test01(_SERIES * factor) == vi.analysis.test01(_SERIES)

@@ -185,6 +185,22 @@ def flag(name, value):
     return bool(value)
 
 
+def power_of_two(x, shrink_only=False):
+    """The power of two ``2**k`` with ``1 <= max |x| / 2**k < 2`` (1.0 for an all-zero
+    ``x``; with ``shrink_only``, 1.0 unless ``max |x| >= 2``).
+
+    Dividing finite data by it is exact (only the exponent moves; values below about
+    ``2**-1022`` times the largest lose bits and are negligible against it), so an
+    analyser that divides its data by it first decides the same at every magnitude,
+    without the overflow of squares, differences and ranges near ``1e308`` or the
+    underflow of subnormal data.
+    """
+    peak = float(np.max(np.abs(x))) if np.size(x) else 0.0
+    if peak == 0.0 or (shrink_only and peak < 2.0):
+        return 1.0
+    return float(np.ldexp(1.0, int(np.frexp(peak)[1]) - 1))  # at most 2**1023
+
+
 def checks_flags(fn):
     """Decorate ``fn`` so that every argument annotated ``bool`` is checked by
     :func:`flag` before ``fn`` runs: ``adaptive='no'``, ``1``, ``None`` or a one-element

@@ -57,7 +57,9 @@ def _series(series):
         raise ValueError(f"series must have at least {MIN_LENGTH} values, got {x.size}")
     if not np.all(np.isfinite(x)):
         raise ValueError("series must be finite (no NaN or inf)")
-    return x
+    # above 2 in magnitude, divided by a power of two (exact; K is scale-free): values
+    # near 1e308 would overflow the squares
+    return x / _v.power_of_two(x, shrink_only=True)
 
 
 def _frequencies(c, n_c, seed):

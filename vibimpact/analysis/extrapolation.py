@@ -84,6 +84,8 @@ def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
     if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 1 <= k <= m - 2:
         raise ValueError(f"order must be an integer in 1 .. {m - 2}, got {order!r}")
     x = x[-(k + 2):]
+    factor = _v.power_of_two(x)  # exact: the same limit at every magnitude
+    x = x / factor
     u = np.diff(x, axis=0)                       # (k + 1, d)
     c, rank = lstsq(np.ascontiguousarray(u[:k].T), -u[k][:, None], -1.0)
     c = c[:, 0]
@@ -93,5 +95,5 @@ def extrapolate_limit(seq: ArrayLike, order: int | None = None) -> np.ndarray:
     s = c.sum()
     if not np.isfinite(s) or abs(s) < 1e-12 * np.abs(c).sum():
         return np.full(d, np.nan)
-    out = matmul((c / s)[None, :], np.ascontiguousarray(x[:k + 1]))[0]
+    out = matmul((c / s)[None, :], np.ascontiguousarray(x[:k + 1]))[0] * factor
     return out if np.all(np.isfinite(out)) else np.full(d, np.nan)

@@ -451,6 +451,7 @@ def lyapunov_from_series(series: ArrayLike, period: float = 1.0, **kwargs) -> fl
     x = _v.array1d("series", series)
     if x.size < 50 or not np.all(np.isfinite(x)):
         raise ValueError("series must be at least 50 finite numbers")
+    x = x / _v.power_of_two(x)  # exact; the exponent is scale-free
     period = _v.positive("period", period)
     try:
         import nolds  # lazy: fragile import, needed only for this cross-check

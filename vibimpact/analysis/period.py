@@ -132,10 +132,9 @@ def _normalised(x, scale):
     subnormal data falling under an absolute floor.  The rule is thereby the same at every
     magnitude: ``detect_period(c * x) == detect_period(x)`` for ``c > 0``.
     """
-    peak = float(np.max(np.abs(x))) if x.size else 0.0
-    if peak == 0.0:
+    factor = _v.power_of_two(x)
+    if factor == 1.0:
         return x, scale
-    factor = np.ldexp(1.0, int(np.frexp(peak)[1]) - 1)  # at most 2**1023: finite
     if scale is not None:
         scale = max(scale / factor, np.finfo(float).smallest_subnormal)
     return x / factor, scale
