@@ -116,3 +116,29 @@ def points_bytes(points, n_samples, n_state):
     """Bytes of the results of ``points`` sweep or map points with ``n_samples``
     Poincaré samples each."""
     return points * (8 * n_samples * n_state + POINT_OVERHEAD_BYTES)
+
+
+#: most pixels of one drawn figure (width x height at its dpi): 2**28, about 1 GiB of
+#: RGBA in the renderer; matplotlib's Agg fails with MemoryError well before its own
+#: per-side limit of 2**23
+MAX_PIXELS = 1 << 28
+#: most pixels along one side of a drawn figure
+MAX_SIDE_PIXELS = 1 << 16
+
+
+def check_pixels(width, height, dpi, what="figure"):
+    """Refuse a figure of ``width`` x ``height`` inches at ``dpi`` larger than
+    :data:`MAX_PIXELS`, or :data:`MAX_SIDE_PIXELS` along a side (``--figsize 1e9x1e9``
+    or ``--dpi 1000000`` ended in ``MemoryError`` from the renderer, after all the
+    work).
+
+    Raises
+    ------
+    ValueError
+        Saying the size in pixels and the limit.
+    """
+    w, h = float(width) * float(dpi), float(height) * float(dpi)
+    if not (math.isfinite(w * h) and w * h <= MAX_PIXELS and max(w, h) <= MAX_SIDE_PIXELS):
+        raise ValueError(f"{what} of {width:g} x {height:g} inches at {dpi:g} dpi would be "
+                         f"{w:.3g} x {h:.3g} pixels; at most {MAX_PIXELS:.3g} pixels and "
+                         f"{MAX_SIDE_PIXELS} a side are drawn")

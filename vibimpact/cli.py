@@ -113,7 +113,7 @@ def _cmd_simulate(args):
         if ext not in FigureCanvasBase.get_supported_filetypes():
             raise UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
-    attrs, note = {"preset": args.preset or "fig8"}, ""
+    attrs, note = {"preset": "fig8" if args.preset is None else args.preset}, ""
     state0 = args.state0
     if args.from_sweep is not None:
         from .cli_start import start_of
@@ -319,6 +319,9 @@ def main(argv=None):
     StopWorkersOnSignal.received = None
     try:
         try:
+            from .cli_figures import check_figure_size
+
+            check_figure_size(args)  # every command that draws, before any work
             with StopWorkersOnSignal():
                 return args.func(args)
         except Exception as exc:  # an error a signal caused is that signal

@@ -4,6 +4,7 @@ import argparse
 import math
 import sys
 
+from ._text import parse_integer, parse_real
 from .cli_errors import UsageError, error_text
 
 
@@ -78,34 +79,43 @@ def set_verbosity(count):
     log.setLevel(logging.INFO if count == 1 else logging.DEBUG)
 
 
+#: the most processes a ``--workers`` option takes
+MAX_WORKERS = 4096
+#: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
+MAX_INT = 2**63 - 1
+
+
 def positive_int(minimum, maximum=None):
-    """The argparse type of an integer option in ``[minimum, maximum]``: a value out of
-    range is refused as ``argument --NAME: must be >= 1, got 0``, in the option's name
-    (not as the API's argument would be, later)."""
+    """The argparse type of an integer option in ``[minimum, maximum]`` (``maximum``
+    defaults to :data:`MAX_INT`): written as a user writes an integer
+    (:func:`vibimpact._text.parse_integer`); a value out of range is refused as
+    ``argument --NAME: must be >= 1, got 0``, in the option's name (not as the API's
+    argument would be, later)."""
+    maximum = MAX_INT if maximum is None else maximum
+
     def convert(text):
         try:
-            value = int(text)
+            value = parse_integer(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"invalid integer {text!r}") from None
+            raise argparse.ArgumentTypeError(f"invalid integer {text!r} (digits 0-9 with "
+                                             f"an optional sign)") from None
         if value < minimum:
             raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {value}")
-        if maximum is not None and value > maximum:
-            raise argparse.ArgumentTypeError(f"must be <= {maximum}, got {value}")
+        if value > maximum:
+            raise argparse.ArgumentTypeError(f"must be <= {maximum}, got {text.strip()}")
         return value
     convert.__name__ = "integer"
     return convert
 
 
 def number(text):
-    """The argparse type of a number option: a finite float (no option of the command
-    line takes NaN or infinity; refused here, in the option's name)."""
+    """The argparse type of a number option: a finite float written as a user writes a
+    number (:func:`vibimpact._text.parse_real`: no digit separators, no non-ASCII
+    digits, no NaN or infinity; refused here, in the option's name)."""
     try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid number {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
-    return value
+        return parse_real(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"invalid number: {exc}") from None
 
 
 def positive_number(text):
@@ -146,9 +156,9 @@ def parse_sets(items):
             raise UsageError(f"--set {key} given twice ({key}={out[key]:g} and "
                              f"{item.strip()}); give each parameter once")
         try:
-            out[key] = float(text)
-        except ValueError:
-            raise UsageError(f"--set {key}: value {text.strip()!r} is not a number") from None
+            out[key] = parse_real(text)
+        except ValueError as exc:
+            raise UsageError(f"--set {key}: value {exc}") from None
     return out
 
 

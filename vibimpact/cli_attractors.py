@@ -4,7 +4,7 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 """
 import os
 
-from .cli_args import parse_sets, positive_int, with_sets
+from .cli_args import parse_sets, positive_int, with_sets, MAX_WORKERS
 from .cli_checkpoints import checkpoint_of
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options, figure_options, image_ext_ok
@@ -181,7 +181,7 @@ def add_parser(sub, fmt):
                    help="starting states per eta (default: 400)")
     a.add_argument("--seed", type=positive_int(0, 2**63 - 1), default=0,
                    help="seed of the random starts (default: 0)")
-    a.add_argument("--workers", type=positive_int(1, 4096), default=1, metavar="N",
+    a.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",
                    help="local processes (default: 1); never changes a number")
     a.add_argument("-o", "--output", default="census.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: census.nc)")

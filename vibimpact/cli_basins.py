@@ -8,7 +8,8 @@ import math
 import os
 import re
 
-from .cli_args import number, parse_sets, positive_int, with_sets
+from ._text import parse_integer, parse_real
+from .cli_args import number, parse_sets, positive_int, with_sets, MAX_WORKERS
 from .cli_checkpoints import checkpoint_of
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options
@@ -51,7 +52,7 @@ def parse_grid(text):
     """``"200x200"`` (columns x rows) or ``"200"`` -> ``(columns, rows)``; UsageError."""
     parts = str(text).lower().replace("×", "x").split("x")
     try:
-        values = [int(p) for p in parts]
+        values = [parse_integer(p) for p in parts]
     except ValueError:
         values = []
     if len(parts) == 1 and values:
@@ -68,7 +69,7 @@ def parse_ranges(text):
     for part in str(text).split(","):
         lo, sep, hi = part.partition(":")
         try:
-            a, b = float(lo), float(hi)
+            a, b = parse_real(lo), parse_real(hi)
         except ValueError:
             a = b = math.nan
         if not sep or not (math.isfinite(a) and math.isfinite(b) and a < b):
@@ -100,7 +101,7 @@ def _inputs(args):
     state = None
     if args.base is not None:
         try:
-            state = [float(v) for v in args.base.split(",")]
+            state = [parse_real(v) for v in args.base.split(",")]
         except ValueError:
             state = []
         if len(state) != system.n_state or not all(math.isfinite(v) for v in state):
@@ -193,7 +194,7 @@ def add_parser(sub, fmt):
                         "rest)")
     b.add_argument("--eps", type=positive_int(1, 1000), default=5, metavar="N",
                    help="box side of the basin entropy in cells (default: 5)")
-    b.add_argument("--workers", type=positive_int(1, 4096), default=1, metavar="N",
+    b.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",
                    help="local processes (default: 1); never changes a number")
     b.add_argument("-o", "--output", default="basins.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: basins.nc)")

@@ -109,6 +109,9 @@ def _inputs(args):
         if not (math.isfinite(value) and value > 0):
             raise UsageError(f"--{name.replace('_', '-')} must be a finite number > 0, "
                              f"got {value:g}")
+    if args.ds > args.ds_max:
+        raise UsageError(f"--ds {args.ds:g} is larger than --ds-max {args.ds_max:g} (the "
+                         f"first step must not exceed the largest)")
     steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds), ds_max=args.ds_max,
                   max_points=args.max_points)
     return system, steps

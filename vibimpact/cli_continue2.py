@@ -10,6 +10,7 @@ import os
 import shlex
 import time
 
+from ._text import parse_real
 from .cli_args import number, parse_sets, positive_int, with_sets
 from .cli_errors import UsageError, error_text
 from .cli_files import check_output, read_input
@@ -55,7 +56,7 @@ def _range(text):
     if len(parts) != 2:
         raise UsageError(f"--range2 must be LO:HI, got {text!r}")
     try:
-        lo, hi = (float(p) for p in parts)
+        lo, hi = (parse_real(p) for p in parts)
     except ValueError:
         raise UsageError(f"--range2 must be two numbers LO:HI, got {text!r}") from None
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:

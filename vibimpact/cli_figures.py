@@ -3,6 +3,7 @@ and the image extension (matplotlib imported only when used)."""
 import argparse
 import os
 
+from ._text import parse_real
 from .cli_errors import UsageError
 
 
@@ -12,7 +13,7 @@ def _figsize(text):
     w, sep, h = str(text).lower().partition("x")
     try:
         if sep:
-            return check_figsize((float(w), float(h)))
+            return check_figsize((parse_real(w), parse_real(h)))
     except ValueError:
         pass
     raise argparse.ArgumentTypeError(f"must be WIDTHxHEIGHT in inches, two numbers > 0 "
@@ -23,7 +24,7 @@ def _dpi(text):
     from .plotting.style import check_dpi
 
     try:
-        return check_dpi(float(text))
+        return check_dpi(parse_real(text))
     except ValueError:
         pass
     raise argparse.ArgumentTypeError(f"must be a number > 0 (dots per inch), got {text!r}")
@@ -53,6 +54,34 @@ def add_figure_options(parser, what="the figure"):
     parser.add_argument("--style", type=_style, default=None, metavar="{default,paper}",
                         help="paper: a journal's look (serif fonts sized for one column, "
                              "thin lines, no title)")
+
+
+#: the largest figure a command draws by default, in inches (a map of both sweep
+#: directions): what --dpi is checked with when --figsize is not given
+LARGEST_DEFAULT = (12.0, 16.0)
+#: the resolution of a figure when --dpi is not given (the paper style's)
+LARGEST_DPI = 300.0
+
+
+def check_figure_size(args):
+    """Refuse, before any work, a ``--figsize`` and ``--dpi`` whose image would exceed
+    :data:`vibimpact._limits.MAX_PIXELS` (checked with :data:`LARGEST_DEFAULT` and
+    :data:`LARGEST_DPI` for the option not given); the one check of every command that
+    draws.  UsageError naming the options."""
+    from . import _limits
+
+    figsize, dpi = getattr(args, "figsize", None), getattr(args, "dpi", None)
+    if figsize is None and dpi is None:
+        return
+    width, height = figsize if figsize is not None else LARGEST_DEFAULT
+    try:
+        _limits.check_pixels(width, height, dpi if dpi is not None else LARGEST_DPI,
+                             what="the image")
+    except ValueError as exc:
+        given = " ".join(f"--dpi {dpi:g}" if k == "dpi" else
+                         f"--figsize {figsize[0]:g}x{figsize[1]:g}"
+                         for k in ("figsize", "dpi") if getattr(args, k, None) is not None)
+        raise UsageError(f"{given}: {exc}; give a smaller --figsize or --dpi") from None
 
 
 def figure_options(args, drawing=True):

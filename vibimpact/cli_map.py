@@ -6,7 +6,7 @@ instant.
 """
 import os
 
-from .cli_args import parse_analyses, parse_sets, positive_int, with_sets
+from .cli_args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
 from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                               run_checkpointed)
 from .cli_errors import error_text, reason, UsageError
@@ -294,7 +294,7 @@ def add_parser(sub, fmt):
                    help="what to compute (default: period,impacts,lyapunov: regime, "
                         "period, impacts per period, and the largest exponent only where "
                         "no period is found); see 'vibimpact classify --help'")
-    m.add_argument("--workers", type=positive_int(1), default=None, metavar="N",
+    m.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=None, metavar="N",
                    help="local processes (default: min(2, CPUs)); 1 runs in this process")
     m.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run the rows on a Dask cluster: scheduler address "

@@ -7,7 +7,7 @@ instant.
 """
 import os
 
-from .cli_args import parse_analyses, parse_sets, positive_int, with_sets
+from .cli_args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
 from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                               run_checkpointed)
 from .cli_errors import error_text, reason, UsageError
@@ -382,7 +382,7 @@ def _add_sweep_options(s, direction):
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     s.add_argument("--direction", choices=("up", "down", "both"), default=direction,
                    help=f"sweep direction (default: {direction})")
-    s.add_argument("--workers", type=positive_int(1), default=_default_workers(),
+    s.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=_default_workers(),
                    metavar="N", help="processes computing at once (default: min(2, CPUs) "
                    f"= {_default_workers()}); does not change the result")
     s.add_argument("--blocks", type=positive_int(1, MAX_POINTS), default=16, metavar="N",

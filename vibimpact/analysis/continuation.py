@@ -139,7 +139,8 @@ class Steps:
     Parameters
     ----------
     ds, ds_min, ds_max : float
-        Initial, smallest and largest arclength step (in the units of ``(x, lambda)``).
+        Initial, smallest and largest arclength step (in the units of ``(x, lambda)``),
+        ``0 < ds_min <= ds <= ds_max``.
     max_points : int
         Orbits on the branch at most (``>= 2``).
     fd_step : float
@@ -172,6 +173,9 @@ class Steps:
             object.__setattr__(self, name, _v.positive(name, getattr(self, name)))
         object.__setattr__(self, "max_points", _v.count("max_points", self.max_points, 2))
         object.__setattr__(self, "max_newton", _v.count("max_newton", self.max_newton, 1))
+        if not self.ds_min <= self.ds <= self.ds_max:
+            raise ValueError(f"ds must lie between ds_min and ds_max, got ds_min = "
+                             f"{self.ds_min:g}, ds = {self.ds:g}, ds_max = {self.ds_max:g}")
 
 
 def _amplitude(system, x, n, names, dense=96):

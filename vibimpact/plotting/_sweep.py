@@ -35,6 +35,49 @@ def check_sweep(ds, *names):
     missing = [n for n in names if n not in ds]
     if missing:
         raise ValueError(f"the sweep dataset has no {', '.join(missing)}")
+    check_contents(ds)
+
+
+def check_contents(ds, grids=("eta",), codes=("regime",), increasing=("eta",)):
+    """Raise ValueError, naming the variable, for what a file written by vibimpact
+    never holds: a grid (``grids``, coordinates) with a NaN or infinite value, or (those
+    in ``increasing``) not strictly increasing; a code variable (``codes``) with a value
+    outside its ``flag_values`` (:data:`REGIME_NAMES` where it declares none).  A figure
+    drawn from such a file would show what the file does not say; the figures refuse it
+    instead.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    grids, codes, increasing : sequence of str
+        The coordinates, the flag variables and the coordinates that must increase
+        (those ``ds`` lacks are skipped).
+    """
+    for name in grids:
+        if name not in ds.coords:
+            continue
+        values = np.asarray(ds[name].values)
+        if values.dtype.kind not in "iuf":
+            raise ValueError(f"{name} must hold numbers, got {values.dtype} values")
+        bad = ~np.isfinite(values.astype(float))
+        if bad.any():
+            raise ValueError(f"{name} holds {int(bad.sum())} non-finite value(s) (NaN or "
+                             f"inf): the file is damaged or was not written by vibimpact")
+        if name in increasing and values.ndim == 1 and np.any(np.diff(values) <= 0):
+            raise ValueError(f"{name} must be strictly increasing: the file is damaged or "
+                             f"was not written by vibimpact")
+    for name in codes:
+        if name not in ds:
+            continue
+        declared = ds[name].attrs.get("flag_values", list(REGIME_NAMES))
+        allowed = np.asarray(declared).reshape(-1)
+        values = np.asarray(ds[name].values).reshape(-1)
+        undeclared = np.setdiff1d(np.unique(values), allowed)
+        if undeclared.size:
+            shown = ", ".join(f"{v:g}" for v in undeclared[:5].astype(float))
+            raise ValueError(f"{name} holds code(s) {shown} not among its flag_values "
+                             f"({', '.join(str(v) for v in allowed.tolist())}): the file "
+                             f"is damaged or was not written by vibimpact")
 
 
 def directions(ds):

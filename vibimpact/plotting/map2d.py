@@ -139,12 +139,13 @@ def plot_map(ds: xr.Dataset, direction: str | None = None,
     grey: not computed (the exponent is computed only where no period is found) or, for
     the period, no period.
     """
-    from ._sweep import check_dataset
+    from ._sweep import check_contents, check_dataset
 
     check_dataset(ds, "a map (vibimpact.map2d)")
     for v in ("regime", "period", "label", "impacts_per_period", "lyapunov"):
         if v not in ds:
             raise ValueError(f"the map dataset has no {v}")
+    check_contents(ds, grids=("eta", _vary_name(ds)))
     lk = look(figsize, dpi, style)
     name = _vary_name(ds)
     subs = _directions(ds, direction)
