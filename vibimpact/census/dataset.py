@@ -107,6 +107,47 @@ def _name(res, period):
     return text
 
 
+_START, _ATT = ("eta", "start"), ("eta", "attractor")
+#: census variable -> (dims, long_name, units or None); every one described (CF)
+_VARIABLES = {
+    "start_state": (("start", "state"), "starting state", "1"),
+    "label": (_START, "attractor reached (index along attractor)", "1"),
+    "decided_by": (_START, "how the start's attractor was known", None),
+    "periods": (_START, "forcing periods integrated", "1"),
+    "fraction": (_ATT, "basin fraction", "1"),
+    "fraction_se": (_ATT, "standard error of the basin fraction", "1"),
+    "regime": (_ATT, "kind of motion (flag)", None),
+    "period": (_ATT, "period n (T = n 2 pi / eta); 0: not periodic", "1"),
+    "impacts_per_period": (_ATT, "contacts per motion period (per forcing period when "
+                                 "period = 0)", "1"),
+    "n_arcs": (_ATT, "number of loaded arcs of the retainer (-1: not measured)", "1"),
+    "lyapunov": (_ATT, "largest Lyapunov exponent (non-periodic attractors)", "1"),
+    "floquet_abs_max": (_ATT, "largest |Floquet multiplier| (periodic attractors)", "1"),
+    "multiplier_re": (_ATT + ("multiplier",), "Floquet multipliers, real part", "1"),
+    "multiplier_im": (_ATT + ("multiplier",), "Floquet multipliers, imaginary part", "1"),
+    "representative": (_ATT + ("state",), "one stroboscopic point of the attractor", "1"),
+    "samples": (_ATT + ("sample", "state"), "stroboscopic points on the attractor", "1"),
+    "name": (_ATT, "attractor in words", None),
+    "found_by": (_ATT, "the start that found the attractor (-1: none)", "1"),
+    "global_id": (_ATT, "attractor followed across eta (global continuation)", "1"),
+}
+
+
+def _var_attrs(name, values):
+    """The CF attributes of census variable ``name`` holding ``values``."""
+    _, long_name, units = _VARIABLES[name]
+    out = dict(long_name=long_name)
+    if units is not None:
+        out["units"] = units
+    if name == "decided_by":
+        out.update(flag_values=np.arange(3, dtype=values.dtype), flag_meanings=DECIDED_FLAGS)
+    elif name == "regime":
+        out.update(flag_values=np.arange(1, 6, dtype=values.dtype), flag_meanings=REGIME_FLAGS)
+    elif name == "period":
+        out.update(period_attrs(values.dtype))
+    return out
+
+
 def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results):
     """The census Dataset (module docstring) of :func:`vibimpact.census.attractors`."""
     m, n, d = etas.size, states.shape[0], states.shape[1]
@@ -167,55 +208,14 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
             gid[i, a] = next_gid  # one id for divergence at every eta
     model = system.model
     states_names = list(model.state_names)
+    values = dict(start_state=states, label=label, decided_by=decided, periods=periods,
+                  fraction=f, fraction_se=se, regime=regime, period=period,
+                  impacts_per_period=ipp, n_arcs=n_arcs, lyapunov=lyap,
+                  floquet_abs_max=fam, multiplier_re=mre, multiplier_im=mim,
+                  representative=rep, samples=samples, name=names.astype(str),
+                  found_by=first, global_id=gid)
     ds = xr.Dataset(
-        dict(
-            start_state=(("start", "state"), states, dict(
-                long_name="starting state", units="1")),
-            label=(("eta", "start"), label, dict(
-                long_name="attractor reached (index along attractor)", units="1")),
-            decided_by=(("eta", "start"), decided, dict(
-                long_name="how the start's attractor was known",
-                flag_values=np.arange(3, dtype=np.int8), flag_meanings=DECIDED_FLAGS)),
-            periods=(("eta", "start"), periods, dict(
-                long_name="forcing periods integrated", units="1")),
-            fraction=(("eta", "attractor"), f, dict(long_name="basin fraction",
-                                                     units="1")),
-            fraction_se=(("eta", "attractor"), se, dict(
-                long_name="standard error of the basin fraction", units="1")),
-            regime=(("eta", "attractor"), regime, dict(
-                long_name="kind of motion (flag)",
-                flag_values=np.arange(1, 6, dtype=np.int8), flag_meanings=REGIME_FLAGS)),
-            period=(("eta", "attractor"), period, dict(
-                long_name="period n (T = n 2 pi / eta); 0: not periodic", units="1",
-                **period_attrs(period.dtype))),
-            impacts_per_period=(("eta", "attractor"), ipp, dict(
-                long_name="contacts per motion period (per forcing period when period "
-                          "= 0)", units="1")),
-            n_arcs=(("eta", "attractor"), n_arcs, dict(
-                long_name="number of loaded arcs of the retainer (-1: not measured)",
-                units="1")),
-            lyapunov=(("eta", "attractor"), lyap, dict(
-                long_name="largest Lyapunov exponent (non-periodic attractors)",
-                units="1")),
-            floquet_abs_max=(("eta", "attractor"), fam, dict(
-                long_name="largest |Floquet multiplier| (periodic attractors)",
-                units="1")),
-            multiplier_re=(("eta", "attractor", "multiplier"), mre, dict(
-                long_name="Floquet multipliers, real part", units="1")),
-            multiplier_im=(("eta", "attractor", "multiplier"), mim, dict(
-                long_name="Floquet multipliers, imaginary part", units="1")),
-            representative=(("eta", "attractor", "state"), rep, dict(
-                long_name="one stroboscopic point of the attractor", units="1")),
-            samples=(("eta", "attractor", "sample", "state"), samples, dict(
-                long_name="stroboscopic points on the attractor", units="1")),
-            name=(("eta", "attractor"), names.astype(str), dict(
-                long_name="attractor in words")),
-            found_by=(("eta", "attractor"), first, dict(
-                long_name="the start that found the attractor (-1: none)", units="1")),
-            global_id=(("eta", "attractor"), gid, dict(
-                long_name="attractor followed across eta (global continuation)",
-                units="1")),
-        ),
+        {k: (_VARIABLES[k][0], v, _var_attrs(k, v)) for k, v in values.items()},
         coords=dict(eta=("eta", etas, dict(long_name="forcing frequency ratio eta",
                                            units="1")),
                     start=("start", np.arange(n, dtype=np.int32), dict(

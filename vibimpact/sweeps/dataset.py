@@ -30,6 +30,7 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
 
     from ..params import DuffingParams, Params
+    from .interval_table import Intervals
     from ..points.point import PointResult, SweepSettings
     from ..system import System
 
@@ -301,7 +302,7 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
         raise ValueError(f"{name} has no usable 'params' attribute ({exc})") from None
 
 
-def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
+def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
     """The labelled frequency-interval map of a sweep.
 
     Consecutive grid points with the same label (kind of motion, period, impacts per
@@ -316,11 +317,16 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
 
     Returns
     -------
-    xarray.Dataset
-        Dim ``interval``: ``start``, ``end`` (eta of the first and last point), ``label``,
-        ``regime``, ``period``, ``impacts``, ``arcs``, ``points``, ``direction``.
+    Intervals
+        An ``xarray.Dataset`` (:class:`~vibimpact.sweeps.interval_table.Intervals`, a
+        subclass) on dim ``interval``: ``start``, ``end`` (eta of the first and last
+        point), ``label``, ``regime``, ``period``, ``impacts``, ``arcs``, ``points``,
+        ``direction``.  ``print()`` shows it as the table of :func:`format_intervals`,
+        ``.to_markdown()`` as Markdown, ``.dataset`` is the plain Dataset.
     """
     import xarray as xr
+
+    from .interval_table import as_intervals
 
     _v.dataset("ds", ds, SWEEP_DATASET)
     if "label" not in ds or "eta" not in ds.dims:
@@ -331,8 +337,8 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
         for d in dirs:
             sub = ds.sel(direction=d).drop_vars("direction")
             sub.attrs["sweep_direction"] = d
-            rows.append(intervals(sub))
-        return xr.concat(rows, dim="interval")
+            rows.append(intervals(sub).dataset)
+        return as_intervals(xr.concat(rows, dim="interval"))
     eta = ds["eta"].values
     lab = ds["label"].values
     order = np.arange(eta.size)
@@ -360,18 +366,23 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> xr.Dataset:
         {"start": ("interval", np.array(cols["start"]), dict(units="1",
                                                              long_name="first eta")),
          "end": ("interval", np.array(cols["end"]), dict(units="1", long_name="last eta")),
-         "label": ("interval", np.array(cols["label"], dtype=object)),
+         "label": ("interval", np.array(cols["label"], dtype=object),
+                   dict(long_name="regime in words")),
          "regime": ("interval", np.array(cols["regime"], dtype="i1"),
                     flag_attrs("regime", "i1")),
          "period": ("interval", np.array(cols["period"], dtype="i4"), dict(
              units="1", long_name="period n in forcing periods", **period_attrs("i4"))),
-         "impacts": ("interval", np.array(cols["impacts"])),
-         "arcs": ("interval", np.array(cols["arcs"], dtype=object)),
-         "points": ("interval", np.array(cols["points"], dtype="i4")),
-         "direction": ("interval", np.array([d] * len(cols["start"]), dtype=object))},
+         "impacts": ("interval", np.array(cols["impacts"]), dict(
+             units="1", long_name="contacts per motion period")),
+         "arcs": ("interval", np.array(cols["arcs"], dtype=object),
+                  dict(long_name="loaded arcs of the retainer, in words")),
+         "points": ("interval", np.array(cols["points"], dtype="i4"),
+                    dict(units="1", long_name="grid points in the interval")),
+         "direction": ("interval", np.array([d] * len(cols["start"]), dtype=object),
+                       dict(long_name="sweep direction"))},
         attrs=dict(title="vibimpact frequency-interval map", source=ds.attrs.get("source",
                                                                               "")))
-    return out
+    return as_intervals(out)
 
 
 def format_intervals(iv: xr.Dataset) -> str:
@@ -386,16 +397,7 @@ def format_intervals(iv: xr.Dataset) -> str:
     -------
     str
     """
+    from .interval_table import table
+
     _v.dataset("iv", iv, "the xarray.Dataset of intervals(ds)")
-    lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
-    for k in range(iv.sizes["interval"]):
-        lines.append(f"{str(iv['direction'].values[k]):<9} {_eta(iv['start'].values[k])} "
-                     f"{_eta(iv['end'].values[k])} {int(iv['points'].values[k]):6d}  "
-                     f"{iv['label'].values[k]}")
-    return "\n".join(lines)
-
-
-def _eta(value):
-    """A grid value in the interval table's 8 columns: 4 decimals, or 4 significant digits
-    from 10^4 on (1e300 printed 300 digits)."""
-    return f"{value:8.4f}" if abs(value) < 1e4 else f"{value:8.4g}"
+    return table(iv)
