@@ -197,6 +197,16 @@ def test_python_blocks_parse_and_every_vibimpact_name_exists():
     assert bad == []
 
 
+def test_every_vibimpact_name_the_pages_cite_exists():
+    """Hypothesis: each dotted name ``vibimpact.x.y`` that a page's prose cites (as code,
+    or in a Sphinx role) resolves to a module or an attribute of one, so that a name moved
+    by a refactoring cannot linger in the docs."""
+    bad = sorted({(_rel(p), n) for p in PAGES for para in _prose(p)
+                  for n in re.findall(r"[`~](vibimpact(?:\.[A-Za-z_]\w*)+)", para)
+                  if not _resolve(n)})
+    assert bad == []
+
+
 def test_grids_in_the_docs_come_from_vi_grid():
     """Hypothesis: no Python block of a page and no gallery script builds a grid with
     ``np.arange`` or ``np.linspace`` (their last bits differ from the command line's
@@ -354,7 +364,7 @@ def _environment(tmp):
                     None, [os.environ.get("PYTHONPATH")])]))
 
 
-def _shell_script(lines, ci):
+def _shell_script(lines, ci, status):
     """One bash script running ``lines`` in order, printing each one's exit status; a
     line with a set-up command CI runs (an install, the test command, the documentation
     build) runs its other commands only, joined by ``&&``."""
@@ -367,7 +377,7 @@ def _shell_script(lines, ci):
         if any(db.is_setup(s) and db.normal(s) in ci for s in segs):
             text = " && ".join(["true"] + [shlex.join(s) for s in segs
                                            if not (db.is_setup(s) and db.normal(s) in ci)])
-        out += [text, f'echo "@@rc {i} $?" >&3']
+        out += [text, f'echo "@@rc {i} $?" >> "{status}"']
     return "\n".join(out) + "\n"
 
 
@@ -406,17 +416,14 @@ def test_a_page_runs_as_pasted(page, tmp_path):
                 continue
             lines = db.shell_lines(b)
             script = tmp_path / f".block{k}.sh"
-            script.write_text(_shell_script(lines, ci))
-            r, w = os.pipe()
-            proc = subprocess.Popen(["bash", str(script)], cwd=tmp_path, env=env,
-                                    pass_fds=(w,), stdout=subprocess.PIPE,
-                                    stderr=subprocess.STDOUT, text=True,
-                                    preexec_fn=lambda w=w: os.dup2(w, 3))
-            os.close(w)
-            out, _ = proc.communicate(timeout=1800)
-            with os.fdopen(r) as f:
-                codes = dict(map(int, m.groups()) for m in
-                             re.finditer(r"@@rc (\d+) (\d+)", f.read()))
+            status = tmp_path / f".block{k}.status"
+            script.write_text(_shell_script(lines, ci, status))
+            proc = subprocess.run(["bash", str(script)], cwd=tmp_path, env=env,
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                  text=True, timeout=1800)
+            out = proc.stdout
+            codes = dict(map(int, m.groups()) for m in re.finditer(
+                r"@@rc (\d+) (\d+)", status.read_text() if status.exists() else ""))
             for i, line in enumerate(lines):
                 if codes.get(i) != line.expect:
                     failures.append((b.where, line.text, codes.get(i), out[-2000:]))
