@@ -80,3 +80,15 @@ def test_the_report_stores_its_sweep_step_and_grid():
     from, and they are the ones its report states (paper.md's first paragraph)."""
     assert PAPER["step"] > 0 and PAPER["grid"] == f"0.9:1.5:{PAPER['step']:g}"
     assert f"η = {PAPER['grid']} with pure continuation" in REPORT.split("\n\n")[1]
+
+
+def test_a_render_only_run_computes_no_sweep(tmp_path, monkeypatch):
+    """Hypothesis: with paper_sweeps.CACHE_ONLY (paper.py --render-only) a sweep that the
+    cache does not hold raises NotCached naming its file, instead of being computed, and
+    writes nothing into the cache."""
+    import paper_sweeps
+
+    monkeypatch.setattr(paper_sweeps, "CACHE_ONLY", True)
+    with pytest.raises(paper_sweeps.NotCached, match="fig8_.*nc"):
+        paper_sweeps.sweep_one(("fig8", 0.005, str(tmp_path), False, {}))
+    assert list(tmp_path.iterdir()) == []
