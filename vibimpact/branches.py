@@ -19,11 +19,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import logging
+
 import numpy as np
 
 from . import _validate as _v
 from ._fill import complex_parts
 from .bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
+
+_log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
@@ -151,10 +155,21 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
             raise ValueError(f"approach: only for the rotor (eta), not {omega_name}")
     else:
         x = system.simulate(periods=1, transient=transient, state0=x).final_state
+    _log.info("branch of the P%d orbit in %s from %g towards %g; start state %s after %d "
+              "periods of transient%s", n, param, system.param(param), stop,
+              np.array2string(np.asarray(x), precision=4), transient,
+              f" (eta stepped from {approach:g})" if approach is not None else "")
     branch = continue_orbit(system, x, n, param=param, stop=stop,
                             steps=Steps() if steps is None else steps,
                             direction=1 if stop >= system.param(param) else -1,
                             refine=refine)
+    vals = np.asarray(branch.values, dtype=float)
+    _log.info("branch: %d orbits, %s from %g to %g, %d stable; %d stability changes (%s); "
+              "ended: %s", vals.size, param, vals[0] if vals.size else np.nan,
+              vals[-1] if vals.size else np.nan, int(np.sum(branch.stable)),
+              len(branch.bifurcations), ", ".join(f"{k} at {v:g}" for _, k, v in
+                                                   branch.bifurcations) or "none",
+              branch.status)
     return branch, np.asarray(x, dtype=np.float64)
 
 

@@ -9,12 +9,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import logging
 import os
 import tempfile
 
 import numpy as np
 
 from . import _validate as _v
+
+_log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
@@ -121,6 +124,15 @@ def _cf_types(out):
     return out
 
 
+def _described(attrs):
+    """The model and parameters a file records, for the log: ``rotor, kh = 120, ...``."""
+    params = {k[6:]: v for k, v in attrs.items() if k.startswith("param_")}
+    words = [str(attrs["model"])] if attrs.get("model") else []
+    words += [f"{k} = {v:g}" if isinstance(v, (int, float)) else f"{k} = {v}"
+              for k, v in params.items()]
+    return ", ".join(words) or "no parameters recorded"
+
+
 def for_file(ds: xr.Dataset, call: str | None, *,
              netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
@@ -163,6 +175,8 @@ def for_file(ds: xr.Dataset, call: str | None, *,
 
     out = _cf_types(ds.copy(deep=False))
     out.attrs = file_attrs(ds.attrs, call)
+    _log.info("file of %s: %s; %d variables, sizes %s", out.attrs.get("title", "?"),
+              _described(out.attrs), len(out.variables), dict(out.sizes))
     encoding = {name: {"_FillValue": None} for name in out.coords}
     for name in out.indexes if netcdf else ():
         if name in out.dims and out[name].dtype.kind in _TEXT:

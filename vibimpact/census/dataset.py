@@ -17,6 +17,7 @@ next (:func:`continue_attractors`).
 """
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -28,6 +29,8 @@ from ..system import param_dict
 from ..sweeps.dataset import label_text, period_attrs
 from .reach import DECIDED_FLAGS
 from .library import nearest_distances
+
+_log = logging.getLogger(__name__)
 
 __all__ = ["census_dataset", "continue_attractors", "attractor_table", "N_SAMPLES"]
 
@@ -206,6 +209,10 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
             regime[i, a] = REGIME_CODES[Label.DIVERGED]
             names[i, a] = "diverged"
             gid[i, a] = next_gid  # one id for divergence at every eta
+    for i, lib in enumerate(libraries):
+        _log.info("census at eta %g: %d attractors from %d starts (%s)", etas[i], len(lib),
+                  n, "; ".join(f"{names[i, a]}: {f[i, a]:.3f}" for a in range(A)
+                               if np.isfinite(f[i, a])))
     model = system.model
     states_names = list(model.state_names)
     values = dict(start_state=states, label=label, decided_by=decided, periods=periods,

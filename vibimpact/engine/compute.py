@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import time
 
+from .logtext import Lazy, block
 from .progress import nothing
 from .signals import StopWorkersOnSignal, signals_deferred
 
@@ -74,7 +75,11 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
                         store.save(task.row, task.direction, run)
             progress(len(new))
         on_task(task, results)
+        blocks_done.append(task)
+        log.info("%s", Lazy(block, task, results, len(blocks_done), len(tasks),
+                            time.perf_counter() - t0))
 
+    blocks_done = []
     todo = sum(getattr(t, "todo", 0) for t in tasks)
     log.info("%d tasks (%d points to compute) on %s", len(tasks), todo, executor_name(executor))
     t0 = time.perf_counter()

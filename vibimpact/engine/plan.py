@@ -24,6 +24,7 @@ point ``n - 1 - i``).
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -31,7 +32,10 @@ import numpy as np
 from ..analysis.classify import DecisionRule
 from ..points.point import SweepSettings
 from . import warmup
+from .logtext import Lazy, parameters, request
 from .policy import Continuation, Independent
+
+log = logging.getLogger(__name__)
 
 #: the direction of the streams of :func:`plan_states` (positions are states, not a
 #: sweep of eta)
@@ -177,6 +181,9 @@ def plan(rows, etas, dirs, settings, state0, policy=None, *, done=None):
             for a, b in spans:
                 tasks.append(Task(r, d, a, b, p, order, settings, seeds.get(a), policy,
                                   {i: have[i] for i in range(a, b) if i in have}))
+    log.info("parameters%s: %s", " of row 0" if len(rows) > 1 else "",
+             Lazy(parameters, rows[0]) if len(rows) else "none")
+    log.info("plan: %s", Lazy(request, rows, etas, dirs, tasks, settings))
     return tasks
 
 
@@ -209,10 +216,14 @@ def plan_states(p, eta, states, settings, *, blocks=1, done=None):
     policy = Independent(blocks=blocks)
     starts = block_starts(m, policy.blocks)
     have = done or {}
-    return [Task(0, STATES, a, b, p, etas, settings, states[a], policy,
-                 {i: have[i] for i in range(a, b) if i in have}, states)
-            for a, b in zip(starts[:-1], starts[1:])
-            if any(i not in have for i in range(a, b))]
+    tasks = [Task(0, STATES, a, b, p, etas, settings, states[a], policy,
+                  {i: have[i] for i in range(a, b) if i in have}, states)
+             for a, b in zip(starts[:-1], starts[1:])
+             if any(i not in have for i in range(a, b))]
+    log.info("parameters: %s", Lazy(parameters, p))
+    log.info("plan: %d starting states at eta %.6g in %d blocks, %d to compute", m,
+             float(eta), len(tasks), sum(t.todo for t in tasks))
+    return tasks
 
 
 def run_task(task, on_point=None):

@@ -13,10 +13,14 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import logging
+
 import numpy as np
 
 from .. import _validate as _v
 from .._fill import complex_parts
+
+_log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -218,6 +222,10 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
         SOLVER_FIELDS).items()})
     glob.update(attrs or {})
     ds.attrs.update({k: "" if v is None else v for k, v in glob.items()})
+    _log.info("orbit hunt at %s = %g from %d seeds: %d orbits (%s); counts %s; timings %s",
+              hunt.param, float(hunt.value), int(hunt.seeds.shape[0]), len(orbits),
+              "; ".join(str(o.label) for o in orbits) or "none", dict(hunt.counts),
+              {k: round(float(v), 2) for k, v in hunt.timings.items()})
     return ds
 
 

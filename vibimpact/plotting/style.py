@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import logging
 import math
 import numbers
 import os
@@ -345,6 +346,9 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+    w, h = fig.get_size_inches()
+    logging.getLogger(__name__).info("figure written to %s (%.3g x %.3g in, %g dpi)", path,
+                                     w, h, fig.dpi if dpi is None else dpi)
 
 
 def look(figsize=None, dpi=None, style=None, ax=None):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import logging
 from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
@@ -20,9 +21,12 @@ from ..analysis.classify import DecisionRule, Label
 from ..system import System
 from .codes import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERMANENT,
                     REGIME_CODES, REGIME_FLAGS)
+from .logtext import Lazy, point as point_text
 from .measure import measure
 from .settle import MAX_SHOTS
 from .transient import settle
+
+_log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
@@ -289,5 +293,8 @@ def analyse_point(p: Params | DuffingParams | System, state0: ArrayLike | None,
         np.asarray(state0, dtype=np.float64).copy()
     settled = settle(system, x, settings, guess)
     if settled.failure is not None:
-        return res.diverged(*settled.failure)
-    return measure(system, settled, settings, res)
+        res = res.diverged(*settled.failure)
+    else:
+        res = measure(system, settled, settings, res)
+    _log.debug("%s", Lazy(point_text, system.omega, res))
+    return res
