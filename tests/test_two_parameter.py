@@ -37,7 +37,7 @@ def soft_curve():
     """The soft-impact grazing curve in (eta, A), A from 0.26 to 0.34."""
     system = vi.System(SOFT.replace(eta=0.83))
     return system, continue_bifurcation(system, [0.8, 0.0], 1, "grazing",
-                                        params=("eta", "A"), stop=(0.26, 0.34))
+                                        pair=("eta", "A"), stop=(0.26, 0.34))
 
 
 def test_soft_impact_grazing_curve_is_the_analytic_one(soft_curve):
@@ -96,7 +96,7 @@ def test_duffing_fold_curves_agree_with_harmonic_balance(which, guess):
     system = vi.System(vi.DuffingParams(delta=DELTA, alpha=1.0, beta=BETA,
                                         gamma=gamma0 * (1.02 if which == 0 else 0.98),
                                         omega=W0))
-    c = continue_bifurcation(system, guess(a0, W0), 1, "fold", params=("gamma", "omega"),
+    c = continue_bifurcation(system, guess(a0, W0), 1, "fold", pair=("gamma", "omega"),
                              stop=W1, step=0.01)
     assert c.values[-1, 1] == W1
     hb = np.array([_hb_folds(w)[which][0] for w in c.values[:, 1]])
@@ -119,7 +119,7 @@ def test_duffing_period_doubling_curve_starts_at_the_refined_one_parameter_value
     br = continue_orbit(s, x, param="gamma", stop=0.28, refine=1e-8, amplitude=False)
     (i, _, value), = [b for b in br.bifurcations if b[1] == "period doubling"]
     c = continue_bifurcation(s.with_param("gamma", br.values[i - 1]), br.states[i - 1], 1,
-                             "pd", params=("gamma", "omega"), stop=(1.18, 1.22))
+                             "pd", pair=("gamma", "omega"), stop=(1.18, 1.22))
     at = int(np.argmin(np.abs(c.values[:, 1] - 1.2)))
     assert c.values[at, 1] == 1.2 and abs(c.values[at, 0] - value) < 1e-6
     mu = c.multipliers[:, 0]
@@ -168,16 +168,16 @@ def test_curve_dataset_holds_the_curve(soft_curve, tmp_path):
 
 @pytest.mark.parametrize("kwargs,name", [
     (dict(kind="hopf"), "kind"),
-    (dict(kind="grazing", params=("eta", "eta")), "params"),
-    (dict(kind="fold", params=("eta", "nope")), "param"),
+    (dict(kind="grazing", pair=("eta", "eta")), "pair"),
+    (dict(kind="fold", pair=("eta", "nope")), "param"),
     (dict(kind="fold", stop=(0.9, 1.0)), "stop"),
 ])
 def test_bad_input_names_the_argument(kwargs, name):
     """Hypothesis: bad input raises ValueError naming the argument."""
     system = vi.System(vi.DuffingParams())
-    args = dict(params=("omega", "gamma"), stop=0.6)
+    args = dict(pair=("omega", "gamma"), stop=0.6)
     args.update(kwargs)
-    if args["params"] == ("eta", "eta") or args["params"] == ("eta", "nope"):
+    if args["pair"] == ("eta", "eta") or args["pair"] == ("eta", "nope"):
         system = vi.System(SOFT)
     with pytest.raises(ValueError, match=f"^{name}"):
         continue_bifurcation(system, [0.0, 0.0], 1, **args)
@@ -185,10 +185,10 @@ def test_bad_input_names_the_argument(kwargs, name):
 
 def test_grazing_of_a_model_without_contact_is_refused():
     """Hypothesis: a grazing curve needs a contact: the Duffing oscillator is refused
-    naming params."""
-    with pytest.raises(ValueError, match="^params.*no contact"):
+    naming pair."""
+    with pytest.raises(ValueError, match="^pair.*no contact"):
         continue_bifurcation(vi.System(vi.DuffingParams()), [0.0, 0.0], 1, "grazing",
-                             params=("omega", "gamma"), stop=0.6)
+                             pair=("omega", "gamma"), stop=0.6)
 
 
 @pytest.mark.parametrize("argv,words", [

@@ -155,7 +155,7 @@ def _cmd_continue2(args):
     seed, x = _seed(args, system, kind)
     try:
         curve = continue_bifurcation(seed, x, args.period, kind,
-                                     params=(args.param1, args.param2), stop=window,
+                                     pair=(args.param1, args.param2), stop=window,
                                      step=args.step, max_points=args.max_points)
     except ValueError as exc:
         raise UsageError(error_text(exc) + ("" if args.stop1 is not None else

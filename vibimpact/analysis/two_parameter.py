@@ -28,7 +28,7 @@ each value of ``p2`` the bifurcation is *located in* ``p1`` from that predictor:
   :func:`~vibimpact.analysis.bifurcation.grazing_gap` with its sign).
 
 The curve is a graph over ``p2``: it ends (``status``) where the location fails with the
-smallest step, e.g. where the curve turns back in ``p2`` (swap ``params`` to follow it
+smallest step, e.g. where the curve turns back in ``p2`` (swap ``pair`` to follow it
 there) or the bifurcation ends in a codimension-two point.  Pseudo-arclength in both
 parameters is not attempted.
 
@@ -336,7 +336,7 @@ def _window2(stop, start):
 
 def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
                          kind: str | BifurcationKind = "fold", *,
-                         params: tuple = ("eta", "kh"), stop: float | tuple,
+                         pair: tuple = ("eta", "kh"), stop: float | tuple,
                          step: float | None = None, min_step: float | None = None,
                          max_points: int = 200, tol: float = 1e-10,
                          max_iter: int = 12, dp1: float | None = None) -> BifurcationCurve:
@@ -348,14 +348,14 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
     system : System
         Model, parameters and solver settings (defaults
         :data:`~vibimpact.analysis.bifurcation.CONTINUATION_SOLVER`); its values of
-        ``params`` are the start: ``p1`` a guess of the bifurcation's value at ``p2``.
+        ``pair`` are the start: ``p1`` a guess of the bifurcation's value at ``p2``.
     state0 : array_like, shape (d,)
         A guess of the orbit's stroboscopic point there.
     n : int
         The orbit's period in forcing periods.
     kind : str or BifurcationKind
         ``"fold"``, ``"period doubling"`` (or ``"pd"``) or ``"grazing"``.
-    params : (str, str)
+    pair : (str, str)
         ``(p1, p2)``: the bifurcation is located in ``p1`` at every ``p2`` (module
         docstring).
     stop : float or (float, float)
@@ -364,7 +364,10 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
     step : float, optional
         First step in ``p2`` (default a 40th of the window); it grows x1.5 after a point
         found in at most 4 iterations, up to 4 times the first, and is halved after a
-        failure down to ``min_step`` (default ``step / 64``).
+        failure down to ``min_step``.
+    min_step : float, optional
+        Smallest step in ``p2`` after halvings (default ``step / 64``); the march stops
+        below it.
     max_points : int
         Curve points at most per direction.
     tol : float
@@ -383,7 +386,7 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
     Raises
     ------
     ValueError
-        Naming the argument: ``kind``, ``params`` (unknown, equal, or a model without a
+        Naming the argument: ``kind``, ``pair`` (unknown, equal, or a model without a
         contact for grazing), ``state0`` (the bifurcation not found at the start).
 
     Examples
@@ -391,7 +394,7 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
     >>> import vibimpact as vi
     >>> from vibimpact.analysis import continue_bifurcation
     >>> sys = vi.System(vi.presets.get("soft-impact").replace(eta=0.83))
-    >>> c = continue_bifurcation(sys, [0.8, 0.0], 1, "grazing", params=("eta", "A"),
+    >>> c = continue_bifurcation(sys, [0.8, 0.0], 1, "grazing", pair=("eta", "A"),
     ...                          stop=0.31, step=0.01)
     >>> c.values.shape
     (2, 2)
@@ -399,15 +402,15 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
     system = as_system(system).resolved(**CONTINUATION_SOLVER)
     kind = curve_kind(kind)
     n = _v.count("n", n, 1)
-    if isinstance(params, str) or len(params) != 2:
-        raise ValueError(f"params must be two parameter names, got {params!r}")
-    p1, p2 = params
+    if isinstance(pair, str) or len(pair) != 2:
+        raise ValueError(f"pair must be two parameter names, got {pair!r}")
+    p1, p2 = pair
     v1, v2 = system.param(p1), system.param(p2)  # ValueError naming param otherwise
     if param_name(system, p1) == param_name(system, p2):
-        raise ValueError(f"params must be two different parameters, got {params!r}")
+        raise ValueError(f"pair must be two different parameters, got {pair!r}")
     if kind is BifurcationKind.GRAZING and (system.model.contact is None or
                                             system.model.contact.extremum is None):
-        raise ValueError(f"params: the model {system.model.name!r} has no contact, so "
+        raise ValueError(f"pair: the model {system.model.name!r} has no contact, so "
                          "no grazing")
     lo, hi = _window2(stop, v2)
     if lo == hi:
