@@ -218,3 +218,24 @@ def test_file_attrs_add_references_source_and_title():
     assert provenance.file_attrs({"kind": "census"}, "t")["title"] == "vibimpact census"
     kept = provenance.file_attrs({"title": "mine", "references": "r", "source": "s"}, "t")
     assert (kept["title"], kept["references"], kept["source"]) == ("mine", "r", "s")
+
+
+def test_a_dataset_read_from_an_int64_file_is_written_cf18_clean(tmp_path):
+    """Hypothesis: a dataset read from a file that stores int64 (a file of an older
+    vibimpact, or plain xarray) keeps int64 as its stored type; written again by
+    write_netcdf it passes the checker all the same, a masked integer variable (read as
+    floats with NaN) stored as int32 with its fill value, and reads back the same."""
+    import xarray as xr
+
+    plain = tmp_path / "old.nc"
+    xr.Dataset({"n": ("k", np.array([1, -1, 3]), dict(_FillValue=-1, long_name="n",
+                                                       units="1")),
+                "m": ("k", np.array([5, 6, 7]), dict(long_name="m", units="1"))},
+               attrs=dict(title="t")).to_netcdf(plain)
+    old = vi.io.read_netcdf(plain)
+    assert old["m"].encoding["dtype"] == np.int64 and old["n"].dtype == np.float64
+    vi.io.write_netcdf(old, tmp_path / "again.nc")
+    assert cf18_problems(tmp_path / "again.nc") == []
+    back = vi.io.read_netcdf(tmp_path / "again.nc")
+    np.testing.assert_array_equal(back["n"].values, [1, np.nan, 3])
+    assert back["m"].values.tolist() == [5, 6, 7] and back["m"].dtype == np.int32

@@ -100,23 +100,56 @@ def _typed(attrs, dtype):
     return out
 
 
+def _foreign(dtype):
+    """Whether ``dtype`` is an integer type CF-1.8 does not have (int64, unsigned)."""
+    dtype = np.dtype(dtype)
+    return dtype.kind in "iu" and dtype.name not in CF_INTEGERS
+
+
+def _cf_encoding(var, values):
+    """``var``'s encoding with a stored type CF-1.8 does not have (a dataset read from
+    an older file keeps int64 there, whatever its values are now) as int32, or float64
+    when ``values`` or the fill value do not fit int32; None when nothing changes."""
+    enc = var.encoding
+    if "dtype" not in enc or not _foreign(enc["dtype"]):
+        return None
+    enc = dict(enc)
+    vals = np.asarray(values, dtype=np.float64)
+    fill = enc.get("_FillValue", enc.get("missing_value"))
+    probe = np.append(vals[np.isfinite(vals)], [] if fill is None else np.ravel(fill))
+    enc["dtype"] = _cf_integer(probe.astype(np.int64) if probe.size and
+                               np.all(np.abs(probe) < 2.0**62) else probe.astype(np.float64))
+    for key in ("_FillValue", "missing_value"):
+        if enc.get(key) is not None:
+            enc[key] = np.asarray(enc[key]).astype(enc["dtype"])[()]
+    return enc
+
+
 def _cf_types(out):
     """``out`` with every integer variable of a type CF-1.8 does not know (int64, the
-    unsigned types) as int32 (or float64 when its values do not fit), and the attributes
-    that must have the variable's type (:data:`_TYPED_ATTRS`: ``flag_values``, the valid
-    range) of every numeric variable in its type."""
+    unsigned types) as int32 (or float64 when its values do not fit), in memory and in
+    its encoding (the type a file it was read from stored), and the attributes that must
+    have the variable's type (:data:`_TYPED_ATTRS`: ``flag_values``, the valid range)
+    of every numeric variable in its type."""
     for name in list(out.variables):
         var = out.variables[name]
         if var.dtype.kind not in "biuf":
             continue
-        if var.dtype.kind in "iu" and var.dtype.name not in CF_INTEGERS:
+        values = None
+        if _foreign(var.dtype):
             values = np.asarray(var.values)
             new = var.copy(data=values.astype(_cf_integer(values)))
-        elif any(key in var.attrs for key in _TYPED_ATTRS):
+        elif any(key in var.attrs for key in _TYPED_ATTRS) or _foreign(
+                var.encoding.get("dtype", "f8")):
             new = var.copy(deep=False)
         else:
             continue
-        new.attrs = _typed(var.attrs, new.dtype)
+        encoding = _cf_encoding(new, new.values)
+        if encoding is not None:
+            new.encoding = encoding
+        elif values is not None:  # converted here: the old stored type goes too
+            new.encoding = {k: v for k, v in var.encoding.items() if k != "dtype"}
+        new.attrs = _typed(var.attrs, np.dtype(new.encoding.get("dtype", new.dtype)))
         if name in out.coords:  # an index coordinate stays one
             out = out.assign_coords({name: new})
         else:
