@@ -12,7 +12,7 @@ import itertools
 import numpy as np
 import pytest
 import xarray as xr
-from matplotlib.colors import to_rgb, to_rgba
+from matplotlib.colors import to_rgba
 
 from vibimpact.plotting import plot_intervals, plot_response
 from vibimpact.plotting import style
