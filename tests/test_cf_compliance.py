@@ -239,3 +239,24 @@ def test_a_dataset_read_from_an_int64_file_is_written_cf18_clean(tmp_path):
     back = vi.io.read_netcdf(tmp_path / "again.nc")
     np.testing.assert_array_equal(back["n"].values, [1, np.nan, 3])
     assert back["m"].values.tolist() == [5, 6, 7] and back["m"].dtype == np.int32
+
+
+@pytest.mark.slow
+def test_every_special_value_a_long_name_gives_is_declared(files, tmp_path):
+    """Hypothesis: a variable whose long_name gives -1 a meaning ("-1: not counted",
+    "-1: none") declares it in CF terms, not only in words: -1 is below its valid_min
+    (missing, CF 2.5.1) or one of its flag_values (CF 3.5); every file kind."""
+    import netCDF4
+
+    bad = []
+    for kind, path in files.items():
+        with netCDF4.Dataset(as_netcdf(path, tmp_path)) as f:
+            for name, var in f.variables.items():
+                text = str(getattr(var, "long_name", ""))
+                if "-1:" not in text and "-1 :" not in text:
+                    continue
+                flags = np.atleast_1d(getattr(var, "flag_values", []))
+                low = getattr(var, "valid_min", None)
+                if not (-1 in flags.tolist() or (low is not None and low > -1)):
+                    bad.append(f"{kind}: {name} ({text})")
+    assert bad == []

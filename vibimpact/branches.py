@@ -28,6 +28,9 @@ from ._fill import complex_parts
 from .bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
 
 _log = logging.getLogger(__name__)
+#: the attributes of a count whose -1 means "not counted": valid from 0, so that -1 is
+#: outside the valid range, missing to a CF reader (CF 2.5.1), not a count
+_COUNTED = dict(valid_min=np.int32(0))
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
@@ -198,7 +201,7 @@ def _point_vars(branch, names):
         out["impacts_per_period"] = (
             "point", np.asarray(impacts, dtype="i4"),
             dict(units="1", long_name="impacts (contact entries) per period of the orbit "
-                                      "(-1: not counted)"))
+                                      "(-1: not counted)", **_COUNTED))
     for key, values in branch.amplitude.items():
         long_name = (f"response amplitude max |{key[:-2]}| of the orbit" if key != "R_m"
                      else "largest radial displacement max R of the orbit / clearance")
@@ -231,11 +234,11 @@ def _event_vars(branch):
         "bifurcation_impacts_before": (
             "bifurcation", np.array([a for a, _ in impacts], dtype="i4"),
             dict(units="1", long_name="impacts per period of the orbit before the "
-                                      "bifurcation (-1: not counted)")),
+                                      "bifurcation (-1: not counted)", **_COUNTED)),
         "bifurcation_impacts_after": (
             "bifurcation", np.array([b for _, b in impacts], dtype="i4"),
             dict(units="1", long_name="impacts per period of the orbit after the "
-                                      "bifurcation (-1: not counted)")),
+                                      "bifurcation (-1: not counted)", **_COUNTED)),
         "bifurcation_value": ("bifurcation", np.array([v for _, _, v in events], float),
                               value),
         "bifurcation_lower": ("bifurcation", np.array(lo, dtype=np.float64), lower),

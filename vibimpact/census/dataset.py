@@ -148,6 +148,8 @@ def _var_attrs(name, values):
         out.update(flag_values=np.arange(1, 6, dtype=values.dtype), flag_meanings=REGIME_FLAGS)
     elif name == "period":
         out.update(period_attrs(values.dtype))
+    elif name in ("n_arcs", "found_by"):  # -1 (not measured, none): outside the valid
+        out["valid_min"] = np.zeros((), values.dtype)[()]  # range, missing to CF readers
     return out
 
 

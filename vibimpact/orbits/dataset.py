@@ -66,7 +66,8 @@ def _orbit_vars(orbits, d):
                                                   "orbit in forcing periods",
                                                   valid_min=np.int32(1))),
         "impacts_per_period": ("orbit", ints("impacts"), dict(one, long_name=(
-            "impacts (contact entries) per period of the orbit (-1: not counted)"))),
+            "impacts (contact entries) per period of the orbit (-1: not counted)"),
+            valid_min=np.int32(0))),
         "n_arcs": ("orbit", ints("n_arcs"), dict(one, long_name="contact arcs the "
                                                   "impacts fall on")),
         "arcs": ("orbit", np.array([o.arcs for o in orbits], dtype=object),
@@ -146,7 +147,7 @@ def _extent_vars(orbits, param):
         "branch_impacts": (("orbit", "branch_point"), _padded(
             [getattr(e, "impacts", ()) for e in br], n_pts, -1, "i4"), dict(
             one, long_name="impacts per period at the branch point (-1: not counted "
-                           "or padding)")),
+                           "or padding)", valid_min=np.int32(0))),
         "branch_abs_max": (("orbit", "branch_point"), _padded(
             [getattr(e, "abs_max", ()) for e in br], n_pts), dict(one, long_name=(
                 "|mu|max at the branch point"))),
