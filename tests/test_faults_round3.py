@@ -95,15 +95,16 @@ def test_a_running_child_is_never_counted_stopped(monkeypatch):
         proc.wait()
 
 
-def test_a_stopped_queue_process_ends_a_read_instead_of_blocking_it():
-    """Hypothesis: reading the points' queue of a manager whose process is stopped
-    raises StoppedChild (the answer is awaited in polls under the watch) instead of
-    blocking in recv for good, and ending the manager kills it (a stopped manager never
-    answers 'shutdown')."""
+def test_a_stopped_queue_process_ends_a_wait_instead_of_blocking_it():
+    """Hypothesis: the points are taken off the queue by a thread of their own, so that
+    waiting for them on a manager whose process is stopped raises StoppedChild in the
+    main thread (never a recv or a connection handshake blocked for good); ending the
+    manager kills it (a stopped manager never answers 'shutdown') and the thread ends
+    with it."""
     import multiprocessing as mp
     from multiprocessing.managers import SyncManager
 
-    from vibimpact.engine.executors import _end_manager, _get_nowait
+    from vibimpact.engine.executors import Drainer, _end_manager
     from vibimpact.engine.watch import StoppedChild, Watch, is_stopped
 
     manager = SyncManager(ctx=mp.get_context("fork"))
@@ -112,18 +113,23 @@ def test_a_stopped_queue_process_ends_a_read_instead_of_blocking_it():
     try:
         q = manager.Queue()
         q.put(1)
+        points = Drainer(q)
+        points.start()
         watch = Watch(lambda: {proc.pid: "the points' queue process"}, grace=0.0)
-        assert _get_nowait(q, watch) == 1
+        points.sync(watch)
+        assert points.take() == [1]
         os.kill(proc.pid, signal.SIGSTOP)
         for _ in range(10000):
             if is_stopped(proc.pid):
                 break
             os.sched_yield()
         with pytest.raises(StoppedChild, match="queue process was stopped"):
-            _get_nowait(q, watch)
+            points.sync(watch)
     finally:
         _end_manager(manager)
     assert not proc.is_alive()
+    points.join(10.0)
+    assert not points.is_alive()
 
 
 # --- signals held during a write, temporaries of dead writers ------------------------

@@ -24,7 +24,14 @@ what it left:
 * **user model sizes** -- user models that declare fewer state entries, parameters or
   modes than their functions use, an ``omega_index`` outside the parameters, a plain
   Python function, a complex state (one Python process each, through ``simulate``,
-  ``lyapunov_spectrum`` and ``sweep``): refused before the kernel runs them.
+  ``lyapunov_spectrum`` and ``sweep``): refused before the kernel runs them;
+* the classes of the third adversarial round (stopped processes, signals during large
+  writes, writes killed, the resource tracker killed, damaged map stores, raw parameter
+  vectors, array coercion, numerical edges, tampered files, options refused up front,
+  plots of bad files): see ``_cases_round3.py``.
+
+``--only CLASS`` (repeatable) runs the cases of those classes alone and prints their
+table without writing the report.
 
 Verdicts per case: *hang* (still running at its time limit: the process group is
 killed), *traceback* (``Traceback`` or ``Exception ignored`` on stderr), *clean* (no
@@ -52,6 +59,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import _cases_round3
 from _reliability_cases import (API_WORDS, BOUNDS, USER_MODEL, USER_MODEL_CASES,
                                WORDING)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
@@ -452,22 +460,42 @@ def user_model_cases(base, timeout):
     return out
 
 
-def measure(quick=False, timeout=300):
-    """Every case's :class:`Outcome`, and the reference wall times."""
+#: class -> the function of this module that runs its cases (the reference runs first)
+CLASS_CASES = {
+    "killed worker": lambda b, r, w, m, t: killed_worker_cases(b, r, w, m, t),
+    "SIGTERM": lambda b, r, w, m, t: signal_cases(b, r, w, m, t),
+    "SIGINT": lambda b, r, w, m, t: signal_cases(b, r, w, m, t),
+    "disk full": lambda b, r, w, m, t: disk_full_cases(b, r, t),
+    "vanished checkpoint": lambda b, r, w, m, t: vanished_cases(b, r, w, t),
+    "foreign checkpoint entry": lambda b, r, w, m, t: foreign_cases(b, r, w, t),
+    "limits and paths": lambda b, r, w, m, t: bad_input_cases(b, t),
+    "continuation at a bound": lambda b, r, w, m, t: bound_cases(b, t),
+    "command-line wording": lambda b, r, w, m, t: wording_cases(b, t),
+    "user model sizes": lambda b, r, w, m, t: user_model_cases(b, t),
+}
+#: the classes that need the reference runs
+NEEDS_REFERENCES = {"killed worker", "SIGTERM", "SIGINT", "disk full",
+                    "vanished checkpoint", "foreign checkpoint entry"}
+
+
+def measure(quick=False, timeout=300, only=None):
+    """Every case's :class:`Outcome` (of the classes ``only``, a set, if given), and
+    the reference wall times."""
     moments = (0.5,) if quick else (0.1, 0.5, 0.95)
     base = Path(tempfile.mkdtemp(prefix="vibimpact-reliability-"))
     try:
-        ref, wall = references(base, timeout)
-        out = []
-        out += killed_worker_cases(base, ref, wall, moments, timeout)
-        out += signal_cases(base, ref, wall, moments, timeout)
-        out += disk_full_cases(base, ref, timeout)
-        out += vanished_cases(base, ref, wall, timeout)
-        out += foreign_cases(base, ref, wall, timeout)
-        out += bad_input_cases(base, timeout)
-        out += bound_cases(base, timeout)
-        out += wording_cases(base, timeout)
-        out += user_model_cases(base, timeout)
+        ref, wall = {}, {}
+        if not only or only & NEEDS_REFERENCES:
+            ref, wall = references(base, timeout)
+        out, ran = [], set()
+        for klass, func in CLASS_CASES.items():
+            if (only and klass not in only) or func.__code__ in ran:
+                continue
+            if klass in ("SIGTERM", "SIGINT"):  # one function runs both
+                ran.add(func.__code__)
+            out += [o for o in func(base, ref, wall, moments, timeout)
+                    if not only or o.klass in only]
+        out += _cases_round3.measure(sys.modules[__name__], base, timeout, only)
         return out, wall
     finally:
         subprocess.run(["umount", str(base / "small")], capture_output=True)
@@ -542,15 +570,24 @@ def main(argv=None):
     ap.add_argument("--no-report", action="store_true", help="print only")
     ap.add_argument("--timeout", type=float, default=300.0,
                     help="seconds before a run counts as hung (default 300)")
+    ap.add_argument("--only", action="append", metavar="CLASS",
+                    help="run only the cases of this class (repeatable); the report is "
+                         "then printed, not written")
     args = ap.parse_args(argv)
     REPORT = smoke.moved(REPORT, args.smoke)
     if args.smoke is not None:
         smoke.shrink(globals(), args.smoke, **_smoke_cases())
+        _cases_round3.shrink()
         args.quick = True
-    outcomes, wall = measure(args.quick, args.timeout)
+    only = set(args.only or ())
+    unknown = only - set(CLASS_CASES) - set(_cases_round3.CLASSES)
+    if unknown:
+        ap.error(f"--only: unknown class {sorted(unknown)[0]!r} (one of "
+                 f"{', '.join(sorted(set(CLASS_CASES) | set(_cases_round3.CLASSES)))})")
+    outcomes, wall = measure(args.quick, args.timeout, only or None)
     text = report(outcomes, wall, args.quick)
     print(text)
-    if not args.no_report:
+    if not args.no_report and not only:
         write_section(REPORT, SECTION, text)
     return 0
 

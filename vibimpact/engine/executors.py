@@ -38,9 +38,11 @@ Which executor runs a plan never changes a number.
 """
 from __future__ import annotations
 
+import collections
 import os
 import queue as _queue
 import sys
+import threading
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
@@ -168,23 +170,34 @@ class Processes:
                            for job in jobs}
         except BrokenProcessPool as exc:  # a worker died while the jobs were handed out
             raise WorkerLost(DIED) from exc
-        pending = set(futures)
-        while pending:
-            done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
-            _drain(q, tasks, on_point, watch)
-            for f in done:
-                try:
-                    results = f.result()  # re-raises a worker's exception
-                except BrokenProcessPool as exc:
-                    _drain(q, tasks, on_point, watch)  # what the others finished
-                    raise WorkerLost(DIED) from exc
-                except (EOFError, ConnectionError) as exc:  # the queue's process died
-                    raise _queue_died(exc) from exc
-                for task, res in zip(futures[f], results):
-                    on_task(task, res)
-            if pending:
-                watch.check()  # a stopped worker or queue process ends the run
-        _drain(q, tasks, on_point, watch)
+        points = None if q is None else Drainer(q)
+        try:
+            if points is not None:
+                points.start()
+            pending = set(futures)
+            while pending:
+                done, pending = wait(pending, timeout=0.05, return_when=FIRST_COMPLETED)
+                if done and points is not None:  # every point of a finished job first
+                    points.sync(watch)
+                _deliver(points, tasks, on_point)
+                for f in done:
+                    try:
+                        results = f.result()  # re-raises a worker's exception
+                    except BrokenProcessPool as exc:
+                        _deliver(points, tasks, on_point)  # what the others finished
+                        raise WorkerLost(DIED) from exc
+                    except (EOFError, ConnectionError) as exc:  # the queue's process died
+                        raise _queue_died(exc) from exc
+                    for task, res in zip(futures[f], results):
+                        on_task(task, res)
+                if pending:
+                    watch.check()  # a stopped worker or queue process ends the run
+            if points is not None:
+                points.sync(watch)
+            _deliver(points, tasks, on_point)
+        finally:
+            if points is not None:
+                points.finish = True
 
 
 def _queue_died(exc):
@@ -195,40 +208,77 @@ def _queue_died(exc):
     return WorkerLost(f"the points' queue process died unexpectedly ({why})")
 
 
-def _get_nowait(q, watch):
-    """``q.get_nowait()`` on a manager's queue proxy, its answer awaited in short polls
-    with :meth:`Watch.check` between them: a stopped queue process ends the run
-    (:class:`StoppedChild`) instead of blocking this process in ``recv`` for good."""
-    from multiprocessing.managers import convert_to_error
+class Drainer(threading.Thread):
+    """The thread that takes the finished points off the points' queue (a manager's
+    queue proxy), so that this process's main thread never waits on the queue's
+    process: a stopped queue process (SIGSTOP), even one stopped half-way through an
+    answer or a connection's handshake, blocks this thread only, and the main thread's
+    waits (:meth:`sync`) watch the children meanwhile.  The thread ends when told to
+    (:attr:`finish`) or when the queue's process is gone (killed after every run)."""
 
-    try:
-        conn = q._tls.connection
-    except AttributeError:
+    def __init__(self, q):
+        super().__init__(name="vibimpact-points", daemon=True)
+        self.q = q
+        self.items = collections.deque()
+        self.error = None
+        self.finish = False
+        self.requests = _queue.SimpleQueue()
+
+    def run(self):
         try:
-            q._connect()
-            conn = q._tls.connection
-        except AttributeError:  # another implementation of the proxies: plain call
-            return q.get_nowait()
-    conn.send((q._id, "get_nowait", (), {}))
-    while not conn.poll(0.05):
-        watch.check()
-    kind, result = conn.recv()
-    if kind == "#RETURN":
-        return result
-    raise convert_to_error(kind, result)
+            while True:
+                asked = []  # requests made before this get: all answered by its Empty
+                while True:
+                    try:
+                        asked.append(self.requests.get_nowait())
+                    except _queue.Empty:
+                        break
+                try:
+                    self.items.append(self.q.get(timeout=0.05))
+                except _queue.Empty:
+                    for event in asked:
+                        event.set()
+                    if self.finish:
+                        return
+                    continue
+                for event in asked:  # not answered yet: asked again
+                    self.requests.put(event)
+        except BaseException as exc:  # noqa: BLE001 -- handed to the main thread
+            self.error = exc
+
+    def sync(self, watch):
+        """Return once every point put on the queue before this call has been taken
+        (see :meth:`take`), :meth:`Watch.check` between short waits; the thread's error
+        (a lost queue process) is raised, as :class:`WorkerLost`."""
+        event = threading.Event()
+        self.requests.put(event)
+        while not event.wait(0.05):
+            if self.error is not None or not self.is_alive():
+                break
+            watch.check()
+        if self.error is not None:
+            exc = self.error
+            if isinstance(exc, (EOFError, ConnectionError)):
+                raise _queue_died(exc) from exc
+            raise exc
+
+    def take(self):
+        """The points taken so far and not returned before."""
+        out = []
+        while self.items:
+            out.append(self.items.popleft())
+        return out
 
 
-def _drain(q, tasks, on_point, watch):
-    if q is None:
+def _deliver(points, tasks, on_point):
+    """``on_point`` for every point the :class:`Drainer` ``points`` has taken; a lost
+    queue process is raised (:class:`WorkerLost`)."""
+    if points is None:
         return
-    while True:
-        try:
-            row, d, start, i, res = _get_nowait(q, watch)
-        except _queue.Empty:
-            return
-        except (EOFError, ConnectionError) as exc:  # the manager process died
-            raise _queue_died(exc) from exc
+    for row, d, start, i, res in points.take():
         on_point(tasks[(row, d, start)], i, res)
+    if isinstance(points.error, (EOFError, ConnectionError)):
+        raise _queue_died(points.error) from points.error
 
 
 def _end_manager(manager):
