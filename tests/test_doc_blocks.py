@@ -98,50 +98,54 @@ def test_every_shell_command_and_option_of_the_docs_exists():
     assert bad == []
 
 
+def _rewrites(lines):
+    """``[(where, line, why), ...]``: the lines of one page (in order) that write a file
+    an earlier line wrote without ``--overwrite``, or ``--resume`` a run an earlier line
+    finished without ``--keep-checkpoint``; lines marked ``# exits N`` are left alone."""
+    bad, written, kept = [], set(), set()
+    for line in lines:
+        for seg in db.segments(db.command(line) or []):
+            if seg[:1] != ["vibimpact"] or line.expect != 0:
+                continue
+            outs = db.outputs(seg)
+            if "--resume" in seg and any(o in written - kept for o in outs):
+                bad.append((line.block.where, line.text, "resumes a finished run"))
+            elif "--overwrite" not in seg and "--resume" not in seg:
+                again = [o for o in outs if o in written]
+                if again:
+                    bad.append((line.block.where, line.text, f"writes {again} again"))
+            written.update(outs)
+            if "--keep-checkpoint" in seg:
+                kept.update(outs)
+    return bad
+
+
 def test_no_page_writes_a_file_twice_or_resumes_a_finished_run():
     """Hypothesis: pasted in order, no shell line of a page writes a file an earlier line
     of the page wrote (it would stop at 'exists') unless it says ``--overwrite``, and no
     ``--resume`` line names an output an earlier line finished without
     ``--keep-checkpoint`` (there is no checkpoint left to resume), unless the page marks
     the line ``# exits N``."""
-    bad = []
-    for page in PAGES:
-        written, kept = set(), set()
-        for line in _lines(page):
-            words = db.command(line) or []
-            for seg in db.segments(words):
-                if seg[:1] != ["vibimpact"]:
-                    continue
-                outs = db.outputs(seg)
-                if line.expect == 0:
-                    if "--resume" in seg and any(o in written - kept for o in outs):
-                        bad.append((line.block.where, line.text, "resumes a finished run"))
-                    elif "--overwrite" not in seg and "--resume" not in seg:
-                        again = [o for o in outs if o in written]
-                        if again:
-                            bad.append((line.block.where, line.text, f"writes {again} again"))
-                    written.update(outs)
-                    if "--keep-checkpoint" in seg:
-                        kept.update(outs)
-    assert bad == []
+    assert [bad for page in PAGES for bad in _rewrites(_lines(page))] == []
 
 
-def test_flagging_catches_the_old_usage_block():
-    """Hypothesis: the two checks above fail on the README Usage block of issue 32 (a
-    ``--resume`` of a finished file, ``run.nc`` written twice) -- they are not vacuous."""
-    text = ("vibimpact classify --eta 1.1:1.3:0.002 -o fig10.nc\n"
-            "vibimpact classify --eta 1.1:1.3:0.002 -o fig10.nc --resume\n"
-            "vibimpact simulate --eta 1.0 -o run.nc --plot xy.png\n"
-            "vibimpact simulate --eta 1.06 -o run.nc\n")
-    written, flagged = set(), []
-    for line in db.shell_lines(db.Block(ROOT, "bash", 1, text)):
-        seg = db.command(line)
-        outs = db.outputs(seg)
-        if ("--resume" in seg and set(outs) & written) or \
-                ("--resume" not in seg and set(outs) & written):
-            flagged.append(line.text)
-        written.update(outs)
-    assert len(flagged) == 2
+def test_rewrite_check_flags_the_old_usage_block():
+    """Hypothesis: the check above flags both faults of the README Usage block of issue
+    32 (a ``--resume`` of a finished file, ``run.nc`` written twice), and passes the same
+    lines once the first run keeps its checkpoint and the second run names another file
+    -- it is neither vacuous nor blind to the fix."""
+    def lines(text):
+        return db.shell_lines(db.Block(ROOT, "bash", 1, text))
+
+    old = ("vibimpact classify --eta 1.1:1.3:0.002 -o fig10.nc\n"
+           "vibimpact classify --eta 1.1:1.3:0.002 -o fig10.nc --resume\n"
+           "vibimpact simulate --eta 1.0 -o run.nc --plot xy.png\n"
+           "vibimpact simulate --eta 1.06 -o run.nc\n")
+    assert [why for *_, why in _rewrites(lines(old))] == ["resumes a finished run",
+                                                          "writes ['run.nc'] again"]
+    fixed = old.replace("fig10.nc\n", "fig10.nc --keep-checkpoint\n", 1).replace(
+        "-o run.nc\n", "-o run2.nc\n")
+    assert _rewrites(lines(fixed)) == []
 
 
 def _dotted(node):
