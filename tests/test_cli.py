@@ -210,7 +210,7 @@ def test_dataset_round_trip(tmp_path):
         np.testing.assert_array_equal(back["time"].values, run.t_dense)
         for field in run.impacts.dtype.names:
             np.testing.assert_array_equal(back[f"impact_{field}"].values, run.impacts[field])
-        assert back["impact_period"].dtype == np.int64
+        assert back["impact_period"].dtype == np.int32
         for k, v in p.as_dict().items():
             assert back.attrs[f"param_{k}"] == v
         for k, v in run.counters.items():

@@ -80,9 +80,10 @@ def curve_to_dataset(curve: BifurcationCurve, system: System, *,
                          dict(units="1", long_name="Floquet multipliers, imaginary part")),
         "test_function": ("point", np.asarray(curve.test, np.float64),
                           dict(units="1", long_name=_TEST_NAMES[curve.kind.flag])),
-        "impacts_per_period": ("point", np.asarray(curve.impacts_per_period, np.int64),
-                               dict(units="1", long_name="impacts per period of the "
-                                                         "orbit (-1: run stopped)")),
+        "impacts_per_period": ("point", np.asarray(curve.impacts_per_period, np.int32),
+                               dict(units="1", valid_min=np.int32(0),
+                                    long_name="impacts per period of the "
+                                              "orbit (-1: run stopped)")),
         "bifurcation_kind": ((), np.int8(curve.kind.code),
                              dict(long_name="kind of bifurcation along the curve",
                                   flag_values=np.array(values, dtype=np.int8),

@@ -355,7 +355,10 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     }
     for field in run.impacts.dtype.names:
         units, long_name = _IMPACT_ATTRS.get(field, ("1", field))
-        data_vars[f"impact_{field}"] = ("impact", np.asarray(run.impacts[field]),
+        values = np.asarray(run.impacts[field])
+        if values.dtype == np.int64:  # as written: CF-1.8 has no 64-bit integers
+            values = values.astype(np.int32)
+        data_vars[f"impact_{field}"] = ("impact", values,
                                         {"units": units, "long_name": long_name})
     if run.dense is not None:
         data_vars["trajectory"] = (("time", "state"), np.asarray(run.dense, np.float64),

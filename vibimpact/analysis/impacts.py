@@ -31,7 +31,10 @@ from ..contact import wrap_degrees as _wrap
 if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
 
+    import xarray as xr
     from numpy.typing import ArrayLike
+
+    from ..run import Run
 
 __all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "contact_spans_of",
            "ImpactStatistics", "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS",
@@ -335,7 +338,8 @@ def _dataset_intervals(ds):
     return lo[ok], (hi - lo)[ok], np.where(np.isfinite(dur), dur, 0.0)[ok], window
 
 
-def contact_arcs(angles, gap: float = 10.0) -> ContactArcs:
+def contact_arcs(angles: Run | xr.Dataset | ArrayLike,
+                 gap: float = 10.0) -> ContactArcs:
     """The loaded arcs of the retainer: where the contacts are, entry to exit.
 
     Each contact covers the angles from its entry to its exit with the sliding in between

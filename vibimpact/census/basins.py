@@ -299,8 +299,10 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
             long_name="boundary basin entropy Sbb (Daza et al. 2016)", units="nat")),
         fractal_by_log2=((), bool(measures["fractal_by_log2"]), dict(
             long_name="Sbb > log 2: sufficient for a fractal boundary")),
-        boxes=((), measures["boxes"]),
-        boundary_boxes=((), measures["boundary_boxes"]),
+        boxes=((), np.int32(measures["boxes"]), dict(
+            long_name="boxes of the basin entropy (N)", units="1")),
+        boundary_boxes=((), np.int32(measures["boundary_boxes"]), dict(
+            long_name="boxes holding more than one attractor (N_b)", units="1")),
     )
     xs = np.linspace(*rng[0], cols)
     ys = np.linspace(*rng[1], rows)

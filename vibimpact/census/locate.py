@@ -92,5 +92,6 @@ def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr
     return xr.DataArray(out, dims=("direction", "eta"),
                         coords=dict(direction=sweep.direction.values, eta=common),
                         name="attractor", attrs=dict(
+                            valid_min=out.dtype.type(0),
                             long_name="census attractor (global_id) the sweep is on; -1: "
                                       "none of the census' attractors"))

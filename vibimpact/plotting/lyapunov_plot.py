@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import REGIME_NAMES, axes_of, check_sweep, directions, new_figure, title
-from .response import LONG_PERIOD_COLOR, PERIOD_COLORS, REGIME_COLORS
+from ._sweep import axes_of, check_sweep, directions, new_figure, title
 from .style import look, width
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -40,13 +39,8 @@ def regime_color(regime: int, period: int) -> tuple[str, str, tuple[int, int]]:
     :func:`vibimpact.plotting.plot_intervals` and :func:`~vibimpact.plotting.plot_response`
     colour them: periodic in shades of green by period (yellow-green: too long to
     resolve), quasi-periodic orange, chaotic red, diverged black, unsettled purple."""
-    regime, period = int(regime), int(period)
-    if regime == _PERIODIC and period:
-        return PERIOD_COLORS[(period - 1) % len(PERIOD_COLORS)], f"P{period}", (1, period)
-    if regime == _PERIODIC:
-        return LONG_PERIOD_COLOR, "periodic, long period", (1, 10**6)
-    return (REGIME_COLORS.get(regime, "0.85"), REGIME_NAMES.get(regime, "?"),
-            (regime if regime else 9, 0))
+    from .style import class_color
+    return class_color(regime, period)
 
 
 def _column(sub, name, n):
