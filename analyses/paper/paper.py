@@ -206,7 +206,7 @@ def xy_figure(name, ds, path, draw=True):
         eta = _pick_eta(ds, rule)
         rds, label, run = trajectory(ds, eta)
         plot_xy(rds, ax=ax)
-        arcs = contact_arcs(run.impacts["theta"]).to_text()
+        arcs = contact_arcs(run).to_text()
         ax.set_title(f"{'(' + tag + ') ' if tag else ''}η = {rds.attrs['param_eta']:.3f}\n"
                      f"{label}", fontsize="small")
         ax.get_legend().remove()
