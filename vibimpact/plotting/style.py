@@ -255,8 +255,14 @@ class Look:
         """A new constrained-layout Figure of :meth:`size` at the look's resolution."""
         from matplotlib.figure import Figure
 
-        return Figure(figsize=self.size(default, paper_height, columns),
-                      dpi=self.dpi or DPI[self.style], layout="constrained")
+        from .._limits import check_pixels
+
+        size, dpi = self.size(default, paper_height, columns), self.dpi or DPI[self.style]
+        try:
+            check_pixels(*size, dpi)
+        except ValueError as exc:
+            raise ValueError(f"figsize, dpi: {exc}") from None
+        return Figure(figsize=size, dpi=dpi, layout="constrained")
 
     def title(self, target, text):
         """Set the title of axes ``target`` (or the suptitle of a Figure), except in the
@@ -378,4 +384,11 @@ def look(figsize=None, dpi=None, style=None, ax=None):
     if figsize is not None and ax is not None:
         raise ValueError("figsize sizes a new figure; leave it out when passing ax "
                          "(size ax's figure instead)")
-    return Look(style=check_style(style), figsize=figsize, dpi=check_dpi(dpi))
+    dpi = check_dpi(dpi)
+    if figsize is not None and dpi is not None:
+        from .._limits import check_pixels
+        try:
+            check_pixels(*figsize, dpi)
+        except ValueError as exc:
+            raise ValueError(f"figsize, dpi: {exc}") from None
+    return Look(style=check_style(style), figsize=figsize, dpi=dpi)
