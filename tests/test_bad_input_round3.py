@@ -162,7 +162,7 @@ def _public_functions():
 
     out, seen = [], set()
     for mod in ("vibimpact", "vibimpact.analysis", "vibimpact.plotting", "vibimpact.maps",
-                "vibimpact.census", "vibimpact.orbits"):
+                "vibimpact.census", "vibimpact.orbits", "vibimpact.sweeps"):
         module = importlib.import_module(mod)
         for name in getattr(module, "__all__", ()):
             fn = getattr(module, name)

@@ -150,6 +150,7 @@ def label_text(code, n, ipp, arcs, contact=-1):
     return f"{text}, {arcs}" if arcs else text
 
 
+@_v.checks_flags
 def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Sequence[str],
                results: Mapping[str, Sequence[PointResult | None]], settings: SweepSettings,
                *, direction: str, continuation: bool, blocks: int,
