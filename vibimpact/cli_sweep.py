@@ -28,9 +28,11 @@ examples:
   vibimpact classify --eta 1.0:1.3:0.005 --preset fig10 --set BT=0.07 \\
       --direction both --analyses period,impacts,response -o fig10.nc
 
-Every point starts from the previous point's final state (continuation), so jumps and
-hysteresis show as in the paper; the sweep is cut into --blocks seeded blocks that
---workers processes compute at once.  The result depends on --blocks, never on --workers.
+Every point starts from the previous point's final state (continuation) inside each of
+--blocks blocks (16 by default), so jumps and hysteresis show as in the paper; every
+block but the first starts from a short seeding pass, and --blocks 1 is one unbroken
+continuation.  --workers processes compute the blocks at once.  The result depends on
+--blocks, never on --workers.
 
 Each finished point is saved at once in the checkpoint directory OUT.partial.  After
 Ctrl-C (exit status 130), SIGTERM (143), a worker process killed (2) or a crash, run the

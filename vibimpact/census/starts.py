@@ -8,7 +8,8 @@ The default box (:func:`default_box`) is documented per model:
 * any other model: every state uniform in ``[-1, 1]``.
 
 Random starts are drawn from :func:`numpy.random.default_rng` seeded with ``seed``, so
-the same ``(n, seed, box)`` gives the same states on every machine and in every process.
+the same ``(n, seed, box)`` gives the same states in every process, on the same CPU type
+and library versions.
 """
 from __future__ import annotations
 

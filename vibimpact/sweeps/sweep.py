@@ -2,16 +2,18 @@
 
 Continuation and parallelism
 ----------------------------
-Each point starts from the previous point's final state (in sweep order), so hysteresis
-and jumps show as in the paper.  To use several cores without breaking that, the sweep
-order is cut into ``blocks`` contiguous blocks (``vi.Continuation(blocks=...)``).  Block
-``b`` starts from a *seed*: the state reached by a cheap serial pass that continues
-through every grid point before it (``seed_periods`` forcing periods per point, no
-analyses).  Blocks then run independently, so the executor (``vi.Execution(workers=...)``
-or any other) only decides where and when they run: the result depends on ``blocks``
-(1 = pure serial continuation), never on the execution, and serial and parallel runs are
-bit-identical.  With ``direction="both"`` the up and down sweeps are independent
-streams as well.
+Each point starts from the previous point's final state (in sweep order) inside each of
+``blocks`` blocks (16 by default), so hysteresis and jumps show as in the paper; every
+block but the first starts from a short seeding pass, and ``blocks=1`` is one unbroken
+continuation.  The sweep order is cut into ``blocks`` contiguous blocks
+(``vi.Continuation(blocks=...)``) to use several cores.  Block ``b`` starts from a
+*seed*: the state reached by a cheap serial pass that continues through every grid point
+before it (``seed_periods`` forcing periods per point, no analyses).  Blocks then run
+independently, so the executor (``vi.Execution(workers=...)`` or any other) only decides
+where and when they run: the result depends on ``blocks`` (1 = pure serial
+continuation), never on the execution, and serial and parallel runs on one machine are
+bit-identical (the conditions: the user guide's reproducibility page).  With
+``direction="both"`` the up and down sweeps are independent streams as well.
 
 The work is done by :mod:`vibimpact.engine` (a sweep is the one-row case of a map): the
 request is planned into tasks (:mod:`vibimpact.engine.plan`) under a continuation policy
@@ -73,7 +75,8 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
 
     ``transient`` forcing periods at every grid point ``eta_start, eta_start ± step,
     ...`` up (down) to ``eta`` (and at ``eta`` itself when it is off that grid), each
-    starting from the previous point's final state (rest, or ``state0``, at the first).
+    starting from the previous point's final state (rest, or ``state0``, at the first):
+    one unbroken serial pass, not cut into blocks as :func:`sweep` is.
     A branch that coexists with the one a start from rest reaches (a hysteresis loop's
     other side) is reached this way.
 
@@ -197,11 +200,12 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         Transient, record length, Lyapunov and classifier settings.
     continuation : bool, Continuation or Independent
         The continuation policy (:mod:`vibimpact.engine.policy`).  True (default):
-        ``vi.Continuation()``, each point starts from the previous point's final state,
-        the sweep cut into 16 seeded blocks (see the module docstring; the result depends
-        on ``blocks``, 1 = pure serial continuation).  ``vi.Continuation(blocks=1,
-        seed_periods=10)`` sets them.  False (``vi.Independent()``): every point starts
-        from ``state0``.
+        ``vi.Continuation()``, each point starts from the previous point's final state
+        inside each of ``blocks`` blocks (16 by default); every block but the first
+        starts from a short seeding pass, and ``blocks=1`` is one unbroken continuation
+        (see the module docstring; the result depends on ``blocks``).
+        ``vi.Continuation(blocks=1, seed_periods=10)`` sets them.  False
+        (``vi.Independent()``): every point starts from ``state0``.
     execution : Execution, optional
         Where and how it runs, none of which changes a number (:class:`vibimpact.
         Execution`: ``workers``, ``executor``, ``scheduler``, ``checkpoint``,
