@@ -301,17 +301,26 @@ STOP_CASES = {
     "bifurcation, a worker": (["bifurcation", *SWEEP, "--workers", "2", "-o", "b.png"],
                               -1, "a worker process", None),
     "attractors, a worker": (["attractors", "--preset", "fig8", "--eta", "1.25",
-                              "--starts", "400", "--workers", "2", "-o", "a.nc"], -1,
+                              "--starts", "200", "--workers", "2", "--no-progress", "-o",
+                              "a.nc"], -1,
                              "a worker process", "a.nc.partial"),
 }
 
 
 def _stop_a_child(args, which, tmp_path):
-    """Start ``args``, SIGSTOP its child ``which`` (an index into its children) once
-    its pool runs; the process."""
+    """Start ``args``, SIGSTOP its child ``which`` (an index into its children: the pool's
+    workers are the newest, the queue's process the oldest) once its pool runs (three
+    children: the queue's and two workers, or the warm-up helper's and two workers; two
+    for a run without a queue); the process."""
+    least = 2 if args[0] == "attractors" else 3  # attractors: no queue of points
     proc = start(args, tmp_path)
-    wait_for(lambda: len(children(proc.pid)) >= 3, proc, "pool workers")
-    os.kill(children(proc.pid)[which], signal.SIGSTOP)
+    try:
+        wait_for(lambda: len(children(proc.pid)) >= least, proc, "pool workers")
+        os.kill(children(proc.pid)[which], signal.SIGSTOP)
+    except BaseException:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        raise
     return proc
 
 
