@@ -59,11 +59,14 @@ def test_a_point_with_more_arcs_than_slots_keeps_the_most_loaded_in_order_of_sta
     np.testing.assert_array_equal(got, start[loaded > 0.01])
 
 
-def test_results_without_arc_tables_add_no_arc_variables():
-    """Hypothesis: results that carry no arc table (a model without a contact, or a
-    checkpoint written before arcs were stored) give a dataset without arc variables."""
+def test_results_without_arc_tables_leave_every_arc_slot_not_computed():
+    """Hypothesis: results that carry no arc table (points not computed, or a checkpoint
+    written before arcs were stored) give the arc variables all NaN (not computed), so a
+    map's empty template has the variables its filled rows have."""
     ds = _dataset(up=[None, None], down=[None, None])
-    assert not any(name.startswith("arc_") for name in ds.data_vars)
+    names = [name for name in ds.data_vars if name.startswith("arc_")]
+    assert sorted(names) == ["arc_end", "arc_loaded", "arc_start", "arc_width"]
+    assert all(np.isnan(ds[name].values).all() for name in names)
 
 
 def test_a_model_without_contact_gets_no_arc_variables_even_with_empty_tables():

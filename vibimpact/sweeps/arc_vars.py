@@ -39,21 +39,20 @@ def kept(table):
 
 def add_arc_variables(ds, results, dirs, n, dims):
     """Add ``arc_start``, ``arc_end``, ``arc_width`` and ``arc_loaded`` on ``dims +
-    ("arc",)`` to the sweep dataset ``ds`` when its points' results carry arc tables
-    (``results[direction]``: result dicts in sweep order, None where not computed);
-    ``ds`` unchanged otherwise.  Returns ``ds``."""
+    ("arc",)`` to the sweep dataset ``ds`` of a model with a contact
+    (``results[direction]``: result dicts in sweep order, None where not computed).  A
+    point whose result carries no arc table (not computed, or a result saved before arcs
+    were stored) has NaN in every slot, as every not-computed value; so a map's template
+    and its filled rows, and a sweep and a map, have the same variables.  Returns
+    ``ds``."""
     table = np.full((len(dirs), n, MAX_STORED_ARCS, 4), np.nan)
-    found = False
     for a, d in enumerate(dirs):
         order = np.arange(n) if d == "up" else np.arange(n)[::-1]
         for i, r in enumerate(results[d]):
             if r is None or r.get("arc_table") is None:
                 continue
-            found = True
             rows = kept(r["arc_table"])
             table[a, order[i], :rows.shape[0]] = rows
-    if not found:
-        return ds
     for name, (col, units, long_name) in ARC_VARIABLES.items():
         ds[name] = (tuple(dims) + ("arc",), table[..., col],
                     dict(units=units, long_name=long_name))
