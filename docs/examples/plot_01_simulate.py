@@ -38,14 +38,16 @@ for eta in vi.grid("1.0:1.18:0.02"):
 # ---------------------------------
 # ``strobe`` holds the stroboscopic samples at :math:`\tau_k = 2\pi k/\eta`, ``impacts``
 # one record per contact (entry time, angle θ, impact speed, penetration, duration).
-# ``dense`` keeps evenly spaced samples for the plot.
+# ``dense`` keeps evenly spaced samples for the plot (the plot integrates again with
+# finer samples when these are too coarse).  :func:`vibimpact.analysis.contact_arcs`
+# of the run gives the loaded arcs of the retainer, each contact from entry to exit.
 p1 = p.replace(eta=1.185)
 run = vi.simulate(p1, periods=40, transient=400, state0=state, dense=100)
 print(run.status, run.strobe.shape, len(run.impacts), "impacts")
 n = detect_period(run.strobe, tol=1e-6)
 print("period:", n)
 print(impact_count(run.impacts["period"], len(run.strobe) - 1, period=max(n, 1)))
-print(contact_arcs(run.impacts["theta"]))
+print(contact_arcs(run))
 
 # %%
 # :func:`vibimpact.plotting.plot_xy` draws the orbit in the clearance plane from the
