@@ -461,3 +461,38 @@ def test_rerun_sigterm_during_its_write_ends_with_nothing_left(tmp_path):
     assert status == 143 and len(lines) == 1, (status, lines)
     assert lines[0].startswith("vibimpact: interrupted"), lines
     assert files(tmp_path) == ["s.nc"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("moment", ["as it appears", "after a saved row"])
+def test_a_killed_resource_tracker_leaves_the_map_whole_and_quiet(moment, tmp_path):
+    """Hypothesis: 'map --workers 2' whose multiprocessing resource tracker is SIGKILLed
+    as soon as it appears (its workers starting) or mid-run succeeds: exit 0, its
+    summary only (no relaunch warning, no KeyError traceback from the relaunched
+    tracker), the store written and nothing else."""
+    args = ["map", "--eta", "1.0:1.3:0.01", "--vary", "kh=50:80:10", "--workers", "2",
+            "--no-progress", "-o", "m.zarr"]
+
+    def tracker():
+        for c in children(proc.pid):
+            try:
+                if b"resource_tracker" in Path(f"/proc/{c}/cmdline").read_bytes():
+                    return c
+            except OSError:
+                pass
+        return None
+
+    proc = start(args, tmp_path)
+    try:
+        wait_for(lambda: tracker() is not None, proc, "the resource tracker")
+        if moment != "as it appears":
+            wait_for(lambda: _points(tmp_path / "m.zarr.partial"), proc, "a saved row")
+        os.kill(tracker(), signal.SIGKILL)
+        status = finish(proc, timeout=180)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    text = (tmp_path / "err.txt").read_text()
+    assert status == 0, text
+    assert "Traceback" not in text and "Warning" not in text, text
+    assert files(tmp_path) == ["m.zarr"]

@@ -224,14 +224,15 @@ def quiet_resource_tracker():
     semaphore made or freed, with a UserWarning here and, from the new tracker, a
     ``KeyError`` traceback for each semaphore it never saw registered: a run that
     succeeds would end in tracebacks.  The relaunch keeps working; the tracker is
-    started with its stderr on the null device and the warning is not shown.  Idempotent.
+    started with its stderr on the null device and the warning is not shown.  Idempotent;
+    returns the tracker (None where multiprocessing has none).
     """
     import warnings
     from multiprocessing import resource_tracker
 
     tracker = getattr(resource_tracker, "_resource_tracker", None)
     if tracker is None or getattr(tracker, "vibimpact_quiet", False):
-        return
+        return tracker
     launch = tracker.ensure_running
 
     def ensure_running():
@@ -254,10 +255,15 @@ def quiet_resource_tracker():
 
     tracker.ensure_running = ensure_running
     tracker.vibimpact_quiet = True
+    return tracker
 
 
 def _cannot_start(workers, exc):
-    return RuntimeError(
+    """The :class:`~vibimpact.engine.watch.WorkerLost` (a RuntimeError) of a local
+    cluster whose workers did not start (the command line says it in one line)."""
+    from .watch import WorkerLost
+
+    return WorkerLost(
         f"cannot start {workers} local Dask worker processes ({one_line(exc)}); worker "
         "processes are spawned and import the main module, so a script must call map2d "
         "under `if __name__ == '__main__':` (not needed in Jupyter or the command line)")
@@ -271,9 +277,14 @@ def _wait_for_workers(client, cluster, workers):
 
     from .watch import Watch
 
+    tracker = quiet_resource_tracker()
     watch = Watch(lambda: local_workers(cluster))
     deadline = time.monotonic() + CONNECT_TIMEOUT
     while True:
+        # a tracker killed meanwhile is relaunched (quietly: quiet_resource_tracker)
+        # before a nanny restarts a worker that could not reach it
+        if tracker is not None:
+            tracker.ensure_running()
         try:
             client.wait_for_workers(workers, timeout=0.1)
             return
