@@ -10,14 +10,13 @@ command line in a subprocess and stop, signal or kill its processes for real.
 import os
 import signal
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
-from test_cli_sweep import _env, _points, cli
+from test_cli_sweep import _points, cli
 from test_faults_signals import (children, files, finish, interrupt_while_writing,
                                  messages, start, wait_for)
 
