@@ -86,7 +86,7 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
                              "replacing it")
     import zarr  # noqa: F401 -- imported before the provenance records its version
 
-    out, encoding = vio.for_file(ds, "vibimpact.maps.write_map")  # a shallow copy
+    out, encoding = vio.for_file(ds, "vibimpact.maps.write_map", netcdf=False)  # a copy
     for name in list(out.variables):  # xarray writes str objects as variable-length
         out[name].encoding = {}
     for name, chunks in _chunks(out).items():

@@ -337,8 +337,10 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
     if ext not in supported:
         raise ValueError(f"cannot save a figure as {path!r}: unknown extension; use one of "
                          f"{', '.join('.' + e for e in sorted(supported))}")
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
-                               dir=directory)
+    from .._writing import temp_prefix
+
+    # .NAME.PID-*.tmp: the next write of ``path`` removes it if this process dies here
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp", dir=directory)
     os.close(fd)
     try:
         try:
