@@ -1,7 +1,7 @@
 """Fault injection against the command line: what a fault does to every command.
 
-Run as ``python analyses/reliability/reliability.py [--quick] [--no-report]`` (about 5 minutes on 2
-cores; ``--quick`` runs one moment per fault).  Every case runs ``python -m vibimpact``
+Run as ``python analyses/reliability/reliability.py [--quick] [--no-report]`` (the report's
+header says how long the run took; ``--quick`` runs one moment per fault).  Every case runs ``python -m vibimpact``
 in a fresh directory as a subprocess of its own session, injects one fault and judges
 what it left:
 
@@ -502,12 +502,13 @@ def measure(quick=False, timeout=300, only=None):
         shutil.rmtree(base, ignore_errors=True)
 
 
-def report(outcomes, wall, quick):
-    """The section text of ``reports/reliability.md``."""
+def report(outcomes, wall, quick, took=None):
+    """The section text of ``reports/reliability.md`` (``took``: the run's wall time, s)."""
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    ran = "" if took is None else f" in {took / 60:.1f} min"
     L = ["# Reliability under faults", "",
          f"Written by `python analyses/reliability/reliability.py{' --quick' if quick else ''}` on {now}"
-         f" ({os.cpu_count()} CPUs, Python {platform.python_version()}); every number below "
+         f"{ran} ({os.cpu_count()} CPUs, Python {platform.python_version()}); every number below "
          "is counted by it.  Reference runs (uninterrupted): " + ", ".join(
              f"{k} {v:.1f} s" for k, v in wall.items()) + ".  Moments are fractions of the "
          "reference's wall time.", "",
@@ -584,8 +585,9 @@ def main(argv=None):
     if unknown:
         ap.error(f"--only: unknown class {sorted(unknown)[0]!r} (one of "
                  f"{', '.join(sorted(set(CLASS_CASES) | set(_cases_round3.CLASSES)))})")
+    t0 = time.perf_counter()
     outcomes, wall = measure(args.quick, args.timeout, only or None)
-    text = report(outcomes, wall, args.quick)
+    text = report(outcomes, wall, args.quick, time.perf_counter() - t0)
     print(text)
     if not args.no_report and not only:
         write_section(REPORT, SECTION, text)
