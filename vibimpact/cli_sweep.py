@@ -37,7 +37,8 @@ continuation.  --workers processes compute the blocks at once.  The result depen
 Each finished point is saved at once in the checkpoint directory OUT.partial.  After
 Ctrl-C (exit status 130), SIGTERM (143), a worker process killed (2) or a crash, run the
 same command again with --resume: the saved points are loaded, not recomputed, and the
-file is identical to an uninterrupted run.
+file is the one an uninterrupted run writes (on the same CPU type with the same versions:
+see the reproducibility page of the docs).
 The checkpoint is removed once OUT is written.
 
 Labels need evidence: periodic a period found (or an orbit found by Newton shooting
