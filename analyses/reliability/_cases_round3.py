@@ -362,23 +362,10 @@ def damaged_store_cases(kit, base, timeout):
 
 
 def api_cases(kit, base, timeout):
-    out = []
-    for klass, cases in API_CASES.items():
-        for case, (entry, ok) in cases.items():
-            d = kit._fresh(base, "api")
-            code = API.replace("ENTRY", entry).replace("OK", ok)
-            t0 = time.perf_counter()
-            try:
-                proc = subprocess.run([sys.executable, "-c", code], cwd=d, env=_env(),
-                                      capture_output=True, text=True, timeout=timeout)
-                rc, stdout, err = proc.returncode, proc.stdout, proc.stderr
-            except subprocess.TimeoutExpired:
-                rc, stdout, err = None, "", ""
-            o = kit.judge(klass, case, rc, err, time.perf_counter() - t0, {0}, d)
-            o.message = (stdout.strip().splitlines() or [""])[-1][:160]
-            o.clean = o.clean and o.message.startswith(("refused:", "ok:"))
-            out.append(o)
-    return out
+    return [kit.python_case(base, "api", klass, case,
+                            API.replace("ENTRY", entry).replace("OK", ok), timeout,
+                            ("refused:", "ok:"))
+            for klass, cases in API_CASES.items() for case, (entry, ok) in cases.items()]
 
 
 def cli_cases(kit, base, timeout):

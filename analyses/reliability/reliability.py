@@ -439,25 +439,31 @@ def wording_cases(base, timeout):
     return out
 
 
+def python_case(base, tag, klass, case, code, timeout, said):
+    """The :class:`Outcome` of ``code`` run by a Python process of its own in a fresh
+    directory: clean when it exits 0, leaves nothing and its last printed line starts
+    with one of ``said`` (a tuple)."""
+    d = _fresh(base, tag)
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-c", code], cwd=d, env=_env(),
+                              capture_output=True, text=True, timeout=timeout)
+        rc, stdout, err = proc.returncode, proc.stdout, proc.stderr
+    except subprocess.TimeoutExpired:
+        rc, stdout, err = None, "", ""
+    o = judge(klass, case, rc, err, time.perf_counter() - t0, {0}, d)
+    o.message = (stdout.strip().splitlines() or [""])[-1][:160]
+    o.clean = o.clean and o.message.startswith(said)
+    return o
+
+
 def user_model_cases(base, timeout):
     """User models that lie about their sizes (API, one Python process each): refused
     before the kernel runs them."""
-    out = []
-    for case, (changes, entry) in USER_MODEL_CASES.items():
-        d = _fresh(base, "model")
-        code = USER_MODEL.replace("CHANGES", changes).replace("ENTRY", entry)
-        t0 = time.perf_counter()
-        try:
-            proc = subprocess.run([sys.executable, "-c", code], cwd=d, env=_env(),
-                                  capture_output=True, text=True, timeout=timeout)
-            rc, stdout, err = proc.returncode, proc.stdout, proc.stderr
-        except subprocess.TimeoutExpired:
-            rc, stdout, err = None, "", ""
-        o = judge("user model sizes", case, rc, err, time.perf_counter() - t0, {0}, d)
-        o.message = (stdout.strip().splitlines() or [""])[-1][:160]
-        o.clean = o.clean and o.message.startswith("refused:")
-        out.append(o)
-    return out
+    return [python_case(base, "model", "user model sizes", case,
+                        USER_MODEL.replace("CHANGES", changes).replace("ENTRY", entry),
+                        timeout, ("refused:",))
+            for case, (changes, entry) in USER_MODEL_CASES.items()]
 
 
 #: class -> the function of this module that runs its cases (the reference runs first)
