@@ -155,49 +155,93 @@ def test_user_model_domains_of_wrong_form_are_refused(domains, match):
         _user(domains)
 
 
-def _public_functions():
-    """(qualified name, function, bool argument) of every public function of the API
-    modules that takes an argument annotated ``bool``."""
+def _public_modules():
+    """Every public module of the package (no part of its name starts with ``_``)."""
     import importlib
+    import pkgutil
+
+    return [importlib.import_module(m.name)
+            for m in pkgutil.walk_packages(vi.__path__, "vibimpact.")
+            if not any(part.startswith("_") for part in m.name.split("."))]
+
+
+def _public_functions():
+    """(qualified name, function, flag argument, None allowed) of every public function
+    defined in a public module that takes an argument annotated ``bool`` or
+    ``bool | None``."""
+    from vibimpact._validate import flag_annotation
 
     out, seen = [], set()
-    for mod in ("vibimpact", "vibimpact.analysis", "vibimpact.plotting", "vibimpact.maps",
-                "vibimpact.census", "vibimpact.orbits", "vibimpact.sweeps"):
-        module = importlib.import_module(mod)
-        for name in getattr(module, "__all__", ()):
-            fn = getattr(module, name)
-            if not inspect.isfunction(fn) or id(fn) in seen:
+    for module in _public_modules():
+        for name, fn in vars(module).items():
+            if (name.startswith("_") or not inspect.isfunction(fn) or id(fn) in seen
+                    or fn.__module__ != module.__name__):
                 continue
             seen.add(id(fn))
             for arg, prm in inspect.signature(fn).parameters.items():
-                if prm.annotation in ("bool", bool):
-                    out.append((f"{mod}.{name}", fn, arg))
+                optional = flag_annotation(prm.annotation)
+                if optional is not None:
+                    out.append((f"{module.__name__}.{name}", fn, arg, optional))
     return out
 
 
 _FLAGS = _public_functions()
 
 
-def test_the_api_has_bool_arguments_to_check():
-    """The enumeration below finds the API's bool arguments (so the rule cannot pass by
-    finding none)."""
-    names = {f"{q}:{a}" for q, _, a in _FLAGS}
-    assert {"vibimpact.analysis.lyapunov_spectrum:floquet",
-            "vibimpact.analysis.shoot_periodic_orbit:damping",
-            "vibimpact.plotting.plot_response:bands"} <= names
+def test_the_enumeration_finds_flags_in_every_layer():
+    """The enumeration finds bool and bool | None arguments of functions outside the
+    package's ``__all__`` lists (so the rule cannot pass by finding none)."""
+    names = {f"{q}:{a}" for q, _, a, _ in _FLAGS}
+    assert {"vibimpact.analysis.lyapunov.lyapunov_spectrum:floquet",
+            "vibimpact.io.write_netcdf:overwrite",
+            "vibimpact.io.check_output_path:store",
+            "vibimpact.census.basins.write_basins:overwrite",
+            "vibimpact.plotting.map2d.plot_map:categorical"} <= names
+    assert any(optional for *_, optional in _FLAGS)
 
 
-_NOT_BOOLS = ["no", "False", 1, None, np.array([True])]
+_NOT_BOOLS = ["no", "False", 1, np.array([True])]
 
 
-@pytest.mark.parametrize("qualname, fn, arg", _FLAGS, ids=[f"{q}:{a}" for q, _, a in _FLAGS])
-def test_every_public_bool_argument_refuses_what_is_not_a_bool(qualname, fn, arg):
-    """A bool argument of any public function refuses a string ('no' is true to Python),
-    an int, None or an array with a ValueError naming the argument, before the function
-    looks at its other arguments (none are given)."""
-    for value in _NOT_BOOLS:
+@pytest.mark.parametrize("qualname, fn, arg, optional", _FLAGS,
+                         ids=[f"{q}:{a}" for q, _, a, _ in _FLAGS])
+def test_every_public_flag_refuses_what_is_not_a_bool(qualname, fn, arg, optional):
+    """A flag of any public function refuses a string ('no' is true to Python), an int
+    or an array with a ValueError naming the argument, before the function looks at its
+    other arguments (none are given); None too where the annotation is plain bool."""
+    for value in _NOT_BOOLS + ([] if optional else [None]):
         with pytest.raises(ValueError, match=rf"^{arg} must be True or False"):
             fn(**{arg: value})
+
+
+def test_checks_flags_passes_none_on_for_an_optional_flag():
+    """checks_flags lets None through for ``bool | None`` (it means "decide") but not
+    for ``bool``, and refuses a string for both."""
+    from vibimpact._validate import checks_flags
+
+    @checks_flags
+    def f(a: bool = False, b: bool | None = None):
+        return a, b
+
+    assert f(True, None) == (True, None)
+    with pytest.raises(ValueError, match="^a must be True or False"):
+        f(None)
+    with pytest.raises(ValueError, match="^b must be True or False"):
+        f(b="no")
+
+
+def test_write_netcdf_with_overwrite_no_keeps_the_existing_file(tmp_path):
+    """overwrite='no' (a true string) is refused and the existing file is untouched,
+    for the NetCDF writer and the basins writer."""
+    import xarray as xr
+
+    target = tmp_path / "s.nc"
+    target.write_bytes(b"keep")
+    ds = xr.Dataset({"x": ("i", np.arange(2.0))})
+    for write in (vi.io.write_netcdf, vi.census.basins.write_basins):
+        with pytest.raises(ValueError, match="^overwrite must be True or False"):
+            write(ds, target, overwrite="no")
+        assert target.read_bytes() == b"keep"
 
 
 # --- arrays that were coerced instead of checked ------------------------------------

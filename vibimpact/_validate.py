@@ -201,13 +201,29 @@ def power_of_two(x, shrink_only=False):
     return float(np.ldexp(1.0, int(np.frexp(peak)[1]) - 1))  # at most 2**1023
 
 
+_FLAG_ANNOTATIONS = {"bool": False, bool: False, "bool | None": True, bool | None: True,
+                     "None | bool": True, None | bool: True,
+                     "Optional[bool]": True, "typing.Optional[bool]": True}
+
+
+def flag_annotation(annotation):
+    """``None`` if ``annotation`` is not a flag's; ``False`` for ``bool``; ``True`` for
+    ``bool | None`` (``Optional[bool]``), a flag whose ``None`` means "decide for me"."""
+    try:
+        return _FLAG_ANNOTATIONS.get(annotation)
+    except TypeError:  # an unhashable annotation is not a flag's
+        return None
+
+
 def checks_flags(fn):
-    """Decorate ``fn`` so that every argument annotated ``bool`` is checked by
-    :func:`flag` before ``fn`` runs: ``adaptive='no'``, ``1``, ``None`` or a one-element
-    array is :class:`WrongType` naming the argument, whatever else ``fn`` is given (a
-    call that does not fit the signature is left to ``fn``'s own ``TypeError``)."""
+    """Decorate ``fn`` so that every argument annotated ``bool`` or ``bool | None`` is
+    checked by :func:`flag` before ``fn`` runs: ``adaptive='no'``, ``1`` or a one-element
+    array is :class:`WrongType` naming the argument, whatever else ``fn`` is given (a call
+    that does not fit the signature is left to ``fn``'s own ``TypeError``). ``None`` is
+    refused for ``bool`` and passed on for ``bool | None``."""
     sig = inspect.signature(fn)
-    names = tuple(n for n, p in sig.parameters.items() if p.annotation in ("bool", bool))
+    kinds = {n: flag_annotation(p.annotation) for n, p in sig.parameters.items()}
+    names = tuple(n for n, k in kinds.items() if k is not None)
 
     @functools.wraps(fn)
     def checked(*args, **kwargs):
@@ -216,7 +232,7 @@ def checks_flags(fn):
         except TypeError:
             given = {}
         for name in names:
-            if name in given:
+            if name in given and not (kinds[name] and given[name] is None):
                 flag(name, given[name])
         return fn(*args, **kwargs)
 

@@ -166,6 +166,7 @@ def _described(attrs):
     return ", ".join(words) or "no parameters recorded"
 
 
+@_v.checks_flags
 def for_file(ds: xr.Dataset, call: str | None, *,
              netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
@@ -267,6 +268,7 @@ class OutputExists(NeedsFlag):
         return (OutputExists, (self.what, self.path))
 
 
+@_v.checks_flags
 def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
                       what: str = "output",
                       store: bool = False, free: int = MIN_FREE) -> str:
@@ -402,6 +404,7 @@ def _umask():
     return mask
 
 
+@_v.checks_flags
 def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
                  overwrite: bool = False) -> None:
     """Write a dataset to NetCDF-4 atomically.

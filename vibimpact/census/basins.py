@@ -318,6 +318,7 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
     return out
 
 
+@_v.checks_flags
 def write_basins(ds: xr.Dataset, path, overwrite: bool = False) -> None:
     """Write a :func:`basins` dataset to NetCDF atomically
     (:func:`vibimpact.io.write_netcdf`: a temporary file renamed into place)."""

@@ -142,6 +142,7 @@ def _asked(period, impacts, stable, arcs, within, param):
     return "".join(words)
 
 
+@_v.checks_flags
 def find_orbit(ds: xr.Dataset, period: int | None = None, impacts: int | None = None, *,
                stable: bool | None = None, arcs: str | None = None,
                within: tuple[float, float] | None = None) -> OrbitAnswer:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import _validate as _v
 from ..bifurcation_kinds import BifurcationKind
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -90,6 +91,7 @@ def _event_xy(x, y, idx, kind, value):
     return x[idx], y[idx]
 
 
+@_v.checks_flags
 def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
                 color: str = "k", label: str | None = None, lw: float = 1.2,
                 markers: bool = True) -> list:

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import _validate as _v
 from ._sweep import title
 from .map_panels import (MAP_REGIME_COLORS, MISSING, exponent_norm, exponent_panel,
                          impacts_keys, impacts_scale, period_keys, period_scale,
@@ -89,6 +90,7 @@ def is_listed(ds, values):
     return not np.allclose(step, step[0], rtol=1e-9, atol=0.0)
 
 
+@_v.checks_flags
 def plot_map(ds: xr.Dataset, direction: str | None = None,
              path: str | os.PathLike[str] | None = None, *, categorical: bool | None = None,
              figsize: tuple[float, float] | None = None, dpi: float | None = None,
@@ -150,7 +152,7 @@ def plot_map(ds: xr.Dataset, direction: str | None = None,
     name = _vary_name(ds)
     subs = _directions(ds, direction)
     values = np.asarray(ds[name].values, dtype=float)
-    listed = is_listed(ds, values) if categorical is None else bool(categorical)
+    listed = is_listed(ds, values) if categorical is None else categorical
     ye = np.arange(values.size + 1) - 0.5 if listed else _edges(values)
     with lk.context():
         fig = lk.figure((12, 8 * len(subs)), 5.0 * len(subs), columns=2)

@@ -350,6 +350,7 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     return _check_unchanged(raw, grid, name, text)
 
 
+@_v.checks_flags
 def grid(text: str, name: str = "eta", positive: bool | None = None) -> np.ndarray:
     """The grid of ``"START:STOP:STEP"`` (or ``"V1,V2,..."``) exactly as the command line
     parses it (:func:`parse_range`).
