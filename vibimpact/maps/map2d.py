@@ -12,7 +12,7 @@ Tasks
 -----
 Rows are grouped into tasks of at least ``task_points`` points (one row per task as soon
 as a row has that many), so that every task runs for about a second or more and Dask's
-scheduling cost (~1 ms per task) stays negligible.  A map with ``direction="both"`` has
+scheduling cost per task stays negligible.  A map with ``direction="both"`` has
 two rows per parameter value, computed independently.  Which rows share a task, how
 many workers there are and in which order tasks finish never change a number: serial,
 local-process and cluster maps are bit-identical.
@@ -60,7 +60,8 @@ if TYPE_CHECKING:  # names of the annotations only
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
 MAP_ANALYSES = ("period", "impacts", "lyapunov")
-#: most points of one map (about 2 hours on one core at ~3 ms per point)
+#: most points of one map (hours on one core at the rate reports/performance.md, section
+#: map, measures)
 MAX_MAP_POINTS = 2_000_000
 #: the flag variable of :func:`partial_map`
 DONE = "row_done"
@@ -231,7 +232,10 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
         The system (any model, a user model too), or the parameters of a built-in model
         (its forcing frequency and its value of the varied parameter are ignored).
     eta : array_like, shape (n,)
-        Strictly increasing grid of the forcing frequency ratio.
+        Strictly increasing grid of the forcing frequency ratio.  A value within a few
+        units in the last place of its rounding to 12 decimals is taken as that rounding
+        (:func:`vibimpact.sweeps.sweep.snap_grid`), so that ``np.arange(...)`` gives the
+        command line's grid (``vi.grid``) and is stored so; other values are kept.
     vary : dict
         One entry ``{name: values}``: a parameter of the model other than its forcing
         frequency (:attr:`vibimpact.Model.param_names`) and its strictly increasing,

@@ -64,7 +64,35 @@ def check_grid(eta):
     if arr.size > 1 and not (np.all(np.diff(arr) > 0.0)):
         raise ValueError("eta must be strictly increasing (the direction is a separate "
                          "argument)")
-    return arr
+    return snap_grid(arr)
+
+
+#: a value of an ``eta`` array within this many units in the last place of its 12-decimal
+#: rounding is taken as that rounding (:func:`snap_grid`)
+SNAP_ULPS = 8
+
+
+def snap_grid(arr):
+    """``arr`` with every value within :data:`SNAP_ULPS` units in the last place of its
+    rounding to 12 decimals replaced by that rounding (the rounding :func:`grid` and the
+    command line give a range), values of :data:`ROUND_BELOW` and more, values whose
+    rounding is 0 and any other value left as given; ``arr`` unchanged if the snapped
+    grid would not be strictly increasing.
+
+    So ``np.arange(0.9, 1.5 + 1e-12, 0.002)``, whose values differ from ``0.9 + k
+    0.002`` typed by about 1e-16 (the arithmetic's error), becomes ``grid("0.9:1.5:0.002")``
+    exactly, while a value meant to have more than 12 decimals (further away than the
+    arithmetic's error) is kept.
+    """
+    small = np.abs(arr) < ROUND_BELOW
+    rounded = arr.copy()
+    rounded[small] = np.round(arr[small], 12)
+    near = (small & (rounded != 0.0)
+            & (np.abs(rounded - arr) <= SNAP_ULPS * np.spacing(np.abs(rounded))))
+    out = np.where(near, rounded, arr)
+    if out.size > 1 and not np.all(np.diff(out) > 0.0):
+        return arr
+    return out
 
 
 def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
@@ -182,7 +210,10 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     eta : array_like, shape (n,)
         Strictly increasing grid of the forcing frequency (``eta`` of the rotor, the
         model's frequency parameter otherwise); ``direction`` decides the order it is
-        swept in.
+        swept in.  A value within a few units in the last place of its rounding to 12
+        decimals is taken as that rounding (:func:`snap_grid`), so that
+        ``np.arange(0.9, 1.5 + 1e-12, 0.002)`` is swept (and stored) as
+        ``vi.grid("0.9:1.5:0.002")``, the command line's grid; other values are kept.
     direction : {"up", "down", "both"}
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
