@@ -5,7 +5,8 @@ Everything else about the package is declared in ``pyproject.toml``.  An editabl
 environment's own Python and packages (not the build's isolated ones): it compiles the
 integration loop and the array routines a rotor run needs into numba's cache beside the
 sources, keyed by the kernel sources and the numba, llvmlite, NumPy and Python versions,
-so that the first run loads them instead of spending about 15 s compiling.  With the key
+so that the first run loads them instead of compiling them (the two are timed in
+``reports/performance.md``, section first_run, and ``reports/kernel_install.md``).  With the key
 unchanged (installing an extra, say) it compiles nothing.  It says what it does and how
 long it took (``pip install -v`` shows it; ``vibimpact --version`` says whether the
 cache is in use).  It cannot fail the install: where it does not run (the dependencies

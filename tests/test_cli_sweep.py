@@ -1,7 +1,7 @@
 """The sweep commands of the command line: ``classify``, ``bifurcation`` and ``plot``.
 
 The commands run in subprocesses (``python -m vibimpact.cli``) exactly as a user runs them,
-on tiny grids (a few points of fig8, ~1-3 s each once numba's disk cache is warm).  The
+on tiny grids (a few points of fig8, quick once numba's disk cache is warm).  The
 interrupt tests send real signals (SIGINT, SIGKILL) to a running sweep and check that
 ``--resume`` finishes it without recomputing the saved points, bit-identical to an
 uninterrupted run.

@@ -286,8 +286,8 @@ def test_no_measured_number_is_typed_in_the_prose():
 
 
 def test_measured_number_check_catches_retyped_figures():
-    """Hypothesis: the check above flags the retyped figures of issue 32 (a compile time
-    of 10-15 s, a 10-minute script, a 1.05x ratio, 33 %)."""
+    """Hypothesis: the check above flags the retyped figures of issue 32 (a compile-time
+    range, a script's run time in minutes, a ratio, a percentage)."""
     text = ("it compiles for 10–15 s; the script runs about 10 minutes; 1.05x eq. (5)'s; "
             "33 % of labels; 118 ns with them")
     assert len(MEASURED.findall(text)) == 5

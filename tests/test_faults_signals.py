@@ -23,7 +23,7 @@ from test_cli_sweep import _env, _points, assert_same_data, cli
 #: on a line of its own (pyproject.toml, .ci/run)
 pytestmark = pytest.mark.slow
 
-#: a classify sweep long enough (about 3 s on two workers) to be killed at three moments
+#: a classify sweep long enough to be killed at three moments
 SWEEP = ["--eta", "0.95:1.25:0.002", "--preset", "fig8", "--direction", "both",
          "--no-progress"]
 N_SWEEP = 2 * 151
@@ -34,7 +34,7 @@ MAP = ["--eta", "1.0:1.1:0.01", "--vary", "kh=10:80:10", "--preset", "fig8",
 #: runs the command line with every dataset write stalled after its temporary file is
 #: complete (it says WRITING on stderr first), so that a signal lands while writing; the
 #: stalled write returns when the file GO appears (the test makes it after its signal:
-#: a write holds SIGINT and SIGTERM until the file library returns) or after 120 s
+#: a write holds SIGINT and SIGTERM until the file library returns) or after its 12000 polls
 STALL = r"""
 import os, sys, time
 import xarray as xr
@@ -504,7 +504,7 @@ def test_map_with_an_impossible_scheduler_is_refused_before_connecting(scheduler
     protocol or an address without a port is refused before any connection is tried
     (the line is the address check's, which runs before a Client exists): one line,
     exit 2, no 'Exception ignored in Client.__del__' traceback afterwards (what a
-    Client that failed to connect printed after a 40 s wait) and no file."""
+    Client that failed to connect printed after its connect timeout) and no file."""
     (tmp_path / "garbage.json").write_text("not json")
     (tmp_path / "adir").mkdir()
     try:  # a guard against a hang; that no connection was tried is what the line says

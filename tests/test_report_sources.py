@@ -94,7 +94,7 @@ def test_performance_report_judges_the_first_run_by_its_own_numbers():
     (first and warm run) and on a cache filled by the install's step (aot_build), whose
     time it gives with the package's word that the filled cache was in use; on the empty
     cache the first run compiles (cache files written), on the filled one it compiles
-    nothing (none written); and its verdicts on the 10 s target are the ones its times
+    nothing (none written); and its verdicts on the target are the ones its times
     imply."""
     import first_run
 
@@ -221,7 +221,7 @@ def test_performance_report_judges_the_ring_by_its_own_times():
                        r"([\d.]+|nan) \|$", sec, re.M)
     assert [p[0] for p in parts] == ["whole sweep"] + [p[0] for p in ring_bench.PARTS]
     for _, eq5_s, ring_s, r in parts:
-        if float(eq5_s) >= 0.1:  # the ratio of the unrounded times; 0.01 s of rounding
+        if float(eq5_s) >= 0.1:  # the ratio of the unrounded times; the rounding of 0.01
             assert float(r) == pytest.approx(float(ring_s) / float(eq5_s), rel=0.11)
 
 

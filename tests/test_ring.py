@@ -189,7 +189,7 @@ def balance(model, p, periods, x0):
 ALL_ON = dict(Bh=0.2, BT=0.05, f=0.1, Rr=5.0, cr=0.01, Mr=0.01, Jr=0.5)
 
 
-@pytest.mark.slow  # a user model's kernel is compiled in the process (~10-20 s)
+@pytest.mark.slow  # a user model's kernel is compiled in the process (reports/performance.md, section first_run)
 @pytest.mark.parametrize("fig, kw", [("fig8", {}), ("fig10", {}), ("fig11", {}),
                                      ("fig11", ALL_ON)])
 def test_energy_balance_of_impacting_runs(energy_model, fig, kw):
@@ -211,7 +211,7 @@ def test_energy_balance_of_impacting_runs(energy_model, fig, kw):
         assert abs(dE - (inp - run.final_state[I_DRV] - diss)) > 1.0
 
 
-@pytest.mark.slow  # a user model's kernel is compiled in the process (~10-20 s)
+@pytest.mark.slow  # a user model's kernel is compiled in the process (reports/performance.md, section first_run)
 def test_rolling_ring_dissipates_nothing(energy_model):
     """Hypothesis: once the free ring rolls without slip (test above), the contact's
     friction does no work (v_s = 0): its integrated power over the last 10 of 40 periods

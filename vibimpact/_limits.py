@@ -5,14 +5,12 @@ The costs are rough single-core averages, used only to make the refusal message 
 
 * ``SECONDS_PER_POINT``: the main job's sweep (fig8, eta = 0.9:1.5:0.002, 301 points, all
   analyses, one worker), whose serial wall time ``python analyses/performance/benchmark_sweep.py``
-  measures (``reports/performance.md``, section "sweep", row "1 worker"): 1.58 s there,
-  1.5 s in a re-timing on 2026-11-25 (same VM, warm cache), i.e. ~0.005 s per point.  A
-  parameter-map point costs about the same (``analyses/performance/benchmark_map.py``: 1452 points
-  in 6.4 s serial, ~0.0044 s per point).
+  measures (``reports/performance.md``, section "sweep", row "1 worker"), divided by its
+  301 points and rounded.  A parameter-map point costs about the same
+  (``analyses/performance/benchmark_map.py``, ``reports/performance.md`` section "map").
 * ``SECONDS_PER_PERIOD``: ``simulate`` of fig8 at eta = 1.0 (two impacts per period),
-  DOP853 at the default tolerances, 2000 periods in 0.094 s (re-timed 2026-11-25), i.e.
-  ~5e-5 s per period; ``reports/performance.md`` section "kernel" (a) measures the
-  throughput at tighter tolerances (1000 periods in 0.06 s).
+  DOP853 at the default tolerances, per forcing period; ``reports/performance.md``
+  section "kernel" (a) measures the throughput at tighter tolerances.
 
 Re-time them when those reports change by much (these constants are typed here, so
 they are not regenerated with the reports).

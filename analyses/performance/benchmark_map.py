@@ -9,7 +9,7 @@ Run as ``python analyses/performance/benchmark_map.py [--no-full]``; replaces th
   cluster (steady throughput);
 * where the time goes: per-point cost of periodic and non-periodic points (the exponent
   is computed only on the latter), and the same map without the exponent;
-* the 30,000-point target (2 minutes on 2 cores): projected from the measured rate and,
+* the 30,000-point map's target: 2 minutes on 2 cores: projected from the measured rate and,
   unless ``--no-full``, measured on a 151 x 201 = 30,351-point map.
 """
 import datetime

@@ -16,8 +16,8 @@ Each run is a fresh ``python -m vibimpact`` subprocess, timed from its start to 
 rewrote are counted (0: it compiled nothing).
 
 Run as ``python analyses/performance/first_run.py [--repeat N] [--no-report]``: it prints the
-times and replaces the section ``first_run`` of ``reports/performance.md`` (the target,
-a first run of at most 10 s on the filled cache, is judged there); :func:`measure`
+times and replaces the section ``first_run`` of ``reports/performance.md`` (where a first
+run on the filled cache is judged against its target: at most 10 s); :func:`measure`
 returns the times as a dict.
 """
 from __future__ import annotations

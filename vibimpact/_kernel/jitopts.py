@@ -3,8 +3,7 @@
 numba counts references to every array a function holds.  Around a call it cannot inline
 (a model's right-hand side inside a Runge--Kutta stage, a step inside the driver loop) a
 function compiled with the runtime (NRT) increments and decrements the count of each
-array argument: atomic operations that cost more than a 4-state right-hand side itself
-(measured: 118 ns per right-hand side through the model dispatch, 21 ns without them).
+array argument: atomic operations that cost more than a 4-state right-hand side itself.
 Functions that allocate nothing are therefore compiled without the runtime
 (:data:`LEAF`); numba compiles a callee that sets no such option with its caller's, so
 the few functions below them that allocate (a saltation map, a user model's Jacobian)
@@ -13,8 +12,8 @@ ask for the runtime explicitly (:data:`ALLOC`).  A :data:`LEAF` function can cal
 
 Functions called only from other kernel functions (:data:`INNER`, :data:`INNER_ALLOC`)
 get no CPython or C wrapper: numba would otherwise generate, optimise and cache an
-argument-unboxing wrapper for each of them that nothing calls (measured: about 1 s of a
-cold ``classify``'s compilation).  They cannot be called from Python.
+argument-unboxing wrapper for each of them that nothing calls (a share of a cold
+``classify``'s compilation).  They cannot be called from Python.
 """
 
 #: functions that allocate nothing (models, Runge--Kutta steps, event location)

@@ -1,7 +1,7 @@
 """The kernel compiled ahead of the first run, and what a run is told about it.
 
-Compiling the integration loop with numba takes most of a first run (about 15 s on a
-2-core machine).  Every kernel function is cached by numba on disk (``cache=True``,
+Compiling the integration loop with numba takes most of a first run (timed in
+``reports/performance.md``, section first_run).  Every kernel function is cached by numba on disk (``cache=True``,
 :mod:`.jitopts`), so the install fills that cache (:mod:`.aot_build`, run by ``setup.py``
 for an editable install, or by hand: ``python -m vibimpact._kernel.aot_build``), and the
 first run loads the machine code instead of compiling it.  This is numba's own cache and

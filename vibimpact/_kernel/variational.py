@@ -140,8 +140,8 @@ def saltation_transition(rhs, switches, transition, n, n_switch):
 
     Its body is :func:`user_transition`'s, written out over the bound functions rather
     than calling it: a call that passes numba functions as arguments makes numba refuse
-    to cache the whole kernel of the model ("dynamic globals"; measured: a soft-impact
-    run then compiles 12 s in every process, against 0.8 s from the cache).
+    to cache the whole kernel of the model ("dynamic globals"): a soft-impact run then
+    compiles its kernel in every process instead of loading it from the cache.
     """
     @njit(**INNER_ALLOC)
     def var_transition(s, y, p, mode, which):

@@ -218,7 +218,7 @@ def monodromy(system: System, state0: ArrayLike, n: int = 1, *,
     together over ``n`` forcing periods from ``tau = 0``; at every switching event the
     tangent vectors are mapped by the saltation matrix (Leine & Nijmeijer 2004, sec. 3.5),
     so the result is the Jacobian of the non-smooth map, not of a smoothed one.  One call
-    costs about five state-only integrations (2 ms per forcing period for the rotor).
+    costs about five state-only integrations.
 
     Parameters
     ----------

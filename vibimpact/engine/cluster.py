@@ -23,10 +23,9 @@ from .._text import one_line
 CONNECT_TIMEOUT = 20
 
 #: Dask settings of the local cluster's workers: no statistical profiler (it samples the
-#: running task's stack every 10 ms) and no GIL monitor (it polls the GIL every 1 ms),
-#: both of which interrupt the task that holds the GIL through every numba call; on 10
-#: fig8 rows they cost the workers 6-11 % more CPU time (two pairs of runs: 26.2 against
-#: 24.7 s, 22.8 against 20.4 s).  The workers of a remote cluster take these settings
+#: running task's stack many times a second) and no GIL monitor (it polls the GIL),
+#: both of which interrupt the task that holds the GIL through every numba call and cost
+#: the workers CPU time.  The workers of a remote cluster take these settings
 #: from their own configuration (see the README).
 WORKER_CONFIG = {"distributed.worker.profile.enabled": False,
                  "distributed.admin.system-monitor.gil.enabled": False}
@@ -148,7 +147,8 @@ def scheduler_address(text):
 
 def _abandon(client):
     """Let a Client whose constructor failed be collected quietly: without this its
-    ``__del__`` waits 40 s for a connection that never was and prints a traceback."""
+    ``__del__`` waits out its connect timeout for a connection that never was and prints
+    a traceback."""
     with contextlib.suppress(Exception):
         client.status = "closed"
     with contextlib.suppress(Exception):

@@ -13,8 +13,8 @@ from typing import Any
 
 from .. import _validate as _v
 
-#: least points per job of a map (~1 s or more of work at 200-400 points per second and
-#: core, reports/performance.md)
+#: least points per job of a map (a second or more of work at the points per second and
+#: core that reports/performance.md, section map, measures)
 DEFAULT_TASK_POINTS = 300
 
 

@@ -454,8 +454,8 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
     converges to it.  Two orbits are "the same" when their points agree to 1e-6.  A
     fold whose largest multiplier at the bracket is not real positive is reported as
     such in the evidence ("non-smooth"), and one within ``10 tol`` of a grazing in gap
-    as "grazing + fold".  Cost on fig8 at step 0.005 (26 boundaries, up and down): about
-    15 s on one core; fig10 35 s.
+    as "grazing + fold".  Its cost on the presets is timed in ``reports/transitions.md``
+    (each preset's section, "typing").
 
     Examples
     --------
