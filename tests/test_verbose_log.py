@@ -74,6 +74,29 @@ def test_vv_adds_each_points_decision(tmp_path, monkeypatch):
     points = [line for line in err.splitlines() if line.startswith("vibimpact: DEBUG: "
                                                                    "point eta ")]
     assert [p.split()[4] for p in points] == ["1:", "1.01:", "1.02:"]
-    assert all(" after a transient of " in p and " periods, " in p for p in points)
+    assert all(" after a transient of " in p and " periods over all attempts, " in p
+               for p in points)
     rc, err = run(tmp_path, monkeypatch, "-v", *args)
     assert "point eta" not in err
+
+
+def test_the_plan_and_the_block_lines_count_transients_the_same_way():
+    """Hypothesis: the plan line states ``transient_max`` as a budget per attempt and
+    every block and point line counts a transient over all attempts, so a point whose
+    transient (restarts included) exceeds the budget is not reported as breaking a
+    limit: the plan does not say "at most", and the block line names the count's scope
+    (issue 32: "transient at most 200 periods" beside "transients 328..328 periods")."""
+    from types import SimpleNamespace
+
+    from vibimpact.engine import logtext
+    from vibimpact.points.logtext import point
+
+    task = SimpleNamespace(row=0, direction="up", etas=[1.0], done=[], todo=1)
+    settings = SimpleNamespace(analyses=("period",), transient_max=200)
+    plan = logtext.request([0], [1.0], ["up"], [task], settings)
+    res = {"regime": 1, "period": 1, "transient": 328, "recorded": 40}
+    blk = logtext.block(task, [(0, res)], 1, 1, 0.5)
+    one = point(1.0, res)
+    assert "transient budget 200 periods per attempt" in plan and "at most" not in plan
+    assert "transients 328..328 periods over all attempts" in blk
+    assert "after a transient of 328 periods over all attempts" in one

@@ -10,9 +10,15 @@ from collections import Counter
 
 import numpy as np
 
-from ..points.logtext import Lazy, kind, parameters
+from ..points.logtext import OVER_ATTEMPTS, Lazy, kind, parameters
 
-__all__ = ["Lazy", "block", "parameters", "request"]
+__all__ = ["BUDGET", "Lazy", "block", "parameters", "request"]
+
+#: the plan's words on ``transient_max``: a budget that each attempt of a point gets
+#: afresh (a point whose start from the neighbouring point's orbit fails, or lands on a
+#: saddle, starts its plain transient over with the whole budget), so a point's
+#: transient, counted over its attempts (:data:`OVER_ATTEMPTS`), may exceed it
+BUDGET = "transient budget {} periods per attempt"
 
 
 def request(rows, etas, dirs, tasks, settings):
@@ -25,13 +31,12 @@ def request(rows, etas, dirs, tasks, settings):
     analyses = ",".join(getattr(settings, "analyses", ()) or ())
     return (f"{len(rows)} row(s) x {span} x {'/'.join(dirs)}: {len(tasks)} blocks, "
             f"{todo} points to compute, {loaded} loaded from the checkpoint; analyses "
-            f"{analyses or '-'}, transient at most "
-            f"{getattr(settings, 'transient_max', '?')} periods")
+            f"{analyses or '-'}, {BUDGET.format(getattr(settings, 'transient_max', '?'))}")
 
 
 def block(task, results, k, n, elapsed):
     """One line on a finished block: where, its points, what they are, their
-    transients."""
+    transients (each counted over all of the point's attempts, :data:`OVER_ATTEMPTS`)."""
     etas = [float(task.etas[i]) for i, _ in results]
     where = (f"row {task.row} {task.direction}, eta {min(etas):.6g}..{max(etas):.6g}"
              if etas else f"row {task.row} {task.direction}")
@@ -40,6 +45,7 @@ def block(task, results, k, n, elapsed):
     trans = [int(r.get("transient", 0)) for r in res]
     computed = len(results) - len(task.done)
     text = ": " + ", ".join(f"{c} {w}" for w, c in kinds.most_common()) if res else ""
-    settle = f"; transients {min(trans)}..{max(trans)} periods" if trans else ""
+    settle = (f"; transients {min(trans)}..{max(trans)} periods {OVER_ATTEMPTS}"
+              if trans else "")
     return (f"block {k}/{n} done ({where}): {len(results)} points ({computed} computed)"
             f"{text}{settle}; {elapsed:.1f} s since the start")

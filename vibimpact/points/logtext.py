@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Lazy", "kind", "parameters", "point"]
+__all__ = ["OVER_ATTEMPTS", "Lazy", "kind", "parameters", "point"]
+
+#: how a point's transient is counted in every log line: the periods of all its attempts
+#: (an attempt from the neighbouring point's orbit that is given up is discarded but
+#: counted), against the plan's ``transient_max``, which is a budget per attempt
+OVER_ATTEMPTS = "over all attempts"
 
 
 class Lazy:
@@ -54,5 +59,6 @@ def point(eta, res):
     """One line on a finished point: its transient and decision."""
     d = res.as_dict() if hasattr(res, "as_dict") else dict(res)
     return (f"point eta {float(eta):.6g}: {kind(d)} after a transient of "
-            f"{int(d.get('transient', 0))} periods, {int(d.get('recorded', 0))} recorded"
+            f"{int(d.get('transient', 0))} periods {OVER_ATTEMPTS}, "
+            f"{int(d.get('recorded', 0))} recorded"
             + (f" ({d['reason']})" if d.get("reason") else ""))
