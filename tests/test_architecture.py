@@ -106,15 +106,72 @@ def test_everything_above_the_kernel_imports_only_its_boundary():
     assert not bad, bad
 
 
-def test_the_public_runners_take_at_most_8_parameters():
-    """``vi.simulate``, ``vi.sweep`` and ``vi.map2d`` take at most eight parameters:
-    solver settings and execution settings are one object each, not a keyword each."""
+def _runner_settings():
+    """The names a public runner must not take as parameters: every field of
+    ``SolverSettings``, ``Execution`` and ``Continuation`` (each travels as one object:
+    ``solver=``, ``execution=``, ``continuation=``) and every argument of ``System``
+    that is one setting rather than a whole object (``params``, ``model`` and
+    ``solver`` are the objects a runner may take beside a bare parameter set)."""
+    import dataclasses
+
     import vibimpact as vi
 
-    for fn in (vi.simulate, vi.sweep, vi.map2d):
-        params = [p for p in inspect.signature(fn).parameters.values()
-                  if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
-        assert len(params) <= 8, (fn.__name__, [p.name for p in params])
+    fields = {f.name for cls in (vi.SolverSettings, vi.Execution, vi.Continuation)
+              for f in dataclasses.fields(cls)}
+    return fields | (set(inspect.signature(vi.System).parameters)
+                     - {"params", "model", "solver"})
+
+
+def _signature_names(fn):
+    return [("**" if p.kind == p.VAR_KEYWORD else "*" if p.kind == p.VAR_POSITIONAL else "")
+            + p.name for p in inspect.signature(fn).parameters.values()]
+
+
+def _runners():
+    import vibimpact as vi
+
+    return [vi.simulate, vi.sweep, vi.map2d]
+
+
+@pytest.mark.parametrize("fn", _runners(), ids=lambda f: f.__name__)
+def test_the_public_runners_take_settings_as_objects_not_keywords(fn):
+    """Hypothesis: ``vi.simulate``, ``vi.sweep`` and ``vi.map2d`` take no parameter named
+    like a field of ``SolverSettings``, ``Execution`` or ``Continuation`` or like a
+    single setting among ``System``'s arguments (the rule that replaced a parameter
+    count set to today's maximum of eight): solver, execution and continuation settings
+    are one object each, not a keyword each."""
+    clash = sorted(set(inspect.signature(fn).parameters) & _runner_settings())
+    assert clash == [], (fn.__name__, clash)
+
+
+@pytest.mark.parametrize("fn", _runners(), ids=lambda f: f.__name__)
+def test_every_runner_parameter_is_documented_in_signature_order(fn):
+    """Hypothesis: the numpydoc Parameters section of each public runner lists exactly
+    its signature's parameters, in order (``**kwargs`` with its stars): a parameter
+    added, removed, renamed or moved without its documentation fails."""
+    assert _documented_parameters(fn) == _signature_names(fn), fn.__name__
+
+
+def test_the_runner_rules_catch_a_setting_keyword_and_an_undocumented_parameter():
+    """Hypothesis: the two runner rules can fail: a runner taking ``workers`` (an
+    Execution field), ``rtol`` (a solver setting and a System argument) or ``blocks`` (a
+    Continuation field) clashes, and one whose Parameters section omits its ``**kwargs``
+    or swaps two parameters is not in signature order; the shipped names ``p``,
+    ``model``, ``solver``, ``execution`` pass."""
+    def bad(p, eta, *, workers=1, rtol=1e-9, blocks=4, model=None, solver=None,
+            execution=None, **extra):
+        """Bad.
+
+        Parameters
+        ----------
+        eta : array_like
+        p : Params
+        """
+
+    assert sorted(set(inspect.signature(bad).parameters) & _runner_settings()) == [
+        "blocks", "rtol", "workers"]
+    assert _documented_parameters(bad) != _signature_names(bad)
+    assert _documented_parameters(bad) == ["eta", "p"]
 
 
 def test_imports_run_downwards():

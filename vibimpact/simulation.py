@@ -58,6 +58,10 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
         rotor), ``event_tol = 1e-12`` (:data:`vibimpact.solver.SIMULATE_DEFAULTS`).
     model : Model, optional
         A user model; ``p`` is then its parameter vector (not with a System).
+    **moved
+        No setting: a keyword the solver settings took before (``rtol=``, ``method=``,
+        ...) raises ``TypeError`` saying where it went, any other keyword the usual
+        ``TypeError``.
 
     Returns
     -------
