@@ -75,6 +75,7 @@ def _inputs(args):
     """``(System, Steps)`` of the parsed arguments; UsageError for bad input."""
     from . import _limits, presets
     from .analysis import Steps
+    from .analysis.continuation import smallest_step
     from .system import System
 
     try:
@@ -112,8 +113,16 @@ def _inputs(args):
     if args.ds > args.ds_max:
         raise UsageError(f"--ds {args.ds:g} is larger than --ds-max {args.ds_max:g} (the "
                          f"first step must not exceed the largest)")
-    steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds), ds_max=args.ds_max,
-                  max_points=args.max_points)
+    floor = smallest_step(Steps(), start)
+    for name in ("ds", "ds_max"):
+        value = getattr(args, name)
+        if value < floor:
+            raise UsageError(f"--{name.replace('_', '-')} must be >= {floor:.3g}, the "
+                             f"smallest step resolvable at {args.param} = {start:g} (the "
+                             f"corrector's tolerance {Steps.newton_tol:g} and the float "
+                             f"resolution there), got {value:.3g}")
+    steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds),
+                  ds_max=args.ds_max, max_points=args.max_points)
     return system, steps
 
 

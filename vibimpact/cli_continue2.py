@@ -96,10 +96,30 @@ def _inputs(args):
         value = getattr(args, name)
         if value is not None and not math.isfinite(value):
             raise UsageError(f"--{name} must be finite, got {value:g}")
+    if args.step is not None:
+        _check_step(args, start, lo, hi)
     if args.transient > _limits.MAX_PERIODS:
         raise UsageError(f"--transient: at most {_limits.MAX_PERIODS} forcing periods, "
                          f"got {args.transient}")
     return system, kind, (lo, hi)
+
+
+def _check_step(args, start, lo, hi):
+    """UsageError when ``--step``, or the smallest step the curve halves it to (a 64th),
+    is below the float resolution of ``--param2`` over ``--range2``
+    (:data:`vibimpact.analysis.continuation.STEP_ULPS` units in the last place)."""
+    import numpy as np
+
+    from .analysis.continuation import STEP_ULPS
+
+    if args.step <= 0.0:
+        raise UsageError(f"--step must be > 0, got {args.step:g}")
+    big = max(abs(start), abs(lo), abs(hi))
+    floor = 64.0 * STEP_ULPS * float(np.spacing(big))
+    if args.step < floor:
+        raise UsageError(f"--step must be >= {floor:.3g} (a 64th of it, the smallest step "
+                         f"the curve takes, must be resolvable at {args.param2} = "
+                         f"{big:g} in floats), got {args.step:.3g}")
 
 
 def _seed(args, system, kind):

@@ -140,7 +140,9 @@ class Steps:
     ----------
     ds, ds_min, ds_max : float
         Initial, smallest and largest arclength step (in the units of ``(x, lambda)``),
-        ``0 < ds_min <= ds <= ds_max``.
+        ``newton_tol <= ds_min <= ds <= ds_max`` (a step below the corrector's
+        tolerance cannot be told from its error); :func:`continue_orbit` also refuses
+        steps below :func:`smallest_step` at its start.
     max_points : int
         Orbits on the branch at most (``>= 2``).
     fd_step : float
@@ -176,6 +178,40 @@ class Steps:
         if not self.ds_min <= self.ds <= self.ds_max:
             raise ValueError(f"ds must lie between ds_min and ds_max, got ds_min = "
                              f"{self.ds_min:g}, ds = {self.ds:g}, ds_max = {self.ds_max:g}")
+        if self.ds_min < self.newton_tol:
+            raise ValueError(f"ds_min must be >= newton_tol = {self.newton_tol:g} (a step "
+                             f"below the corrector's tolerance cannot be told from its "
+                             f"error), got {self.ds_min:g}")
+
+
+#: a step must exceed this many units in the last place of the largest coordinate of the
+#: start ``(x, lambda)``: below it ``start + ds`` is ``start``, or nearly, in floats
+STEP_ULPS = 64
+
+
+def smallest_step(steps, *values):
+    """The smallest arclength step resolvable from a start whose coordinates are
+    ``values``: the corrector's tolerance ``steps.newton_tol`` relative to
+    ``max(1, max |x|)``, and :data:`STEP_ULPS` units in the last place of the largest
+    ``|value|``."""
+    big = max((abs(float(v)) for v in values), default=0.0)
+    return max(steps.newton_tol * max(1.0, big), STEP_ULPS * float(np.spacing(big)))
+
+
+def check_steps(steps, *values, names=("ds", "ds_min", "ds_max")):
+    """ValueError naming the step (``names``: how to call ``ds``, ``ds_min``,
+    ``ds_max``) that is below :func:`smallest_step` at a start whose coordinates are
+    ``values``."""
+    floor = smallest_step(steps, *values)
+    named = dict(zip(("ds", "ds_min", "ds_max"), names))
+    for field in ("ds_min", "ds", "ds_max"):  # the smallest first
+        value, name = getattr(steps, field), named[field]
+        if name and value < floor:
+            big = max(abs(float(v)) for v in values)
+            raise ValueError(f"{name} must be >= {floor:.3g}, the smallest step resolvable "
+                             f"at a start of magnitude {big:.6g} (the corrector's tolerance "
+                             f"{steps.newton_tol:g} and the float resolution there), got "
+                             f"{value:.3g}")
 
 
 def _amplitude(system, x, n, names, dense=96):
@@ -507,9 +543,12 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
         raise ValueError(f"direction must be 1 or -1, got {direction!r}")
     if refine is not None:
         refine = _v.positive("refine", refine)
+    check_steps(steps, lam0, names=("steps.ds", "steps.ds_min", "steps.ds_max"))
     orb = shoot_periodic_orbit(system, state0, n, tol=steps.newton_tol)
     if not orb.converged:
         raise StartFailed(orb.reason)
+    check_steps(steps, lam0, *orb.state, names=("steps.ds", "steps.ds_min",
+                                                "steps.ds_max"))
     mdl = system.model
     planar = mdl.contact is not None and len(mdl.contact.positions) == 2
     names = (tuple(f"{mdl.state_names[i]}_m" for i in mdl.contact.positions) + ("R_m",)
@@ -584,7 +623,9 @@ def _branch_events(vals, stab, mults):
              if (vals[i] - vals[i - 1]) * (vals[i + 1] - vals[i]) < 0]
     bif = [(i, BifurcationKind.TURNING_POINT, float(vals[i])) for i in turns]
     for i in range(1, vals.size):
-        if stab[i] != stab[i - 1]:
+        # a change between two points at one parameter value brackets nothing (steps
+        # lost in rounding): not a bifurcation in the parameter
+        if stab[i] != stab[i - 1] and vals[i] != vals[i - 1]:
             unstable = mults[i] if not stab[i] else mults[i - 1]
             kind = BifurcationKind.by_multiplier(critical_multiplier(unstable))
             if kind is BifurcationKind.FOLD and any(abs(i - j) <= 1 for j in turns):
