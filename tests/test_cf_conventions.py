@@ -22,6 +22,7 @@ tests/test_map2d.py.
 import contextlib
 import datetime
 import io as stdio
+import math
 import platform
 import re
 import shutil
@@ -68,9 +69,11 @@ def run(*args):
 @pytest.fixture(scope="module")
 def written(tmp_path_factory):
     """``(directory, time before the first write)``: every command of COMMANDS run once,
-    its output under its own name in the directory."""
+    its output under its own name in the directory; the time is the directory's
+    creation, as the file system stamped it (to the second), not a clock read by the
+    test (tests/test_no_wall_clock.py)."""
     d = tmp_path_factory.mktemp("cf")
-    start = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    start = datetime.datetime.fromtimestamp(int(d.stat().st_mtime), datetime.timezone.utc)
     for name, (args, out, _) in COMMANDS.items():
         rc, _, err = run(*args, "-o", d / out)
         assert rc == 0, (name, err)
@@ -115,15 +118,14 @@ def _utc(text):
     return t
 
 
-def _global_problems(glob, since):
+def _global_problems(glob, since, until=None):
     bad = []
     if not re.fullmatch(r"CF-1\.\d+", str(glob.get("Conventions", ""))):
         bad.append(f"Conventions {glob.get('Conventions')!r}")
     try:
         created = _utc(glob["date_created"])
-        now = datetime.datetime.now(datetime.timezone.utc)
-        if since is not None and not since <= created <= now:
-            bad.append(f"date_created {created} not between {since} and {now}")
+        if since is not None and not since <= created <= (until or created):
+            bad.append(f"date_created {created} not between {since} and {until}")
     except (KeyError, ValueError) as exc:
         bad.append(f"date_created: {exc!r}")
     lines = str(glob.get("history", "")).splitlines()
@@ -164,9 +166,13 @@ def _flag_problems(name, attrs, values):
 
 def cf_problems(path, since=None):
     """Every violation of the rules of this module's docstring in the file ``path``; an
-    empty list for a file that passes.  ``since``: the earliest acceptable date_created."""
+    empty list for a file that passes.  ``since``: the earliest acceptable date_created;
+    the latest is the file's modification time (to the second above), as the file
+    system stamped it."""
     glob, variables, coords = read_raw(path)
-    bad = _global_problems(glob, since)
+    until = datetime.datetime.fromtimestamp(math.ceil(Path(path).stat().st_mtime),
+                                            datetime.timezone.utc)
+    bad = _global_problems(glob, since, until)
     for name, (attrs, values) in variables.items():
         if name in coords:
             if "_FillValue" in attrs:

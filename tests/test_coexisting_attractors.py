@@ -53,7 +53,8 @@ def files(tmp_path_factory):
     (simulate from rest), with simulate's default periods and transient; the time before
     the first write."""
     d = tmp_path_factory.mktemp("coexist")
-    since = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    # the directory's creation as the file system stamped it, not a clock the test reads
+    since = datetime.datetime.fromtimestamp(int(d.stat().st_mtime), datetime.timezone.utc)
     cwd = os.getcwd()
     os.chdir(d)
     try:
