@@ -48,7 +48,7 @@ def _coarse_segment_px(run, ax):
 
 def _assert_smooth_and_same_motion(ax, run):
     longest, line = _longest_segment_px(ax)
-    assert longest <= 2.0 * MAX_SEGMENT_PX, longest
+    assert longest <= MAX_SEGMENT_PX, longest
     assert _coarse_segment_px(run, ax) > 5.0 * MAX_SEGMENT_PX   # the polygon it replaces
     x, y = line.get_data()
     per = (x.size - 1) // (run.strobe.shape[0] - 1)
@@ -96,7 +96,7 @@ def test_simulate_plot_draws_a_smooth_trajectory(monkeypatch, tmp_path):
     assert code in (0, None) and (tmp_path / "xy.png").stat().st_size > 0
     assert len(drawn) == 1
     longest, _ = _longest_segment_px(drawn[0])
-    assert longest <= 2.0 * MAX_SEGMENT_PX
+    assert longest <= MAX_SEGMENT_PX, longest
 
 
 def test_a_run_that_cannot_be_made_again_draws_its_own_samples(chaos):

@@ -38,21 +38,28 @@ def pixels_per_unit(ax, span, dpi=None):
     return min(pos.width * w, pos.height * h) * dpi / float(span)
 
 
+#: the segments aimed at are this many times shorter than :data:`MAX_SEGMENT_PX`: the
+#: axes' size before the figure's layout is an estimate of the drawn one
+MARGIN = 2.0
+#: most times a run is integrated again to reach :data:`MAX_SEGMENT_PX`
+MAX_REFINES = 4
+
+
 def per_period_needed(xy, per_period, px_per_unit):
-    """Samples per forcing period for segments of at most :data:`MAX_SEGMENT_PX` pixels:
-    the longest path drawn in one forcing period (from the samples ``xy`` at
-    ``per_period`` a period) over that length, bounded by :data:`MIN_PER_PERIOD` and
-    :data:`MAX_PER_PERIOD`."""
+    """Samples per forcing period for segments of at most :data:`MAX_SEGMENT_PX` /
+    :data:`MARGIN` pixels: the samples are evenly spaced in time, so a segment's length
+    scales with the time step; the longest segment of the samples ``xy`` (at
+    ``per_period`` a period) sets the factor.  Bounded by :data:`MIN_PER_PERIOD` and
+    :data:`MAX_PER_PERIOD`; ``per_period`` itself when its segments are short enough."""
     seg = np.hypot(*np.diff(xy, axis=0).T) * px_per_unit
     seg = seg[np.isfinite(seg)]
     if seg.size == 0:
         return MIN_PER_PERIOD
-    n = max(1, seg.size // per_period)
-    longest = seg[:n * per_period].reshape(n, per_period).sum(axis=1).max() if \
-        seg.size >= per_period else seg.sum()
-    # the axes' size before the layout is an estimate: aim at half the longest segment
-    need = int(np.ceil(2.0 * longest / MAX_SEGMENT_PX))
-    return int(min(max(need, MIN_PER_PERIOD), MAX_PER_PERIOD))
+    longest = float(seg.max())
+    if longest <= MAX_SEGMENT_PX / MARGIN:
+        return int(per_period)
+    need = int(np.ceil(per_period * MARGIN * longest / MAX_SEGMENT_PX))
+    return int(min(max(need, MIN_PER_PERIOD, per_period + 1), MAX_PER_PERIOD))
 
 
 def _system_and_start(value, ds):
@@ -144,8 +151,12 @@ def trajectory_for(value, ds, ax, cols, span, dpi=None):
     fine = fine_trajectory(value, ds, need)
     if fine is None:
         return traj
-    again = per_period_needed(fine[1][:, cols], need, ppu)   # measured on the fine curve
-    if again > need:
+    for _ in range(MAX_REFINES):   # measured on the fine curve: a corner the coarse
+        again = per_period_needed(fine[1][:, cols], need, ppu)   # samples cut short
+        if again <= need:
+            break
         finer = fine_trajectory(value, ds, again)
-        fine = finer if finer is not None else fine
+        if finer is None:
+            break
+        fine, need = finer, again
     return fine[1]
