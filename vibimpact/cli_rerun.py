@@ -5,10 +5,11 @@ Every file written by ``simulate``, ``classify``, ``bifurcation`` (its ``.nc``),
 global attribute ``command``.  ``rerun`` parses it with today's
 parser, runs it in this process with the output redirected to a new file, and compares
 every data variable and coordinate of the two files bit for bit (NaN equal to NaN, string
-variables as text), and the attributes that say what was computed (parameters, solver and
-sweep settings, model, preset: :func:`attribute_differences`), so that a file whose
-attributes contradict its command is reported; the other attributes (wall time, dates,
-versions, the output name) are not compared.  Only the standard library is imported at
+variables as text), and their attributes (:func:`vibimpact.io.attribute_differences`):
+every global attribute but the time stamps, versions, platform and command line
+(:data:`vibimpact.provenance.NOT_COMPARED`), and every attribute of every variable and
+coordinate, so that a file whose attributes contradict its data or its command (units,
+flag meanings, parameters, counters changed after the run) is reported.  Only the standard library is imported at
 module level.
 """
 import contextlib
@@ -38,9 +39,12 @@ results do not depend on where they were computed).  A 'simulate --from SWEEP.nc
 starts again from the state and parameters its file records (state0, start_*), without
 reading the sweep's file: that may have moved, changed or gone since.
 
-The attributes that say what was computed (param_*, params, solver_*, settings, model,
-preset, ...) are compared too: a file whose attributes were changed after the run, or
-that otherwise contradicts its recorded command, is reported as different, naming them.
+The attributes are compared too: every global attribute but the time stamps, versions,
+platform and command line (date_created, history, wall_time_s, source, *_version,
+vibimpact_git_*, platform, cpu_model, command), and every attribute of every variable
+and coordinate (units, flag_meanings, ...): a file whose attributes were changed after
+the run, or that otherwise contradicts its recorded command, is reported as different,
+naming them (VARIABLE:ATTRIBUTE for a variable's).
 
 exit status: 0 identical ('identical: N variables and M attributes of the run'), 1
 different (the differing variables and attributes are listed), 2 bad input (missing,
@@ -184,8 +188,8 @@ def _cmd_rerun(args):
     finally:
         remove_paths(leftovers)
 
-    diffs, total = io.differences(old, fresh)
-    attr_diffs, attr_total = attribute_differences(old.attrs, fresh.attrs)
+    diffs, total = io.differences(old, fresh, attributes=False)
+    attr_diffs, attr_total = io.attribute_differences(old, fresh, files=True)
     if not diffs and not attr_diffs:
         print(f"identical: {count(total, 'variable')} and "
               f"{count(attr_total, 'attribute')} of the run"
@@ -201,63 +205,6 @@ def _cmd_rerun(args):
     for name, why in attr_diffs:
         print(f"  attribute {name}: {why}")
     return 1
-
-
-#: global attributes that say what was computed (the parameters, solver and sweep
-#: settings, the model, the preset, the grid): a rerun of the recorded command writes
-#: them again, so a file whose attributes were changed afterwards contradicts its command
-_RUN_ATTRS = ("model", "preset", "params", "settings", "periods", "transient", "dense",
-              "blocks", "continuation", "direction", "sweep_direction", "eta_range",
-              "status", "map_vary")
-_RUN_PREFIXES = ("param_", "solver_", "start_")
-
-
-def _run_attr(name):
-    return name in _RUN_ATTRS or name.startswith(_RUN_PREFIXES)
-
-
-def _same_value(a, b):
-    """Whether two attribute values are the same (numbers bit for bit, NaN equal to
-    NaN; text as text)."""
-    import numpy as np
-
-    if isinstance(a, str) or isinstance(b, str):
-        return isinstance(a, str) and isinstance(b, str) and a == b
-    x, y = np.asarray(a), np.asarray(b)
-    if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
-        return False
-    return bool(np.array_equal(x, y, equal_nan=x.dtype.kind in "fc"))
-
-
-def attribute_differences(old, fresh):
-    """``([(name, why), ...], checked)``: the attributes of the run (:data:`_RUN_ATTRS`,
-    names starting with :data:`_RUN_PREFIXES`) that the recorded file and its rerun do
-    not share or give different values; ``checked`` counts those compared.
-
-    The rerun writes these attributes from the recorded command, so a difference means
-    the file contradicts itself: an attribute changed after the run (``param_kh`` set to
-    ``'abc'`` or ``-5``, ``params`` no longer JSON), or a command that does not compute
-    what the attributes say.
-    """
-    names = sorted({n for n in (*old, *fresh) if _run_attr(n)})
-    out = []
-    for name in names:
-        if name not in fresh:
-            out.append((name, f"recorded {_short(old[name])}, which the recorded command "
-                              f"does not write"))
-        elif name not in old:
-            out.append((name, f"missing from the file; the recorded command writes "
-                              f"{_short(fresh[name])}"))
-        elif not _same_value(old[name], fresh[name]):
-            out.append((name, f"recorded {_short(old[name])}, the recorded command gives "
-                              f"{_short(fresh[name])}"))
-    return out, len(names)
-
-
-def _short(value):
-    text = repr(value.item() if hasattr(value, "item") and getattr(value, "size", 2) == 1
-                else value)
-    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def add_parser(sub, fmt, build_parser):
@@ -278,4 +225,4 @@ def add_parser(sub, fmt, build_parser):
     r.set_defaults(func=_cmd_rerun, build_parser=build_parser)
 
 
-__all__ = ["add_parser", "attribute_differences", "RERUNNABLE"]
+__all__ = ["add_parser", "RERUNNABLE"]

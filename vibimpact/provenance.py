@@ -15,8 +15,11 @@ the dataset's global attributes through :func:`file_attrs`, which adds
   platform and the CPU model.
 
 The attributes in :data:`VOLATILE` (the time stamps, the wall time) differ between two
-writes of the same data; data comparisons (:func:`vibimpact.io.differences`, ``vibimpact
-rerun``, resumed runs) compare variables only, never these.
+writes of the same data, those in :data:`ENVIRONMENT` (the versions, the git commit, the
+platform, the CPU) between two machines or installations, and ``command`` between a run
+and its resumed or redirected repetition: :data:`NOT_COMPARED`, the deny-list of
+:func:`vibimpact.io.differences` (``vibimpact rerun``, resumed runs), which compares every
+other global attribute and every attribute of every variable.
 
 Only the standard library is imported here.  The git commit and the CPU model are looked
 up once per process (``git`` absent, not a checkout, or any failure: no commit recorded).
@@ -42,6 +45,15 @@ REFERENCES = ("L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic 
 DEPENDENCIES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "zarr", "dask")
 #: global attributes that change from one write of the same data to the next
 VOLATILE = ("date_created", "history", "wall_time_s")
+#: global attributes that say where and with what the file was written (versions of the
+#: package and its dependencies, git commit, Python, platform, CPU), not what it holds
+ENVIRONMENT = ("source", "vibimpact_version", "vibimpact_git_commit", "vibimpact_git_dirty",
+               *(f"{name}_version" for name in DEPENDENCIES), "python_version", "platform",
+               "cpu_model")
+#: global attributes data comparisons (:func:`vibimpact.io.differences`) leave out: the
+#: time stamps, the environment, and the command line (a resumed run adds --resume, a
+#: rerun's -o names another file; the data and the other attributes say what was computed)
+NOT_COMPARED = (*VOLATILE, *ENVIRONMENT, "command")
 
 
 def utc_now() -> str:
@@ -171,5 +183,6 @@ def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     return out
 
 
-__all__ = ["CONVENTIONS", "DEPENDENCIES", "REFERENCES", "VOLATILE", "cpu_model", "dependency_versions",
+__all__ = ["CONVENTIONS", "DEPENDENCIES", "ENVIRONMENT", "NOT_COMPARED", "REFERENCES",
+           "VOLATILE", "cpu_model", "dependency_versions",
            "file_attrs", "git_commit", "provenance", "utc_now"]
