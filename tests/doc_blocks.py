@@ -215,3 +215,27 @@ def outputs(words):
             if words[1:2] == ["bifurcation"] and value.lower().endswith(IMAGE):
                 out.append(str(Path(value).with_suffix(".nc")))
     return out
+
+
+#: what a file a Python block names looks like: a relative path with a data or image
+#: extension
+FILE_ARGUMENT = re.compile(r"[\w.-]+(?:/[\w.-]+)*\.(?:png|pdf|svg|jpe?g|nc|zarr|csv|json|txt|"
+                           r"npz|npy|h5)", re.I)
+
+
+def python_outputs(text):
+    """The files a Python block writes or reads by name: every string literal, passed to
+    a call (positionally or by keyword: ``fig.savefig("a.png")``,
+    ``plot_bifurcation(ds, path="b.png")``, ``write_netcdf(ds, "c.nc")``), that is a
+    relative path with a data or image extension.  After the page ran, each is there (a
+    block that ran without an exception wrote or read it)."""
+    import ast
+
+    out = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Call):
+            for arg in [*node.args, *(k.value for k in node.keywords)]:
+                if isinstance(arg, ast.Constant) and isinstance(arg.value, str) and \
+                        FILE_ARGUMENT.fullmatch(arg.value):
+                    out.append(arg.value)
+    return out

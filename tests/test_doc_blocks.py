@@ -298,6 +298,25 @@ SAMENESS = re.compile(r"bit-identical|same numbers|same result|every machine|any
                       re.I)
 
 
+def test_python_outputs_are_the_file_names_a_block_passes_to_calls():
+    """Hypothesis: the files the slow run checks after a Python block are the relative
+    paths with a data or image extension passed to a call, positionally or by keyword
+    (a figure's savefig, a plot's path=, write_netcdf, a read), and no other string."""
+    text = ('fig.savefig("a/b.png", dpi=80)\nplot_bifurcation(ds, states="Vr", '
+            'path="ring_vr_api.png")\nvi.io.write_netcdf(ds, "c.nc")\n'
+            'print("done.png is a word here")\nx = "d.nc"\nf(label="P1")\n')
+    assert db.python_outputs(text) == ["a/b.png", "ring_vr_api.png", "c.nc"]
+
+
+def test_the_ring_page_names_the_figure_its_python_block_writes():
+    """Hypothesis: the pages' Python blocks name the files they write in a form the slow
+    run checks: the ring guide's plot_bifurcation(..., path="ring_vr_api.png") is found
+    (the check the deleted ring-guide test made)."""
+    found = {o for page in db.pages() for b in db.runnable(page)
+             if b.language == "python" for o in db.python_outputs(b.text)}
+    assert "ring_vr_api.png" in found
+
+
 def test_the_reproducibility_promise_is_stated_on_one_page():
     """Hypothesis: a paragraph that promises the same numbers (serial or parallel,
     resumed, another machine) outside the reproducibility page refers to that page,
@@ -394,7 +413,8 @@ def test_a_page_runs_as_pasted(page, tmp_path):
     """Hypothesis: pasted in order into a shell and one Python interpreter in an empty
     folder, every shell line of the page ends with status 0 (or the N of its
     ``# exits N``), every Python block runs without an exception, and every file a
-    command names as its output is there afterwards."""
+    command names as its output, and every file a Python block names in a call
+    (``savefig``, a plot's ``path=``, ``write_netcdf``), is there afterwards."""
     env = _environment(tmp_path)
     ci = db.ci_commands()
     driver = tmp_path / ".driver.py"
@@ -417,6 +437,7 @@ def test_a_page_runs_as_pasted(page, tmp_path):
                     failures.append((b.where, b.text[:200],
                                      (tmp_path / ".python.log").read_text()[-2000:]))
                     break
+                outputs += db.python_outputs(b.text)
                 continue
             lines = db.shell_lines(b)
             script = tmp_path / f".block{k}.sh"
