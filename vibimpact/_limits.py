@@ -124,11 +124,11 @@ MAX_PIXELS = 1 << 28
 MAX_SIDE_PIXELS = 1 << 16
 
 
-def check_pixels(width, height, dpi, what="figure"):
+def check_pixels(width, height, dpi, what="figure", smallest_pt=None):
     """Refuse a figure of ``width`` x ``height`` inches at ``dpi`` larger than
     :data:`MAX_PIXELS`, or :data:`MAX_SIDE_PIXELS` along a side (``--figsize 1e9x1e9``
     or ``--dpi 1000000`` ended in ``MemoryError`` from the renderer, after all the
-    work).
+    work), or one that cannot be drawn (:func:`check_drawable`).
 
     Raises
     ------
@@ -140,3 +140,28 @@ def check_pixels(width, height, dpi, what="figure"):
         raise ValueError(f"{what} of {width:g} x {height:g} inches at {dpi:g} dpi would be "
                          f"{w:.3g} x {h:.3g} pixels; at most {MAX_PIXELS:.3g} pixels and "
                          f"{MAX_SIDE_PIXELS} a side are drawn")
+    check_drawable(width, height, dpi, what, smallest_pt)
+
+
+def check_drawable(width, height, dpi, what="figure", smallest_pt=None):
+    """Refuse a figure of ``width`` x ``height`` inches at ``dpi`` with a side under one
+    pixel (an empty image cannot be written: ``--dpi 1e-300`` failed so after the
+    work); and, given the size ``smallest_pt`` in points of the smallest text the figure
+    draws, a ``dpi`` at which that text is under one pixel (``dpi * smallest_pt / 72 <
+    1``: FreeType cannot raster a glyph under a pixel, ``--dpi 1`` ended in "invalid
+    ppem").  The text is checked first (it does not depend on the size).
+
+    Raises
+    ------
+    ValueError
+        Saying the size in pixels and the limit.
+    """
+    if smallest_pt is not None and float(dpi) * smallest_pt / 72.0 < 1.0:
+        raise ValueError(f"{what} at {dpi:g} dpi would draw its smallest text "
+                         f"({smallest_pt:.3g} pt) {float(dpi) * smallest_pt / 72.0:.2g} "
+                         f"pixels high; the renderer cannot draw a glyph under 1 pixel: "
+                         f"give at least {72.0 / smallest_pt:.3g} dpi")
+    w, h = float(width) * float(dpi), float(height) * float(dpi)
+    if min(w, h) < 1.0:
+        raise ValueError(f"{what} of {width:g} x {height:g} inches at {dpi:g} dpi would be "
+                         f"{w:.3g} x {h:.3g} pixels; a side must be at least 1 pixel")

@@ -66,21 +66,33 @@ LARGEST_DPI = 300.0
 def check_figure_size(args):
     """Refuse, before any work, a ``--figsize`` and ``--dpi`` whose image would exceed
     :data:`vibimpact._limits.MAX_PIXELS` (checked with :data:`LARGEST_DEFAULT` and
-    :data:`LARGEST_DPI` for the option not given); the one check of every command that
+    :data:`LARGEST_DPI` for the option not given) or could not be drawn (a side under a
+    pixel at the smallest resolution of a style, text under a pixel at ``--dpi``:
+    :func:`vibimpact._limits.check_drawable`); the one check of every command that
     draws.  UsageError naming the options."""
     from . import _limits
 
     figsize, dpi = getattr(args, "figsize", None), getattr(args, "dpi", None)
     if figsize is None and dpi is None:
         return
+    from .plotting.style import DPI, smallest_text_pt
+
+    given = " ".join(f"--dpi {dpi:g}" if k == "dpi" else
+                     f"--figsize {figsize[0]:g}x{figsize[1]:g}"
+                     for k in ("figsize", "dpi") if getattr(args, k, None) is not None)
+    # at least a pixel a side at the smallest resolution, text of a pixel at --dpi (every
+    # default figure is over an inch a side: the text rule keeps it over one pixel)
+    try:
+        _limits.check_drawable(*(figsize or (1.0, 1.0)),
+                             dpi if dpi is not None else min(DPI.values()), what="the image",
+                             smallest_pt=smallest_text_pt() if dpi is not None else None)
+    except ValueError as exc:
+        raise UsageError(f"{given}: {exc}; give a larger --figsize or --dpi") from None
     width, height = figsize if figsize is not None else LARGEST_DEFAULT
     try:
         _limits.check_pixels(width, height, dpi if dpi is not None else LARGEST_DPI,
                              what="the image")
     except ValueError as exc:
-        given = " ".join(f"--dpi {dpi:g}" if k == "dpi" else
-                         f"--figsize {figsize[0]:g}x{figsize[1]:g}"
-                         for k in ("figsize", "dpi") if getattr(args, k, None) is not None)
         raise UsageError(f"{given}: {exc}; give a smaller --figsize or --dpi") from None
 
 

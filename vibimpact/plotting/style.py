@@ -142,6 +142,37 @@ DPI = {"default": 150.0, "paper": 300.0}
 #: width of a journal column in inches (the ``"paper"`` figures')
 COLUMN_WIDTH = 3.5
 
+#: the relative sizes the figures give text beyond their style's (``fontsize="small"``
+#: of the sweep panels' titles and the basins' legend)
+TEXT_SCALINGS = ("small",)
+
+
+def smallest_text_pt():
+    """The size in points of the smallest text any figure draws in any style: the
+    smallest font size of :data:`STYLES` (their ``*size`` entries, matplotlib's default
+    for those they leave, and :data:`TEXT_SCALINGS` of their ``font.size``), times the
+    size of mathtext's sub- and superscripts (``$X_m$``; matplotlib's
+    ``SHRINK_FACTOR``).
+
+    :func:`vibimpact._limits.check_pixels` refuses a resolution at which it is under
+    one pixel (FreeType cannot raster such a glyph)."""
+    from matplotlib import rcParamsDefault
+    from matplotlib._mathtext import SHRINK_FACTOR
+    from matplotlib.font_manager import font_scalings
+
+    sizes = []
+    for style in STYLES.values():
+        params = {**rcParamsDefault, **style}
+        base = float(params["font.size"])
+        keys = [k for k in params if k.endswith(("fontsize", "labelsize", "titlesize"))
+                or k == "font.size"]
+        for value in [params[k] for k in keys] + list(TEXT_SCALINGS):
+            if isinstance(value, str):
+                value = base * font_scalings.get(value, 1.0)  # "medium", "small", ...
+            sizes.append(float(value))
+    return min(sizes) * SHRINK_FACTOR
+
+
 def check_figsize(figsize):
     """``figsize`` as a ``(width, height)`` tuple of finite floats > 0 (inches), or None.
 
@@ -259,7 +290,7 @@ class Look:
 
         size, dpi = self.size(default, paper_height, columns), self.dpi or DPI[self.style]
         try:
-            check_pixels(*size, dpi)
+            check_pixels(*size, dpi, smallest_pt=smallest_text_pt())
         except ValueError as exc:
             raise ValueError(f"figsize, dpi: {exc}") from None
         return Figure(figsize=size, dpi=dpi, layout="constrained")
@@ -387,10 +418,16 @@ def look(figsize=None, dpi=None, style=None, ax=None):
         raise ValueError("figsize sizes a new figure; leave it out when passing ax "
                          "(size ax's figure instead)")
     dpi = check_dpi(dpi)
-    if figsize is not None and dpi is not None:
-        from .._limits import check_pixels
+    if figsize is not None or dpi is not None:
+        from .._limits import check_drawable, check_pixels
+
+        # a pixel a side at the style's smallest resolution, text of a pixel at dpi (every
+        # default figure is over an inch a side: the text rule keeps it over one pixel)
         try:
-            check_pixels(*figsize, dpi)
+            check_drawable(*(figsize or (1.0, 1.0)), dpi or min(DPI.values()),
+                           smallest_pt=smallest_text_pt() if dpi is not None else None)
+            if figsize is not None and dpi is not None:
+                check_pixels(*figsize, dpi)
         except ValueError as exc:
             raise ValueError(f"figsize, dpi: {exc}") from None
     return Look(style=check_style(style), figsize=figsize, dpi=dpi)
