@@ -75,13 +75,27 @@ _TYPED_ATTRS = ("flag_values", "valid_min", "valid_max", "valid_range", "_FillVa
                 "missing_value")
 
 
-def _cf_integer(values):
-    """The CF-1.8 integer dtype for integer ``values`` of another type (int64, unsigned):
-    int32 when every value fits it, float64 otherwise (exact to 2**53)."""
+#: the largest integer magnitude float64 holds exactly (and every integer below it)
+EXACT_FLOAT_INTEGER = 2**53
+
+
+def _cf_integer(values, name):
+    """The CF-1.8 type for the integer ``values`` of variable ``name`` of another type
+    (int64, unsigned): int32 when every value fits it, float64 when every value has a
+    magnitude of at most 2**53 (float64 holds each exactly); ValueError naming ``name``
+    otherwise (float64 would change the values)."""
     info = np.iinfo(np.int32)
-    if values.size == 0 or (int(values.min()) >= info.min and int(values.max()) <= info.max):
+    if values.size == 0:
         return np.dtype(np.int32)
-    return np.dtype(np.float64)
+    low, high = int(values.min()), int(values.max())
+    if low >= info.min and high <= info.max:
+        return np.dtype(np.int32)
+    if max(-low, high) <= EXACT_FLOAT_INTEGER:
+        return np.dtype(np.float64)
+    raise ValueError(f"variable {name!r} holds the integer {high if high > -low else low}, "
+                     f"which no CF-1.8 type holds exactly (int32 reaches {info.max}, "
+                     f"float64 every integer up to 2**53 = {EXACT_FLOAT_INTEGER}); "
+                     "not writing it")
 
 
 def _typed(attrs, dtype):
@@ -106,7 +120,7 @@ def _foreign(dtype):
     return dtype.kind in "iu" and dtype.name not in CF_INTEGERS
 
 
-def _cf_encoding(var, values):
+def _cf_encoding(var, values, name):
     """``var``'s encoding with a stored type CF-1.8 does not have (a dataset read from
     an older file keeps int64 there, whatever its values are now) as int32, or float64
     when ``values`` or the fill value do not fit int32; None when nothing changes."""
@@ -118,7 +132,8 @@ def _cf_encoding(var, values):
     fill = enc.get("_FillValue", enc.get("missing_value"))
     probe = np.append(vals[np.isfinite(vals)], [] if fill is None else np.ravel(fill))
     enc["dtype"] = _cf_integer(probe.astype(np.int64) if probe.size and
-                               np.all(np.abs(probe) < 2.0**62) else probe.astype(np.float64))
+                               np.all(np.abs(probe) < 2.0**62) else probe.astype(np.float64),
+                               name)
     for key in ("_FillValue", "missing_value"):
         if enc.get(key) is not None:
             enc[key] = np.asarray(enc[key]).astype(enc["dtype"])[()]
@@ -138,13 +153,13 @@ def _cf_types(out):
         values = None
         if _foreign(var.dtype):
             values = np.asarray(var.values)
-            new = var.copy(data=values.astype(_cf_integer(values)))
+            new = var.copy(data=values.astype(_cf_integer(values, name)))
         elif any(key in var.attrs for key in _TYPED_ATTRS) or _foreign(
                 var.encoding.get("dtype", "f8")):
             new = var.copy(deep=False)
         else:
             continue
-        encoding = _cf_encoding(new, new.values)
+        encoding = _cf_encoding(new, new.values, name)
         if encoding is not None:
             new.encoding = encoding
         elif values is not None:  # converted here: the old stored type goes too
@@ -178,8 +193,10 @@ def for_file(ds: xr.Dataset, call: str | None, *,
     The copy also gets what CF-1.8 asks of the data themselves, whatever built ``ds``:
 
     * an integer variable of a type CF-1.8 does not have (int64, unsigned: its section 2.2
-      allows byte, short and int) is written as int32 when its values fit (else float64),
-      its ``flag_values`` and valid range alike;
+      allows byte, short and int) is written as int32 when its values fit, else as
+      float64 when float64 holds each exactly (magnitudes up to 2**53), its
+      ``flag_values`` and valid range alike; one beyond 2**53 is refused (ValueError
+      naming the variable), not rounded;
     * a dimension coordinate of text (``state``: X, Y, ...; ``direction``: up, down) is
       written as characters (``state(state, string2)``): a coordinate variable must be
       numeric and monotonic (CF 1.3), a character array labels its dimension instead
@@ -201,6 +218,12 @@ def for_file(ds: xr.Dataset, call: str | None, *,
     Returns
     -------
     (xarray.Dataset, dict)
+
+    Raises
+    ------
+    ValueError
+        Naming the variable, for integers of a magnitude beyond 2**53 that CF-1.8 has no
+        exact type for.
     """
     from .provenance import file_attrs
 
@@ -438,7 +461,8 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     ValueError
         For another path :func:`check_output_path` refuses (its directory does not
         exist or is not writable, a device, a dangling link, a name that is empty, too
-        long or not UTF-8, ...).
+        long or not UTF-8, ...), or an integer variable beyond 2**53 (:func:`for_file`;
+        nothing is written).
     OSError
         When the file cannot be written: a full disk, which NetCDF reports as
         ``RuntimeError: NetCDF: HDF error``, included (:func:`write_failed`; the
