@@ -21,7 +21,10 @@ The scan is a taint analysis of each test file:
   whole file, in a function for that function), and so is a call of a function of the
   file that returns a tainted value;
 * every ``assert`` whose test involves a tainted value is reported, and so is every
-  ``self.assert...(...)`` call with a tainted argument.
+  ``self.assert...(...)`` call with a tainted argument, and every ``if`` on a tainted
+  value that fails the test (``pytest.fail``, ``raise``) outside a loop: a hang guard
+  bounds a loop that waits for something; the same check after the work is a
+  wall-clock assert written another way.
 
 A time stamp handed to a checker inside an assert is reported too: a test takes its
 stamp from the file system (a file's ``st_mtime``) instead of a clock.
@@ -164,6 +167,18 @@ def _bind(target, taint, names):
     return True
 
 
+def _fails(body):
+    """Whether the statements ``body`` fail the test: a ``raise`` or a call of a
+    function named ``fail`` (``pytest.fail``)."""
+    for n in (m for stmt in body for m in ast.walk(stmt)):
+        if isinstance(n, ast.Raise):
+            return True
+        if isinstance(n, ast.Call) and (getattr(n.func, "attr", None) == "fail"
+                                        or getattr(n.func, "id", None) == "fail"):
+            return True
+    return False
+
+
 def _walk_scope(node):
     """The nodes of ``node``'s own scope: nested functions and classes are not entered."""
     todo = list(ast.iter_child_nodes(node))
@@ -239,7 +254,12 @@ def wall_clock_asserts(source, filename="<test>"):
                         changed = True
     out = []
     for nodes, names in [(top, module)] + [(scopes[d], names_of(d)) for d in defs]:
+        loops = [n for n in nodes if isinstance(n, (ast.While, ast.For, ast.AsyncFor))]
+        in_loop = {id(m) for lp in loops for m in ast.walk(lp)}
         for node in nodes:
+            if isinstance(node, ast.If) and id(node) not in in_loop and \
+                    _tainted(node.test, clocks, names, funcs) and _fails(node.body):
+                out.append((node.lineno, ast.get_source_segment(source, node) or ""))
             hit = (isinstance(node, ast.Assert)
                    and _tainted(node.test, clocks, names, funcs)) or (
                 isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
@@ -320,6 +340,15 @@ def test_fixture(timed):
     assert secs < 5  # <-
 def test_fixture_index(timed):
     assert timed[1] < 5  # <-
+def test_fail_after_the_work():
+    t0 = time.monotonic()
+    work()
+    if time.monotonic() - t0 > 5:  # <-
+        pytest.fail("too slow")
+def test_raise_after_the_work():
+    elapsed = time.monotonic() - T0
+    if elapsed > 5:  # <-
+        raise AssertionError(elapsed)
 """
 
 #: tests without one: a subprocess timeout, a sleep, a hang guard that fails the test
@@ -357,10 +386,10 @@ def test_the_scan_finds_each_form_of_a_wall_clock_assert():
     ``import time as t``, ``from time import monotonic as m``, ``from datetime import
     datetime as D``, a clock held in a name, a module-level reading, a helper returning a
     duration, a list appended to, an attribute with ``self.assertLess``, a walrus, a
-    boolean computed first, a fixture's tuple unpacked and indexed): exactly the lines
-    marked."""
+    boolean computed first, a fixture's tuple unpacked and indexed, an ``if`` after the
+    work that calls pytest.fail or raises): exactly the lines marked."""
     marked = [i for i, line in enumerate(EVASIONS.splitlines(), 1) if "# <-" in line]
-    assert len(marked) == 20
+    assert len(marked) == 22
     assert [line for line, _ in wall_clock_asserts(EVASIONS)] == marked
 
 
