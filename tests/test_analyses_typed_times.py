@@ -19,6 +19,11 @@ The rule, for every docstring and comment of the Python files under ``analyses/`
   text, ``target: 120 s``, or in a table column ``target [s]`` or ``target``), so a
   target cannot drift from the report that judges it either.  A number before the
   word (``the 10 s target``) is not the structured form and is refused.
+
+The package's messages are text too: no string literal of ``vibimpact/`` (a message,
+a ``--help`` line; the literal parts of an f-string) states a time with a space before
+its unit (``this takes 10-30 s``); a computed time (``f"in {seconds:.1f} s"``) is no
+literal number.
 """
 import ast
 import io
@@ -42,13 +47,20 @@ SECONDS = {"ns": 1e-9, "µs": 1e-6, "us": 1e-6, "ms": 1e-3, "s": 1.0, "second": 
 
 
 def _texts(src):
-    """``(line, text)`` of every docstring and comment of the Python source ``src``."""
+    """``(line, text)`` of every docstring and comment of the Python source ``src`` that
+    can hold a time (a source in which the time pattern matches nowhere has none: it is
+    not parsed, nor its comments tokenized when no line has one after a ``#``)."""
+    if not TIME.search(src):
+        return
     for node in ast.walk(ast.parse(src)):
         if isinstance(node, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef,
                              ast.ClassDef)):
             doc = ast.get_docstring(node, clean=False)
             if doc:
                 yield getattr(node, "lineno", 1), doc
+    if not any("#" in line and TIME.search(line, line.index("#"))
+               for line in src.splitlines()):
+        return
     for tok in tokenize.generate_tokens(io.StringIO(src).readline):
         if tok.type == tokenize.COMMENT:
             yield tok.start[0], tok.string
@@ -97,6 +109,34 @@ def typed_times(src, targets=frozenset()):
                     abs(value - t) <= 1e-9 * t for t in targets):
                 continue
             out.append((line, m.group(0)))
+    return out
+
+
+#: a time in a message: the number and the unit apart (``9s`` is a format, ``1s`` a word)
+SPACED = re.compile(r"(?<![\w.-])(\d+(?:[.,]\d+)*)(?:\s*(?:-|–|to)\s*\d+(?:\.\d+)?)?\s+"
+                    rf"({UNIT})\b(?![-/])")
+
+
+def message_times(src):
+    """``(line, time)`` of the nonzero times the string literals of ``src`` state, other
+    than its docstrings (read by :func:`typed_times`) and the format specifications of
+    f-strings (a source in which the pattern matches nowhere is not parsed)."""
+    if not SPACED.search(src):
+        return []
+    tree = ast.parse(src)
+    docs = {id(n.body[0].value) for n in ast.walk(tree)
+            if isinstance(n, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef,
+                              ast.ClassDef))
+            and n.body and isinstance(n.body[0], ast.Expr)}
+    specs = {id(c) for n in ast.walk(tree) if isinstance(n, ast.FormattedValue)
+             and n.format_spec is not None for c in ast.walk(n.format_spec)}
+    out = []
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and \
+                id(n) not in docs and id(n) not in specs:
+            for m in SPACED.finditer(n.value):
+                if _seconds(m.group(1), m.group(2)) > 0:
+                    out.append((n.lineno, m.group(0)))
     return out
 
 
@@ -149,3 +189,23 @@ def test_report_targets_are_read_from_text_and_from_target_columns():
             "| measurement | target | measured |\n| --- | ---: | ---: |\n"
             "| census | <= 20 s | 6.0 s |\n| speed-up | >= 5x | 5.3x |\n")
     assert report_targets([text]) == {120.0, 10.0, 5.0, 20.0}
+
+
+def test_no_message_of_the_package_types_a_time():
+    """Hypothesis: no string literal of the package (what it prints or raises, its
+    --help) states a nonzero time typed by hand (``this takes 10-30 s``)."""
+    bad = [(str(p.relative_to(ROOT)), line, t)
+           for p in sorted((ROOT / "vibimpact").rglob("*.py"))
+           for line, t in message_times(p.read_text())]
+    assert bad == []
+
+
+def test_the_message_check_catches_a_typed_time_and_passes_computed_ones():
+    """Hypothesis: the message check flags a literal time in a message and in the literal
+    part of an f-string, and passes a computed time, a format specification and a word
+    such as ``0s and 1s``."""
+    src = ('print("compiling; this takes 10-30 s")\n'
+           'log(f"waited 5 s for {name}")\n'
+           'log(f"in {seconds:.1f} s, {label:9s}")\n'
+           'check(x, "0s and 1s")\n')
+    assert message_times(src) == [(1, "10-30 s"), (2, "5 s")]
