@@ -254,37 +254,89 @@ def test_every_chunk_of_a_map_is_written_and_it_reads_back(map_store):
     assert (ds.regime.values == 2).all() and (ds.period.values == 0).all()
 
 
-@pytest.mark.parametrize("damage", ["regime chunk", "period directory",
-                                    "lyapunov metadata"])
-def test_a_map_with_a_missing_chunk_or_variable_is_refused(damage, map_store):
-    """Hypothesis: a Zarr map whose regime chunk, period directory or an array's
-    zarr.json is missing (which Zarr reads as the fill value: a blank map) is refused by
-    open_map with a ValueError naming the store and the variable."""
+def _chunk(store, name):
+    """The (only) chunk file of variable ``name``."""
+    return next(p for p in (store / name / "c").rglob("*") if p.is_file())
+
+
+def _strip_consolidated(store):
+    """Remove the consolidated metadata from the root zarr.json, keeping the rest."""
+    import json
+
+    meta = json.loads((store / "zarr.json").read_text())
+    meta.pop("consolidated_metadata")
+    (store / "zarr.json").write_text(json.dumps(meta))
+
+
+#: damage -> (what it does to the store, the variable the message must name or None)
+DAMAGES = {
+    "regime chunk removed": (lambda s: _rmtree(s / "regime" / "c"), "regime"),
+    "period directory removed": (lambda s: _rmtree(s / "period"), "period"),
+    "lyapunov metadata removed": (lambda s: (s / "lyapunov" / "zarr.json").unlink(),
+                                  "lyapunov"),
+    "regime chunk truncated to 0 bytes": (
+        lambda s: _chunk(s, "regime").write_bytes(b""), "regime"),
+    "regime chunk cut in half": (
+        lambda s: _chunk(s, "regime").write_bytes(
+            _chunk(s, "regime").read_bytes()[:len(_chunk(s, "regime").read_bytes()) // 2]),
+        "regime"),
+    "period chunk of garbage": (
+        lambda s: _chunk(s, "period").write_bytes(b"garbage garbage garbage"), "period"),
+    "lyapunov chunk of zero bytes of its size": (
+        lambda s: _chunk(s, "lyapunov").write_bytes(
+            bytes(len(_chunk(s, "lyapunov").read_bytes()))), "lyapunov"),
+    "regime metadata not JSON": (
+        lambda s: (s / "regime" / "zarr.json").write_text("{"), "regime"),
+    "regime metadata of another kind": (
+        lambda s: (s / "regime" / "zarr.json").write_text('{"zarr_format": 3}'),
+        "regime"),
+    "consolidated metadata stripped": (_strip_consolidated, None),
+    "consolidated metadata stripped, period removed": (
+        lambda s: (_strip_consolidated(s), _rmtree(s / "period")), None),
+    "root zarr.json of garbage": (
+        lambda s: (s / "zarr.json").write_bytes(b"\x00\xff garbage"), None),
+}
+
+
+def _rmtree(path):
     import shutil
 
+    shutil.rmtree(path)
+
+
+@pytest.mark.parametrize("damage", list(DAMAGES))
+def test_a_damaged_map_is_refused_naming_the_store_and_variable(damage, map_store):
+    """Hypothesis: a Zarr map with a chunk, a variable or an array's metadata missing
+    (which Zarr reads as the fill value: a blank map), a chunk truncated, cut or
+    overwritten (Zarr raised a RuntimeError of its codec, without the path), an array's
+    metadata broken, or no consolidated metadata (which write_map always writes; Zarr
+    then opened whatever arrays were left) is refused by open_map with a ValueError
+    naming the store and, where one variable is damaged, the variable."""
     from vibimpact.maps.store import open_map
 
-    name = damage.split()[0]
-    target = {"regime chunk": map_store / "regime" / "c",
-              "period directory": map_store / "period",
-              "lyapunov metadata": map_store / "lyapunov" / "zarr.json"}[damage]
-    shutil.rmtree(target) if target.is_dir() else target.unlink()
-    with pytest.raises(ValueError, match=rf"m\.zarr.*damaged.*'{name}'"):
+    change, name = DAMAGES[damage]
+    change(map_store)
+    pattern = r"m\.zarr.*damaged" + (rf".*'{name}'" if name else "")
+    with pytest.raises(ValueError, match=pattern):
         open_map(map_store)
 
 
-def test_plot_of_a_damaged_map_is_one_line_and_exit_2(map_store, monkeypatch, capfd):
-    """Hypothesis: 'vibimpact plot' of a map store with a missing chunk says so in one
-    line, exit 2, and draws nothing (it drew a blank map, exit 0)."""
-    import shutil
-
+@pytest.mark.parametrize("damage", list(DAMAGES))
+def test_plot_of_a_damaged_map_is_one_line_and_exit_2(damage, map_store, monkeypatch,
+                                                      capfd):
+    """Hypothesis: 'vibimpact plot' of a damaged map store (each damage above) says so in
+    one line naming the damaged variable, exit 2, and draws nothing (it drew a blank
+    map, exit 0, or complained of a missing 'period' or Zarr's codec error without
+    naming what was damaged)."""
     from test_bad_input import run_cli
 
-    shutil.rmtree(map_store / "regime" / "c")
+    change, name = DAMAGES[damage]
+    change(map_store)
     monkeypatch.chdir(map_store.parent)
     rc, out, err = run_cli(["plot", "m.zarr", "-o", "p.png"], capfd)
     assert rc == 2 and err.startswith("vibimpact: error: "), (rc, err)
-    assert len(err.strip().splitlines()) == 1 and "damaged" in err and "regime" in err
+    assert len(err.strip().splitlines()) == 1 and "damaged" in err, err
+    assert name is None or repr(name) in err, err
     assert not (map_store.parent / "p.png").exists()
 
 

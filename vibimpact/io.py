@@ -524,12 +524,50 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
+
+    Raises
+    ------
+    ValueError
+        When the data of a variable cannot be read (:func:`load_variables`).
     """
     import xarray as xr
 
     path = _v.path("path", path)
     with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+        return load_variables(ds, path)
+
+
+def load_variables(ds: xr.Dataset, path: str, what: str = "file") -> xr.Dataset:
+    """``ds`` (opened lazily from ``path``) with every variable loaded into memory; a
+    variable whose data cannot be read (a chunk truncated or overwritten: a
+    decompression or HDF error) is a ValueError naming ``path`` and the variable.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    path : str
+        Where ``ds`` was opened from, for the message.
+    what : str
+        What ``path`` is ("file", "map").
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds``, loaded.
+
+    Raises
+    ------
+    ValueError
+        ``{what} PATH is damaged: variable NAME cannot be read (...)``.
+    """
+    for name, var in ds.variables.items():
+        try:
+            var.load()
+        except Exception as exc:  # zstd's RuntimeError, netCDF4's HDF error, ...
+            why = " ".join(str(exc).split()) or type(exc).__name__
+            raise ValueError(f"{what} {path!r} is damaged: variable {name!r} cannot be "
+                             f"read ({type(exc).__name__}: {why})"[:400]) from exc
+    return ds
 
 
 #: dtype kinds of text: objects (str), unicode, bytes, NumPy's StringDType (Zarr)

@@ -143,44 +143,60 @@ def _as_objects(ds):
     return ds
 
 
-def _consolidated(path):
-    """Whether the Zarr store ``path`` has consolidated metadata (stores written before
-    :func:`write_map` consolidated them have none)."""
+def _listed(path):
+    """The variables the consolidated metadata of the Zarr store ``path`` lists
+    (``{name: metadata}``); ValueError naming ``path`` when its ``zarr.json`` cannot be
+    read or holds no consolidated metadata: :func:`write_map` always writes them, so a
+    store without is damaged (or not one of a map), and Zarr would open what the
+    directory happens to hold."""
     import json
 
+    where = os.path.join(path, "zarr.json")
     try:
-        with open(os.path.join(path, "zarr.json"), encoding="utf-8") as fh:
-            return bool(json.load(fh).get("consolidated_metadata"))
-    except (OSError, ValueError, AttributeError):
-        return False
+        with open(where, encoding="utf-8") as fh:
+            meta = json.load(fh)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"map {path!r} is damaged: {where!r} cannot be read "
+                         f"({getattr(exc, 'strerror', None) or exc})") from None
+    listed = (meta.get("consolidated_metadata") or {}).get("metadata") \
+        if isinstance(meta, dict) and isinstance(meta.get("consolidated_metadata"),
+                                                  dict) else None
+    if not listed or not isinstance(listed, dict):
+        raise ValueError(f"map {path!r} is damaged: {where!r} has no consolidated "
+                         "metadata (the list of its variables, which write_map always "
+                         "writes)")
+    return listed
 
 
 def check_store(path: str) -> None:
-    """ValueError naming ``path`` and the variable when the Zarr store ``path`` lacks a
-    variable its metadata lists (its directory or ``zarr.json``) or a chunk of one.
+    """ValueError naming ``path`` (and the variable) when the Zarr store ``path`` has no
+    consolidated metadata (:func:`_listed`), or lacks a variable its metadata lists (its
+    directory or ``zarr.json``) or a chunk of one.
 
     :func:`write_map` writes every chunk (``write_empty_chunks``), so a missing one is
     damage: Zarr would read it as the fill value (0, "not computed", for ``regime``) and
     a plot would show a blank map.
     """
-    import json
-
     import zarr
 
-    try:
-        with open(os.path.join(path, "zarr.json"), encoding="utf-8") as fh:
-            meta = json.load(fh)
-        listed = (meta.get("consolidated_metadata") or {}).get("metadata") or {}
-    except (OSError, ValueError, AttributeError):
-        listed = {}
+    listed = _listed(path)
     for name, info in sorted(listed.items()):
         if isinstance(info, dict) and info.get("node_type") == "array" and \
                 not os.path.isfile(os.path.join(path, name, "zarr.json")):
             raise ValueError(f"map {path!r} is damaged: variable {name!r} is missing "
                              f"({os.path.join(path, name)!r} has no zarr.json)")
-    group = zarr.open_group(path, mode="r", use_consolidated=False)
-    for name, arr in sorted(group.arrays(), key=lambda kv: kv[0]):
-        have, want = arr.nchunks_initialized, arr.nchunks
+    arrays = []
+    for name in sorted(os.listdir(path)):  # one array at a time: a group's arrays()
+        if not os.path.isfile(os.path.join(path, name, "zarr.json")):  # leaves the
+            continue  # other tasks running (tracebacks at exit) when one fails
+        try:
+            arr = zarr.open_array(os.path.join(path, name), mode="r")
+            arrays.append((name, arr.nchunks_initialized, arr.nchunks))
+        except Exception as exc:  # an array's zarr.json Zarr cannot make sense of
+            raise ValueError(f"map {path!r} is damaged: the metadata of variable "
+                             f"{name!r} cannot be read ({type(exc).__name__}: "
+                             f"{exc})"[:400]) from exc
+    for name, have, want in arrays:
         if have < want:
             raise ValueError(f"map {path!r} is damaged: {want - have} of {want} chunks "
                              f"of variable {name!r} are missing (they would read as "
@@ -203,8 +219,11 @@ def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
     Raises
     ------
     ValueError
-        For a damaged Zarr store (:func:`check_store`): a variable or a chunk missing,
-        which Zarr would read as the fill value (a blank map).
+        Naming ``path``, for a damaged Zarr store: no consolidated metadata, a variable
+        or a chunk missing, which Zarr would read as the fill value (a blank map)
+        (:func:`check_store`), or data that cannot be read, such as a chunk truncated or
+        overwritten (naming the variable too, :func:`vibimpact.io.load_variables`); and
+        for a NetCDF map whose data cannot be read.
     """
     import xarray as xr
 
@@ -219,8 +238,13 @@ def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
         return partial_map(path)
     if os.path.isdir(path):
         check_store(path)
-        with xr.open_zarr(path, consolidated=_consolidated(path), chunks=None) as ds:
-            ds = ds.load()
+        try:
+            opened = xr.open_zarr(path, consolidated=True, chunks=None)
+        except Exception as exc:  # metadata Zarr or xarray cannot make sense of
+            raise ValueError(f"map {path!r} is damaged: it cannot be opened as a Zarr "
+                             f"store ({type(exc).__name__}: {exc})"[:400]) from exc
+        with opened as ds:
+            ds = vio.load_variables(ds, path, "map")
     else:
         ds = vio.read_netcdf(path)
     return _as_objects(ds)
