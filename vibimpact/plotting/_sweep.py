@@ -38,46 +38,73 @@ def check_sweep(ds, *names):
     check_contents(ds)
 
 
+#: variables that hold a count (an integer >= 1) where they hold none of their
+#: ``flag_values`` (``period``: 0 is "none", 1, 2, ... a period)
+COUNT_FLAGS = ("period",)
+
+
 def check_contents(ds, grids=("eta",), codes=("regime",), increasing=("eta",)):
     """Raise ValueError, naming the variable, for what a file written by vibimpact
-    never holds: a grid (``grids``, coordinates) with a NaN or infinite value, or (those
-    in ``increasing``) not strictly increasing; a code variable (``codes``) with a value
-    outside its ``flag_values`` (:data:`REGIME_NAMES` where it declares none).  A figure
+    never holds: a grid (``grids``, coordinates or variables) with a NaN or infinite
+    value, or (those in ``increasing``) not strictly increasing; a variable with a value
+    outside its ``flag_values`` (those in ``codes`` that declare none:
+    :data:`REGIME_NAMES`; those in :data:`COUNT_FLAGS`: or an integer >= 1).  A figure
     drawn from such a file would show what the file does not say; the figures refuse it
-    instead.
+    instead.  (A value outside ``valid_min``/``valid_max`` is a missing value to CF, as
+    the writers mean it: -1 "not counted" below ``valid_min = 0``; it is not refused.)
 
     Parameters
     ----------
     ds : xarray.Dataset
     grids, codes, increasing : sequence of str
-        The coordinates, the flag variables and the coordinates that must increase
-        (those ``ds`` lacks are skipped).
+        The grids, the flag variables without ``flag_values`` of their own and the grids
+        that must increase (those ``ds`` lacks are skipped).  Every variable with
+        ``flag_values`` is checked whatever these say.
     """
     for name in grids:
-        if name not in ds.coords:
-            continue
-        values = np.asarray(ds[name].values)
-        if values.dtype.kind not in "iuf":
-            raise ValueError(f"{name} must hold numbers, got {values.dtype} values")
-        bad = ~np.isfinite(values.astype(float))
-        if bad.any():
-            raise ValueError(f"{name} holds {int(bad.sum())} non-finite value(s) (NaN or "
-                             f"inf): the file is damaged or was not written by vibimpact")
-        if name in increasing and values.ndim == 1 and np.any(np.diff(values) <= 0):
-            raise ValueError(f"{name} must be strictly increasing: the file is damaged or "
-                             f"was not written by vibimpact")
-    for name in codes:
-        if name not in ds:
-            continue
-        declared = ds[name].attrs.get("flag_values", list(REGIME_NAMES))
-        allowed = np.asarray(declared).reshape(-1)
-        values = np.asarray(ds[name].values).reshape(-1)
-        undeclared = np.setdiff1d(np.unique(values), allowed)
-        if undeclared.size:
-            shown = ", ".join(f"{v:g}" for v in undeclared[:5].astype(float))
-            raise ValueError(f"{name} holds code(s) {shown} not among its flag_values "
-                             f"({', '.join(str(v) for v in allowed.tolist())}): the file "
-                             f"is damaged or was not written by vibimpact")
+        if name in ds.variables:
+            _check_grid(name, np.asarray(ds[name].values), name in increasing)
+    for name, var in ds.variables.items():
+        declared = var.attrs.get("flag_values")
+        if declared is None and name in codes:
+            declared = list(REGIME_NAMES)
+        if declared is None and name in COUNT_FLAGS:
+            declared = [0]
+        if declared is not None:
+            _check_codes(name, np.asarray(var.values), np.asarray(declared).reshape(-1))
+
+
+def _check_grid(name, values, increasing):
+    if values.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must hold numbers, got {values.dtype} values")
+    bad = ~np.isfinite(values.astype(float))
+    if bad.any():
+        raise ValueError(f"{name} holds {int(bad.sum())} non-finite value(s) (NaN or "
+                         f"inf): the file is damaged or was not written by vibimpact")
+    if increasing and values.ndim == 1 and np.any(np.diff(values) <= 0):
+        raise ValueError(f"{name} must be strictly increasing: the file is damaged or "
+                         f"was not written by vibimpact")
+
+
+def _damaged(name, values, rule):
+    shown = ", ".join(f"{v:g}" for v in np.unique(values)[:5].astype(float))
+    raise ValueError(f"{name} holds {rule.format(shown)}: the file is damaged or was not "
+                     f"written by vibimpact")
+
+
+def _check_codes(name, values, allowed):
+    values = values.reshape(-1)
+    if values.dtype.kind not in "iufb":
+        raise ValueError(f"{name} must hold numbers, got {values.dtype} values")
+    off = values[~np.isin(values, allowed)]
+    if name in COUNT_FLAGS:  # a count: an integer >= 1 is a value, not a code
+        off = off[~((off >= 1) & (off == np.round(off)))]
+    if off.size:
+        listed = ", ".join(str(v) for v in allowed.tolist())
+        rule = (f"{{}}, neither an integer >= 1 nor among its flag_values ({listed})"
+                if name in COUNT_FLAGS else
+                f"code(s) {{}} not among its flag_values ({listed})")
+        _damaged(name, off, rule)
 
 
 def directions(ds):

@@ -46,6 +46,9 @@ def check_basins(ds) -> tuple[str, str]:
     if xname not in ds.coords or yname not in ds.coords:
         raise ValueError("the basins dataset has no plane coordinates (attributes plane_x, "
                          "plane_y)")
+    from ._sweep import check_contents
+
+    check_contents(ds, grids=(xname, yname), codes=(), increasing=(xname, yname))
     return str(xname), str(yname)
 
 

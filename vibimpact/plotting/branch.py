@@ -55,11 +55,17 @@ def _as_branch(branch):
     if isinstance(branch, xr.Dataset):
         from ..branches import branch_from_dataset
 
+        from ._sweep import check_contents
+
         try:
-            return branch_from_dataset(branch)
+            out = branch_from_dataset(branch)
         except ValueError:
             raise ValueError("branch must be a vibimpact.analysis.Branch or the dataset "
                              "of a 'vibimpact continue' file") from None
+        check_contents(branch, grids=(str(branch.attrs.get("continuation_param", "eta")),
+                                      "bifurcation_value", "bifurcation_lower",
+                                      "bifurcation_upper"), codes=(), increasing=())
+        return out
     if not isinstance(getattr(branch, "amplitude", None), dict) or \
             not hasattr(branch, "values") or not hasattr(branch, "stable"):
         raise ValueError("branch must be a vibimpact.analysis.Branch")

@@ -67,6 +67,9 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
             component, (int, np.integer)) or not 0 <= component < d:
         raise ValueError(f"component must be an integer in [0, {d - 1}], got "
                          f"{component!r}")
+    from ._sweep import check_contents
+
+    check_contents(ds, grids=("eta",), codes=(), increasing=("eta",))
     lk = look(figsize, dpi, style)
     eta = ds.eta.values
     gid = ds.global_id.values

@@ -88,6 +88,9 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     _v.dataset("ds", ds, "the xarray.Dataset of an orbit hunt (hunt_to_dataset)")
     if not is_orbit_dataset(ds):
         raise ValueError("ds is not an orbit hunt's dataset (hunt_to_dataset)")
+    from ._sweep import check_contents
+
+    check_contents(ds, grids=(), codes=(), increasing=())
     lk = look(figsize, dpi, style)
     param = str(ds.attrs["forcing_param"])
     value = float(ds.attrs["forcing_value"])
