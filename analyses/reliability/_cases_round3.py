@@ -14,8 +14,10 @@ Faults of processes and files (the command line in a subprocess of its own sessi
   --resume where a checkpoint was kept): it succeeds and leaves only its output;
 * **resource tracker killed** -- SIGKILL to multiprocessing's resource tracker of a map:
   exit 0 or one line, no traceback;
-* **damaged map store** -- a map's ``regime`` chunk or ``period`` directory removed:
-  ``plot`` must say so (exit 2, one line).
+* **damaged map store** -- a map's ``regime`` chunk or ``period`` directory removed, a
+  chunk truncated to 0 bytes or overwritten, an array's metadata broken, the
+  consolidated metadata stripped (with ``period`` removed too): ``plot`` must say so
+  (exit 2, one line).
 
 Requests that must be refused in one line (exit 2) or a ValueError (the API, one Python
 process each, with a time limit: a hang is a verdict):
@@ -26,9 +28,11 @@ process each, with a time limit: a hang is a verdict):
   ...])``, ``adaptive='no'``;
 * **numerical edge** -- ``detect_period`` of a 2-cycle near 1e308 (2 or a ValueError,
   never 1), ``extrapolate_limit`` of one point;
-* **tampered file** -- ``rerun`` of a file whose parameter attributes contradict it
-  (``param_kh='abc'``, ``-5``, bad JSON): reported ("different", exit 1, or refused,
-  exit 2), never "identical";
+* **tampered file** -- ``rerun`` of a file whose attributes contradict it (a sweep's
+  ``param_kh='abc'``, ``-5``, bad JSON, swapped ``regime:flag_meanings``,
+  ``eta:units``; a simulation's ``impact_theta:units``, ``reason``, ``counter_steps``,
+  ``state_X``, ``param_kh``, a removed ``title``): reported ("different", exit 1, or
+  refused, exit 2), never "identical";
 * **options refused up front** -- ``--figsize 1e9x1e9``, ``--dpi 1000000`` (before any
   work: no file), ``--preset ''``, ``--eta 1_0:1_1:0.05``, fullwidth digits, a 20-digit
   ``--workers``, ``continue --ds 0.1 --ds-max 0.01``;
@@ -175,10 +179,24 @@ CLI_CASES = {
                                              "br.nc"], None),
     },
     "tampered file": {
-        f"rerun, {what}": (["rerun", "c.nc"], code) for what, code in (
+        **{f"rerun, {what}": (["rerun", "c.nc"], code) for what, code in (
             ("param_kh='abc'", "nc.setncattr('param_kh', 'abc')"),
             ("param_kh=-5", "nc.setncattr('param_kh', -5.0)"),
-            ("params of bad JSON", "nc.setncattr('params', '{not json')"))},
+            ("params of bad JSON", "nc.setncattr('params', '{not json')"),
+            ("regime:flag_meanings, two swapped", "w = nc['regime'].flag_meanings.split(); "
+             "w[0], w[1] = w[1], w[0]; nc['regime'].setncattr('flag_meanings', ' '.join(w))"),
+            ("eta:units='Hz'", "nc['eta'].setncattr('units', 'Hz')"))},
+        # a simulate file (SMALL_SIM): the attributes of one run
+        **{f"rerun of a simulate file, {what}": (["rerun", "c.nc"], ("sim", code))
+           for what, code in (
+            ("impact_theta:units='radian'", "nc['impact_theta'].setncattr('units', "
+                                            "'radian')"),
+            ("reason='diverged at tau=3'", "nc.setncattr('reason', 'diverged at tau=3')"),
+            ("counter_steps=1", "nc.setncattr('counter_steps', 1)"),
+            ("state_X changed", "nc.setncattr('state_X', 'vertical velocity')"),
+            ("param_kh='abc'", "nc.setncattr('param_kh', 'abc')"),
+            ("title removed", "nc.delncattr('title')"))},
+    },
     "plot of a bad file": {
         "NaN in eta": (["plot", "c.nc", "-o", "p.png"],
                        "nc['eta'][0] = float('nan')"),
@@ -187,6 +205,7 @@ CLI_CASES = {
     },
 }
 SMALL_SWEEP = ["classify", "--eta", "1.0:1.02:0.01", "--no-progress", "-o", "c.nc"]
+SMALL_SIM = ["simulate", "--eta", "1.2", "--periods", "2", "--transient", "0", "-o", "c.nc"]
 
 
 def _children(kit, pid):
@@ -345,14 +364,45 @@ def tracker_cases(kit, base, timeout):
     return [o]
 
 
+def _chunk(store, name):
+    """The first chunk file of variable ``name`` of a Zarr store."""
+    return sorted(p for p in (store / name / "c").rglob("*") if p.is_file())[0]
+
+
+def _no_consolidated(store, remove=None):
+    """Strip the root zarr.json of its consolidated metadata (and remove ``remove``)."""
+    import json
+
+    meta = json.loads((store / "zarr.json").read_text())
+    meta.pop("consolidated_metadata", None)
+    (store / "zarr.json").write_text(json.dumps(meta))
+    if remove:
+        shutil.rmtree(store / remove, ignore_errors=True)
+
+
+#: case -> what it does to the map store
+DAMAGES = {
+    "regime chunk removed": lambda s: shutil.rmtree(s / "regime" / "c"),
+    "period directory removed": lambda s: shutil.rmtree(s / "period"),
+    "regime chunk truncated to 0 bytes": lambda s: _chunk(s, "regime").write_bytes(b""),
+    "period chunk of garbage": lambda s: _chunk(s, "period").write_bytes(b"garbage" * 4),
+    "regime metadata not JSON": lambda s: (s / "regime" / "zarr.json").write_text("{"),
+    "consolidated metadata stripped": _no_consolidated,
+    "consolidated metadata stripped, period removed": lambda s: _no_consolidated(
+        s, "period"),
+}
+
+
 def damaged_store_cases(kit, base, timeout):
     out = []
-    for case, part in (("regime chunk removed", os.path.join("regime", "c")),
-                       ("period directory removed", "period")):
+    for case, damage in DAMAGES.items():
         d = kit._fresh(base, "damaged")
         kit.run(["map", "--eta", "1.0,1.1", "--vary", "kh=50,60", "--workers", "1",
                  "--no-progress", "-o", "m.zarr"], d, timeout)
-        shutil.rmtree(d / "m.zarr" / part, ignore_errors=True)
+        try:
+            damage(d / "m.zarr")
+        except OSError:
+            pass  # the map was not written: the plot below fails and is judged so
         rc, _, err, sec = kit.run(["plot", "m.zarr", "-o", "p.png"], d, timeout)
         o = kit.judge("damaged map store", f"plot, {case}", rc, err, sec, {2}, d,
                       keep=("m.zarr",))
@@ -375,7 +425,10 @@ def cli_cases(kit, base, timeout):
             d = kit._fresh(base, "cli")
             keep = ()
             if tamper is not None:
-                kit.run(SMALL_SWEEP, d, timeout)
+                first = SMALL_SWEEP
+                if isinstance(tamper, tuple):  # ("sim", code): a simulate file
+                    first, tamper = SMALL_SIM, tamper[1]
+                kit.run(first, d, timeout)
                 subprocess.run([sys.executable, "-c", TAMPER, str(d / "c.nc"), tamper],
                                env=_env(), capture_output=True, timeout=timeout)
                 keep = ("c.nc",)
