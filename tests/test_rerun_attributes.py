@@ -199,3 +199,21 @@ def test_written_and_read_back_has_the_attributes_of_the_run(tmp_path):
     vi.io.write_netcdf(run, tmp_path / "r.nc")
     ds = run.to_dataset()
     assert differences(ds, read_netcdf(tmp_path / "r.nc")) == ([], len(ds.variables))
+
+
+@pytest.mark.parametrize("where", ["rerun --help", "docs/user_guide/files.rst"])
+def test_the_deny_list_is_spelled_out_where_rerun_is_documented(where):
+    """Hypothesis: the attributes rerun leaves out are named (a family by its pattern:
+    ``*_version``, ``vibimpact_git_*``) in rerun's help and in the files guide, so a
+    documented list cannot drift from provenance.NOT_COMPARED."""
+    from pathlib import Path
+
+    from vibimpact.cli_rerun import _RERUN_EPILOG
+
+    text = _RERUN_EPILOG if where == "rerun --help" else (
+        Path(__file__).resolve().parents[1] / where).read_text()
+    text = " ".join(text.replace("``", "").split())
+    for name in provenance.NOT_COMPARED:
+        family = ("*_version" if name.endswith("_version") else
+                  "vibimpact_git_*" if name.startswith("vibimpact_git_") else name)
+        assert family in text, (where, name)
