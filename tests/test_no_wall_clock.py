@@ -30,6 +30,7 @@ A time stamp handed to a checker inside an assert is reported too: a test takes 
 stamp from the file system (a file's ``st_mtime``) instead of a clock.
 """
 import ast
+import re
 from pathlib import Path
 
 TESTS = Path(__file__).resolve().parent
@@ -223,9 +224,15 @@ def _taint(nodes, clocks, names, funcs):
 
 
 def wall_clock_asserts(source, filename="<test>"):
-    """``[(line, text)]`` of the asserts of ``source`` that involve a clock reading."""
+    """``[(line, text)]`` of the asserts of ``source`` that involve a clock reading (a
+    source that imports neither ``time`` nor ``datetime`` has none: it is not parsed)."""
+    if not re.search(r"^\s*(?:import|from)\s+(?:time|datetime)\b|import.*\b(?:time|datetime)\b",
+                     source, re.M):
+        return []
     tree = ast.parse(source, filename)
     clocks = _Clocks(tree)
+    if not (clocks.time_mods or clocks.dt_mods or clocks.dt_classes or clocks.funcs):
+        return []
     defs = [n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef,
                                                         ast.AsyncFunctionDef))]
     scopes = {d: list(_walk_scope(d)) for d in defs}
