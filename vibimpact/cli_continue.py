@@ -299,7 +299,8 @@ def add_parser(sub, fmt):
                    help="forcing periods integrated before shooting, per --approach step "
                         "(default: 500)")
     c.add_argument("--ds", type=number, default=0.005, help="first arclength step "
-                   "(default: 0.005)")
+                   "(default: 0.005; at least the corrector's tolerance times the "
+                   "start value's magnitude, where it is above 1)")
     c.add_argument("--ds-max", type=number, default=0.02, help="largest arclength step "
                    "(default: 0.02)")
     c.add_argument("--max-points", type=positive_int(2), default=400, metavar="N",
