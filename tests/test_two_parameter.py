@@ -205,3 +205,14 @@ def test_bad_command_lines_get_one_line_and_exit_2(argv, words, tmp_path, capsys
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0]
     assert not out.exists()
+
+
+@pytest.mark.parametrize("kwargs", [dict(step=1e-300), dict(step=0.01, min_step=1e-300)],
+                         ids=["step", "min_step"])
+def test_a_step_below_the_float_resolution_is_refused(kwargs):
+    """Hypothesis: a curve whose smallest step in p2 cannot move p2 in floating point
+    (p2 + min_step == p2) is refused naming min_step, before any location (it could
+    only mark the same value again and again)."""
+    with pytest.raises(ValueError, match="^min_step .*float resolution"):
+        continue_bifurcation(vi.System(SOFT), [0.8, 0.0], 1, "grazing", pair=("eta", "A"),
+                             stop=0.31, **kwargs)

@@ -222,6 +222,7 @@ class Model:
             self.domain(i).check(pname, value)
         return np.ascontiguousarray(vec)
 
+    @_v.checks_flags
     def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""

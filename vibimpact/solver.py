@@ -396,6 +396,7 @@ class Solver:
         """The forcing period ``T``."""
         return self.problem.period
 
+    @_v.checks_flags
     def advance(self, periods: int, *, skip: int = 0, dense: int = 0,
                 events: bool = True) -> Segment:
         """Integrate ``skip`` forcing periods unrecorded, then ``periods`` recorded ones.

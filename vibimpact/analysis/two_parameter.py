@@ -417,6 +417,9 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
         raise ValueError(f"stop must differ from the start value {p2} = {v2:g}")
     step = (hi - lo) / 40.0 if step is None else _v.positive("step", step)
     min_step = step / 64.0 if min_step is None else _v.positive("min_step", min_step)
+    if v2 + min_step == v2 or v2 - min_step == v2:
+        raise ValueError(f"min_step {min_step:g} is below the float resolution at "
+                         f"{p2} = {v2:g} (give a larger step or min_step)")
     max_points = _v.count("max_points", max_points, 1)
     tol = _v.positive("tol", tol)
     max_iter = _v.count("max_iter", max_iter, 2)
