@@ -102,6 +102,7 @@ KILLED = {
 API = '''
 import math, sys
 import numpy as np
+import xarray as xr
 import vibimpact as vi
 p = vi.presets.get("fig8")
 v = np.array(p.as_array(), dtype=float)
@@ -149,6 +150,20 @@ API_CASES = {
             "20))", "out == 2"),
         "extrapolate_limit of one point": ("vi.analysis.extrapolate_limit([1.0])",
                                            "False"),
+        "sweep of an np.arange grid stores vi.grid's values": (
+            "vi.sweep(p, np.arange(0.9, 1.5 + 1e-12, 0.002)[:3], analyses=())"
+            "['eta'].values", "np.array_equal(out, vi.grid('0.9:1.5:0.002')[:3])"),
+    },
+    "flag coerced": {
+        "write_netcdf(overwrite='no') over a file": (
+            "vi.io.write_netcdf(vi.simulate(p, periods=2).to_dataset(), 'w.nc') or "
+            "vi.io.write_netcdf(vi.simulate(p, periods=2).to_dataset(), 'w.nc', "
+            "overwrite='no')", "False"),
+        "plot_map(categorical='no')": ("__import__('vibimpact.plotting.map2d', fromlist=["
+                                       "'plot_map']).plot_map(xr.Dataset(), "
+                                       "categorical='no')", "False"),
+        "lyapunov_spectrum(floquet='yes')": (
+            "vi.analysis.lyapunov_spectrum(vi.System(p), floquet='yes')", "False"),
     },
 }
 
@@ -177,6 +192,16 @@ CLI_CASES = {
         "continue --ds 0.1 --ds-max 0.01": (["continue", "--eta", "1.12", "--stop", "1.3",
                                              "--ds", "0.1", "--ds-max", "0.01", "-o",
                                              "br.nc"], None),
+        "continue --ds 1e-300": (["continue", "--eta", "1.12", "--stop", "1.13", "--ds",
+                                  "1e-300", "-o", "br.nc"], None),
+        "bifurcation --dpi 1e-300": (["bifurcation", "--eta", "1.0:1.1:0.05", "--dpi",
+                                      "1e-300", "-o", "b.png"], None),
+        "--figsize 0.001x0.001 --dpi 1": (["bifurcation", "--eta", "1.0:1.1:0.05",
+                                           "--figsize", "0.001x0.001", "--dpi", "1", "-o",
+                                           "b.png"], None),
+        "--figsize 65536x1 --dpi 1": (["bifurcation", "--eta", "1.0:1.1:0.05",
+                                       "--figsize", "65536x1", "--dpi", "1", "-o",
+                                       "b.png"], None),
     },
     "tampered file": {
         **{f"rerun, {what}": (["rerun", "c.nc"], code) for what, code in (
@@ -202,6 +227,7 @@ CLI_CASES = {
                        "nc['eta'][0] = float('nan')"),
         "undeclared regime codes": (["plot", "c.nc", "-o", "p.png"],
                                     "nc['regime'][0] = 99"),
+        "period -7": (["plot", "c.nc", "-o", "p.png"], "nc['period'][0] = -7"),
     },
 }
 SMALL_SWEEP = ["classify", "--eta", "1.0:1.02:0.01", "--no-progress", "-o", "c.nc"]
