@@ -285,6 +285,7 @@ def test_version_prints_the_package_version_and_the_kernel_cache_status(tmp_path
     assert lines[1] == f"precompiled kernel: {cache_stamp.status()}"
 
 
+@pytest.mark.slow  # two real sweeps in subprocesses; tests/test_verbose_log.py is the fast check
 @pytest.mark.parametrize("where", ["before", "after"])
 def test_verbose_reports_through_logging_and_quiet_by_default(where, tmp_path):
     """-v (before or after the command name) sends INFO records of the 'vibimpact' logger

@@ -108,6 +108,7 @@ _ENVIRONMENTS = {
 }.get(platform.machine(), [{"OPENBLAS_NUM_THREADS": "1"}, {"OPENBLAS_NUM_THREADS": "2"}])
 
 
+@pytest.mark.slow  # a sweep in a subprocess per BLAS setting
 def test_a_sweep_gives_the_same_bits_whichever_blas_kernels_run():
     """Hypothesis: a fig11 sweep through the settling extrapolation, shooting and the
     Lyapunov QR gives bit-identical results with OpenBLAS forced to its Haswell and to its

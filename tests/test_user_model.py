@@ -37,6 +37,7 @@ def _init_mode(s, y, p, mode):
     mode[0] = 0
 
 
+@pytest.mark.slow  # compiles a user model's kernel
 def test_user_model_reproduces_linear_oscillator_steady_state():
     """A damped forced linear oscillator given as numba functions (Model.from_functions)
     is integrated by the generic kernel: its strobe equals the closed-form steady state to
@@ -111,7 +112,9 @@ SYSTEMS = {
 }
 
 
-@pytest.mark.parametrize("name", list(SYSTEMS))
+@pytest.mark.parametrize("name", [
+    pytest.param(n, marks=pytest.mark.slow) if n == "user model" else n  # compiles its kernel
+    for n in SYSTEMS])
 def test_every_model_goes_through_the_analysers_as_a_system(name):
     """A user model, the built-in Duffing oscillator and the rotor go through shooting,
     the Lyapunov spectrum and continuation the same way, as a System: the shot orbit is
