@@ -312,6 +312,33 @@ def main(argv=None):
         checkpoint (SIGTERM is handled as Ctrl-C at every phase).
     """
     program = argv is None  # the process's own command line: it exits after this
+    status = _main(argv, program)
+    if program and status in (130, 143):
+        _exit_after_interrupt(status)
+    return status
+
+
+def _exit_after_interrupt(status):
+    """End the process at once with ``status`` after an interrupt, once its output is
+    flushed and its exit handlers have run (the command has removed its temporaries and
+    kept its checkpoint).  The interpreter's own shutdown would join the process pool's
+    manager thread, which blocks for good reading a result that a worker killed by the
+    interrupt left half-written (its pipe never reaches end of file while this process
+    holds the other end): SIGTERM printed its line and then hung."""
+    import atexit
+    import os
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    atexit._run_exitfuncs()  # the warm-up helper's end; the pool's join is not among them
+    os._exit(status)
+
+
+def _main(argv, program):
+    """:func:`main` in the process (``program``) or called with ``argv``."""
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
