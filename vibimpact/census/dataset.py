@@ -145,7 +145,9 @@ def _var_attrs(name, values):
     if name == "decided_by":
         out.update(flag_values=np.arange(3, dtype=values.dtype), flag_meanings=DECIDED_FLAGS)
     elif name == "regime":
-        out.update(flag_values=np.arange(1, 6, dtype=values.dtype), flag_meanings=REGIME_FLAGS)
+        # 0: no attractor in this slot (the census pads every eta to the most attractors)
+        out.update(flag_values=np.array([1, 2, 3, 4, 5, 0], dtype=values.dtype),
+                   flag_meanings=REGIME_FLAGS + " none")
     elif name == "period":
         out.update(period_attrs(values.dtype))
     elif name in ("n_arcs", "found_by"):  # -1 (not measured, none): outside the valid
