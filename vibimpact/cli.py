@@ -320,12 +320,11 @@ def main(argv=None):
 
 def _exit_after_interrupt(status):
     """End the process at once with ``status`` after an interrupt, once its output is
-    flushed and its exit handlers have run (the command has removed its temporaries and
-    kept its checkpoint).  The interpreter's own shutdown would join the process pool's
+    flushed (the command has removed its temporaries and kept its checkpoint; its worker
+    processes die with it, PR_SET_PDEATHSIG).  The interpreter's own shutdown would join the process pool's
     manager thread, which blocks for good reading a result that a worker killed by the
     interrupt left half-written (its pipe never reaches end of file while this process
     holds the other end): SIGTERM printed its line and then hung."""
-    import atexit
     import os
 
     for stream in (sys.stdout, sys.stderr):
@@ -333,7 +332,8 @@ def _exit_after_interrupt(status):
             stream.flush()
         except (OSError, ValueError):
             pass
-    atexit._run_exitfuncs()  # the warm-up helper's end; the pool's join is not among them
+    # no exit handlers: multiprocessing's would run its finalizers a second time
+    # ("Exception ignored in: <Finalize object, dead>")
     os._exit(status)
 
 
