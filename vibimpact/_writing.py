@@ -27,7 +27,25 @@ import signal
 import threading
 
 __all__ = ["temp_prefix", "temporary_pid", "remove_dead_temporaries", "held_signals",
-           "running"]
+           "running", "before_write", "on_before_write"]
+
+#: checks run before any output is written (see :func:`on_before_write`)
+_BEFORE_WRITE = []
+
+
+def on_before_write(check) -> None:
+    """Have ``check()`` run before every write of an output (:func:`before_write`): the
+    signal guard registers the check that raises a signal received and lost so far, so
+    that a command it should have stopped writes nothing."""
+    if check not in _BEFORE_WRITE:
+        _BEFORE_WRITE.append(check)
+
+
+def before_write() -> None:
+    """Run the checks of :func:`on_before_write`; every writer calls this before it
+    creates its temporary (:func:`held_signals` does on entry)."""
+    for check in _BEFORE_WRITE:
+        check()
 
 
 def temp_prefix(path: str) -> str:
@@ -138,6 +156,7 @@ def held_signals():
     if threading.current_thread() is not threading.main_thread():
         yield held
         return
+    before_write()
     old = {}
 
     def handle(signum, frame):

@@ -64,7 +64,8 @@ from .cli_args import (number, parse_sets, Parser, positive_int, positive_number
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options, figure_options
 from .cli_files import check_output, write_outputs
-from .engine.signals import interrupt_status, signal_decides, StopWorkersOnSignal
+from .engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
+                             StopWorkersOnSignal)
 from ._text import count
 
 
@@ -312,7 +313,11 @@ def main(argv=None):
         checkpoint (SIGTERM is handled as Ctrl-C at every phase).
     """
     program = argv is None  # the process's own command line: it exits after this
-    status = _main(argv, program)
+    try:
+        status = _main(argv, program)
+    except KeyboardInterrupt as exc:  # before the command's guard (reading its options)
+        print("vibimpact: interrupted", file=sys.stderr)
+        status = interrupt_status(exc)
     if program and status in (130, 143):
         _exit_after_interrupt(status)
     return status
@@ -344,6 +349,8 @@ def _main(argv, program):
     args.argv = argv
     set_verbosity(verbosity(args))
     StopWorkersOnSignal.received = None
+    if program:
+        quiet_after_interrupt()
     try:
         try:
             from .cli_figures import check_figure_size

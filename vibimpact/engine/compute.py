@@ -60,6 +60,7 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
     streamed = set()
 
     def on_point(task, i, res):
+        StopWorkersOnSignal.check()  # a signal lost so far (see its docstring)
         streamed.add(id(task))
         if store is not None:
             with signals_deferred():  # an entry is saved whole (see signals_deferred)
@@ -67,6 +68,7 @@ def compute(tasks, executor, on_task, *, make_jobs=None, store=None, progress=no
         progress(1)
 
     def finished(task, results):
+        StopWorkersOnSignal.check()
         if id(task) not in streamed:
             new = [(i, r) for i, r in results if i not in task.done]
             if store is not None:

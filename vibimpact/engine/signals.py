@@ -12,6 +12,8 @@ from __future__ import annotations
 import contextlib
 import os
 
+from .._writing import on_before_write
+
 
 class Interrupted(KeyboardInterrupt):
     """SIGINT or SIGTERM; ``signum`` decides the exit status 128 + signum."""
@@ -33,21 +35,39 @@ class StopWorkersOnSignal:
 
     #: the signal that stopped this command, once one has (see :func:`signal_decides`)
     received = None
+    #: whether :attr:`received` has unwound through a guard (False: it was lost so far)
+    delivered = False
     #: depth of :func:`signals_deferred` blocks now running, and the signal one of them
     #: holds back (``(guard, signum)``)
     deferring = 0
     pending = None
+    #: guards entered in the main thread and not left yet
+    depth = 0
+    _unraisable = None
 
     def __enter__(self):
         import signal
+        import sys
+        import threading
 
         self._old = {}
         self._pid = os.getpid()
+        self._counted = False
+        if threading.current_thread() is not threading.main_thread():
+            return self  # not the main thread: leave the signals alone
         try:
             for sig in (signal.SIGINT, signal.SIGTERM):
                 self._old[sig] = signal.signal(sig, self._handle)
-        except ValueError:  # not the main thread: leave the signals alone
-            self.__exit__(None, None, None)
+        except ValueError:  # not the main interpreter: leave the signals alone
+            self._restore()
+            return self
+        cls = StopWorkersOnSignal
+        if cls.depth == 0:  # a new request: no signal yet
+            cls.received, cls.delivered, cls.pending = None, False, None
+            cls._unraisable = sys.unraisablehook
+            sys.unraisablehook = _quiet_interrupts(sys.unraisablehook)
+        cls.depth += 1
+        self._counted = True
         return self
 
     def _handle(self, signum, frame):
@@ -65,17 +85,83 @@ class StopWorkersOnSignal:
 
     def stop(self, signum):
         """Restore the handlers found on entry and raise :class:`Interrupted`."""
-        self.__exit__(None, None, None)  # a second Ctrl-C acts at once
+        self._restore()  # a second Ctrl-C acts at once
         StopWorkersOnSignal.received = signum  # for every guard of this command
         raise Interrupted(signum)  # the executor stops its workers on the way out
 
-    def __exit__(self, *exc):
+    @classmethod
+    def check(cls):
+        """Raise :class:`Interrupted` for a signal received and lost so far.
+
+        A handler's exception is lost where Python cannot raise it: in a ``ctypes``
+        callback (numba's compiler calls one; the exception is printed as "Exception
+        ignored" and the compile goes on), a finaliser, or a library's bare
+        ``except:``.  The signal is recorded before the exception is raised, so a
+        computation or a write that calls this at its safe points ends as the signal
+        asked, not with the full result (SIGINT 0.5 s into a map ran to the end and
+        exited 0)."""
+        if cls.received is not None and not cls.delivered and cls.depth:
+            cls.delivered = True  # raised at a safe point: it unwinds from here
+            raise Interrupted(cls.received)
+
+    def _restore(self):
         import signal
 
         for sig, old in self._old.items():
             signal.signal(sig, old)
         self._old = {}
+
+    def __exit__(self, exc_type, exc, tb):
+        import sys
+
+        self._restore()
+        if not self._counted:
+            return False
+        self._counted = False
+        cls = StopWorkersOnSignal
+        if exc_type is not None and issubclass(exc_type, KeyboardInterrupt):
+            cls.delivered = True  # it unwinds: not lost
+        try:
+            if exc_type is None:
+                cls.check()  # a signal lost inside the block ends it now
+        finally:
+            cls.depth -= 1
+            if cls.depth == 0 and cls._unraisable is not None:
+                sys.unraisablehook, cls._unraisable = cls._unraisable, None
         return False
+
+
+def _quiet_interrupts(hook):
+    """``sys.unraisablehook`` that, once a signal has stopped the command, only logs (at
+    debug level) what cannot be raised, and passes anything else to ``hook``.
+
+    An interrupt lost where Python cannot raise it (:meth:`StopWorkersOnSignal.check`
+    raises it again at the next safe point), and the finaliser of an object the
+    interrupt left half-built (llvmlite's ``ObjectRef.__del__``: "no attribute
+    '_as_parameter_'"), are consequences of the signal, not errors of their own."""
+    if getattr(hook, "quiets_interrupts", False):
+        return hook
+
+    def unraisable(info):
+        if StopWorkersOnSignal.received is None:
+            hook(info)
+            return
+        import logging
+
+        logging.getLogger(__name__).debug(
+            "after the interrupt: %s in %r", info.exc_type.__name__, info.object)
+
+    unraisable.quiets_interrupts = True
+    return unraisable
+
+
+def quiet_after_interrupt():
+    """For the rest of the process: what Python cannot raise after a signal has stopped
+    the command is logged at debug level, not printed (see :func:`_quiet_interrupts`);
+    the command line calls this once."""
+    import sys
+
+    sys.unraisablehook = _quiet_interrupts(sys.unraisablehook)
 
 
 @contextlib.contextmanager
@@ -116,3 +202,6 @@ def interrupt_status(exc):
     import signal
 
     return 128 + int(getattr(exc, "signum", signal.SIGINT))
+
+
+on_before_write(StopWorkersOnSignal.check)  # a command a signal stopped writes nothing

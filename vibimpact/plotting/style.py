@@ -369,7 +369,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
         raise ValueError(f"cannot save a figure as {path!r}: unknown extension; use one of "
                          f"{', '.join('.' + e for e in sorted(supported))}")
     from .._limits import check_drawable, check_pixels
-    from .._writing import temp_prefix
+    from .._writing import before_write, temp_prefix
 
     out_dpi = fig.dpi if dpi is None else check_dpi(dpi)
     try:
@@ -377,6 +377,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
         check_drawable(*fig.get_size_inches(), out_dpi, smallest_pt=smallest_text_pt())
     except ValueError as exc:
         raise ValueError(f"dpi: {exc}") from None
+    before_write()
     # .NAME.PID-*.tmp: the next write of ``path`` removes it if this process dies here
     fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp", dir=directory)
     os.close(fd)
