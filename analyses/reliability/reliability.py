@@ -28,7 +28,9 @@ what it left:
 * the classes of the third adversarial round (stopped processes, signals during large
   writes, writes killed, the resource tracker killed, damaged map stores, raw parameter
   vectors, array coercion, numerical edges, tampered files, options refused up front,
-  plots of bad files): see ``_cases_round3.py``.
+  plots of bad files): see ``_cases_round3.py``;
+* signals at start-up, signals lost where Python cannot raise them, and signals during
+  the command line's import: see ``_cases_signals.py``.
 
 ``--only CLASS`` (repeatable) runs the cases of those classes alone and prints their
 table without writing the report.
@@ -60,6 +62,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import _cases_round3
+import _cases_signals
 from _reliability_cases import (API_WORDS, BOUNDS, USER_MODEL, USER_MODEL_CASES,
                                WORDING)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
@@ -502,6 +505,7 @@ def measure(quick=False, timeout=300, only=None):
             out += [o for o in func(base, ref, wall, moments, timeout)
                     if not only or o.klass in only]
         out += _cases_round3.measure(sys.modules[__name__], base, timeout, only)
+        out += _cases_signals.measure(sys.modules[__name__], base, timeout, only)
         return out, wall
     finally:
         subprocess.run(["umount", str(base / "small")], capture_output=True)
@@ -585,12 +589,14 @@ def main(argv=None):
     if args.smoke is not None:
         smoke.shrink(globals(), args.smoke, **_smoke_cases())
         _cases_round3.shrink()
+        _cases_signals.shrink()
         args.quick = True
     only = set(args.only or ())
-    unknown = only - set(CLASS_CASES) - set(_cases_round3.CLASSES)
+    known = set(CLASS_CASES) | set(_cases_round3.CLASSES) | set(_cases_signals.CLASSES)
+    unknown = only - known
     if unknown:
         ap.error(f"--only: unknown class {sorted(unknown)[0]!r} (one of "
-                 f"{', '.join(sorted(set(CLASS_CASES) | set(_cases_round3.CLASSES)))})")
+                 f"{', '.join(sorted(known))})")
     t0 = time.perf_counter()
     outcomes, wall = measure(args.quick, args.timeout, only or None)
     text = report(outcomes, wall, args.quick, time.perf_counter() - t0)
