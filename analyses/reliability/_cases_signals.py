@@ -2,7 +2,7 @@
 at once (issue 32, part 1: SIGINT at 10 % of ``map`` printed a traceback and exited 0;
 of ``rerun``, hung):
 
-* **signal at start-up** -- SIGINT or SIGTERM 0.1, 0.25, 0.5 or 1 s after ``map``,
+* **signal at start-up** -- SIGINT or SIGTERM at each of :data:`MOMENTS` after ``map``,
   ``rerun`` or ``classify`` starts (imports, numba's compiler, the Dask cluster or the
   process pool starting): exit 128 + signum, one line, nothing but the checkpoint left;
   an exit 0 means the signal was lost;

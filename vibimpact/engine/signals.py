@@ -98,7 +98,7 @@ class StopWorkersOnSignal:
         ignored" and the compile goes on), a finaliser, or a library's bare
         ``except:``.  The signal is recorded before the exception is raised, so a
         computation or a write that calls this at its safe points ends as the signal
-        asked, not with the full result (SIGINT 0.5 s into a map ran to the end and
+        asked, not with the full result (a SIGINT early in a map ran to the end and
         exited 0)."""
         if cls.received is not None and not cls.delivered and cls.depth:
             cls.delivered = True  # raised at a safe point: it unwinds from here
