@@ -15,6 +15,7 @@ import os
 import signal
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +24,9 @@ import xarray as xr
 import vibimpact as vi
 from vibimpact.engine.signals import (_quiet_interrupts, Interrupted,
                                       StopWorkersOnSignal)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analyses" / "reliability"))
+from _cases_signals import EARLY, IN_PROCESS  # noqa: E402 -- the reliability run's cases
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _CALLBACK = ctypes.CFUNCTYPE(None)
@@ -216,19 +220,7 @@ def test_an_api_sweep_stops_at_the_point_after_a_lost_signal():
     assert sum(seen) < len(eta)
 
 
-CLI = {
-    "simulate": (["simulate", "--eta", "1.2", "--periods", "20", "-o", "s.nc"], False),
-    "classify": (["classify", "--eta", "1.0:1.03:0.01", "--no-progress", "-o", "c.nc"],
-                 True),
-    "bifurcation": (["bifurcation", "--eta", "1.0:1.03:0.01", "--no-progress", "-o",
-                     "b.png"], False),
-    "map": (["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60", "--no-progress",
-             "-o", "m.zarr"], True),
-    "continue": (["continue", "--eta", "1.12", "--stop", "1.13", "-o", "br.nc"], False),
-}
-
-
-@pytest.mark.parametrize("name", [*CLI, "rerun"])
+@pytest.mark.parametrize("name", IN_PROCESS)
 def test_a_command_whose_signal_is_lost_ends_interrupted_and_writes_no_output(
         name, tmp_path, monkeypatch, capfd):
     """Hypothesis: each command whose SIGINT is swallowed early (here: inside the preset
@@ -239,12 +231,12 @@ def test_a_command_whose_signal_is_lost_ends_interrupted_and_writes_no_output(
     from vibimpact.cli import main
 
     monkeypatch.chdir(tmp_path)
+    argv, resumable = IN_PROCESS[name]
+    before = set()
     if name == "rerun":
-        assert main(CLI["classify"][0]) == 0
+        assert main(IN_PROCESS["classify"][0]) == 0
         capfd.readouterr()
-        argv, before = ["rerun", "c.nc"], {"c.nc"}
-    else:
-        argv, before = CLI[name][0], set()
+        before = {"c.nc"}
     original = presets.get
 
     def get(*a, **kw):
@@ -258,7 +250,7 @@ def test_a_command_whose_signal_is_lost_ends_interrupted_and_writes_no_output(
     assert "Exception" not in err and "Traceback" not in err, err
     assert err.strip().splitlines()[-1].startswith("vibimpact: interrupted"), err
     left = {p.name for p in tmp_path.iterdir()} - before
-    assert left <= ({argv[-1] + ".partial"} if CLI.get(name, (0, False))[1] else set()), left
+    assert left <= ({argv[-1] + ".partial"} if resumable else set()), left
 
 
 def test_after_an_interrupt_a_finaliser_error_is_logged_not_printed(capfd):
@@ -282,45 +274,6 @@ def test_after_an_interrupt_a_finaliser_error_is_logged_not_printed(capfd):
     assert capfd.readouterr().err == ""
 
 
-#: a process that sends itself ``SIG`` while the command line imports ``TARGET`` (its
-#: import of vibimpact.cli) or builds its parser, then runs ``python -m vibimpact``
-EARLY = '''
-import builtins, os, runpy, signal, sys, time
-SIG, WHEN = signal.{sig}, {when!r}
-sys.argv = ["vibimpact", "simulate", "--eta", "1.2", "--periods", "5", "-o", "s.nc"]
-
-
-def wait():
-    t = time.monotonic() + 5
-    while time.monotonic() < t:
-        pass
-
-
-real = builtins.__import__
-
-
-def imports(name, *a, **kw):
-    if WHEN == "import" and name == "vibimpact.cli":
-        os.kill(os.getpid(), SIG)
-        wait()
-    return real(name, *a, **kw)
-
-
-builtins.__import__ = imports
-if WHEN == "parse":
-    import vibimpact.cli as cli
-    built = cli.build_parser
-
-    def build_parser():
-        os.kill(os.getpid(), SIG)
-        wait()
-        return built()
-
-    cli.build_parser = build_parser
-runpy.run_module("vibimpact", run_name="__main__")
-'''
-
-
 @pytest.mark.parametrize("when", ["import", "parse"])
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 def test_a_signal_before_the_command_has_its_guard_ends_it_with_one_line(when, sig,
@@ -331,7 +284,8 @@ def test_a_signal_before_the_command_has_its_guard_ends_it_with_one_line(when, s
     import subprocess
 
     env = {k: v for k, v in os.environ.items() if k != "VIBIMPACT_PRECOMPILED"}
-    proc = subprocess.run([sys.executable, "-c", EARLY.format(sig=sig, when=when)],
+    code = EARLY.replace("SIGNAME", sig).replace("WHENNAME", when)
+    proc = subprocess.run([sys.executable, "-c", code],
                           cwd=tmp_path, capture_output=True, text=True, timeout=120,
                           env=env)
     assert proc.returncode == 128 + getattr(signal, sig), (proc.returncode, proc.stderr)
