@@ -1,7 +1,7 @@
-"""Cases of :mod:`reliability` that are requests, not faults: continuations from a
-parameter's bound, refusals that must speak the command line's words, and user models
-that lie about their sizes (with the pattern of API words a command's line must not
-use)."""
+"""Cases of :mod:`reliability` that are requests, not faults: requests refused before
+any computing, continuations from a parameter's bound, refusals that must speak the
+command line's words, and user models that lie about their sizes (with the pattern of
+API words a command's line must not use)."""
 import re
 
 #: continuations that start on a parameter's bound (0 in every preset) or run down to it:
@@ -98,3 +98,31 @@ USER_MODEL_CASES = {
     "a complex state0": ("dict()", "vi.simulate(p, periods=2, model=model, "
                                    "state0=[1j, 0.0]).strobe"),
 }
+
+
+#: requests that must be refused before any computing (one line, exit 2, no file)
+BAD = {
+    "--dense 1000000000": ["simulate", "--eta", "1.2", "--dense", "1000000000", "-o", "s.nc"],
+    "--blocks 1e20": ["classify", "--eta", "1.0:1.02:0.01", "--blocks",
+                      "99999999999999999999", "-o", "c.nc"],
+    "-o r.nc/": ["simulate", "--eta", "1.2", "-o", "r.nc/"],
+    "-o ''": ["simulate", "--eta", "1.2", "-o", ""],
+    "-o 240-character name": ["simulate", "--eta", "1.2", "-o", "r" * 240 + ".nc"],
+    "-o dangling symlink": ["simulate", "--eta", "1.2", "-o", "dangling.nc"],
+    "-o /dev/full --overwrite": ["simulate", "--eta", "1.2", "-o", "/dev/full",
+                                 "--overwrite"],
+    "--set kh twice": ["simulate", "--eta", "1.2", "--set", "kh=10", "--set", "kh=200",
+                       "-o", "s.nc"],
+    # a speed of 1e300 is one point labelled diverged, as --eta 1e300 is (exit 0 or 2:
+    # either way without numpy's overflow warnings)
+    "--eta 1e300:1e300:1": ["classify", "--eta", "1e300:1e300:1", "-o", "c.nc"],
+    "--eta step 1.5e-13": ["classify", "--eta", "1:1.00000001:1.5e-13", "-o", "c.nc"],
+    "map --scheduler foo://bar": ["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60",
+                                  "--scheduler", "foo://bar", "-o", "m.zarr"],
+    "map --scheduler a directory": ["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60",
+                                    "--scheduler", ".", "-o", "m.zarr"],
+}
+
+
+#: cases of :data:`BAD` that may also run (exit 0) as long as they say nothing misleading
+RUNS = ("--eta 1e300:1e300:1",)

@@ -38,12 +38,11 @@ table without writing the report.
 Verdicts per case: *hang* (still running at its time limit: the process group is
 killed), *traceback* (``Traceback`` or ``Exception ignored`` on stderr), *clean* (no
 hang, no traceback, the expected exit status, at most one ``vibimpact: error:`` line and
-no Python warning),
-*files left* (temporary or partial files beside the output, the checkpoint directory
-excepted), *data lost* (after an interruption of a checkpointed command -- ``classify``,
-``map`` -- ``--resume`` does not give a file identical to the uninterrupted one, or a
-run that survived its fault wrote a different file; the other commands keep no
-checkpoint: they are judged on the rest).  Writes the section
+no Python warning), *files left* (temporary or partial files beside the output, the
+checkpoint directory excepted), *data lost* (after an interruption of a checkpointed
+command -- ``classify``, ``map`` -- ``--resume`` does not give a file identical to the
+uninterrupted one, or a run that survived its fault wrote a different file; the other
+commands keep no checkpoint: they are judged on the rest).  Writes the section
 ``reliability`` of ``reports/reliability.md``.
 """
 from __future__ import annotations
@@ -63,8 +62,8 @@ from pathlib import Path
 
 import _cases_round3
 import _cases_signals
-from _reliability_cases import (API_WORDS, BOUNDS, USER_MODEL, USER_MODEL_CASES,
-                               WORDING)
+from _reliability_cases import (API_WORDS, BAD, BOUNDS, RUNS, USER_MODEL,
+                               USER_MODEL_CASES, WORDING)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
@@ -91,32 +90,6 @@ COMMANDS = {"classify": (CLASSIFY, "c.nc", True), "bifurcation": (BIFURCATION, "
             "map": (MAP, "m.zarr", True), "simulate": (SIMULATE, "s.nc", False),
             "continue": (CONTINUE, "br.nc", False), "rerun": (RERUN, None, False)}
 
-#: requests that must be refused before any computing (one line, exit 2, no file)
-BAD = {
-    "--dense 1000000000": ["simulate", "--eta", "1.2", "--dense", "1000000000", "-o", "s.nc"],
-    "--blocks 1e20": ["classify", "--eta", "1.0:1.02:0.01", "--blocks",
-                      "99999999999999999999", "-o", "c.nc"],
-    "-o r.nc/": ["simulate", "--eta", "1.2", "-o", "r.nc/"],
-    "-o ''": ["simulate", "--eta", "1.2", "-o", ""],
-    "-o 240-character name": ["simulate", "--eta", "1.2", "-o", "r" * 240 + ".nc"],
-    "-o dangling symlink": ["simulate", "--eta", "1.2", "-o", "dangling.nc"],
-    "-o /dev/full --overwrite": ["simulate", "--eta", "1.2", "-o", "/dev/full",
-                                 "--overwrite"],
-    "--set kh twice": ["simulate", "--eta", "1.2", "--set", "kh=10", "--set", "kh=200",
-                       "-o", "s.nc"],
-    # a speed of 1e300 is one point labelled diverged, as --eta 1e300 is (exit 0 or 2:
-    # either way without numpy's overflow warnings)
-    "--eta 1e300:1e300:1": ["classify", "--eta", "1e300:1e300:1", "-o", "c.nc"],
-    "--eta step 1.5e-13": ["classify", "--eta", "1:1.00000001:1.5e-13", "-o", "c.nc"],
-    "map --scheduler foo://bar": ["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60",
-                                  "--scheduler", "foo://bar", "-o", "m.zarr"],
-    "map --scheduler a directory": ["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60",
-                                    "--scheduler", ".", "-o", "m.zarr"],
-}
-
-
-#: cases of :data:`BAD` that may also run (exit 0) as long as they say nothing misleading
-RUNS = ("--eta 1e300:1e300:1",)
 
 @dataclass
 class Outcome:
@@ -265,8 +238,7 @@ def references(base, timeout):
 
 
 def _fresh(base, tag):
-    d = Path(tempfile.mkdtemp(prefix=f"{tag}-", dir=base))
-    return d
+    return Path(tempfile.mkdtemp(prefix=f"{tag}-", dir=base))
 
 
 def killed_worker_cases(base, ref, wall, moments, timeout):
