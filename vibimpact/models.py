@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import importlib
 import math
+import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from typing import Callable
@@ -390,16 +391,22 @@ def register(model: Model) -> Model:
 
 
 _LOADING = []
+#: held while the built-in models load: a thread that asks meanwhile waits for all of
+#: them (re-entrant: a model's own import that asks gets the registry so far)
+_LOAD_LOCK = threading.RLock()
 
 
 def _loaded():
-    if not _REGISTRY and not _LOADING:
-        _LOADING.append(True)
-        try:  # the models' package is found by name, as the kernel finds its families
-            for model in importlib.import_module(f"{__package__}.builtin_models").load():
-                register(model)
-        finally:
-            _LOADING.clear()
+    if _REGISTRY and not _LOADING:
+        return _REGISTRY
+    with _LOAD_LOCK:
+        if not _REGISTRY and not _LOADING:
+            _LOADING.append(True)
+            try:  # the models' package is found by name, as the kernel finds its families
+                for model in importlib.import_module(f"{__package__}.builtin_models").load():
+                    register(model)
+            finally:
+                _LOADING.clear()
     return _REGISTRY
 
 
