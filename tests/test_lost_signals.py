@@ -303,3 +303,76 @@ def test_the_vibimpact_script_handles_signals_while_it_imports():
 
     (script,) = entry_points(group="console_scripts", name="vibimpact")
     assert script.load() is entry.run
+
+
+@pytest.mark.parametrize("moment", ["as the put-back begins", "while the tracker starts"])
+def test_stderr_is_put_back_when_a_signal_cuts_the_tracker_relaunch(moment, monkeypatch):
+    """Hypothesis: the resource tracker is relaunched with file descriptor 2 on the null
+    device; a signal whose exception surfaces while the tracker starts, or just as the
+    descriptor is being put back (the handler runs at the start of the ``finally``
+    block and skips it), still leaves descriptor 2 on the original file and the
+    exception propagating: the command's 'interrupted' line is seen (a map stopped by a
+    group SIGTERM exited 143 with an empty stderr)."""
+    from vibimpact.engine import cluster
+
+    real = cluster.os
+    onto_2 = []
+
+    class Os:
+        def __getattr__(self, name):
+            return getattr(real, name)
+
+        def dup2(self, fd, fd2, *a):
+            if fd2 == 2:
+                onto_2.append(fd)
+                if moment == "as the put-back begins" and len(onto_2) == 2:
+                    raise Interrupted(signal.SIGTERM)
+            return real.dup2(fd, fd2, *a)
+
+    def launch():
+        assert os.fstat(2).st_ino == os.stat(os.devnull).st_ino
+        if moment == "while the tracker starts":
+            raise Interrupted(signal.SIGTERM)
+        return "launched"
+
+    before = os.fstat(2)
+    monkeypatch.setattr(cluster, "os", Os())
+    with pytest.raises(Interrupted):
+        cluster._with_stderr_on_null(launch)
+    after = os.fstat(2)
+    assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
+
+
+def test_stderr_is_put_back_when_two_threads_relaunch_the_tracker_at_once():
+    """Hypothesis: two threads that relaunch the resource tracker at once (the main
+    thread unwinding an interrupt, Dask's thread closing its connections) leave file
+    descriptor 2 on the original file: without one relaunch at a time, the second saved
+    the null device and put it back last."""
+    import threading
+
+    from vibimpact.engine import cluster
+
+    a_in, b_in, a_done = threading.Event(), threading.Event(), threading.Event()
+
+    def launch_a():
+        a_in.set()
+        b_in.wait(timeout=1.0)  # B relaunches now, unless it must wait for A
+
+    def launch_b():
+        b_in.set()
+        a_done.wait(timeout=1.0)  # A puts its saved descriptor back first
+
+    def relaunch_a():
+        cluster._with_stderr_on_null(launch_a)
+        a_done.set()
+
+    before = os.fstat(2)
+    a = threading.Thread(target=relaunch_a)
+    a.start()
+    a_in.wait()
+    b = threading.Thread(target=cluster._with_stderr_on_null, args=(launch_b,))
+    b.start()
+    a.join()
+    b.join()
+    after = os.fstat(2)
+    assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)

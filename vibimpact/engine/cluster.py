@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import threading
 import uuid
 
 from .._text import one_line
@@ -241,21 +242,45 @@ def quiet_resource_tracker():
             return launch()  # running: nothing is started, stderr is left alone
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message="resource_tracker: process died")
-            saved = os.dup(2)
-            try:
-                null = os.open(os.devnull, os.O_WRONLY)
-                try:
-                    os.dup2(null, 2)  # inherited by a tracker started now
-                finally:
-                    os.close(null)
-                return launch()
-            finally:
-                os.dup2(saved, 2)
-                os.close(saved)
+            return _with_stderr_on_null(launch)
 
     tracker.ensure_running = ensure_running
     tracker.vibimpact_quiet = True
     return tracker
+
+
+#: one relaunch at a time: file descriptor 2 is the process's, not a thread's
+_STDERR_LOCK = threading.RLock()
+
+
+def _with_stderr_on_null(call):
+    """``call()`` with file descriptor 2 on the null device (a process it starts
+    inherits that), then put back.
+
+    A map stopped by a group SIGTERM (which kills the tracker too) now and then exited
+    143 with its 'interrupted' line unseen: its stderr was left on the null device.
+    Two threads relaunching at once (the main thread unwinding, Dask's closing its
+    connections) each saved descriptor 2, the second one saving the null device and
+    putting it back last; one relaunch at a time fixes that.  The put-back also
+    survives a signal whose exception is raised as the ``finally`` block begins (which
+    skips it): the exception handler puts it back then, the one signal spent."""
+    with _STDERR_LOCK:
+        saved = os.dup(2)
+        try:
+            try:
+                null = os.open(os.devnull, os.O_WRONLY)
+                try:
+                    os.dup2(null, 2)
+                finally:
+                    os.close(null)
+                return call()
+            finally:
+                os.dup2(saved, 2)
+        except BaseException:
+            os.dup2(saved, 2)  # the finally above was cut short by the signal
+            raise
+        finally:
+            os.close(saved)
 
 
 def _cannot_start(workers, exc):
