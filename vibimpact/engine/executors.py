@@ -146,13 +146,17 @@ class Processes:
                 # finished points are already reported; the points in flight are lost);
                 # a stopped worker dies of SIGKILL too
                 _kill(set(mp.active_children()) - before)
+                thread = _pool_thread(pool)
                 pool.shutdown(wait=False, cancel_futures=True)
+                _retire(thread)
                 raise
             # every result is in: the workers are idle and end on the pool's sentinels;
             # shutdown(wait=True) would hang for good if one was killed meanwhile (the
             # pool's thread then waits for a worker that never gets its sentinel)
+            thread = _pool_thread(pool)
             pool.shutdown(wait=False)
             _end(set(mp.active_children()) - before, grace=2.0)
+            _retire(thread)
         finally:
             if manager is not None:
                 _end_manager(manager)
@@ -293,6 +297,33 @@ def _end_manager(manager):
         manager.shutdown()
     except Exception:  # noqa: BLE001 -- a manager that never started, already ended
         pass
+
+
+def _pool_thread(pool):
+    """The pool's own thread (None before its first job); ``shutdown`` forgets it."""
+    return getattr(pool, "_executor_manager_thread", None)
+
+
+def _retire(thread, timeout=10.0):
+    """Wait, at most ``timeout`` seconds, for ``thread`` (the pool's own thread, see
+    :func:`_pool_thread`) to end: the workers are ended or killed by now, so it ends as
+    soon as it has seen them go.
+
+    That thread closes the pool's wake-up pipe on its way out; Python 3.11's exit hook
+    for process pools (``concurrent.futures.process._python_exit``) writes to the same
+    pipe without a lock, so a command that ended while the thread was still closing it
+    printed "Exception ignored ... OSError: [Errno 9] Bad file descriptor" with a
+    traceback after its own last line (a stopped worker's run, now and then).  With the
+    thread gone before the run returns, the hook finds the pipe closed and does
+    nothing."""
+    import logging
+
+    if thread is None:
+        return
+    thread.join(timeout)
+    if thread.is_alive():
+        logging.getLogger(__name__).debug(
+            "the process pool's thread did not end within %.0f s", timeout)
 
 
 def _end(processes, grace):
