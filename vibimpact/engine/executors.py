@@ -304,26 +304,27 @@ def _pool_thread(pool):
     return getattr(pool, "_executor_manager_thread", None)
 
 
-def _retire(thread, timeout=10.0):
-    """Wait, at most ``timeout`` seconds, for ``thread`` (the pool's own thread, see
-    :func:`_pool_thread`) to end: the workers are ended or killed by now, so it ends as
-    soon as it has seen them go.
+def _retire(thread):
+    """Take the pool's ``thread`` (see :func:`_pool_thread`), after the pool's
+    ``shutdown`` has woken it, off the list that Python's exit hook for process pools
+    wakes (``concurrent.futures.process._python_exit``).
 
-    That thread closes the pool's wake-up pipe on its way out; Python 3.11's exit hook
-    for process pools (``concurrent.futures.process._python_exit``) writes to the same
-    pipe without a lock, so a command that ended while the thread was still closing it
-    printed "Exception ignored ... OSError: [Errno 9] Bad file descriptor" with a
-    traceback after its own last line (a stopped worker's run, now and then).  With the
-    thread gone before the run returns, the hook finds the pipe closed and does
-    nothing."""
-    import logging
-
+    That thread closes its wake-up pipe on its way out, under the pool's lock; Python
+    3.11's exit hook writes to the same pipe without that lock, so a command that ended
+    while the thread was still closing it printed "Exception ignored ... OSError:
+    [Errno 9] Bad file descriptor" and a traceback after its own last line (a stopped
+    worker's run, now and then).  ``shutdown`` has woken the thread already, so the
+    hook's wake-up has nothing left to do; waiting for the thread instead could take
+    long (a worker killed half-way through a result blocks it until the process
+    exits)."""
     if thread is None:
         return
-    thread.join(timeout)
-    if thread.is_alive():
-        logging.getLogger(__name__).debug(
-            "the process pool's thread did not end within %.0f s", timeout)
+    try:
+        from concurrent.futures import process as _cf_process
+
+        _cf_process._threads_wakeups.pop(thread, None)
+    except (ImportError, AttributeError, TypeError):  # another Python's internals
+        pass
 
 
 def _end(processes, grace):
