@@ -1,6 +1,7 @@
 """Issue 32, part 3: :func:`vibimpact.sweep` and :func:`vibimpact.map2d` take an eta
 array built by hand (``np.arange``) as the command line's grid (:func:`vibimpact.grid`)
-where it differs from it only by the arithmetic's error, and keep other values."""
+where it differs from it only by the arithmetic's error, and keep other values; the
+map's varied parameter is snapped alike, to the command line's ``--vary`` values."""
 import numpy as np
 import pytest
 
@@ -59,3 +60,33 @@ def test_map2d_stores_the_grids_values_for_an_arange():
     ds = vi.map2d(vi.presets.get("fig8"), np.arange(0.1, 0.3 + 1e-12, 0.1),
                   {"B": [0.01]}, analyses=(), settings=_QUICK)
     assert np.array_equal(ds["eta"].values, vi.grid("0.1:0.3:0.1"))
+
+
+@pytest.mark.parametrize("name, text, built", [
+    ("f", "0.02:0.1:0.01", lambda: np.arange(0.02, 0.1 + 1e-12, 0.01)),
+    ("B", "0.001:0.03:0.001", lambda: np.arange(0.001, 0.03 + 1e-12, 0.001)),
+    ("kh", "10.1:12.1:0.1", lambda: np.arange(10.1, 12.1 + 1e-9, 0.1)),
+    ("eps", "0.1:0.7:0.1", lambda: 0.1 + 0.1 * np.arange(7)),
+])
+def test_map_rows_built_by_hand_are_the_command_lines_vary(name, text, built):
+    """The map's other axis is snapped as eta is: an arange (or start + step * k) of
+    the varied parameter gives exactly the values of the command line's --vary range,
+    though several of its values differ from them before."""
+    from vibimpact.cli_map import parse_vary
+    from vibimpact.maps.map2d import check_vary
+
+    fig8 = vi.presets.get("fig8")
+    _, cli_values = parse_vary(f"{name}={text}", fig8)
+    _, api_values = check_vary(fig8, {name: built()})
+    assert not np.array_equal(built(), cli_values)  # the case is not trivial
+    assert np.array_equal(api_values, cli_values)
+
+
+def test_map2d_stores_the_command_lines_rows_for_an_arange():
+    """vi.map2d stores the snapped values of its varied parameter (its row coordinate)
+    for an arange whose raw values differ from the range's."""
+    raw = np.arange(0.1, 0.4 + 1e-12, 0.1)
+    assert not np.array_equal(raw, vi.grid("0.1:0.4:0.1"))  # the case is not trivial
+    ds = vi.map2d(vi.presets.get("fig8"), [1.0], {"eps": raw}, analyses=(),
+                  settings=_QUICK)
+    assert np.array_equal(ds["eps"].values, vi.grid("0.1:0.4:0.1"))

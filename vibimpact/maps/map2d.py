@@ -46,7 +46,7 @@ from .. import models
 from ..params import DuffingParams, Params
 from ..system import (System, param_dict, to_system, varied_names, with_frequency,
                       with_values)
-from ..sweeps.sweep import check_grid, check_request
+from ..sweeps.sweep import check_grid, check_request, snap_grid
 from ..engine.execution import Execution, as_execution, refuse_moved
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -85,6 +85,15 @@ def check_vary(p, vary, label="vary"):
         How the messages name ``vary``: the argument (``"vary"``), or the option of an
         interface that gives it otherwise (the command line's ``"--vary"``).
 
+    Returns
+    -------
+    name : str
+    values : ndarray, shape (m,)
+        The values, each within a few units in the last place of its rounding to 12
+        decimals taken as that rounding (as eta's, :func:`vibimpact.sweeps.sweep.
+        snap_grid`), so that ``np.arange(10, 121, 10.0) / 3`` or ``0.01 * k`` gives the
+        command line's ``--vary`` values.
+
     Raises
     ------
     ValueError
@@ -116,6 +125,7 @@ def check_vary(p, vary, label="vary"):
         raise ValueError(f"{label} {name}: values must be finite")
     if arr.size > 1 and not np.all(np.diff(arr) > 0.0):
         raise ValueError(f"{label} {name}: values must be strictly increasing")
+    arr = snap_grid(arr)  # an arange's values as the command line's range gives them
     for v in (arr[0], arr[-1]):  # the domains are intervals: the ends decide
         try:
             with_values(p, **{name: float(v)})
@@ -239,7 +249,9 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     vary : dict
         One entry ``{name: values}``: a parameter of the model other than its forcing
         frequency (:attr:`vibimpact.Model.param_names`) and its strictly increasing,
-        finite values, e.g. ``{"kh": np.arange(10, 121, 10)}`` for the rotor.
+        finite values, e.g. ``{"kh": np.arange(10, 121, 10)}`` for the rotor; snapped
+        to their 12-decimal rounding as eta is, so ``np.arange`` gives the command
+        line's ``--vary`` values.
     direction : {"up", "down", "both"}
         Direction of the continuation along eta in every row.
     analyses : sequence of str
