@@ -40,3 +40,36 @@ def fig8_chaotic():
     a chaotic point."""
     p = preset("fig8").replace(eta=1.22)
     return p, continued_state("fig8", 1.22)
+
+
+@pytest.fixture(autouse=True)
+def _no_signal_state_leaks(request):
+    """Every test leaves SIGINT's and SIGTERM's handlers, the package's signal guard
+    (its depth, deferral and the signal it recorded) and ``sys.unraisablehook`` as it
+    found them; a test that does not fails, naming what it left, and the state is put
+    back so that the tests after it start clean.  A handler or guard left behind turns
+    a later test's Ctrl-C into nothing (an ignored SIGINT) or into the guard's
+    exception, far from its cause."""
+    import signal
+    import sys
+
+    from vibimpact.engine.signals import StopWorkersOnSignal as guard
+
+    sigs = (signal.SIGINT, signal.SIGTERM)
+    handlers = {s: signal.getsignal(s) for s in sigs}
+    hook = sys.unraisablehook
+    state = (guard.depth, guard.deferring, guard.pending)
+    yield
+    left = [f"{signal.Signals(s).name} handler {signal.getsignal(s)!r}" for s in sigs
+            if signal.getsignal(s) is not handlers[s]]
+    if sys.unraisablehook is not hook:
+        left.append(f"sys.unraisablehook {sys.unraisablehook!r}")
+    if (guard.depth, guard.deferring, guard.pending) != state:
+        left.append(f"signal guard depth/deferring/pending "
+                    f"{(guard.depth, guard.deferring, guard.pending)} (was {state})")
+    for s, h in handlers.items():
+        signal.signal(s, h)
+    sys.unraisablehook = hook
+    guard.depth, guard.deferring, guard.pending = state
+    if left:
+        pytest.fail(f"{request.node.nodeid} left: " + "; ".join(left), pytrace=False)
