@@ -42,6 +42,18 @@ def fig8_chaotic():
     return p, continued_state("fig8", 1.22)
 
 
+def pytest_configure(config):
+    """The suite runs with SIGINT as from a terminal (Python's own KeyboardInterrupt
+    handler), however it was started: a test run started as a shell script's background
+    job inherits SIGINT ignored, and the commands the tests start (and signal) would
+    inherit that and rightly ignore the tests' SIGINT.  tests/test_ignored_signals.py
+    checks the ignored case on purpose."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 @pytest.fixture(autouse=True)
 def _no_signal_state_leaks(request):
     """Every test leaves SIGINT's and SIGTERM's handlers, the package's signal guard

@@ -170,13 +170,18 @@ def test_sigterm_during_a_write_ends_it_with_nothing_left(fmt, tmp_path, monkeyp
 
 
 def test_sigint_during_an_api_write_is_a_keyboard_interrupt(tmp_path, monkeypatch):
-    """Hypothesis: outside any guard (the API in a script), Ctrl-C during write_netcdf
-    still raises KeyboardInterrupt, after the write, with nothing left on disk."""
+    """Hypothesis: outside any guard (the API in a script, with Python's own Ctrl-C
+    handler, whatever the test run inherited), Ctrl-C during write_netcdf still raises
+    KeyboardInterrupt, after the write, with nothing left on disk."""
     from vibimpact.io import write_netcdf
 
-    _signalling(monkeypatch, "to_netcdf", signal.SIGINT)
-    with pytest.raises(KeyboardInterrupt):
-        write_netcdf(DS, tmp_path / "r.nc")
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _signalling(monkeypatch, "to_netcdf", signal.SIGINT)
+        with pytest.raises(KeyboardInterrupt):
+            write_netcdf(DS, tmp_path / "r.nc")
+    finally:
+        signal.signal(signal.SIGINT, old)
     assert list(tmp_path.iterdir()) == []
 
 

@@ -2,7 +2,9 @@
 
 SIGINT and SIGTERM are handled from the first line: while the command line is still
 being imported, either ends it with one line and exit status 128 + signum (not a
-``KeyboardInterrupt`` traceback, not a silent death by SIGTERM).
+``KeyboardInterrupt`` traceback, not a silent death by SIGTERM).  A signal the
+process was started ignoring (a shell script's background job ignores SIGINT) stays
+ignored throughout.
 """
 import signal
 import sys
@@ -24,7 +26,8 @@ def run():
     """The command line, with SIGINT and SIGTERM handled while it is imported; returns
     the exit status (the ``vibimpact`` script's entry point)."""
     for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, _stop)
+        if signal.getsignal(sig) != signal.SIG_IGN:  # an ignored signal stays ignored
+            signal.signal(sig, _stop)
     try:
         from vibimpact.cli import main
     except KeyboardInterrupt as exc:

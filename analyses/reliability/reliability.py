@@ -558,6 +558,9 @@ def main(argv=None):
                          "then printed, not written")
     args = ap.parse_args(argv)
     REPORT = smoke.moved(REPORT, args.smoke)
+    # the commands get SIGINT as from a terminal: a run started as a script's background
+    # job ignores SIGINT, and its commands would inherit that (and rightly ignore it)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     if args.smoke is not None:
         smoke.shrink(globals(), args.smoke, **_smoke_cases())
         _cases_round3.shrink()

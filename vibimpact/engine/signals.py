@@ -30,7 +30,9 @@ class StopWorkersOnSignal:
     saved atomically, the points in flight are lost) and the command ends with one line
     and exit status 128 + signum.  The first signal restores the handlers found on
     entry, so a second one acts at once.  Outside the main thread it leaves the signals
-    alone.
+    alone, and a signal this process ignores (``SIG_IGN``, as a shell script's
+    background job starts with SIGINT, so that the terminal's Ctrl-C does not reach it,
+    or as ``trap '' TERM`` asks) stays ignored, as Python leaves it.
     """
 
     #: the signal that stopped this command, once one has (see :func:`signal_decides`)
@@ -57,6 +59,8 @@ class StopWorkersOnSignal:
             return self  # not the main thread: leave the signals alone
         try:
             for sig in (signal.SIGINT, signal.SIGTERM):
+                if signal.getsignal(sig) == signal.SIG_IGN:  # ignored on purpose
+                    continue
                 self._old[sig] = signal.signal(sig, self._handle)
         except ValueError:  # not the main interpreter: leave the signals alone
             self._restore()
