@@ -12,7 +12,11 @@ of ``rerun``, hung):
   plain command: exit 128 + signum, no "Exception ignored", no output;
 * **signal during the command line's import** -- ``python -m vibimpact`` signalled while
   it imports its command line or builds its option parser: exit 128 + signum and the one
-  line "vibimpact: interrupted".
+  line "vibimpact: interrupted";
+* **signal the command was started ignoring** -- ``classify`` and ``map`` started with
+  SIGINT or SIGTERM ignored (a shell script's background job ignores SIGINT), sent that
+  signal at start-up and later: they run through it (exit 0, the output written,
+  nothing said); with only SIGINT ignored, SIGTERM still ends them (exit 143).
 """
 from __future__ import annotations
 
@@ -204,16 +208,48 @@ def import_cases(kit, base, timeout):
     return out
 
 
+#: commands started with a signal ignored, and the moments (s) it is sent
+IGNORING = ("classify", "map")
+IGNORED_AT = (0.25, 1.0)
+
+
+def ignored_cases(kit, base, timeout):
+    out = []
+    klass = "signal the command was started ignoring"
+    for name in IGNORING:
+        argv, output, _ = kit.COMMANDS[name]
+        runs = [((sig,), sig, at) for sig in SIGNALS for at in IGNORED_AT]
+        runs.append(((signal.SIGINT,), signal.SIGTERM, IGNORED_AT[-1]))
+        for ignoring, sent, at in runs:
+            d = kit._fresh(base, f"ignoring-{name}")
+            rc, _, err, sec = kit.run(argv, d, timeout,
+                                      lambda p, s=sent: p.send_signal(s), at,
+                                      ignoring=ignoring)
+            through = sent in ignoring
+            said = "+".join(signal.Signals(s).name for s in ignoring)
+            o = kit.judge(klass, f"{name}, {said} ignored, "
+                          f"{signal.Signals(sent).name} at {at:g} s", rc, err, sec,
+                          {0} if through else {128 + sent}, d)
+            if through:
+                o.clean = o.clean and not err.strip() and (d / output).exists()
+            else:
+                o.clean = o.clean and not (d / output).exists()
+            out.append(o)
+    return out
+
+
 #: class -> the function that runs its cases
 CLASSES = {"signal at start-up": startup_cases,
            "signal lost where Python cannot raise it": lost_cases,
-           "signal during the command line's import": import_cases}
+           "signal during the command line's import": import_cases,
+           "signal the command was started ignoring": ignored_cases}
 
 
 def shrink():
     """A smoke run: one moment, one command and one way each."""
-    global MOMENTS, STARTED
+    global MOMENTS, STARTED, IGNORING, IGNORED_AT
     MOMENTS, STARTED = MOMENTS[2:3], STARTED[:1]
+    IGNORING, IGNORED_AT = IGNORING[:1], IGNORED_AT[-1:]
     for key in list(IN_PROCESS)[1:]:
         del IN_PROCESS[key]
 

@@ -137,13 +137,18 @@ def _worker(pid):
     return max(leaves) if leaves else None
 
 
-def run(argv, cwd, timeout, fault=None, delay=0.0):
-    """``python -m vibimpact argv`` in ``cwd``; ``fault(proc)`` called after ``delay`` s.
+def run(argv, cwd, timeout, fault=None, delay=0.0, ignoring=()):
+    """``python -m vibimpact argv`` in ``cwd``, started with the signals ``ignoring``
+    ignored; ``fault(proc)`` called after ``delay`` s.
     Returns ``(rc or None on a hang, stdout, stderr, seconds)``."""
+    def ignore():
+        for sig in ignoring:
+            signal.signal(sig, signal.SIG_IGN)
+
     t0 = time.perf_counter()
     proc = subprocess.Popen([sys.executable, "-m", "vibimpact", *argv], cwd=cwd, env=_env(),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=ignore if ignoring else None)
     timer = None
     if fault is not None:
         timer = threading.Timer(delay, lambda: proc.poll() is None and fault(proc))
