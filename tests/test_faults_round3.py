@@ -17,8 +17,9 @@ import pytest
 import xarray as xr
 
 from test_cli_sweep import _points, cli
-from test_faults_signals import (children, files, finish, interrupt_while_writing,
-                                 messages, start, wait_for)
+from test_faults_signals import (assert_one_interrupted_line, children, files, finish,
+                                 interrupt_while_writing, messages, signal_and_finish,
+                                 start, wait_for)
 
 
 # --- the watch of child processes ----------------------------------------------------
@@ -413,15 +414,7 @@ def test_sigterm_ends_a_command_whose_child_is_stopped(which, tmp_path):
     never asked to shut down, so nothing waits on it."""
     proc = _stop_a_child(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], which,
                          tmp_path)
-    try:
-        proc.send_signal(signal.SIGTERM)
-        status = finish(proc, timeout=120)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-    lines = messages(tmp_path)
-    assert status == 143 and len(lines) == 1, (status, lines)
-    assert lines[0].startswith("vibimpact: interrupted"), lines
+    assert_one_interrupted_line(tmp_path, signal_and_finish(proc, signal.SIGTERM))
 
 
 @pytest.mark.slow

@@ -63,18 +63,25 @@ STALL_IMAGE = STALL.replace(
     "import matplotlib.figure as mf\nmf.Figure.savefig = stall(mf.Figure.savefig)\n")
 
 
-def start(args, cwd, stall=False, env=None):
+def start(args, cwd, stall=False, env=None, module="vibimpact.cli", ignoring=()):
     """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``, ``env`` added to the
-    environment) in its own session; ``stall``: True stalls the dataset writes,
-    ``"image"`` the figure's."""
+    environment) in its own session, as ``python -m module`` (``"vibimpact"``: through
+    the script's entry point) with the signals ``ignoring`` ignored from its start;
+    ``stall``: True stalls the dataset writes, ``"image"`` the figure's."""
     code = (["-c", STALL_IMAGE] if stall == "image" else ["-c", STALL] if stall
-            else ["-m", "vibimpact.cli"])
+            else ["-m", module])
+
+    def ignore():
+        for sig in ignoring:
+            signal.signal(sig, signal.SIG_IGN)
+
     err = open(Path(cwd) / "err.txt", "w")
     try:
         return subprocess.Popen([sys.executable, *code, *map(str, args)], cwd=cwd,
                                 env=dict(_env(), **(env or {})),
                                 stdout=subprocess.DEVNULL, stderr=err,
-                                start_new_session=True)
+                                start_new_session=True,
+                                preexec_fn=ignore if ignoring else None)
     finally:
         err.close()
 
@@ -99,6 +106,25 @@ def finish(proc, timeout=60):
         proc.wait()
         pytest.fail(f"still running {timeout} s after the fault: a hang")
     return proc.returncode
+
+
+def signal_and_finish(proc, signum, timeout=120):
+    """Send ``signum`` to ``proc`` and wait for it (:func:`finish`); its process group
+    is killed if the test fails first."""
+    try:
+        proc.send_signal(signum)
+        return finish(proc, timeout)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+
+
+def assert_one_interrupted_line(cwd, status, expect=143):
+    """The command ended with status ``expect`` and said one line, its interrupted
+    line (the saved points may follow it)."""
+    lines = messages(cwd)
+    assert status == expect and len(lines) == 1, (status, lines)
+    assert lines[0].startswith("vibimpact: interrupted"), lines
 
 
 def messages(cwd):

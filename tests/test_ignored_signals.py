@@ -10,17 +10,14 @@ is not ignored is still handled as before.
 """
 import os
 import signal
-import subprocess
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
-from test_cli_sweep import _env
-from test_faults_signals import finish, messages
+from test_faults_signals import (assert_one_interrupted_line, finish, messages,
+                                 signal_and_finish, start)
 
 SWEEP = ["classify", "--eta", "0.95:1.25:0.002", "--preset", "fig8", "--direction",
          "both", "--no-progress", "-o", "c.nc"]
@@ -76,19 +73,10 @@ def test_an_api_write_under_an_ignored_sigint_completes(sigint_ignored, tmp_path
 
 
 def _start_ignoring(ignored, cwd):
-    """``python -m vibimpact`` + SWEEP in its own session, started with the signals
-    ``ignored`` set to SIG_IGN (as a shell gives a background job SIGINT)."""
-    def preexec():
-        for sig in ignored:
-            signal.signal(sig, signal.SIG_IGN)
-
-    err = open(Path(cwd) / "err.txt", "w")
-    try:
-        return subprocess.Popen([sys.executable, "-m", "vibimpact", *SWEEP], cwd=cwd,
-                                env=_env(), stdout=subprocess.DEVNULL, stderr=err,
-                                start_new_session=True, preexec_fn=preexec)
-    finally:
-        err.close()
+    """``python -m vibimpact`` + SWEEP (through the script's entry point) in its own
+    session, started with the signals ``ignored`` set to SIG_IGN (as a shell gives a
+    background job SIGINT)."""
+    return start(SWEEP, cwd, module="vibimpact", ignoring=ignored)
 
 
 @pytest.mark.slow
@@ -121,14 +109,6 @@ def test_sigterm_still_ends_a_command_started_ignoring_sigint(tmp_path):
     """Hypothesis: with only SIGINT ignored, SIGTERM during the computation ends
     classify as ever: exit 143, one 'interrupted' line, no output file."""
     proc = _start_ignoring((signal.SIGINT,), tmp_path)
-    try:
-        time.sleep(2.5)
-        os.kill(proc.pid, signal.SIGTERM)
-        status = finish(proc, timeout=300)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-    lines = messages(tmp_path)
-    assert status == 143 and len(lines) == 1, (status, lines)
-    assert lines[0].startswith("vibimpact: interrupted"), lines
+    time.sleep(2.5)
+    assert_one_interrupted_line(tmp_path, signal_and_finish(proc, signal.SIGTERM, 300))
     assert not (tmp_path / "c.nc").exists()

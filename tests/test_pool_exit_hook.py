@@ -79,11 +79,11 @@ def test_the_exit_hook_has_no_pool_to_wake_after_an_error_in_this_process():
     assert _pool_threads() == []
 
 
-def test_the_exit_hook_has_no_pool_to_wake_after_an_error_in_a_worker(monkeypatch):
+def test_the_exit_hook_has_no_pool_to_wake_after_an_error_in_a_worker():
     """Hypothesis: an error raised in a worker (a task that cannot run) reaches this
     process with the pool off the exit hook's list."""
     def bad_jobs(slots):
-        return [[object()], [object()]]  # run_job fails on a job that holds no tasks
+        return [[object()], [object()]]  # run_job fails on a job of non-tasks
 
     with pytest.raises(Exception):
         executors.Processes(2).run(bad_jobs, None, lambda task, res: None)

@@ -146,17 +146,13 @@ class Processes:
                 # finished points are already reported; the points in flight are lost);
                 # a stopped worker dies of SIGKILL too
                 _kill(set(mp.active_children()) - before)
-                thread = _pool_thread(pool)
-                pool.shutdown(wait=False, cancel_futures=True)
-                _retire(thread)
+                _shutdown(pool, cancel_futures=True)
                 raise
             # every result is in: the workers are idle and end on the pool's sentinels;
             # shutdown(wait=True) would hang for good if one was killed meanwhile (the
             # pool's thread then waits for a worker that never gets its sentinel)
-            thread = _pool_thread(pool)
-            pool.shutdown(wait=False)
+            _shutdown(pool)
             _end(set(mp.active_children()) - before, grace=2.0)
-            _retire(thread)
         finally:
             if manager is not None:
                 _end_manager(manager)
@@ -299,24 +295,20 @@ def _end_manager(manager):
         pass
 
 
-def _pool_thread(pool):
-    """The pool's own thread (None before its first job); ``shutdown`` forgets it."""
-    return getattr(pool, "_executor_manager_thread", None)
-
-
-def _retire(thread):
-    """Take the pool's ``thread`` (see :func:`_pool_thread`), after the pool's
-    ``shutdown`` has woken it, off the list that Python's exit hook for process pools
-    wakes (``concurrent.futures.process._python_exit``).
+def _shutdown(pool, cancel_futures=False):
+    """``pool.shutdown(wait=False)``, and the pool's thread taken off the list that
+    Python's exit hook for process pools wakes (``concurrent.futures.process.
+    _python_exit``).
 
     That thread closes its wake-up pipe on its way out, under the pool's lock; Python
     3.11's exit hook writes to the same pipe without that lock, so a command that ended
     while the thread was still closing it printed "Exception ignored ... OSError:
     [Errno 9] Bad file descriptor" and a traceback after its own last line (a stopped
-    worker's run, now and then).  ``shutdown`` has woken the thread already, so the
-    hook's wake-up has nothing left to do; waiting for the thread instead could take
-    long (a worker killed half-way through a result blocks it until the process
-    exits)."""
+    worker's run, now and then).  ``shutdown`` wakes the thread itself, so the hook's
+    wake-up has nothing left to do; waiting for the thread instead could take long (a
+    worker killed half-way through a result blocks it until the process exits)."""
+    thread = getattr(pool, "_executor_manager_thread", None)  # shutdown forgets it
+    pool.shutdown(wait=False, cancel_futures=cancel_futures)
     if thread is None:
         return
     try:

@@ -91,8 +91,8 @@ def check_vary(p, vary, label="vary"):
     values : ndarray, shape (m,)
         The values, each within a few units in the last place of its rounding to 12
         decimals taken as that rounding (as eta's, :func:`vibimpact.sweeps.sweep.
-        snap_grid`), so that ``np.arange(10, 121, 10.0) / 3`` or ``0.01 * k`` gives the
-        command line's ``--vary`` values.
+        snap_grid`), so that ``np.arange(0.02, 0.1 + 1e-12, 0.01)`` or ``0.02 + 0.01 * k``
+        gives the command line's ``--vary f=0.02:0.1:0.01`` values.
 
     Raises
     ------
