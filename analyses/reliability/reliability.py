@@ -30,7 +30,13 @@ what it left:
   vectors, array coercion, numerical edges, tampered files, options refused up front,
   plots of bad files): see ``_cases_round3.py``;
 * signals at start-up, signals lost where Python cannot raise them, and signals during
-  the command line's import: see ``_cases_signals.py``.
+  the command line's import: see ``_cases_signals.py``;
+* the classes of the fourth adversarial round: output streams that cannot be written and
+  reruns of crafted files (``_cases_r4_streams.py``); FIFOs, deep JSON, symlinks and
+  resumes in checkpoints (``_cases_r4_checkpoints.py``); checks before work, outputs
+  named twice, refusals of ``continue2`` and ``plot`` (``_cases_r4_inputs.py``); crafted
+  and oversized input files, ``map --overwrite`` (``_cases_r4_files.py``); failed
+  integrations in censuses and API arguments (``_cases_r4_results.py``).
 
 ``--only CLASS`` (repeatable) runs the cases of those classes alone and prints their
 table without writing the report.
@@ -60,6 +66,11 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import _cases_r4_checkpoints
+import _cases_r4_files
+import _cases_r4_inputs
+import _cases_r4_results
+import _cases_r4_streams
 import _cases_round3
 import _cases_signals
 from _reliability_cases import (API_WORDS, BAD, BOUNDS, RUNS, USER_MODEL,
@@ -459,6 +470,10 @@ CLASS_CASES = {
     "command-line wording": lambda b, r, w, m, t: wording_cases(b, t),
     "user model sizes": lambda b, r, w, m, t: user_model_cases(b, t),
 }
+#: the modules of further classes (each: ``CLASSES``, ``shrink()``, ``measure(kit, base,
+#: timeout, only)``), run after this module's own
+EXTRA = (_cases_round3, _cases_signals, _cases_r4_streams, _cases_r4_checkpoints,
+         _cases_r4_inputs, _cases_r4_files, _cases_r4_results)
 #: the classes that need the reference runs
 NEEDS_REFERENCES = {"killed worker", "SIGTERM", "SIGINT", "disk full",
                     "vanished checkpoint", "foreign checkpoint entry"}
@@ -481,8 +496,8 @@ def measure(quick=False, timeout=300, only=None):
                 ran.add(func.__code__)
             out += [o for o in func(base, ref, wall, moments, timeout)
                     if not only or o.klass in only]
-        out += _cases_round3.measure(sys.modules[__name__], base, timeout, only)
-        out += _cases_signals.measure(sys.modules[__name__], base, timeout, only)
+        for extra in EXTRA:
+            out += extra.measure(sys.modules[__name__], base, timeout, only)
         return out, wall
     finally:
         subprocess.run(["umount", str(base / "small")], capture_output=True)
@@ -568,11 +583,11 @@ def main(argv=None):
     signal.signal(signal.SIGINT, signal.default_int_handler)
     if args.smoke is not None:
         smoke.shrink(globals(), args.smoke, **_smoke_cases())
-        _cases_round3.shrink()
-        _cases_signals.shrink()
+        for extra in EXTRA:
+            extra.shrink()
         args.quick = True
     only = set(args.only or ())
-    known = set(CLASS_CASES) | set(_cases_round3.CLASSES) | set(_cases_signals.CLASSES)
+    known = set(CLASS_CASES).union(*(extra.CLASSES for extra in EXTRA))
     unknown = only - known
     if unknown:
         ap.error(f"--only: unknown class {sorted(unknown)[0]!r} (one of "

@@ -1,0 +1,22 @@
+"""Cases of :mod:`reliability` from the fourth adversarial round: FIFOs, deeply nested JSON and symlinks in checkpoints and input files, and resumes after an interrupt (issue 44, classes 2, 3, 4 and 6).
+
+(Being written: this module's classes are filled in by the work on issue 44.)
+"""
+from __future__ import annotations
+
+#: class -> the function that runs its cases: ``func(kit, base, timeout)`` -> Outcomes
+CLASSES = {}
+
+
+def shrink():
+    """A smoke run: the first case of each table."""
+
+
+def measure(kit, base, timeout, only=None):
+    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
+    out = []
+    for klass, func in CLASSES.items():
+        if only and klass not in only:
+            continue
+        out += func(kit, base, timeout)
+    return out
