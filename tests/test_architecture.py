@@ -322,7 +322,7 @@ LAYERS = (
     # a System (model, parameters, solver settings) and the Solver that integrates it
     ("system", "solver"),
     # files: the formats of runs and datasets
-    ("io", "io_compare"),
+    ("io", "io_compare", "io_recorded"),
     # the result of one integration
     ("run",),
     # the shipped models and the presets (named parameter sets)

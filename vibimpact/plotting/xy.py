@@ -15,7 +15,10 @@ if TYPE_CHECKING:  # names of the annotations only
 
 
 def _title(ds):
+    from ..io_recorded import check_recorded
+
     a = ds.attrs
+    check_recorded(a)  # what the title shows is what --set would accept
     parts = []
     if a.get("preset"):
         parts.append(str(a["preset"]))

@@ -282,25 +282,18 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
     Raises
     ------
     ValueError
-        When the attribute is missing or holds no rotor parameters.
+        When the file's parameters are not what the command line would accept
+        (:func:`vibimpact.io_recorded.recorded_params`): its ``params`` attribute or a
+        ``param_NAME`` attribute missing, text, not finite, outside the parameter's
+        domain, the two disagreeing, or a model this installation does not know.
     """
-    from ..params import Params
+    from ..io_recorded import recorded_model, recorded_params
 
     _v.dataset(name, ds, SWEEP_DATASET)
-    if "params" not in ds.attrs:
-        raise ValueError(f"{name} has no 'params' attribute (the sweep's parameters)")
-    from .. import models
-
-    name_of_model = ds.attrs.get("model", "rotor")
-    try:
-        params = json.loads(ds.attrs["params"])
-        cls = models.get(name_of_model).param_set or Params
-        if eta is not None:
-            params[models.get(name_of_model).param_names[
-                models.get(name_of_model).omega_index]] = eta
-        return cls(**params)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} has no usable 'params' attribute ({exc})") from None
+    if eta is None:  # the records leave the forcing frequency out: the set's default
+        model = recorded_model(ds.attrs, name, required=True)
+        eta = getattr(model.param_set(), model.param_names[model.omega_index])
+    return recorded_params(ds.attrs, name, omega=eta)
 
 
 def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:

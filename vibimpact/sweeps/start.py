@@ -32,6 +32,7 @@ import numpy as np
 from ..analysis.classify import Label
 from ..points.codes import REGIME_CODES
 from .. import _validate as _v
+from ..io_recorded import recorded_model, recorded_params, recorded_state
 from .dataset import SWEEP_DATASET, sweep_params
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -59,8 +60,9 @@ class SweepStart:
     ----------
     params : Params
         The sweep's parameters at the grid point's ``eta`` (the grid value itself).
-    state : ndarray, shape (4,)
-        The point's ``final_state``: X, Y, X', Y' at the start of a forcing period.
+    state : ndarray, shape (n_state,)
+        The point's ``final_state`` (the rotor's X, Y, X', Y') at the start of a
+        forcing period.
     eta : float
         The grid value.
     direction : str
@@ -117,19 +119,28 @@ class SweepStart:
         ValueError
             When ``ds`` records no complete start.
         """
-        from ..params import Params
+        from ..io_recorded import recorded_number
 
         a = ds.attrs
         missing = [k for k in (*_ATTRS, "start_params") if k not in a]
         if missing or "state0" not in ds:
             raise ValueError(f"{name} records no start from a sweep (missing "
                              f"{', '.join(missing + ([] if 'state0' in ds else ['state0']))})")
-        try:
-            params = Params(**json.loads(a["start_params"]))
-            state = np.asarray(ds["state0"].values, dtype=np.float64).reshape(4)
-        except (TypeError, ValueError) as exc:
+        try:  # every value as if typed: the parameters, the state, eta and direction
+            params = recorded_params(a, name, key="start_params", prefix=None)
+            model = recorded_model(a, name, required=True)
+            state = recorded_state(ds["state0"].values, model, f"{name}'s state0")
+            eta = recorded_number(a["start_eta"], f"{name}'s start_eta")
+            freq = model.param_names[model.omega_index]
+            if eta != getattr(params, freq):
+                raise ValueError(f"start_eta = {eta!r} is not the {freq} of its "
+                                 f"start_params ({getattr(params, freq)!r})")
+            if a["start_direction"] not in ("up", "down"):
+                raise ValueError(f"start_direction is {str(a['start_direction'])[:40]!r}, "
+                                 "not up or down")
+        except ValueError as exc:
             raise ValueError(f"{name} has a damaged start record ({exc})") from None
-        return cls(params=params, state=state, eta=float(a["start_eta"]),
+        return cls(params=params, state=state, eta=eta,
                    direction=str(a["start_direction"]), label=str(a["start_label"]),
                    source=str(a["start_sweep"]), sweep_command=str(a["start_sweep_command"]))
 
@@ -157,6 +168,17 @@ def _check_sweep(ds, name="ds"):
     if not set(ds["final_state"].dims) <= {"direction", "eta", "state"}:
         raise ValueError(f"{name} is not a sweep dataset (final_state has dims "
                          f"{ds['final_state'].dims})")
+    # what the file holds must be of the types the sweep wrote: numbers, not text
+    for var, kinds, what in (("eta", "iuf", "real numbers"), ("regime", "iu", "integers"),
+                             ("final_state", "iuf", "real numbers")):
+        if ds[var].dtype.kind not in kinds:
+            raise ValueError(f"{name}'s {var} holds {ds[var].dtype} values, not {what}")
+    model = recorded_model(ds.attrs, name, required=True)
+    if ds["final_state"].dims[-1:] != ("state",) or \
+            ds.sizes["state"] != len(model.state_names):
+        raise ValueError(f"{name}'s final_state has shape {ds['final_state'].shape}; model "
+                         f"{model.name!r} has {len(model.state_names)} states "
+                         f"({', '.join(model.state_names)})")
 
 
 def grid_index(grid: np.ndarray, eta: float) -> int:
@@ -263,6 +285,8 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     if regime not in REGIME_CODES.values() or not np.all(np.isfinite(state)):
         raise ValueError(f"the sweep did not compute {where}; no state to start from")
     params = sweep_params(ds, eta=at, name=n["ds"])
+    state = recorded_state(state, recorded_model(ds.attrs, n["ds"], required=True),
+                           f"{n['ds']}'s final_state at {where}")
     return SweepStart(params=params, state=state.copy(), eta=at, direction=direction,
                       label=str(sub["label"].values[i]), source=str(source),
                       sweep_command=str(ds.attrs.get("command", "")))
