@@ -51,7 +51,8 @@ EPS = 5
 #: the attractor-table variables of the census carried into a basins dataset
 _TABLE = ("fraction", "fraction_se", "regime", "period", "impacts_per_period", "n_arcs",
           "lyapunov", "floquet_abs_max", "multiplier_re", "multiplier_im",
-          "representative", "samples", "name", "found_by", "global_id")
+          "representative", "samples", "name", "found_by", "global_id", "failed",
+          "failed_fraction", "failure")
 
 
 def plane_axes(model, plane) -> tuple[int, int]:
@@ -226,7 +227,10 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
     -------
     xarray.Dataset
         ``basin (row, column)``: the attractor index (along ``attractor``) each cell's
-        start reaches; the plane variables as coordinates (``<plane[0]> (column)``,
+        start reaches, -1 where its integration failed (the solver could not go on:
+        such a cell is on no attractor, and the boundary measures take it for a label
+        of its own); ``failed``, ``failed_fraction`` and ``failure`` (the count and
+        share of those cells, the solver's first reason); the plane variables as coordinates (``<plane[0]> (column)``,
         ``<plane[1]> (row)``); ``boundary (row, column)`` (:func:`boundary_cells`),
         ``periods (row, column)`` and ``decided_by (row, column)`` of the census; the
         census' attractor table (``fraction``, ``fraction_se``, ``name``, ``period``,
@@ -284,7 +288,8 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
     table = census[[v for v in _TABLE if v in census]].isel(eta=0)
     out = table.assign(
         basin=(("row", "column"), img, dict(
-            long_name="attractor reached (index along attractor)")),
+            long_name="attractor reached (index along attractor; -1: the integration "
+                      "failed)", valid_min=img.dtype.type(0))),
         boundary=(("row", "column"), boundary_cells(img), dict(
             long_name="a 4-neighbour has another label")),
         periods=(("row", "column"), census.periods.values[0].reshape(rows, cols),

@@ -32,7 +32,8 @@ from ..points.point import REGIME_CODES
 from ..analysis.classify import Label
 from ..system import System, as_system, param_dict, with_frequency
 from .library import Attractor, cloud_radius, same
-from .reach import DIVERGED, ENTERED, CensusRound, CensusSettings
+from .reach import DIVERGED, ENTERED, ESCAPED_LABEL, FAILED, FAILED_LABEL, \
+    CensusRound, CensusSettings
 from .starts import Box, as_starts, default_box
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -82,7 +83,8 @@ def census_points(results, library, cs, scale):
     Returns
     -------
     labels : dict
-        ``{position: attractor index}``; ``-1`` for a diverged start.
+        ``{position: attractor index}``; :data:`ESCAPED_LABEL` for a start whose
+        motion diverged, :data:`FAILED_LABEL` for one whose integration failed.
     library : list of Attractor
     """
     library = list(library)
@@ -92,7 +94,9 @@ def census_points(results, library, cs, scale):
         if how == ENTERED:
             labels[i] = int(res["entered"])
         elif how == DIVERGED:
-            labels[i] = -1
+            labels[i] = ESCAPED_LABEL
+        elif how == FAILED:
+            labels[i] = FAILED_LABEL
         else:
             cand = _attractor(res, i, cs, scale)
             for k, att in enumerate(library):

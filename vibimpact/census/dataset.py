@@ -5,8 +5,15 @@ Dimensions: ``eta`` (the grid), ``start`` (the starting states, the same at ever
 eta), ``state``, ``sample`` (stroboscopic points of each attractor) and ``multiplier``.
 
 Per start: ``start_state (start, state)``, ``label (eta, start)`` (the attractor index
-at that eta; -1 diverged), ``decided_by`` and ``periods`` (how and after how many
-forcing periods its attractor was known).
+at that eta; -1: its integration failed), ``decided_by`` and ``periods`` (how and after
+how many forcing periods its attractor was known).
+
+Per eta: ``failed`` and ``failed_fraction`` (starts whose integration failed: the solver
+could not go on, a step-size underflow, say; they are on no attractor, so that the
+attractors' fractions and ``failed_fraction`` sum to 1) and ``failure`` (the solver's
+reason for the first of them; empty when none failed).  A start whose motion diverged
+(the state left the solver's bound or became non-finite) is on the pseudo-attractor
+"diverged", with its basin fraction like any attractor.
 
 Per attractor: ``fraction`` and ``fraction_se`` (basin fraction and its binomial
 standard error), ``regime``, ``period``, ``impacts_per_period``, ``n_arcs``, ``name``
@@ -27,12 +34,13 @@ from ..points.point import REGIME_CODES, REGIME_FLAGS
 from ..analysis.classify import Label
 from ..system import param_dict
 from ..sweeps.dataset import label_text, period_attrs
-from .reach import DECIDED_FLAGS
+from .reach import DECIDED_FLAGS, ESCAPED_LABEL, FAILED_LABEL
 from .library import nearest_distances
 
 _log = logging.getLogger(__name__)
 
-__all__ = ["census_dataset", "continue_attractors", "attractor_table", "N_SAMPLES"]
+__all__ = ["census_dataset", "continue_attractors", "attractor_table", "failed_note",
+           "N_SAMPLES"]
 
 #: stroboscopic samples stored per attractor (a cycle repeated to fill)
 N_SAMPLES = 128
@@ -114,7 +122,8 @@ _START, _ATT = ("eta", "start"), ("eta", "attractor")
 #: census variable -> (dims, long_name, units or None); every one described (CF)
 _VARIABLES = {
     "start_state": (("start", "state"), "starting state", "1"),
-    "label": (_START, "attractor reached (index along attractor)", "1"),
+    "label": (_START, "attractor reached (index along attractor; -1: the integration "
+                      "failed)", "1"),
     "decided_by": (_START, "how the start's attractor was known", None),
     "periods": (_START, "forcing periods integrated", "1"),
     "fraction": (_ATT, "basin fraction", "1"),
@@ -133,6 +142,9 @@ _VARIABLES = {
     "name": (_ATT, "attractor in words", None),
     "found_by": (_ATT, "the start that found the attractor (-1: none)", "1"),
     "global_id": (_ATT, "attractor followed across eta (global continuation)", "1"),
+    "failed": (("eta",), "starts whose integration failed (on no attractor)", "1"),
+    "failed_fraction": (("eta",), "share of the starts whose integration failed", "1"),
+    "failure": (("eta",), "the solver's reason for the first failed start", None),
 }
 
 
@@ -143,14 +155,14 @@ def _var_attrs(name, values):
     if units is not None:
         out["units"] = units
     if name == "decided_by":
-        out.update(flag_values=np.arange(3, dtype=values.dtype), flag_meanings=DECIDED_FLAGS)
+        out.update(flag_values=np.arange(4, dtype=values.dtype), flag_meanings=DECIDED_FLAGS)
     elif name == "regime":
         # 0: no attractor in this slot (the census pads every eta to the most attractors)
         out.update(flag_values=np.array([1, 2, 3, 4, 5, 0], dtype=values.dtype),
                    flag_meanings=REGIME_FLAGS + " none")
     elif name == "period":
         out.update(period_attrs(values.dtype))
-    elif name in ("n_arcs", "found_by"):  # -1 (not measured, none): outside the valid
+    elif name in ("n_arcs", "found_by", "label"):  # -1 (not measured, none): outside the valid
         out["valid_min"] = np.zeros((), values.dtype)[()]  # range, missing to CF readers
     return out
 
@@ -158,7 +170,7 @@ def _var_attrs(name, values):
 def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results):
     """The census Dataset (module docstring) of :func:`vibimpact.census.attractors`."""
     m, n, d = etas.size, states.shape[0], states.shape[1]
-    diverged = [bool(np.any(lab == -1)) for lab in labels]
+    diverged = [bool(np.any(lab == ESCAPED_LABEL)) for lab in labels]
     A = max(1, max(len(lib) + dv for lib, dv in zip(libraries, diverged)))
     shape = (m, A)
     f = np.full(shape, np.nan)
@@ -207,16 +219,20 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
             gid[i, a] = ids[i][a]
         if diverged[i]:
             a = len(lib)
-            k = int(np.sum(label[i] == -1))
-            label[i][label[i] == -1] = a
+            k = int(np.sum(label[i] == ESCAPED_LABEL))
+            label[i][label[i] == ESCAPED_LABEL] = a
             f[i, a], se[i, a] = k / n, math.sqrt((k / n) * (1 - k / n) / n)
             regime[i, a] = REGIME_CODES[Label.DIVERGED]
             names[i, a] = "diverged"
             gid[i, a] = next_gid  # one id for divergence at every eta
+    failed = np.sum(label == FAILED_LABEL, axis=1).astype(np.int32)
+    failure = np.array([_first_failure(row, lab) for row, lab in zip(results, label)],
+                       dtype=object)
     for i, lib in enumerate(libraries):
-        _log.info("census at eta %g: %d attractors from %d starts (%s)", etas[i], len(lib),
-                  n, "; ".join(f"{names[i, a]}: {f[i, a]:.3f}" for a in range(A)
-                               if np.isfinite(f[i, a])))
+        _log.info("census at eta %g: %d attractors from %d starts (%s)%s", etas[i],
+                  len(lib), n, "; ".join(f"{names[i, a]}: {f[i, a]:.3f}" for a in range(A)
+                                         if np.isfinite(f[i, a])),
+                  f"; {failed[i]} failed: {failure[i]}" if failed[i] else "")
     model = system.model
     states_names = list(model.state_names)
     values = dict(start_state=states, label=label, decided_by=decided, periods=periods,
@@ -224,7 +240,8 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                   impacts_per_period=ipp, n_arcs=n_arcs, lyapunov=lyap,
                   floquet_abs_max=fam, multiplier_re=mre, multiplier_im=mim,
                   representative=rep, samples=samples, name=names.astype(str),
-                  found_by=first, global_id=gid)
+                  found_by=first, global_id=gid, failed=failed,
+                  failed_fraction=failed / float(n), failure=failure.astype(str))
     ds = xr.Dataset(
         {k: (_VARIABLES[k][0], v, _var_attrs(k, v)) for k, v in values.items()},
         coords=dict(eta=("eta", etas, dict(long_name="forcing frequency ratio eta",
@@ -247,6 +264,33 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                       if k != model.param_names[model.omega_index]},
                    **{f"census_{k}": v for k, v in settings.as_attrs().items()}))
     return ds
+
+
+def _first_failure(results, label):
+    """The reason of the first start of ``label`` whose integration failed ("": none)."""
+    hit = np.flatnonzero(label == FAILED_LABEL)
+    return str(results[hit[0]].get("reason", "")) if hit.size else ""
+
+
+def failed_note(ds) -> str | None:
+    """The warning about the starts of a census or basins dataset whose integration
+    failed (how many, of how many, and the solver's first reason), or None when none
+    failed (or the file predates the count)."""
+    if "failed" not in ds:
+        return None
+    failed = np.atleast_1d(ds["failed"].values)
+    total = int(failed.sum())
+    if total == 0:
+        return None
+    per_eta = int(ds.attrs.get("n_starts", 0)) or \
+        int(np.prod([ds.sizes[k] for k in ("start", "row", "column") if k in ds.sizes]))
+    reasons = [str(r) for r in np.atleast_1d(ds["failure"].values) if str(r)] \
+        if "failure" in ds else []
+    where = f" at {int(np.count_nonzero(failed))} of {failed.size} eta" \
+        if failed.size > 1 else ""
+    return (f"{total} of {per_eta * failed.size} starts{where} failed to integrate "
+            f"({reasons[0] if reasons else 'solver failure'}); they are on no attractor "
+            "and counted apart (failed, failed_fraction)")
 
 
 def attractor_table(ds, eta_index=0):

@@ -33,11 +33,20 @@ from ..solver import Solver
 from ..system import with_frequency
 from .library import entered
 
-__all__ = ["CensusSettings", "CensusRound", "reach", "ENTERED", "ANALYSED", "DIVERGED"]
+__all__ = ["CensusSettings", "CensusRound", "reach", "ENTERED", "ANALYSED", "DIVERGED",
+           "FAILED", "FAILED_LABEL", "ESCAPED_LABEL", "failed_integration"]
 
-#: how a start's attractor was decided (``decided_by`` of a census)
-ENTERED, ANALYSED, DIVERGED = 0, 1, 2
-DECIDED_FLAGS = "entered_known_attractor settled_by_analysis diverged"
+#: how a start's attractor was decided (``decided_by`` of a census): it entered one
+#: found already, the settling evidence decided, the motion diverged (the state left the
+#: solver's bound or became non-finite: an escape, counted as the pseudo-attractor
+#: "diverged"), or the integration failed (the solver could not go on: step-size
+#: underflow, the step limit, Zeno events; no attractor at all, counted apart)
+ENTERED, ANALYSED, DIVERGED, FAILED = 0, 1, 2, 3
+DECIDED_FLAGS = "entered_known_attractor settled_by_analysis diverged integration_failed"
+#: the label of a start whose integration failed (on no attractor; a census dataset
+#: keeps it) and, until the dataset gives it the "diverged" pseudo-attractor's index, of
+#: a start whose motion diverged
+FAILED_LABEL, ESCAPED_LABEL = -1, -3
 
 PERIODIC = REGIME_CODES[Label.PERIODIC]
 
@@ -112,9 +121,39 @@ class CensusSettings:
         return out
 
 
-def _diverged(reason, periods):
-    return dict(decided_by=DIVERGED, entered=-1, periods=int(periods),
+#: the end of a stop's reason when the run's very first step stopped it (the state
+#: was inside the bound at the start: one step cannot be an escape of the motion)
+FIRST_STEP = "at tau = 0 (forcing period 0)"
+
+
+def failed_integration(status, reason) -> bool:
+    """Whether a run that stopped with ``status`` and ``reason`` is a failure of the
+    solver rather than an escape of the motion: ``Status.FAILED`` (step-size underflow,
+    the step limit, Zeno events), or a divergence on the run's very first step (the state
+    left the bound or became non-finite in one step from a start inside it: the
+    equations are too stiff for the solver, their parameters too extreme)."""
+    return status is Status.FAILED or (status is Status.DIVERGED
+                                       and str(reason).endswith(FIRST_STEP))
+
+
+def _stopped(status, reason, periods):
+    """The result of a start whose integration stopped with ``status`` (not OK): diverged
+    (an escape of the motion) or failed (the solver's failure,
+    :func:`failed_integration`), with the reason."""
+    how = FAILED if failed_integration(status, reason) else DIVERGED
+    if how == FAILED and status is Status.DIVERGED:
+        reason = f"{reason}: on the first step, too stiff or extreme for the solver"
+    return dict(decided_by=how, entered=-1, periods=int(periods),
                 regime=REGIME_CODES[Label.DIVERGED], reason=str(reason))
+
+
+def _status_of_point(reason):
+    """The :class:`Status` of a point the settling evidence marked diverged, from its
+    reason (``"<where>: <status>, <why>"``, :meth:`vibimpact.points.point.PointResult.
+    diverged`)."""
+    head = str(reason).split(", ", 1)[0]
+    return Status.FAILED if head.endswith(f": {Status.FAILED.value}") else \
+        Status.DIVERGED
 
 
 def reach(system, x0, library, cs: CensusSettings) -> dict:
@@ -132,7 +171,8 @@ def reach(system, x0, library, cs: CensusSettings) -> dict:
     Returns
     -------
     dict
-        ``decided_by`` (:data:`ENTERED`, :data:`ANALYSED` or :data:`DIVERGED`),
+        ``decided_by`` (:data:`ENTERED`, :data:`ANALYSED`, :data:`DIVERGED` or
+        :data:`FAILED`, with the solver's ``reason`` for the last two),
         ``entered`` (index into ``library``, or -1), ``periods`` (forcing periods
         integrated), and for an analysed start the fields of
         :func:`vibimpact.points.point.analyse_point` plus ``cloud`` (its cycle points,
@@ -148,7 +188,8 @@ def reach(system, x0, library, cs: CensusSettings) -> dict:
             step = min(cs.chunk, cs.max_periods - periods)
             seg = solver.advance(step, events=False)
             if seg.status is not Status.OK:
-                return _diverged(seg.reason, periods + step)
+                return _stopped(seg.status, f"entering an attractor: {seg.status.value}, "
+                                f"{seg.reason}", periods + step)
             periods += step
             hit = entered(seg.strobe[1:], library, (counts, first))
             if hit >= 0:
@@ -156,7 +197,7 @@ def reach(system, x0, library, cs: CensusSettings) -> dict:
         x = solver.y[:x.size].copy()
     res, cloud, used = _settled(system, x, cs, periods)
     if res is None:
-        return _diverged(cloud, used)
+        return _stopped(*cloud, used)
     res.update(decided_by=ANALYSED, entered=-1, periods=used, cloud=cloud)
     return res
 
@@ -175,7 +216,7 @@ CLOUD_PERIOD_TOL = 1e-2
 
 def _settled(system, x, cs, periods):
     """``(result, cloud, periods used)`` of the settling evidence from ``x``; ``(None,
-    reason, periods)`` when the motion diverged.
+    (status, reason), periods)`` when the integration stopped (diverged or failed).
 
     A motion the evidence finds non-periodic is watched for :data:`SETTLE_AGAIN` clouds of
     ``cs.cloud`` stroboscopic points; when the end of one repeats with a period (a
@@ -187,13 +228,14 @@ def _settled(system, x, cs, periods):
         res = analyse_point(system, x, cs.point).as_dict()
         used += int(res.get("transient") or 0) + int(res.get("recorded") or 0)
         if res["regime"] == REGIME_CODES[Label.DIVERGED]:
-            return None, res.get("reason", ""), used
+            why = res.get("reason", "")
+            return None, (_status_of_point(why), why), used
         n = int(res["period"]) if res["regime"] == PERIODIC else 0
         if n > 0:
             return res, np.asarray(res["samples"])[:n].copy(), used
         cloud, used, periodic = _watch(system, np.asarray(res["final_state"]), cs, used)
         if cloud is None:
-            return None, "the motion diverged", used
+            return None, periodic, used
         if not periodic:
             return res, cloud, used
         x = cloud[-1].copy()
@@ -242,7 +284,7 @@ class CensusRound:
 def _watch(system, x, cs, used):
     """``(cloud, periods used, periodic)``: up to :data:`SETTLE_AGAIN` clouds integrated
     from ``x``, stopping at the first whose end repeats with a period (``cloud`` None:
-    the run stopped)."""
+    the run stopped, ``periodic`` then its ``(status, reason)``)."""
     tail_len = 3 * cs.point.rule.max_period + 1
     solver = Solver(system, x, check=False)
     cloud = None
@@ -250,7 +292,7 @@ def _watch(system, x, cs, used):
         seg = solver.advance(cs.cloud, events=False)
         used += cs.cloud
         if seg.status is not Status.OK:
-            return None, used, False
+            return None, used, (seg.status, f"cloud: {seg.status.value}, {seg.reason}")
         cloud = seg.strobe[1:].copy()
         if detect_period(cloud[-min(cloud.shape[0], tail_len):], tol=CLOUD_PERIOD_TOL,
                          max_period=cs.point.rule.max_period):

@@ -180,7 +180,9 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
         ``branch_<param>``, ``branch_stable``, ``branch_impacts``, ``branch_abs_max``
         (orbit, branch_point); ``seed_state`` (seed, state).  Global attributes: the
         forcing frequency's name and value, the periods, the seeds' counts, the
-        settings, counts and timings of the hunt, ``param_<name>``, ``solver_<key>``.
+        settings, counts and timings of the hunt (``count_failed_seeds``,
+        ``count_failed_shots``: integrations that failed, with the solver's first
+        reason in ``failure``), ``param_<name>``, ``solver_<key>``.
 
     Raises
     ------
@@ -217,6 +219,7 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
             "command": command}
     glob.update({f"hunt_{k}": v for k, v in st.items()})
     glob.update({f"count_{k}": int(v) for k, v in hunt.counts.items()})
+    glob["failure"] = str(hunt.failure)
     glob.update({k: round(float(v), 3) for k, v in hunt.timings.items()})
     glob.update({f"param_{k}": v for k, v in param_dict(system).items()})
     glob.update({f"solver_{k}": v for k, v in system.settings().as_dict(

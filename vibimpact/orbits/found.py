@@ -161,13 +161,17 @@ class OrbitHunt:
     counts : dict of str -> int
         ``shots`` (Newton runs), ``converged``, ``duplicates`` (converged onto an orbit
         already found), ``known`` (starts skipped next to an orbit already found),
-        ``failed`` (Newton did not converge), ``diverged_seeds`` (trajectories that
-        stopped).
+        ``failed`` (Newton did not converge), ``diverged_seeds`` (seeds whose
+        trajectory diverged: the state left the solver's bound or became non-finite),
+        ``failed_seeds`` and ``failed_shots`` (seed trajectories and Newton runs whose
+        integration failed: the solver could not go on; no orbit comes of them).
     settings : dict
         The hunt's settings (transient, record, starts, max_return, max_iter, tol,
         window).
     timings : dict of str -> float
         Seconds spent hunting (``hunt_s``) and continuing (``continuation_s``).
+    failure : str
+        The solver's reason for the first failed integration ("" when none failed).
     """
 
     orbits: tuple
@@ -180,6 +184,19 @@ class OrbitHunt:
     counts: dict
     settings: dict
     timings: dict
+    failure: str = ""
+
+    def failed_note(self) -> str | None:
+        """The warning about the integrations that failed (seeds and Newton runs, with
+        the solver's first reason), or None when none did."""
+        seeds = int(self.counts.get("failed_seeds", 0))
+        shots = int(self.counts.get("failed_shots", 0))
+        if not seeds and not shots:
+            return None
+        parts = [f"{seeds} of {self.seeds.shape[0]} seeds"] if seeds else []
+        parts += [f"{shots} of {self.counts.get('shots', 0)} Newton runs"] if shots else []
+        return (f"{' and '.join(parts)} failed to integrate ({self.failure}); no orbit "
+                "comes of them (counts failed_seeds, failed_shots)")
 
     def table(self) -> list[str]:
         """Lines of a text table of the orbits found (what ``vibimpact orbits``

@@ -32,6 +32,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..analysis.shooting import shoot_periodic_orbit
+from ..census.reach import failed_integration
 from ..run import Status
 from ..system import to_system
 from .found import OrbitHunt, describe_orbit
@@ -108,7 +109,19 @@ class _Hunter:
         self.system, self.st = system, settings
         self.orbits = []
         self.counts = dict(shots=0, converged=0, duplicates=0, known=0, failed=0,
-                           diverged_seeds=0)
+                           diverged_seeds=0, failed_seeds=0, failed_shots=0)
+        self.failure = ""
+
+    def stopped(self, status, reason, what):
+        """Count an integration that stopped with ``status``: a seed's trajectory
+        (``what`` "seeds") or a Newton run's ("shots"); a diverged seed (an escape of the
+        motion) apart from a solver failure, whose first reason is kept."""
+        if what == "seeds" and not failed_integration(status, reason):
+            self.counts["diverged_seeds"] += 1
+            return
+        self.counts[f"failed_{what}"] += 1
+        if not self.failure:
+            self.failure = f"{status.value}, {reason}"
 
     def known(self, x, n):
         """Whether ``x`` lies next to an orbit found already whose period divides n."""
@@ -126,12 +139,16 @@ class _Hunter:
         self.counts["shots"] += 1
         first = min(FIRST_TRY, st["max_iter"])
         orb = shoot_periodic_orbit(self.system, x, n, tol=st["tol"], max_iter=first)
+        if failed_integration(orb.status, orb.reason):
+            self.stopped(orb.status, orb.reason, "shots")
         if orb.converged or first >= st["max_iter"] or orb.status is not Status.OK:
             return orb if orb.converged else None
         if not orb.residual <= PROMISING * max(1.0, float(np.abs(orb.state).max())):
             return None
         orb = shoot_periodic_orbit(self.system, orb.state, n, tol=st["tol"],
                                    max_iter=st["max_iter"] - first)
+        if failed_integration(orb.status, orb.reason):
+            self.stopped(orb.status, orb.reason, "shots")
         return orb if orb.converged else None
 
     def add(self, orb, seed):
@@ -158,9 +175,9 @@ class _Hunter:
         """Integrate from the seed ``x0`` and shoot from its close returns (a user's
         seed, ``own``: from the seed itself first)."""
         st = self.st
-        status, _, pts = self.system.strobe(transient + st["record"], x0)
+        status, reason, pts = self.system.strobe(transient + st["record"], x0)
         if status is not Status.OK:
-            self.counts["diverged_seeds"] += 1
+            self.stopped(status, reason, "seeds")
             return
         pts = pts[transient:]
         for n in periods:
@@ -319,4 +336,5 @@ def hunt_orbits(system: System | Params | DuffingParams,
     mdl = system.model
     return OrbitHunt(tuple(orbits), mdl.param_names[mdl.omega_index], system.omega,
                      periods, everything, own.shape[0], int(seed), hunter.counts, st,
-                     dict(hunt_s=t1 - t0, continuation_s=time.perf_counter() - t1))
+                     dict(hunt_s=t1 - t0, continuation_s=time.perf_counter() - t1),
+                     hunter.failure)

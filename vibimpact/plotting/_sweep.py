@@ -72,6 +72,59 @@ def check_contents(ds, grids=("eta",), codes=("regime",), increasing=("eta",)):
             declared = [0]
         if declared is not None:
             _check_codes(name, np.asarray(var.values), np.asarray(declared).reshape(-1))
+    for name, var in ds.data_vars.items():
+        if _drawn_value(name):
+            _check_no_inf(name, np.asarray(var.values))
+    check_fractions(ds)
+
+
+#: variables a figure draws as values (responses, Poincare samples, basin fractions):
+#: NaN is a missing value, an infinite one is never written by vibimpact
+DRAWN = ("X_m", "Y_m", "fraction", "fraction_se", "failed_fraction")
+
+
+def _drawn_value(name):
+    return name in DRAWN or name.startswith("poincare_")
+
+
+def _check_no_inf(name, values):
+    if values.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must hold numbers, got {values.dtype} values")
+    bad = np.isinf(values.astype(float))
+    if bad.any():
+        raise ValueError(f"{name} holds {int(bad.sum())} infinite value(s): the file is "
+                         f"damaged or was not written by vibimpact")
+
+
+#: what the basin fractions of one eta may add up to above 1 (rounding)
+FRACTION_SUM_TOL = 1e-9
+
+
+def check_fractions(ds):
+    """Raise ValueError, naming the variable, unless every basin fraction (``fraction``
+    over ``attractor``, and ``failed_fraction``, the share of failed starts) lies in
+    ``[0, 1]`` (or is NaN: no attractor in that slot) and those of one eta add up to at
+    most 1 (a census's fractions and its failed fraction add up to 1)."""
+    if "fraction" not in ds.data_vars or "attractor" not in ds["fraction"].dims:
+        return
+    frac = ds["fraction"]
+    parts = [("fraction", frac.values)]
+    if "failed_fraction" in ds.data_vars:
+        parts.append(("failed_fraction", ds["failed_fraction"].values))
+    for name, values in parts:
+        v = np.asarray(values, dtype=float)
+        if np.any((v < 0) | (v > 1)):
+            raise ValueError(f"{name} holds values outside [0, 1]: the file is damaged or "
+                             f"was not written by vibimpact")
+    total = np.nansum(np.asarray(frac.values, dtype=float),
+                      axis=frac.dims.index("attractor"))
+    if len(parts) > 1:
+        total = total + np.nan_to_num(np.asarray(parts[1][1], dtype=float))
+    if np.any(total > 1.0 + FRACTION_SUM_TOL):
+        what = "fraction and failed_fraction add" if len(parts) > 1 else "fraction adds"
+        raise ValueError(f"{what} up to {float(np.max(total)):.6g} > 1 (the basin "
+                         f"fractions of one eta): the file is damaged or was not written "
+                         f"by vibimpact")
 
 
 def _check_grid(name, values, increasing):
@@ -129,7 +182,10 @@ def title(ds):
     """``preset, kh = .., G = .., ...`` from the dataset's attributes: the rotor's
     parameters (kh, G, B, Ec; Bh, BT, f, Rr where not 0), then every other parameter the
     dataset records (a ring's Jr, cr, Mr; another model's own)."""
+    from ..io_recorded import check_recorded
+
     a = ds.attrs
+    check_recorded(a)  # what the title shows is what --set would accept
     parts = [str(a["preset"])] if a.get("preset") else []
     params = {}
     if "params" in a:

@@ -22,6 +22,8 @@ __all__ = ["plot_basins", "legend_labels"]
 #: the colours of attractors 0, 1, ... (tab10, then tab20's light shades); a diverged
 #: basin is drawn black
 _GREY_DIVERGED = "0.1"
+#: cells whose integration failed (basin -1: on no attractor) are drawn white
+_FAILED = "white"
 
 
 def _colours(n):
@@ -107,6 +109,8 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
 
     Notes
     -----
+    Cells whose integration failed (``basin`` -1) are white, with a legend entry of
+    their share.
     Cell ``(r, c)`` is drawn centred on the plane's values of its start; the horizontal
     axis is the plane's first variable, the vertical its second.  The title gives the
     boundary fraction, the basin entropy ``Sb`` and the boundary basin entropy ``Sbb``
@@ -129,7 +133,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     colours = _colours(n)
     names = [str(v) for v in ds["name"].values]
     colours = [_GREY_DIVERGED if nm == "diverged" else c for nm, c in zip(names, colours)]
-    cmap = ListedColormap(colours)
+    cmap = ListedColormap(colours).with_extremes(under=_FAILED)  # -1: failed cells
     norm = BoundaryNorm(np.arange(-0.5, n + 0.5), n)
     xs = np.asarray(ds[xname].values, dtype=float)
     ys = np.asarray(ds[yname].values, dtype=float)
@@ -149,6 +153,10 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
         ax.set_ylabel(yname)
         handles = [Patch(facecolor=c, edgecolor="none", label=t)
                    for c, t in zip(colours, legend_labels(ds))]
+        if np.any(img == -1):
+            share = float(np.mean(img == -1))
+            handles.append(Patch(facecolor=_FAILED, edgecolor="0.5",
+                                 label=f"integration failed: {100 * share:.1f} %"))
         lk.legend_below(ax, own, handles, fontsize="small")
         sbb = float(ds["boundary_basin_entropy"]) if "boundary_basin_entropy" in ds \
             else math.nan

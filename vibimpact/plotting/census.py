@@ -102,6 +102,13 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                                             color=colors[g], linewidth=0.0,
                                             label=f"A{g}: {names[g]}"))
             below = above
+        failed = np.nan_to_num(ds.failed_fraction.values) if "failed_fraction" in ds \
+            else np.zeros(eta.size)
+        if failed.any():  # starts whose integration failed: on no attractor, hatched
+            handles.append(top.fill_between(
+                xs, np.repeat(below, 2), np.repeat(below + failed, 2), facecolor="white",
+                edgecolor="0.5", hatch="xx", linewidth=0.0,
+                label="integration failed"))
         top.set_ylim(0.0, 1.0)
         top.set_ylabel("basin fraction")
         samples = ds.samples.values[..., component]
