@@ -66,6 +66,9 @@ def _table(ds):
         for a, gid, name, f, se, _, extra in rows:
             lines.append(f"  A{gid:<3d} {f:6.3f} +- {se:.3f}  {name}"
                          + (f"  ({extra})" if extra else ""))
+        if "failed" in ds and int(ds.failed.values[i]):
+            lines.append(f"  --   {float(ds.failed_fraction.values[i]):6.3f}"
+                         "           integration failed (on no attractor)")
     return lines
 
 
@@ -89,6 +92,8 @@ def _sweep_file(args, etas):
 
 def _located(ds, sweep, path):
     """Lines: which census attractor the sweep followed at every common eta."""
+    import numpy as np
+
     from .census.locate import locate
 
     try:
@@ -105,6 +110,9 @@ def _located(ds, sweep, path):
             g = int(where.values[r, k])
             what = f"A{g} ({names.get(g, '?')})" if g >= 0 else \
                 "none of the census' attractors"
+            i = int(np.flatnonzero(np.round(ds.eta.values, 12) == round(float(eta), 12))[0])
+            if g < 0 and "failed" in ds and int(ds.failed.values[i]):
+                what += f" ({int(ds.failed.values[i])} starts failed to integrate there)"
             lines.append(f"  {d} eta = {float(eta):.6g}: on {what}")
     return lines
 

@@ -124,6 +124,9 @@ def summary(ds):
     for a in rows:
         f, se = float(ds.fraction[a]), float(ds.fraction_se[a])
         lines.append(f"  {a:3d}  {f:6.3f} +- {se:.3f}  {ds.name.values[a]}")
+    if "failed" in ds and int(ds.failed):
+        lines.append(f"   --  {float(ds.failed_fraction):6.3f}           integration "
+                     "failed (on no attractor)")
     sbb = float(ds.boundary_basin_entropy)
     lines.append(f"boundary cells {float(ds.boundary_fraction):.4f}; basin entropy Sb "
                  f"{float(ds.basin_entropy):.4f}; boundary basin entropy Sbb "

@@ -5,6 +5,7 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 """
 import os
 import shlex
+import sys
 import time
 
 from .cli_checkpoints import check_checkpoint, finish_checkpointed, run_checkpointed
@@ -47,6 +48,11 @@ def run_and_write(args, out, ckpt, resuming, name, compute, write):
     finish_checkpointed(ds, out, ckpt, write, resuming=resuming,
                         keep=args.keep_checkpoint, overwrite=args.overwrite,
                         unit="points")
+    from .census.dataset import failed_note
+
+    note = failed_note(ds)  # starts whose integration failed: written, said, exit 0
+    if note is not None:
+        print(f"vibimpact: warning: {note}", file=sys.stderr)
     return ds, None, elapsed
 
 

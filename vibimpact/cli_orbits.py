@@ -7,6 +7,7 @@ work is :func:`vibimpact.orbits.hunt_orbits`, the file
 :func:`vibimpact.plotting.orbits.plot_orbits`.
 """
 import os
+import sys
 
 from ._text import parse_integer
 from .cli_args import number, parse_sets, positive_int, MAX_WORKERS
@@ -129,6 +130,8 @@ def _cmd_orbits(args):
         return status
     hunt = hunts[0]
     print("\n".join(hunt.table()))
+    if hunt.failed_note() is not None:  # written, said, exit 0 (as a census)
+        print(f"vibimpact: warning: {hunt.failed_note()}", file=sys.stderr)
     print(f"wrote {out} ({elapsed:.1f} s: hunt {hunt.timings['hunt_s']:.1f} s, "
           f"continuation {hunt.timings['continuation_s']:.1f} s)")
     from .plotting.orbits import plot_orbits
