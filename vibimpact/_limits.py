@@ -110,6 +110,50 @@ def check_run(periods, transient, dense, n_state):
                  f"periods={periods} with dense={dense}")
 
 
+#: most memory (bytes) the variables of one input file may declare: a command or
+#: :func:`vibimpact.io.read_netcdf` reads a file's variables whole, and a file of a few
+#: kilobytes can declare terabytes (a dimension of 2**40 without data, read as fill
+#: values).  The same as :data:`MAX_BYTES`: no file the toolkit writes holds more, since
+#: every request's arrays are held to it before any work
+MAX_READ_BYTES = MAX_BYTES
+#: bytes counted per element of a variable of variable-length strings (its pointer and
+#: a short text; the texts themselves are not declared)
+TEXT_ITEM_BYTES = 16
+
+
+def check_declared(variables, path, what="file"):
+    """Refuse an input whose variables declare more than :data:`MAX_READ_BYTES`, before
+    any of them is read.
+
+    Parameters
+    ----------
+    variables : iterable of (str, tuple of int, int or None)
+        ``(name, shape, itemsize)`` of each variable that will be loaded, from the
+        file's metadata; an itemsize of None (variable-length strings) counts
+        :data:`TEXT_ITEM_BYTES` per element.
+    path : str
+        The file, for the message.
+    what : str
+        What the file is ("file", "map").
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the largest variable, its shape and the declared size.
+    """
+    total, largest = 0, None
+    for name, shape, itemsize in variables:
+        n = math.prod(int(s) for s in shape) * int(itemsize or TEXT_ITEM_BYTES)
+        total += n
+        if largest is None or n > largest[2]:
+            largest = (name, tuple(int(s) for s in shape), n)
+    if total > MAX_READ_BYTES:
+        name, shape, n = largest
+        raise ValueError(f"{what} {path!r} declares {human_bytes(total)} of data (variable "
+                         f"{str(name)[:60]!r} of shape {shape}: {human_bytes(n)}); at most "
+                         f"{human_bytes(MAX_READ_BYTES)} are read from one file")
+
+
 def points_bytes(points, n_samples, n_state):
     """Bytes of the results of ``points`` sweep or map points with ``n_samples``
     Poincaré samples each."""

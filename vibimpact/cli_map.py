@@ -97,9 +97,12 @@ def _check_map_output(out, overwrite, size):
     if os.path.lexists(out):
         if not overwrite:
             raise UsageError(f"output {out!r} exists; pass --overwrite to replace it")
-        if not os.path.isfile(os.path.join(out, "zarr.json")):
-            raise UsageError(f"output {out!r} exists and is not a Zarr store; not "
-                              "replacing it")
+        from .maps.store import check_replaceable
+
+        try:  # only what vibimpact wrote is replaced, never a user's directory
+            check_replaceable(out)
+        except ValueError as exc:
+            raise UsageError(error_text(exc)) from None
     return check_output(out, True, "output", store=True, size=size)
 
 
@@ -246,13 +249,7 @@ def plot_command(args, ds=None):
     if "map_vary" not in ds.attrs:
         raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
                           "one")
-    if args.kind in ("poincare", "lyapunov"):  # sweep kinds a map has no data for
-        raise UsageError(f"--kind {args.kind} needs a sweep file ('vibimpact classify'); "
-                         f"{path!r} is a parameter map, which stores no Poincare samples "
-                         "(its exponent over (eta, PARAM) is a panel of --kind map)")
-    if args.kind not in (None, "map"):
-        raise UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
-                          "a parameter map (use --kind map)")
+    # its --kind checked by vibimpact.cli_sweep.check_kind, from the table of plot
     out = args.output
     if out is None:
         out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"

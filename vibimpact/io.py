@@ -527,13 +527,31 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
     Raises
     ------
     ValueError
-        When the data of a variable cannot be read (:func:`load_variables`).
+        When the data of a variable cannot be read (:func:`load_variables`), or the
+        variables declare more than :data:`vibimpact._limits.MAX_READ_BYTES` (checked
+        from the metadata before anything is read: :func:`check_declared_netcdf`).
     """
     import xarray as xr
 
     path = _v.path("path", path)
+    check_declared_netcdf(path)
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return load_variables(ds, path)
+
+
+def check_declared_netcdf(path: str, what: str = "file") -> None:
+    """Refuse a NetCDF file whose variables declare more than
+    :data:`vibimpact._limits.MAX_READ_BYTES`, from its metadata alone (xarray reads the
+    coordinates as it opens a file); ValueError naming the file and the variable."""
+    import netCDF4
+
+    from ._limits import check_declared
+
+    with netCDF4.Dataset(path, "r") as nc:
+        nc.set_auto_mask(False)
+        items = [(name, var.shape, getattr(var.dtype, "itemsize", None))
+                 for name, var in nc.variables.items()]
+    check_declared(items, path, what)
 
 
 def load_variables(ds: xr.Dataset, path: str, what: str = "file") -> xr.Dataset:

@@ -68,7 +68,8 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
     ------
     ValueError
         For an unknown extension, an existing ``path`` without ``overwrite``, an existing
-        directory that is not a Zarr store, or a missing directory.
+        path that is not a Zarr store this toolkit wrote, or holds anything else
+        (:func:`check_replaceable`), or a missing directory.
     OSError
         When writing fails (nothing is left behind).
     """
@@ -81,9 +82,7 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
     path = vio.check_output_path(path, overwrite, store=True, free=0)
     directory = os.path.dirname(os.path.abspath(path))
     if os.path.lexists(path):
-        if not (os.path.isdir(path) and os.path.isfile(os.path.join(path, "zarr.json"))):
-            raise ValueError(f"output {path!r} exists and is not a Zarr store; not "
-                             "replacing it")
+        check_replaceable(path)
     import zarr  # noqa: F401 -- imported before the provenance records its version
 
     out, encoding = vio.for_file(ds, "vibimpact.maps.write_map", netcdf=False)  # a copy
@@ -114,6 +113,7 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
             if held.signum is not None:  # stopped meanwhile: nothing is put in place
                 return
             if os.path.lexists(path):
+                check_replaceable(path)  # again: nothing added to it meanwhile
                 old = tempfile.mkdtemp(prefix=temp_prefix(path), suffix=".old",
                                        dir=directory)
                 os.rmdir(old)
@@ -127,6 +127,81 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
                 shutil.rmtree(tmp, ignore_errors=True)
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
+
+
+#: the largest ``zarr.json`` of a store that ``overwrite`` looks into (a map's is a few
+#: hundred kilobytes)
+MAX_ZARR_JSON = 64 << 20
+
+
+def check_replaceable(path: str, what: str = "output") -> None:
+    """Refuse to replace ``path`` unless it is a Zarr store this toolkit wrote and
+    nothing else: ``overwrite`` replaces what :func:`write_map` made, never a user's
+    directory that happens to hold a ``zarr.json``.
+
+    Replaceable: a directory (not a symbolic link) whose ``zarr.json`` carries the
+    toolkit's provenance (``source`` "vibimpact ..." and ``vibimpact_version``,
+    :func:`vibimpact.io.for_file`) and that holds only the entries of a Zarr store: its
+    ``zarr.json`` and the arrays its metadata lists, each a directory of a ``zarr.json``
+    and chunks (``c/`` and numbered entries below it), no symbolic link anywhere.
+
+    Raises
+    ------
+    ValueError
+        Naming ``path`` and what was found (a file, a symbolic link, no ``zarr.json``, a
+        store without the toolkit's provenance, another entry).
+    """
+    def refuse(found):
+        raise ValueError(f"{what} {path!r} {found}; overwriting replaces only a Zarr "
+                         "store vibimpact wrote, so not replacing it (remove it yourself "
+                         "or choose another name)")
+
+    if os.path.islink(path):
+        refuse(f"is a symbolic link (to {os.readlink(path)!r})")
+    if not os.path.isdir(path):
+        refuse("is a file, not a Zarr store")
+    meta = os.path.join(path, "zarr.json")
+    if os.path.islink(meta) or not os.path.isfile(meta):
+        refuse("is a directory without a zarr.json (not a Zarr store)")
+    if os.path.getsize(meta) > MAX_ZARR_JSON:
+        refuse(f"has a zarr.json of {os.path.getsize(meta)} bytes")
+    import zarr
+
+    try:
+        group = zarr.open_group(path, mode="r")
+        attrs, arrays = dict(group.attrs), set(group.array_keys())
+    except Exception as exc:  # noqa: BLE001 -- any failure to read it: not ours
+        refuse(f"is a Zarr store whose metadata cannot be read ({type(exc).__name__})")
+    if not (str(attrs.get("source", "")).startswith("vibimpact ")
+            and "vibimpact_version" in attrs):
+        refuse("is a Zarr store without vibimpact's provenance (written by someone "
+               "else)")
+    other = _foreign_entry(path, arrays)
+    if other is not None:
+        refuse(f"holds {other!r}, which is not part of the Zarr store vibimpact wrote")
+
+
+def _foreign_entry(path, arrays):
+    """The first entry under the store ``path`` that is not its ``zarr.json``, an
+    array of ``arrays`` (its ``zarr.json`` and numbered chunks under ``c/``), or that is
+    a symbolic link; None when there is none."""
+    for top, dirs, files in os.walk(path):
+        rel = os.path.relpath(top, path)
+        parts = [] if rel == "." else rel.split(os.sep)
+        for name in sorted(dirs + files):
+            full = os.path.join(top, name)
+            shown = os.path.join(*parts, name) if parts else name
+            if os.path.islink(full):
+                return shown
+            if not parts:  # the store's own level: zarr.json and its arrays
+                ok = name == "zarr.json" if name in files else name in arrays
+            elif len(parts) == 1:  # an array's level: its zarr.json and chunks
+                ok = name == ("zarr.json" if name in files else "c")
+            else:  # chunks: numbered files and directories under c/
+                ok = parts[1] == "c" and name.isdigit()
+            if not ok:
+                return shown
+    return None
 
 
 def _as_objects(ds):
@@ -185,22 +260,33 @@ def check_store(path: str) -> None:
                 not os.path.isfile(os.path.join(path, name, "zarr.json")):
             raise ValueError(f"map {path!r} is damaged: variable {name!r} is missing "
                              f"({os.path.join(path, name)!r} has no zarr.json)")
-    arrays = []
+    from .._limits import check_declared
+
+    arrays, declared = [], []
     for name in sorted(os.listdir(path)):  # one array at a time: a group's arrays()
         if not os.path.isfile(os.path.join(path, name, "zarr.json")):  # leaves the
             continue  # other tasks running (tracebacks at exit) when one fails
         try:
             arr = zarr.open_array(os.path.join(path, name), mode="r")
-            arrays.append((name, arr.nchunks_initialized, arr.nchunks))
+            shape, itemsize = arr.shape, getattr(arr.dtype, "itemsize", None)
         except Exception as exc:  # an array's zarr.json Zarr cannot make sense of
-            raise ValueError(f"map {path!r} is damaged: the metadata of variable "
-                             f"{name!r} cannot be read ({type(exc).__name__}: "
-                             f"{exc})"[:400]) from exc
+            raise _unreadable(path, name, exc) from exc
+        declared.append((name, shape, itemsize))
+        check_declared(declared, path, "map")  # before a chunk is listed or read
+        try:
+            arrays.append((name, arr.nchunks_initialized, arr.nchunks))
+        except Exception as exc:
+            raise _unreadable(path, name, exc) from exc
     for name, have, want in arrays:
         if have < want:
             raise ValueError(f"map {path!r} is damaged: {want - have} of {want} chunks "
                              f"of variable {name!r} are missing (they would read as "
                              "the fill value)")
+
+
+def _unreadable(path, name, exc):
+    return ValueError(f"map {path!r} is damaged: the metadata of variable {name!r} "
+                      f"cannot be read ({type(exc).__name__}: {exc})"[:400])
 
 
 def open_map(path: str | os.PathLike[str]) -> xr.Dataset:
