@@ -364,7 +364,8 @@ CLI_CASES = {
                                     "c.nc", "-o", "p.png"], "--branch draws over "
                                    "response curves", sweep_as("c.nc")),
     "plot --kind branch of a sweep": (["plot", "c.nc", "--kind", "branch", "-o", "p.png"],
-                                      "--kind branch needs a 'vibimpact continue' file",
+                                      "--kind branch needs a continued branch "
+                                      "('vibimpact continue')",
                                       sweep_as("c.nc")),
 }
 

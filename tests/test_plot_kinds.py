@@ -243,11 +243,14 @@ def test_a_file_without_the_data_gets_one_line_and_exit_2(kind, drop, analyses, 
 @pytest.mark.parametrize("kind", ["poincare", "lyapunov"])
 def test_a_map_file_is_told_what_it_holds(kind, tmp_path, capfd):
     """Hypothesis: --kind poincare or lyapunov on a parameter map exits 2 with one line
-    that says a map stores no Poincaré samples and that --kind map draws its exponent."""
+    that says a map is not a sweep file and that --kind map draws it (poincare: a map
+    stores no Poincaré samples; lyapunov: its exponent is a panel of --kind map)."""
     path = tmp_path / "m.nc"
     xr.Dataset({"regime": (("eta", "f"), np.ones((2, 2), dtype="i1"))},
                coords={"eta": [1.0, 1.1], "f": [0.0, 0.1]},
                attrs={"map_vary": "f"}).to_netcdf(path)
     rc, out, err = run_cli(["plot", path, "--kind", kind], capfd)
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
-    assert "parameter map" in err and "--kind map" in err and "Poincare" in err
+    assert "parameter map" in err and "--kind map" in err and "needs a sweep file" in err
+    assert ("Poincare" in err) == (kind == "poincare")
+    assert ("exponent" in err) == (kind == "lyapunov")

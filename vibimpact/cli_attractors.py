@@ -72,22 +72,112 @@ def _table(ds):
     return lines
 
 
-def _sweep_file(args, etas):
-    """The --sweep file (a sweep sharing an eta with the census), or None."""
+def _sweep_file(args, system, etas):
+    """The --sweep file, checked before any work, or None: a sweep of the census' model
+    and parameters (eta aside) that shares an eta with it and holds the Poincare samples
+    of every state the census places (see :func:`_sample_names`)."""
     if args.sweep is None:
         return None
-    import numpy as np
-
     from .cli_files import read_input
 
     path = os.fspath(args.sweep)
     ds = read_input(path, "--sweep")
-    if "eta" not in ds.dims or "poincare_X" not in ds:
-        raise UsageError(f"--sweep {path!r} is not a sweep file with Poincare samples "
-                         "('vibimpact classify' or 'bifurcation')")
-    if not np.intersect1d(np.round(ds.eta.values, 12), np.round(etas, 12)).size:
-        raise UsageError(f"--sweep {path!r} shares no eta with --eta {args.eta}")
+    label = f"--sweep {path!r}"
+    if "eta" not in ds.dims or "regime" not in ds or "map_vary" in ds.attrs:
+        raise UsageError(f"{label} is not a sweep file ('vibimpact classify' or "
+                         "'bifurcation')")
+    _same_system(ds, label, system, args.preset)
+    try:
+        from .plotting._sweep import check_contents
+
+        check_contents(ds, grids=("eta",), codes=(), increasing=("eta",))
+    except ValueError as exc:
+        raise UsageError(f"{label}: {error_text(exc)}") from None
+    common = _common_etas(ds, etas)
+    if not common.size:
+        raise UsageError(f"{label} shares no eta with --eta {args.eta}")
+    _check_samples(ds, label, system.model.state_names, common)
     return ds
+
+
+def _same_system(ds, label, system, preset):
+    """UsageError unless the sweep ``ds`` is of ``system``'s model with its parameters
+    (eta, the grid, aside): a sweep's points lie on the attractors of its own
+    parameters, which a census of others does not list."""
+    import math
+
+    from .sweeps.dataset import sweep_params
+    from .system import param_dict
+
+    model = str(ds.attrs.get("model", "rotor"))
+    if model != system.model.name:
+        raise UsageError(f"{label} is a sweep of the {model} model; the census is of the "
+                         f"{system.model.name} model (--preset {preset}): give the "
+                         "sweep's preset")
+    try:
+        theirs = param_dict(sweep_params(ds, name=label))
+    except (TypeError, ValueError) as exc:
+        raise UsageError(error_text(exc)) from None
+    omega = system.model.param_names[system.model.omega_index]
+    ours = param_dict(system)
+    differ = [f"{k} = {theirs[k]:g} (the census: {v:g})" for k, v in ours.items()
+              if k != omega and k in theirs
+              and not math.isclose(float(theirs[k]), float(v), rel_tol=1e-12)]
+    if differ:
+        raise UsageError(f"{label} was swept with other parameters than the census': "
+                         f"{', '.join(differ)}; give the census the sweep's (--preset, "
+                         "--set NAME=VALUE)")
+
+
+def _common_etas(ds, etas):
+    """The etas (rounded to 12 decimals, as :func:`vibimpact.census.locate.locate`
+    matches them) that the sweep ``ds`` and the census grid ``etas`` share."""
+    import numpy as np
+
+    return np.intersect1d(np.round(ds.eta.values.astype(float), 12), np.round(etas, 12))
+
+
+def _sample_names(ds, names):
+    """The sweep's variable of the Poincare samples of each state in ``names`` (as
+    :func:`vibimpact.census.locate.locate` takes them: ``poincare_NAME``, else
+    ``poincare_X`` and ``poincare_Y`` for the first two states); None where missing."""
+    out = []
+    for j, name in enumerate(names):
+        var = f"poincare_{name}" if f"poincare_{name}" in ds else \
+            {0: "poincare_X", 1: "poincare_Y"}.get(j)
+        out.append(var if var in ds else None)
+    return out
+
+
+def _check_samples(ds, label, names, common):
+    """UsageError unless the sweep holds numeric Poincare samples over (direction,) eta
+    and sample of every state in ``names``, finite at one eta of ``common`` at least."""
+    import numpy as np
+
+    allowed = {"direction", "eta", "sample"}
+    finite, first = None, None
+    for name, var in zip(names, _sample_names(ds, names)):
+        if var is None:
+            raise UsageError(f"{label} has no Poincare samples of {name} "
+                             f"(poincare_{name}): sweep with --analyses including "
+                             "poincare")
+        v = ds[var]
+        if v.dtype.kind not in "iuf":
+            raise UsageError(f"{label}: {var} must hold numbers, got {v.dtype} values")
+        if not {"eta", "sample"} <= set(v.dims) <= allowed or \
+                set(v.dims) != set(first or v.dims):
+            raise UsageError(f"{label}: {var} must have the dimensions "
+                             f"{first or '(direction,) eta, sample'}, got {v.dims}")
+        first = first or v.dims
+        at = v.sel(eta=v.eta.values[np.isin(np.round(v.eta.values.astype(float), 12),
+                                            common)])
+        ok = np.isfinite(at.transpose(..., "eta", "sample").values.astype(float))
+        finite = ok if finite is None else finite & ok
+    if not finite.any():
+        why = ("" if "poincare" in str(ds.attrs.get("settings", "")) else
+               " (sweep with --analyses including poincare)")
+        raise UsageError(f"{label} holds no finite Poincare samples at the etas it "
+                         f"shares with --eta: nothing to place{why}")
 
 
 def _located(ds, sweep, path):
@@ -123,8 +213,8 @@ def _cmd_attractors(args):
     out = os.fspath(args.output)
     system, etas = _inputs(args)
     ckpt = checkpoint_of(out)
-    resuming, fig_kw = check_outputs(args, out, ckpt)
-    sweep = _sweep_file(args, etas)
+    resuming, fig_kw = check_outputs(args, out, ckpt, inputs=(("--sweep", args.sweep),))
+    sweep = _sweep_file(args, system, etas)
 
     from . import io
     from .census.census import attractors
@@ -147,17 +237,11 @@ def _cmd_attractors(args):
 
 
 def plot_command(args, ds):
-    """``vibimpact plot CENSUS.nc [--kind census]``."""
+    """``vibimpact plot CENSUS.nc [--kind census]`` (its kind, --branch and the image
+    path ``args.output`` checked by :func:`vibimpact.cli_sweep.check_kind`)."""
     from .cli_errors import reason
 
-    path = os.fspath(args.file)
-    if args.kind not in (None, "census"):
-        raise UsageError(f"--kind {args.kind} needs a sweep file; {path!r} is an attractor "
-                         "census (use --kind census)")
-    if getattr(args, "branch", None):
-        raise UsageError(f"--branch draws over a sweep's response curves; {path!r} is an "
-                         "attractor census")
-    out = os.fspath(args.output or os.path.splitext(path)[0] + "_census.png")
+    path, out = os.fspath(args.file), os.fspath(args.output)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
     from .plotting.census import plot_census

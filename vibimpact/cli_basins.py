@@ -72,9 +72,10 @@ def parse_ranges(text):
             a, b = parse_real(lo), parse_real(hi)
         except ValueError:
             a = b = math.nan
-        if not sep or not (math.isfinite(a) and math.isfinite(b) and a < b):
-            raise UsageError(f"--range expects LO:HI,LO:HI with finite LO < HI, one per "
-                             f"plane variable, got {text!r}")
+        if not sep or not (math.isfinite(a) and math.isfinite(b) and a < b
+                           and math.isfinite(b - a)):
+            raise UsageError(f"--range expects LO:HI,LO:HI with finite LO < HI (and a "
+                             f"finite HI - LO), one per plane variable, got {text!r}")
         out.append((a, b))
     if len(out) != 2:
         raise UsageError(f"--range expects two ranges LO:HI,LO:HI, got {text!r}")
@@ -108,6 +109,10 @@ def _inputs(args):
             raise UsageError(f"--base expects {system.n_state} finite numbers "
                              f"({','.join(system.model.state_names)}), got {args.base!r}")
     grid = parse_grid(args.grid)
+    for (lo, hi), cells, name in zip(ranges or (), grid, plane):
+        if (hi - lo) / (cells - 1) < 4.0 * max(math.ulp(lo), math.ulp(hi)):
+            raise UsageError(f"--range {lo!r}:{hi!r} of {name} is too narrow for "
+                             f"{cells} cells: their centres would coincide in floats")
     if min(grid) < args.eps:
         raise UsageError(f"--grid {args.grid} is smaller than the entropy's boxes "
                          f"(--eps {args.eps})")

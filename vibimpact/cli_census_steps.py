@@ -12,11 +12,14 @@ from .cli_checkpoints import check_checkpoint, finish_checkpointed, run_checkpoi
 from .cli_errors import error_text, UsageError
 from .cli_figures import figure_options, image_ext_ok
 from .cli_files import check_output
+from .cli_inputs import check_distinct
 
 
-def check_outputs(args, out, ckpt):
-    """Refuse existing outputs (unless --overwrite, or a resume that wrote ``out``) and a
-    checkpoint a resume cannot use, before any work; ``(resuming, figure options)``."""
+def check_outputs(args, out, ckpt, inputs=()):
+    """Refuse existing outputs (unless --overwrite, or a resume that wrote ``out``), a
+    checkpoint a resume cannot use and two of the command's files that are one (``-o``,
+    ``--plot``, the checkpoint and the ``(option, path)`` of the files it reads,
+    ``inputs``), before any work; ``(resuming, figure options)``."""
     from .engine.leftovers import output_of
 
     resuming = args.resume and ckpt.exists()
@@ -26,6 +29,8 @@ def check_outputs(args, out, ckpt):
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
         check_output(args.plot, args.overwrite, "plot file")
+    check_distinct(("-o", out), ("--plot", args.plot), ("the checkpoint", ckpt.path),
+                   inputs=inputs)
     check_checkpoint(ckpt, args.resume)
     return resuming, fig_kw
 

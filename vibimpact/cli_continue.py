@@ -15,6 +15,7 @@ from .cli_args import number, parse_sets, positive_int, with_sets
 from .cli_errors import error_text, reason, UsageError
 from .cli_figures import figure_options, image_ext_ok
 from .cli_files import check_output, read_input
+from .cli_inputs import check_distinct, check_state0
 from ._text import count
 
 _CONTINUE_EPILOG = """\
@@ -66,8 +67,8 @@ followed too (branch switching along the eigenvector of the multiplier -1,
 vibimpact.analysis.switch_branch) within the same window and written beside OUT as
 OUT_P<2N>.nc (a branch file; its first point is the period doubling itself).
 
-exit status: 0 written, 2 bad input or no orbit at the start (nothing written), or
---switch with no period doubling on the branch (OUT written, OUT_P<2N> not).
+exit status: 0 written, 2 bad input, no orbit at the start or, with --switch, no
+period-2N branch switched to (nothing written: both files or neither).
 """
 
 
@@ -98,6 +99,9 @@ def _inputs(args):
         value = getattr(args, name)
         if value is not None and not (math.isfinite(value) and value > 0):
             raise UsageError(f"--{name} must be a finite number > 0, got {value:g}")
+    if args.refine is not None:
+        _check_refine(args.refine, args.param, start, args.stop)
+    check_state0(args.state0, system)
     if args.transient > _limits.MAX_PERIODS:
         raise UsageError(f"--transient: at most {_limits.MAX_PERIODS} forcing periods, "
                          f"got {args.transient}")
@@ -124,6 +128,18 @@ def _inputs(args):
     steps = Steps(ds=args.ds, ds_min=min(Steps.ds_min, args.ds),
                   ds_max=args.ds_max, max_points=args.max_points)
     return system, steps
+
+
+def _check_refine(refine, param, start, stop):
+    """UsageError for a ``--refine`` width below the float resolution of ``param`` over
+    the window (bisection cannot narrow an interval below a few units in the last
+    place)."""
+    import numpy as np
+
+    floor = 4.0 * float(np.spacing(max(abs(start), abs(stop))))
+    if refine < floor:
+        raise UsageError(f"--refine must be >= {floor:.3g}, the float resolution of "
+                         f"{param} over the window, got {refine:.3g}")
 
 
 def _summary(branch):
@@ -163,9 +179,9 @@ def _cmd_continue(args):
     switch_out = _switch_path(out, args.period) if args.switch else None
     if switch_out:
         check_output(switch_out, args.overwrite, "--switch output file")
+    check_distinct(("-o", out), ("--switch's output", switch_out))
     system, steps = _inputs(args)
 
-    from . import io
     from .analysis.continuation import StartFailed
     from .branches import branch_to_dataset, follow_branch
 
@@ -186,15 +202,27 @@ def _cmd_continue(args):
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = branch_to_dataset(branch, system, start_state=x0, command=command,
                            attrs={"preset": args.preset, "wall_time_s": round(elapsed, 3)})
-    try:
-        io.write_netcdf(ds, out, overwrite=args.overwrite)
-    except (ValueError, OSError) as exc:
-        raise UsageError(error_text(exc)) from None
+    # --switch before anything is written: both files or neither
+    doubled = _switch(args, system, branch, steps, command) if args.switch else None
+    _write(args, (out, ds), *([(switch_out, doubled[0])] if doubled else []))
     print("\n".join(_summary(branch)))
     print(f"wrote {out} ({elapsed:.1f} s)")
-    if args.switch:
-        return _switch(args, system, branch, steps, command, switch_out)
+    if doubled:
+        _, seconds, switched = doubled
+        print(f"switched at the period doubling, {args.param} = "
+              f"{switched.values[0]:.8g}:")
+        print("\n".join(_summary(switched)))
+        print(f"wrote {switch_out} ({seconds:.1f} s)")
     return 0
+
+
+def _write(args, *outputs):
+    """Write the ``(path, dataset)`` ``outputs`` together or not at all."""
+    from . import io
+    from .cli_files import write_outputs
+
+    write_outputs(*((path, lambda path=path, ds=ds: io.write_netcdf(
+        ds, path, overwrite=args.overwrite)) for path, ds in outputs))
 
 
 def _switch_path(out, n):
@@ -203,10 +231,10 @@ def _switch_path(out, n):
     return f"{stem}_P{2 * n}{ext or '.nc'}"
 
 
-def _switch(args, system, branch, steps, command, out):
-    """``--switch``: the period-2n branch from the first period doubling of ``branch``
-    (:func:`vibimpact.analysis.switch_branch`), written to ``out``."""
-    from . import io
+def _switch(args, system, branch, steps, command):
+    """``--switch``: ``(dataset, seconds, branch)`` of the period-2n branch from the first
+    period doubling of ``branch`` (:func:`vibimpact.analysis.switch_branch`);
+    UsageError, before anything is written, when there is none."""
     from .analysis import switch_branch
     from .branches import branch_to_dataset
 
@@ -215,18 +243,13 @@ def _switch(args, system, branch, steps, command, out):
         doubled = switch_branch(system, branch, stop=args.stop, steps=steps,
                                 refine=args.refine)
     except ValueError as exc:
-        raise UsageError(f"--switch: {error_text(exc)}") from None
+        raise UsageError(f"--switch: {error_text(exc)}; nothing written (without "
+                         f"--switch the period-{branch.n} branch is written)") from None
+    seconds = time.perf_counter() - t0
     ds = branch_to_dataset(doubled, system, command=command,
                            attrs={"preset": args.preset, "switched_from_period": branch.n,
-                                  "wall_time_s": round(time.perf_counter() - t0, 3)})
-    try:
-        io.write_netcdf(ds, out, overwrite=args.overwrite)
-    except (ValueError, OSError) as exc:
-        raise UsageError(error_text(exc)) from None
-    print(f"switched at the period doubling, {args.param} = {doubled.values[0]:.8g}:")
-    print("\n".join(_summary(doubled)))
-    print(f"wrote {out} ({time.perf_counter() - t0:.1f} s)")
-    return 0
+                                  "wall_time_s": round(seconds, 3)})
+    return ds, seconds, doubled
 
 
 def read_branches(paths):
@@ -247,15 +270,9 @@ def read_branches(paths):
 
 
 def plot_command(args, ds):
-    """``vibimpact plot BRANCH.nc [--kind branch]``."""
-    path = os.fspath(args.file)
-    if args.kind not in (None, "branch"):
-        raise UsageError(f"--kind {args.kind} needs a sweep or simulate file; {path!r} is "
-                         "a continued branch (use --kind branch)")
-    if getattr(args, "branch", None):
-        raise UsageError("--branch draws branches over a sweep's response curves; "
-                         f"{path!r} is itself a branch")
-    out = os.fspath(args.output or os.path.splitext(path)[0] + "_branch.png")
+    """``vibimpact plot BRANCH.nc [--kind branch]`` (its kind, --branch and the image
+    path ``args.output`` checked by :func:`vibimpact.cli_sweep.check_kind`)."""
+    path, out = os.fspath(args.file), os.fspath(args.output)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
     from .plotting.branch import plot_branch_figure
@@ -291,8 +308,9 @@ def add_parser(sub, fmt):
                    help="other end of the parameter window (above or below the start)")
     c.add_argument("--period", type=positive_int(1), default=1, metavar="N",
                    help="period of the orbit in forcing periods (default: 1)")
-    c.add_argument("--state0", type=number, nargs=4, metavar=("X", "Y", "dX", "dY"),
-                   help="where the integration towards the orbit starts (default: rest)")
+    c.add_argument("--state0", type=number, nargs="+", metavar="X",
+                   help="where the integration towards the orbit starts, one value per "
+                        "state of the model (default: rest)")
     c.add_argument("--approach", type=number, default=None, metavar="ETA0",
                    help="reach the start by stepping eta from ETA0, as a sweep does")
     c.add_argument("--transient", type=positive_int(0), default=500, metavar="N",

@@ -12,9 +12,10 @@ import time
 
 from ._text import parse_real
 from .cli_args import number, parse_sets, positive_int, with_sets
-from .cli_errors import UsageError, error_text
-from .cli_files import check_output, read_input
+from .cli_errors import UsageError, error_text, reason
+from .cli_files import check_output, read_input, write_outputs
 from .cli_figures import add_figure_options, figure_options, image_ext_ok
+from .cli_inputs import check_distinct, check_state0
 
 _EPILOG = """\
 examples:
@@ -88,6 +89,10 @@ def _inputs(args):
     except ValueError as exc:
         raise UsageError(f"--{error_text(exc)}") from None
     lo, hi = _range(args.range2)
+    domain = system.param_domain(args.param2)
+    for end in (lo, hi):  # the curve may end on a bound of the domain, not beyond it
+        if end not in domain:
+            raise UsageError(f"--range2: {domain.rule(args.param2)}, got {end!r}")
     start = system.param(args.param2)
     if not lo <= start <= hi:
         raise UsageError(f"--range2 {lo:g}:{hi:g} must hold the start value "
@@ -96,12 +101,40 @@ def _inputs(args):
         value = getattr(args, name)
         if value is not None and not math.isfinite(value):
             raise UsageError(f"--{name} must be finite, got {value:g}")
+    if args.approach is not None and not args.approach > 0:
+        raise UsageError(f"--approach must be a value of eta > 0, got {args.approach:g}")
+    if args.stop1 is not None:
+        _check_stop1(args, system)
+    check_state0(args.state0, system)
     if args.step is not None:
         _check_step(args, start, lo, hi)
     if args.transient > _limits.MAX_PERIODS:
         raise UsageError(f"--transient: at most {_limits.MAX_PERIODS} forcing periods, "
                          f"got {args.transient}")
     return system, kind, (lo, hi)
+
+
+def _check_stop1(args, system):
+    """UsageError unless ``--stop1`` differs from the start value of ``--param1`` and lies
+    in its domain (as ``vibimpact continue --stop``)."""
+    start = system.param(args.param1)
+    if args.stop1 == start:
+        raise UsageError(f"--stop1 must differ from the start value {args.param1} = "
+                         f"{start:g}")
+    domain = system.param_domain(args.param1)
+    if args.stop1 not in domain:
+        raise UsageError(f"--stop1: {domain.rule(args.param1)}, got {args.stop1!r}")
+
+
+def _check_over(over, path, args):
+    """UsageError, before any work, unless ``--over`` is a map over eta and the curve's
+    other parameter that can be drawn (drawn once into a figure that is thrown away)."""
+    from .plotting.bifurcation_curves import check_over
+
+    try:
+        check_over(over, (args.param1, args.param2))
+    except Exception as exc:  # a foreign or damaged map can fail anywhere in drawing
+        raise UsageError(f"--over {path!r}: {reason(exc)}") from None
 
 
 def _check_step(args, start, lo, hi):
@@ -114,6 +147,9 @@ def _check_step(args, start, lo, hi):
 
     if args.step <= 0.0:
         raise UsageError(f"--step must be > 0, got {args.step:g}")
+    if args.step > hi - lo:
+        raise UsageError(f"--step {args.step:g} is larger than the window --range2 "
+                         f"{lo:g}:{hi:g} (its first step would leave it)")
     big = max(abs(start), abs(lo), abs(hi))
     floor = 64.0 * STEP_ULPS * float(np.spacing(big))
     if args.step < floor:
@@ -148,6 +184,8 @@ def _seed(args, system, kind):
         raise UsageError(f"no period-{args.period} orbit found at the start: Newton "
                          f"shooting failed ({exc.reason}); try --approach, a longer "
                          "--transient or --state0") from None
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
     for i, found, value in branch.bifurcations:
         if found.value in _SEED_KINDS[kind.value]:
             j = i if found.value == "fold (turning point)" else i - 1
@@ -164,8 +202,11 @@ def _cmd_continue2(args):
         check_output(args.plot, args.overwrite, "image file")
     elif args.over:
         raise UsageError("--over draws under --plot: give --plot FILE.png too")
+    check_distinct(("-o", out), ("--plot", args.plot), inputs=(("--over", args.over),))
     system, kind, window = _inputs(args)
     over = read_input(args.over, "--over") if args.over else None
+    if over is not None:
+        _check_over(over, args.over, args)
 
     from . import io
     from .analysis import continue_bifurcation
@@ -184,24 +225,20 @@ def _cmd_continue2(args):
     elapsed = time.perf_counter() - t0
     ds = curve_to_dataset(curve, seed, command=shlex.join(["vibimpact"] + list(args.argv)),
                           attrs={"preset": args.preset, "wall_time_s": round(elapsed, 3)})
-    if over is not None:  # drawn before anything is written: a bad map writes nothing
-        from .plotting.bifurcation_curves import plot_bifurcation_curves
+    from .plotting.bifurcation_curves import plot_bifurcation_curves
 
+    fig = None
+    if args.plot:  # drawn before anything is written: a figure that fails writes nothing
         try:
             fig = plot_bifurcation_curves(ds, over=over, **figure_options(args))
         except ValueError as exc:
-            raise UsageError(f"--over: {error_text(exc)}") from None
-    try:
-        io.write_netcdf(ds, out, overwrite=args.overwrite)
-        if args.plot:
-            from .plotting.bifurcation_curves import plot_bifurcation_curves
-            from .plotting.style import save_figure
+            raise UsageError(f"--plot: {error_text(exc)}") from None
+    writes = [(out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
+    if fig is not None:
+        from .plotting.style import save_figure
 
-            if over is None:
-                fig = plot_bifurcation_curves(ds, **figure_options(args))
-            save_figure(fig, args.plot)
-    except (ValueError, OSError) as exc:
-        raise UsageError(error_text(exc)) from None
+        writes.append((args.plot, lambda: save_figure(fig, args.plot)))
+    write_outputs(*writes)  # both or neither
     p1, p2 = curve.params
     print(f"P{curve.n} {kind.value} curve: {curve.values.shape[0]} points, {p2} "
           f"{curve.values[0, 1]:.6g} .. {curve.values[-1, 1]:.6g}, {p1} "

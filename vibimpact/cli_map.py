@@ -155,6 +155,9 @@ def _cmd_map(args):
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
         check_output(args.plot, args.overwrite, "plot file")
+    from .cli_inputs import check_distinct
+
+    check_distinct(("-o", out), ("--plot", args.plot), ("the checkpoint", ckpt.path))
     check_checkpoint(ckpt, args.resume)
 
     from .engine import cluster

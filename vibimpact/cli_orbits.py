@@ -105,7 +105,7 @@ def _cmd_orbits(args):
 
     out = os.fspath(args.output)
     ckpt = checkpoint_of(out)
-    resuming, opts = check_outputs(args, out, ckpt)
+    resuming, opts = check_outputs(args, out, ckpt, inputs=(("--seeds", args.seeds),))
     periods = parse_periods(args.period)
     if not args.window > 0:
         raise UsageError(f"--window must be a finite number > 0, got {args.window:g}")

@@ -12,7 +12,8 @@ from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpoint
                               run_checkpointed)
 from .cli_errors import error_text, reason, UsageError
 from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output, read_input, sweep_file_bytes, write_outputs
+from .cli_files import check_output, is_store, read_input, sweep_file_bytes, write_outputs
+from .cli_inputs import check_distinct
 from .engine.leftovers import output_of
 from ._limits import MAX_POINTS
 
@@ -187,6 +188,7 @@ def _cmd_bifurcation(args):
         check_output(image, args.overwrite, "image file")
     check_output(data, args.overwrite, "data file",
                  size=sweep_file_bytes(params, etas.size, args.direction))
+    check_distinct(("-o", None if data_only is not None else image), ("its data file", data))
 
     import vibimpact as vi
     from . import io
@@ -212,13 +214,88 @@ def _cmd_bifurcation(args):
     return 0
 
 
+#: what each kind of file is, in the refusals of ``plot``
+FILE_KINDS = {
+    "run": "a 'vibimpact simulate' file",
+    "sweep": "a sweep file ('vibimpact classify' or 'bifurcation')",
+    "map": "a parameter map ('vibimpact map')",
+    "branch": "a continued branch ('vibimpact continue')",
+    "census": "an attractor census ('vibimpact attractors')",
+    "basins": "a basins file ('vibimpact basins')",
+    "orbits": "an orbit hunt ('vibimpact orbits')",
+    "curve": "a two-parameter curve ('vibimpact continue2')",
+}
+
+#: the one table of ``plot``: the --kind figures each kind of file holds the data of
+#: (the first is the default; basins, orbits and curves are drawn by their command's
+#: --plot)
+DRAWS = {
+    "run": ("xy",),
+    "sweep": ("response", "bifurcation", "intervals", "poincare", "lyapunov"),
+    "map": ("map",),
+    "branch": ("branch",),
+    "census": ("census",),
+    "basins": (), "orbits": (), "curve": (),
+}
+
+#: a word more where a figure's data is held otherwise by a file of another kind
+_HINTS = {("lyapunov", "map"): "; its exponent over (eta, PARAM) is a panel of it",
+          ("poincare", "map"): "; a map stores no Poincare samples"}
+
+
 def _kind_of(ds):
-    """'sweep', 'run' or None."""
+    """The kind of vibimpact file ``ds`` is (a key of :data:`FILE_KINDS`), or None."""
+    from .branches import is_branch_dataset
+    from .curves import is_curve_dataset
+    from .orbits.dataset import is_orbit_dataset
+
+    if "map_vary" in ds.attrs:
+        return "map"
+    if is_branch_dataset(ds):
+        return "branch"
+    if is_curve_dataset(ds):
+        return "curve"
+    if is_orbit_dataset(ds):
+        return "orbits"
+    if ds.attrs.get("kind") in ("census", "basins"):
+        return str(ds.attrs["kind"])
     if "regime" in ds and "eta" in ds.dims:
         return "sweep"
     if "strobe" in ds and "state" in ds.dims:
         return "run"
     return None
+
+
+def check_kind(kind, what, path):
+    """UsageError unless a file of kind ``what`` (:data:`FILE_KINDS`) holds the data of
+    ``--kind kind`` (:data:`DRAWS`); the message names the kind of file the figure needs
+    and the kind the file is."""
+    if what is None:
+        raise UsageError(f"{path!r} is not a file plot draws: not written by vibimpact "
+                         "simulate, classify, bifurcation, map, continue or attractors")
+    if kind in DRAWS[what]:
+        return
+    if not DRAWS[what]:
+        raise UsageError(f"{path!r} is {FILE_KINDS[what]}, which plot does not draw (the "
+                         "command's --plot draws it)")
+    needs = " or ".join(FILE_KINDS[w] for w, kinds in DRAWS.items() if kind in kinds)
+    raise UsageError(f"--kind {kind} needs {needs}; {path!r} is {FILE_KINDS[what]} (use "
+                     f"--kind {_alternatives(DRAWS[what])}{_HINTS.get((kind, what), '')})")
+
+
+def _alternatives(words):
+    """``a``, ``a or b``, ``a, b or c``."""
+    return " or ".join(filter(None, (", ".join(words[:-1]), words[-1])))
+
+
+def _default_kind(ds, what, args):
+    """The figure of a file without --kind: its kind's first in :data:`DRAWS` (a sweep:
+    bifurcation with --state or without response data, else response)."""
+    if what != "sweep":
+        return DRAWS[what][0] if DRAWS.get(what) else None
+    if args.state is not None or (not _has(ds, "X_m") and _has(ds, "poincare_X")):
+        return "bifurcation"
+    return "response"
 
 
 def _has(ds, name):
@@ -283,6 +360,20 @@ def _no_state(args, what):
     return args
 
 
+def _read_plotted(path):
+    """``(dataset, kind of file)`` of ``plot``'s FILE; the dataset None for a map's Zarr
+    store or checkpoint directory (:func:`vibimpact.cli_map.plot_command` reads it)."""
+    from .engine.store import is_checkpoint
+
+    if os.path.isdir(path) and (is_store(path) or is_checkpoint(path)):
+        return None, "map"
+    ds = read_input(path)
+    try:
+        return ds, _kind_of(ds)
+    except Exception as exc:
+        raise UsageError(f"{path!r} is not a vibimpact file: {exc}") from None
+
+
 def _cmd_plot(args):
     path = os.fspath(args.file)
     if args.branch and args.kind not in (None, "response"):
@@ -290,45 +381,27 @@ def _cmd_plot(args):
     if args.state is not None and args.kind not in (None, "bifurcation"):
         raise UsageError(f"--state names the states of a bifurcation diagram, not of "
                          f"--kind {args.kind}")
-    if args.kind == "map" or os.path.isdir(path):  # a parameter map ('vibimpact map')
+    ds, what = _read_plotted(path)
+    kind = args.kind or (_default_kind(ds, what, args) if what else None)
+    check_kind(kind, what, path)
+    for given, option in ((args.branch, "--branch"), (args.state, "--state")):
+        if given and what != "sweep":
+            raise UsageError(f"{option} is for the figures of a sweep file; {path!r} is "
+                             f"{FILE_KINDS[what]}")
+    out = os.fspath(args.output if args.output is not None else
+                    os.path.splitext(path.rstrip("/" + os.sep))[0] + f"_{kind}.png")
+    check_distinct(("-o", out), inputs=(("FILE", path),
+                                        *(("--branch", b) for b in args.branch)))
+    args.output = out
+    if what == "map":
         from .cli_map import plot_command
-        return plot_command(_no_state(args, "a map"))
-    ds = read_input(path)
-    if "map_vary" in ds.attrs:
-        from .cli_map import plot_command
-        return plot_command(_no_state(args, "a map"), ds)
-    from .branches import is_branch_dataset
-
-    if is_branch_dataset(ds):
+        return plot_command(args, ds)
+    if what == "branch":
         from .cli_continue import plot_command
-        return plot_command(_no_state(args, "a branch"), ds)
-    if ds.attrs.get("kind") == "census":  # 'vibimpact attractors'
+        return plot_command(args, ds)
+    if what == "census":
         from .cli_attractors import plot_command
-        return plot_command(_no_state(args, "a census"), ds)
-    if args.kind == "census":
-        raise UsageError(f"--kind census needs a 'vibimpact attractors' file; {path!r} is "
-                         "not one")
-    if args.kind == "branch":
-        raise UsageError(f"--kind branch needs a 'vibimpact continue' file; {path!r} is "
-                         "not one")
-    try:
-        what = _kind_of(ds)
-    except Exception as exc:
-        raise UsageError(f"{path!r} is not a vibimpact file: {exc}") from None
-    if what is None:
-        raise UsageError(f"{path!r} is neither a 'vibimpact simulate' nor a sweep file")
-    kind = args.kind
-    if kind is None and args.state is not None and what == "sweep":
-        kind = "bifurcation"
-    if kind is None:
-        kind = "xy" if what == "run" else (
-            "bifurcation" if not _has(ds, "X_m") and _has(ds, "poincare_X") else "response")
-    if kind == "xy" and what != "run":
-        raise UsageError(f"--kind xy needs a 'vibimpact simulate' file; {path!r} is a "
-                          "sweep (use response, bifurcation or intervals)")
-    if kind != "xy" and what != "sweep":
-        raise UsageError(f"--kind {kind} needs a sweep file ('vibimpact classify' or "
-                          f"'bifurcation'); {path!r} is a simulate run (use --kind xy)")
+        return plot_command(args, ds)
     if kind == "response" and not _has(ds, "X_m"):
         raise _missing(ds, path, "response data (X_m)", "response")
     if kind in ("bifurcation", "poincare") and not _has(ds, "poincare_X"):
@@ -342,10 +415,6 @@ def _cmd_plot(args):
     if args.branch:
         from .cli_continue import read_branches
         branches = read_branches(args.branch)
-    out = args.output
-    if out is None:
-        out = os.path.splitext(path)[0] + f"_{kind}.png"
-    out = os.fspath(out)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
 

@@ -133,6 +133,8 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
     mus = [m.multipliers for m in mus]
     while abs(hi - lo) > tol:
         mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):  # a tol below the float resolution: as narrow as it gets
+            break
         guess = xs[0] + (xs[1] - xs[0]) * ((mid - lo) / (hi - lo))
         orb = shoot_periodic_orbit(system.with_param(param, mid), guess, n, tol=newton_tol)
         scale = max(1.0, float(np.abs(guess).max()))
@@ -247,6 +249,8 @@ def refine_grazing(system: System, param: str, n: int, values: tuple, states: tu
                          f"{lo} and {hi} (impacts {ends[0]} and {ends[1]})")
     while abs(hi - lo) > tol:
         mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):  # a tol below the float resolution: as narrow as it gets
+            break
         guess = xs[0] + (xs[1] - xs[0]) * ((mid - lo) / (hi - lo))
         q = system.with_param(param, mid)
         orb = shoot_periodic_orbit(q, guess, n, tol=newton_tol)

@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["plot_bifurcation_curves", "CURVE_STYLES"]
+__all__ = ["plot_bifurcation_curves", "check_over", "CURVE_STYLES"]
 
 #: line of each curve kind: (colour, line style)
 CURVE_STYLES = {BifurcationKind.FOLD: ("k", "-"),
@@ -71,6 +71,22 @@ def _map_param(over):
     if len(others) != 1:
         raise ValueError("over must be a map dataset: regime over (PARAM, eta)")
     return str(others[0])
+
+
+def check_over(over: xr.Dataset, params: Sequence[str]) -> str:
+    """Raise ValueError unless ``over`` is a map of :func:`vibimpact.map2d` over eta and
+    the other of the two parameters ``params`` of a curve, whose regime cells can be
+    drawn (they are, once, into a figure that is thrown away); the map's parameter.
+
+    A command checks its ``--over`` map so before it computes the curve."""
+    from matplotlib.figure import Figure
+
+    name = _map_param(over)
+    if {"eta", name} != set(params):
+        raise ValueError(f"over is a map over (eta, {name}); the curve is in "
+                         f"({', '.join(params)})")
+    _draw_map(Figure().subplots(), over, name, None)
+    return name
 
 
 def _cell_edges(v):
