@@ -106,14 +106,16 @@ def _cmd_simulate(args):
     fig_kw = figure_options(args, drawing=args.plot is not None)
     if args.plot is not None:
         check_output(args.plot, args.overwrite, "plot file")
-        if os.path.abspath(args.plot) == os.path.abspath(out):
-            raise UsageError("--plot and -o must be different files")
         ext = os.path.splitext(args.plot)[1].lstrip(".").lower()
         from matplotlib.backend_bases import FigureCanvasBase
 
         if ext not in FigureCanvasBase.get_supported_filetypes():
             raise UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
+    from .cli_inputs import check_distinct, check_state0
+
+    check_distinct(("-o", out), ("--plot", args.plot),
+                   inputs=(("--from", args.from_sweep),))
     attrs, note = {"preset": "fig8" if args.preset is None else args.preset}, ""
     state0 = args.state0
     if args.from_sweep is not None:
@@ -133,6 +135,7 @@ def _cmd_simulate(args):
     from . import _limits
     from .system import to_system
 
+    check_state0(state0 if args.from_sweep is None else None, to_system(params))
     n_state = to_system(params).n_state
     _check_run_limits(args, dense, n_state)  # before sizing the output
     # the file holds the run's arrays once: is there room for it?
@@ -255,8 +258,9 @@ def build_parser():
                    help="forcing periods recorded (default: 200)")
     s.add_argument("--transient", type=positive_int(0), default=500,
                    help="forcing periods integrated first and discarded (default: 500)")
-    s.add_argument("--state0", type=number, nargs=4, metavar=("X", "Y", "dX", "dY"),
-                   help="initial state at tau = 0 (default: rest, 0 0 0 0)")
+    s.add_argument("--state0", type=number, nargs="+", metavar="X",
+                   help="initial state at tau = 0, one value per state of the model "
+                        "(default: rest, 0 0 0 0)")
     s.add_argument("--method", choices=("dop853", "dp5", "rk4"), default="dop853",
                    help="integrator (default: dop853)")
     s.add_argument("--rtol", type=positive_number, default=1e-9, help="relative "

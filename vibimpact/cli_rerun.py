@@ -141,8 +141,10 @@ def _cmd_rerun(args):
     keep = args.output is not None
     if keep:
         new = os.fspath(args.output)
-        if os.path.abspath(new) == os.path.abspath(path):
-            raise UsageError("-o must differ from the file being rerun")
+        from .cli_inputs import same_file
+
+        if same_file(new, path):
+            raise UsageError(f"-o {new!r} is the file being rerun, {path!r}; give another")
         if not is_store(new):  # an existing store: the map command checks --overwrite
             check_output(new, args.overwrite, "output file")
     old = read_input(path, "file", stores=True)
