@@ -4,7 +4,9 @@ SIGINT and SIGTERM are handled from the first line: while the command line is st
 being imported, either ends it with one line and exit status 128 + signum (not a
 ``KeyboardInterrupt`` traceback, not a silent death by SIGTERM).  A signal the
 process was started ignoring (a shell script's background job ignores SIGINT) stays
-ignored throughout.
+ignored throughout.  A standard stream the process was started without (``>&-``) gets
+the null device as its descriptor before anything else is opened
+(:func:`vibimpact.cli_streams.fill_closed_descriptors`).
 """
 import signal
 import sys
@@ -29,6 +31,9 @@ def run():
         if signal.getsignal(sig) != signal.SIG_IGN:  # an ignored signal stays ignored
             signal.signal(sig, _stop)
     try:
+        from vibimpact.cli_streams import fill_closed_descriptors
+
+        fill_closed_descriptors()  # no file the command opens may become its stdout
         from vibimpact.cli import main
     except KeyboardInterrupt as exc:
         print("vibimpact: interrupted", file=sys.stderr)

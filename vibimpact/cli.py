@@ -311,17 +311,36 @@ def main(argv=None):
     -------
     int
         The exit status: 0 success, 1 ``rerun`` found a difference, 2 bad input, a
-        failed write or a worker process that died, 130 interrupted (SIGINT, Ctrl-C),
-        143 terminated (SIGTERM, as ``timeout`` and batch systems send).  An
-        interrupted or terminated command removes its temporary files and keeps its
-        checkpoint (SIGTERM is handled as Ctrl-C at every phase).
+        failed write or a worker process that died, 74 the command ran but its printed
+        output could not be written (stdout or stderr full, closed, failing), 141 its
+        printed output went to a pipe whose reader had gone (``| head -1``), 130
+        interrupted (SIGINT, Ctrl-C), 143 terminated (SIGTERM, as ``timeout`` and batch
+        systems send).  An interrupted or terminated command removes its temporary files
+        and keeps its checkpoint (SIGTERM is handled as Ctrl-C at every phase).
+
+    Raises
+    ------
+    SystemExit
+        From argparse (``--help``, ``--version``, a refused option), its status changed
+        as above when the text it printed was lost.
     """
+    from .cli_streams import Streams
+
     program = argv is None  # the process's own command line: it exits after this
-    try:
-        status = _main(argv, program)
-    except KeyboardInterrupt as exc:  # before the command's guard (reading its options)
-        print("vibimpact: interrupted", file=sys.stderr)
-        status = interrupt_status(exc)
+    stopped = None
+    with Streams(program) as streams:  # a stream that cannot be written: a status
+        try:
+            status = _main(argv, program)
+        except KeyboardInterrupt as exc:  # before the command's guard (reading options)
+            print("vibimpact: interrupted", file=sys.stderr)
+            status = interrupt_status(exc)
+        except SystemExit as exc:  # argparse: --help, --version, a usage error
+            stopped, status = exc, exc.code
+        status = streams.status(status)
+    if stopped is not None:
+        if status == stopped.code:
+            raise stopped
+        raise SystemExit(status) from None
     if program and status in (130, 143):
         _exit_after_interrupt(status)
     return status
