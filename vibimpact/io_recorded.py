@@ -241,6 +241,9 @@ def recorded_params(attrs: Mapping, name: str = "the file", *, key: str | None =
     freq = model.param_names[model.omega_index]
     if omega is not None:
         values[freq] = recorded_number(omega, f"{name}'s {freq}")
+    unknown = [p for p in values if p not in model.param_names]
+    if unknown:
+        check_in_domains(model, {unknown[0]: values[unknown[0]]}, name)
     missing = [p for p in model.param_names if p not in values]
     if missing:
         where = f"{prefix}{missing[0]} attribute" if prefix else f"{key!r} attribute"
