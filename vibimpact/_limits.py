@@ -23,6 +23,8 @@ MAX_POINTS = 100_000
 SECONDS_PER_POINT = 0.005
 #: most forcing periods (transient + recorded) of one ``simulate`` call
 MAX_PERIODS = 10_000_000
+#: the most worker processes of one run (``--workers``, ``vi.Execution(workers=)``)
+MAX_WORKERS = 4096
 #: rough cost of one forcing period of ``simulate``, seconds
 SECONDS_PER_PERIOD = 5e-5
 

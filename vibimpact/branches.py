@@ -142,7 +142,7 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     from .analysis import Steps, continue_orbit
     from .system import to_system
 
-    system = to_system(system)
+    system = to_system(system, "system")
     stop = _v.finite("stop", stop)
     transient = _v.count("transient", transient, 0)
     mdl = system.model
@@ -295,7 +295,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     if not isinstance(branch, Branch):
         raise _v.WrongType(f"branch must be a vibimpact.analysis.Branch, got "
                          f"{type(branch).__name__}")
-    system = to_system(system)
+    system = to_system(system, "system")
     names = list(system.model.state_names)
     param = branch.param if isinstance(branch.param, str) else f"p{int(branch.param)}"
     data = _point_vars(branch, names)

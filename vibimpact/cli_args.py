@@ -79,8 +79,8 @@ def set_verbosity(count):
     log.setLevel(logging.INFO if count == 1 else logging.DEBUG)
 
 
-#: the most processes a ``--workers`` option takes
-MAX_WORKERS = 4096
+#: the most processes a ``--workers`` option takes (the API's limit too)
+from ._limits import MAX_WORKERS  # noqa: E402
 #: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
 MAX_INT = 2**63 - 1
 

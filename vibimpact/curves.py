@@ -66,7 +66,7 @@ def curve_to_dataset(curve: BifurcationCurve, system: System, *,
     if not isinstance(curve, BifurcationCurve):
         raise _v.WrongType(f"curve must be a vibimpact.analysis.BifurcationCurve, got "
                            f"{type(curve).__name__}")
-    system = to_system(system)
+    system = to_system(system, "system")
     names = list(system.model.state_names)
     p1, p2 = curve.params
     mu = np.asarray(curve.multipliers, dtype=complex)

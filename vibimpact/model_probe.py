@@ -160,7 +160,7 @@ def _run(model, spec, p, y0, fills):
         results.append(("jac", _call("jac", model.jac, (0.25, y.view, pv.view, m.view, J.view)),
                         J.view.copy()))
         check("jac", {"J": J, "y": y, "p": pv, "mode": m})
-        g = guarded("g", (spec.n_switch,), 0.0)
+        g = guarded("g", (spec.n_switch,), np.nan)  # NaN: an entry never set shows
         results.append(("switches", _call("switches", model.switches,
                                           (0.25, y.view, pv.view, m.view, g.view)),
                         g.view.copy()))
@@ -197,8 +197,12 @@ def check_model(model, p):
     """
     spec = _Spec(model)
     p = np.asarray(p, dtype=np.float64)
+    unset = np.ones(spec.n_switch, dtype=bool)
     for y0 in _scale_states(spec.n):
         base, writes = _run(model, spec, p, y0, {})
+        for fn, _, values in base:
+            if fn == "switches":
+                unset &= np.isnan(values)
         if writes:
             fn, role, off = writes[0]
             raise ValueError(
@@ -213,3 +217,10 @@ def check_model(model, p):
                         f"model {spec.name!r}: {a[0]} reads past {role}, beyond the "
                         f"{spec.declared[role]} it declares (its results depend on what "
                         "lies after the array); declare the sizes the functions use")
+    if unset.any():
+        set_ = np.flatnonzero(~unset)
+        raise ValueError(
+            f"model {spec.name!r}: terminal has {spec.n_switch} entries, but switches "
+            f"never sets g[{int(np.flatnonzero(unset)[0])}] (it sets "
+            f"{', '.join(f'g[{i}]' for i in set_) or 'no entry'}); terminal must have one "
+            "entry per switching function")

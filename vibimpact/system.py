@@ -333,10 +333,18 @@ def as_system(system, name="system"):
                        f"got {type(system).__name__}")
 
 
-def to_system(p):
+def to_system(p, name="p"):
     """``p`` as a :class:`System` (a parameter set of a built-in model becomes one with
-    the default solver settings)."""
-    return p if isinstance(p, System) else System(p)
+    the default solver settings); a ``TypeError`` (also a ``ValueError``) naming ``name``,
+    the caller's argument, for anything else."""
+    if isinstance(p, System):
+        return p
+    from .models import of_params, param_set_names
+
+    if of_params(p) is None:
+        raise _v.WrongType(f"{name} must be a vibimpact.System or the parameter set of a "
+                           f"model ({param_set_names()}), got {type(p).__name__}")
+    return System(p)
 
 
 def with_frequency(p, value):

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _limits
 from .. import _validate as _v
 from ..points.point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point, \
     point_system
@@ -56,6 +57,10 @@ def _point_settings():
                          transient_max=3000, predict=0)
 
 
+#: most stroboscopic points that represent one non-periodic attractor (``cloud``)
+MAX_CLOUD = 100_000
+
+
 @dataclass(frozen=True)
 class CensusSettings:
     """How a census decides where each start goes.
@@ -87,7 +92,8 @@ class CensusSettings:
     Raises
     ------
     ValueError
-        Naming the field.
+        Naming the field: the counts are at least 1 and at most the period limit of a
+        run (``vibimpact._limits.MAX_PERIODS``; ``cloud`` at most :data:`MAX_CLOUD`).
     """
 
     max_periods: int = 600
@@ -101,7 +107,8 @@ class CensusSettings:
 
     def __post_init__(self):
         for name in ("max_periods", "chunk", "hold", "hold_chaotic", "cloud"):
-            object.__setattr__(self, name, _v.count(name, getattr(self, name), 1))
+            top = MAX_CLOUD if name == "cloud" else _limits.MAX_PERIODS
+            object.__setattr__(self, name, _v.count(name, getattr(self, name), 1, top))
         for name in ("radius", "dedup_tol"):
             value = getattr(self, name)
             if isinstance(value, (bool, np.bool_)) or not isinstance(

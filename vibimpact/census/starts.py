@@ -31,21 +31,29 @@ class Box:
     ----------
     lo, hi : array_like, shape (d,)
     disk : tuple of int, optional
-        Two state indices whose values are drawn uniformly in the disk of radius
-        ``radius`` (centred at 0) instead of the square ``lo..hi``.
+        Two different state indices (each in ``0 .. len(lo) - 1``) whose values are
+        drawn uniformly in the disk of radius ``radius`` (centred at 0) instead of the
+        square ``lo..hi``.
     radius : float
+        Finite and > 0.
+
+    Raises
+    ------
+    ValueError
+        Naming ``lo``, ``hi``, ``disk`` or ``radius`` (a ``TypeError``, also a
+        ``ValueError``, for a wrong type).
     """
 
     def __init__(self, lo, hi, disk=None, radius=1.0):
-        self.lo = np.array(lo, dtype=np.float64)
-        self.hi = np.array(hi, dtype=np.float64)
-        if self.lo.shape != self.hi.shape or self.lo.ndim != 1 or \
+        self.lo = _v.numeric("lo", lo, "a vector of numbers").astype(np.float64)
+        self.hi = _v.numeric("hi", hi, "a vector of numbers").astype(np.float64)
+        if self.lo.shape != self.hi.shape or self.lo.ndim != 1 or self.lo.size == 0 or \
                 not np.all(np.isfinite(self.lo)) or not np.all(np.isfinite(self.hi)) or \
                 np.any(self.hi < self.lo):
-            raise ValueError(f"box must be two finite vectors lo <= hi of one length, got "
-                             f"{self.lo!r}, {self.hi!r}")
-        self.disk = None if disk is None else tuple(int(i) for i in disk)
-        self.radius = float(radius)
+            raise ValueError(f"lo and hi must be two finite vectors lo <= hi of one "
+                             f"length, got {self.lo!r}, {self.hi!r}"[:300])
+        self.disk = None if disk is None else _disk(disk, self.lo.size)
+        self.radius = _v.positive("radius", radius)
 
     @property
     def scale(self) -> float:
@@ -63,6 +71,22 @@ class Box:
             parts.insert(0, f"(x[{self.disk[0]}], x[{self.disk[1]}]) uniform in the disk "
                             f"of radius {self.radius:g}")
         return "; ".join(parts)
+
+
+def _disk(disk, d):
+    """``disk`` as two different state indices in ``0 .. d - 1`` (ValueError naming it)."""
+    try:
+        items = list(disk)
+    except TypeError:
+        raise _v.WrongType(f"disk must be two state indices, got {type(disk).__name__} "
+                           f"{disk!r}"[:200]) from None
+    if len(items) != 2:
+        raise ValueError(f"disk must be two state indices, got {disk!r}"[:200])
+    out = tuple(_v.count("disk", i, 0) for i in items)
+    if out[0] == out[1] or max(out) >= d:
+        raise ValueError(f"disk must be two different state indices in 0 .. {d - 1}, got "
+                         f"{disk!r}"[:200])
+    return out
 
 
 def default_box(model) -> Box:

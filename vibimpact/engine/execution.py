@@ -11,6 +11,7 @@ import functools
 from dataclasses import dataclass
 from typing import Any
 
+from .. import _limits
 from .. import _validate as _v
 
 #: least points per job of a map (a second or more of work at the points per second and
@@ -76,7 +77,7 @@ class Execution:
 
     def __post_init__(self):
         put = functools.partial(object.__setattr__, self)
-        put("workers", _v.count("workers", self.workers, 1))
+        put("workers", _v.count("workers", self.workers, 1, _limits.MAX_WORKERS))
         put("task_points", _v.count("task_points", self.task_points, 1))
         put("resume", _v.flag("resume", self.resume))
         if self.checkpoint is not None:

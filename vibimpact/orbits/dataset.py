@@ -197,7 +197,7 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
     if not isinstance(hunt, OrbitHunt):
         raise _v.WrongType(f"hunt must be a vibimpact.orbits.OrbitHunt, got "
                            f"{type(hunt).__name__}")
-    system = to_system(system)
+    system = to_system(system, "system")
     names = list(system.model.state_names)
     orbits = list(hunt.orbits)
     data = _orbit_vars(orbits, len(names))

@@ -149,7 +149,7 @@ def orbit_extent(system: System, orbit: FoundOrbit, window: float = 0.05,
     ValueError
         Naming ``window`` or ``steps``.
     """
-    system = to_system(system)
+    system = to_system(system, "system")
     window = _v.positive("window", window)
     steps = HUNT_STEPS if steps is None else steps
     if not isinstance(steps, Steps):

@@ -30,9 +30,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from .. import _limits
 from .. import _validate as _v
 from ..analysis.shooting import shoot_periodic_orbit
 from ..census.reach import failed_integration
+from ..sweeps.sweep import ETA_RANGE
 from ..run import Status
 from ..system import to_system
 from .found import OrbitHunt, describe_orbit
@@ -198,16 +200,26 @@ class _Hunter:
                 self.add(orb, index)
 
 
+#: most Newton iterations of one start (``max_iter``), and most Newton starts per seed
+#: and period (``starts``)
+MAX_ITER = 1000
+
+
 def _settings(periods, transient, record, starts, max_return, max_iter, tol):
     """The checked settings of a hunt as a dict."""
     record = max(periods) * 3 if record is None else _v.count("record", record, 1)
     if record < max(periods):
         raise ValueError(f"record must be >= the longest period ({max(periods)}), got "
                          f"{record}")
-    return dict(transient=_v.count("transient", transient, 0), record=record,
-                starts=_v.count("starts", starts, 1),
+    transient = _v.count("transient", transient, 0)
+    if transient + record > _limits.MAX_PERIODS:
+        raise ValueError(f"transient + record must be at most {_limits.MAX_PERIODS} "
+                         f"forcing periods (one seed's run), got {transient} + {record}")
+    return dict(transient=transient, record=record,
+                starts=_v.count("starts", starts, 1, MAX_ITER),
                 max_return=_v.positive("max_return", max_return),
-                max_iter=_v.count("max_iter", max_iter, 1), tol=_v.positive("tol", tol))
+                max_iter=_v.count("max_iter", max_iter, 1, MAX_ITER),
+                tol=_v.positive("tol", tol))
 
 
 @_v.checks_flags
@@ -246,7 +258,8 @@ def hunt_orbits(system: System | Params | DuffingParams,
     Parameters
     ----------
     system : System or parameter set
-        The model at the forcing frequency of the hunt; its solver settings serve the
+        The model at the forcing frequency of the hunt (in ``[1e-6, 1e6]``,
+        :data:`vibimpact.sweeps.sweep.ETA_RANGE`); its solver settings serve the
         trajectories (shooting and the orbits' runs use ``rtol = 1e-10``).
     periods : int or iterable of int
         Periods to shoot for, each in ``[1, 64]``.
@@ -254,7 +267,7 @@ def hunt_orbits(system: System | Params | DuffingParams,
         The user's seed states at the start of a forcing period (e.g. a census's
         representatives, :func:`vibimpact.orbits.seeds_from_dataset`).
     random : int
-        Random seeds (default 48), drawn by ``numpy.random.default_rng(seed)`` in the box
+        Random seeds (default 48, at most 1,000,000), drawn by ``numpy.random.default_rng(seed)`` in the box
         of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
         variable, except the two positions of a planar contact (the rotor's ``X, Y``),
         uniform in the unit disk (the clearance circle).
@@ -264,13 +277,14 @@ def hunt_orbits(system: System | Params | DuffingParams,
         Another box (low, high of each state variable).
     transient, record : int
         Forcing periods integrated from a random seed before its close returns are
-        looked for, and over which they are (default three times the longest period).
+        looked for, and over which they are (default three times the longest period);
+        together at most the period limit of a run (10,000,000).
     starts : int
-        Newton starts per seed and period, at most.
+        Newton starts per seed and period, at most (``1 .. 1000``).
     max_return : float
         Largest relative return distance of a start.
     max_iter : int
-        Newton iterations per start, at most.
+        Newton iterations per start, at most (``1 .. 1000``).
     tol : float
         Newton's tolerance (relative residual).
     continuation : bool
@@ -304,7 +318,12 @@ def hunt_orbits(system: System | Params | DuffingParams,
     >>> sorted(o.label for o in hunt.orbits)
     ['P1, 0 impacts, stable', 'P1, 0 impacts, stable', 'P1, 0 impacts, unstable']
     """
-    system = to_system(system)
+    system = to_system(system, "system")
+    lo, hi = ETA_RANGE
+    if not lo <= system.omega <= hi:
+        name = system.model.param_names[system.model.omega_index]
+        raise ValueError(f"system: its forcing frequency {name} = {system.omega:g} must lie "
+                         f"in [{lo:g}, {hi:g}] (a forcing period the solver can resolve)")
     d = system.n_state
     periods = _periods(periods)
     st = _settings(periods, transient, record, starts, max_return, max_iter, tol)

@@ -85,9 +85,9 @@ def random_seeds(model: Model, count: int, seed: int = 0,
     ValueError
         Naming ``random``, ``seed`` or ``box``.
     """
-    from ..census.starts import Box, default_box, random_starts
+    from ..census.starts import MAX_STARTS, Box, default_box, random_starts
 
-    count = _v.count("random", count, 0)
+    count = _v.count("random", count, 0, MAX_STARTS)
     seed = _v.count("seed", seed, 0)
     d = len(model.state_names)
     if box is None:

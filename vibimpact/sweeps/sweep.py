@@ -50,6 +50,14 @@ if TYPE_CHECKING:  # names of the annotations only
 DIRECTIONS = ("up", "down", "both")
 
 
+#: the forcing frequencies a grid may hold: the forcing period ``2 pi / eta`` within six
+#: orders of magnitude of the models' time unit (the built-in models are scaled so that
+#: their natural frequency is about 1).  Below, one forcing period needs more steps than
+#: the solver's step limit per period; above, a step of the model's own dynamics spans
+#: millions of forcing periods, and a run's period limit is spent before the motion shows
+ETA_RANGE = (1e-6, 1e6)
+
+
 def check_grid(eta):
     """``eta`` as a validated, strictly increasing float64 grid (ValueError naming it)."""
     size = np.size(eta) if isinstance(eta, np.ndarray) else None
@@ -61,6 +69,11 @@ def check_grid(eta):
     _limits.check_points(arr.size)
     if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
         raise ValueError("eta must be finite and > 0")
+    lo, hi = ETA_RANGE
+    if arr.min() < lo or arr.max() > hi:
+        raise ValueError(f"eta must lie in [{lo:g}, {hi:g}] (a forcing period 2 pi / eta "
+                         f"the solver can resolve against the model's own time scale), got "
+                         f"values from {arr.min():.6g} to {arr.max():.6g}")
     if arr.size > 1 and not (np.all(np.diff(arr) > 0.0)):
         raise ValueError("eta must be strictly increasing (the direction is a separate "
                          "argument)")
@@ -389,6 +402,20 @@ def grid(text: str, name: str = "eta", positive: bool | None = None) -> np.ndarr
     ``positive`` refuses values ``<= 0``; by default only for ``eta`` (a forcing
     frequency), so that a grid of another parameter may cross zero.
 
+    Parameters
+    ----------
+    text : str
+        ``"START:STOP:STEP"`` or ``"V1,V2,..."``.
+    name : str
+        The parameter the grid is of (in the messages).
+    positive : bool, optional
+
+    Raises
+    ------
+    ValueError
+        Naming ``text`` (as ``name``), ``name`` or ``positive``; a ``TypeError`` (also
+        a ``ValueError``) for a wrong type.
+
     Where attractors coexist a grid built by hand (``np.arange(0.9, 1.5 + 1e-12,
     0.002)``, which differs from the command line's by about 1e-16) can make a sweep's
     continuation land on another attractor; this one gives the command line's numbers.
@@ -401,9 +428,12 @@ def grid(text: str, name: str = "eta", positive: bool | None = None) -> np.ndarr
     >>> vi.grid("-0.002:0:0.001", name="k3").tolist()
     [-0.002, -0.001, 0.0]
     """
+    if not isinstance(name, str) or not name.strip():
+        raise _v.WrongType(f"name must be a non-empty str (the parameter the grid is of), "
+                           f"got {type(name).__name__} {name!r}"[:200])
     if not isinstance(text, str):
-        raise _v.WrongType(f"{name} must be a str 'START:STOP:STEP' or 'V1,V2,...', got "
-                           f"{type(text).__name__}")
+        raise _v.WrongType(f"text must be a str 'START:STOP:STEP' or 'V1,V2,...' (the "
+                           f"grid of {name}), got {type(text).__name__}")
     if positive is None:
         positive = name == "eta"
     return parse_range(text, name=name, positive=_v.flag("positive", positive))
