@@ -275,12 +275,12 @@ def check_kind(kind, what, path):
                          "simulate, classify, bifurcation, map, continue or attractors")
     if kind in DRAWS[what]:
         return
-    if not DRAWS[what]:
-        raise UsageError(f"{path!r} is {FILE_KINDS[what]}, which plot does not draw (the "
-                         "command's --plot draws it)")
+    use = (f" (use --kind {_alternatives(DRAWS[what])}{_HINTS.get((kind, what), '')})"
+           if DRAWS[what] else ", which plot does not draw (the command's --plot draws it)")
+    if kind is None:
+        raise UsageError(f"{path!r} is {FILE_KINDS[what]}{use}")
     needs = " or ".join(FILE_KINDS[w] for w, kinds in DRAWS.items() if kind in kinds)
-    raise UsageError(f"--kind {kind} needs {needs}; {path!r} is {FILE_KINDS[what]} (use "
-                     f"--kind {_alternatives(DRAWS[what])}{_HINTS.get((kind, what), '')})")
+    raise UsageError(f"--kind {kind} needs {needs}; {path!r} is {FILE_KINDS[what]}{use}")
 
 
 def _alternatives(words):
