@@ -123,6 +123,11 @@ MAX_READ_BYTES = MAX_BYTES
 TEXT_ITEM_BYTES = 16
 
 
+class DeclaredTooLarge(ValueError):
+    """An input whose variables declare more than :data:`MAX_READ_BYTES`
+    (:func:`check_declared`); its message names the file."""
+
+
 def check_declared(variables, path, what="file"):
     """Refuse an input whose variables declare more than :data:`MAX_READ_BYTES`, before
     any of them is read.
@@ -140,8 +145,9 @@ def check_declared(variables, path, what="file"):
 
     Raises
     ------
-    ValueError
-        Naming the file, the largest variable, its shape and the declared size.
+    DeclaredTooLarge
+        A ValueError naming the file, the largest variable, its shape and the declared
+        size.
     """
     total, largest = 0, None
     for name, shape, itemsize in variables:
@@ -151,9 +157,10 @@ def check_declared(variables, path, what="file"):
             largest = (name, tuple(int(s) for s in shape), n)
     if total > MAX_READ_BYTES:
         name, shape, n = largest
-        raise ValueError(f"{what} {path!r} declares {human_bytes(total)} of data (variable "
-                         f"{str(name)[:60]!r} of shape {shape}: {human_bytes(n)}); at most "
-                         f"{human_bytes(MAX_READ_BYTES)} are read from one file")
+        raise DeclaredTooLarge(f"{what} {path!r} declares {human_bytes(total)} of data "
+                               f"(variable {str(name)[:60]!r} of shape {shape}: "
+                               f"{human_bytes(n)}); at most {human_bytes(MAX_READ_BYTES)} "
+                               "are read from one file")
 
 
 def points_bytes(points, n_samples, n_state):

@@ -71,8 +71,12 @@ def read_input(path, what="", stores=False):
         raise UsageError(f"{label}: no such file")
     else:
         reader, kind = io.read_netcdf, "NetCDF"
+    from ._limits import DeclaredTooLarge
+
     try:
         return reader(path)
+    except DeclaredTooLarge as exc:  # the message names the file already
+        raise UsageError(f"{what + ': ' if what else ''}{error_text(exc)}") from None
     except Exception as exc:  # netCDF4 raises OSError, xarray ValueError, ...
         raise UsageError(f"{what + ': ' if what else ''}cannot read {path!r} as {kind}: "
                          f"{reason(exc)}") from None

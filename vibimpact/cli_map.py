@@ -244,8 +244,12 @@ def plot_command(args, ds=None):
     if ds is None:
         if not os.path.exists(path):
             raise UsageError(f"{path!r}: no such file or directory")
+        from ._limits import DeclaredTooLarge
+
         try:
             ds = open_map(path)
+        except DeclaredTooLarge as exc:  # names the store already
+            raise UsageError(error_text(exc)) from None
         except Exception as exc:
             raise UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
                              f"{reason(exc)}") from None

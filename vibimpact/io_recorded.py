@@ -248,7 +248,7 @@ def recorded_params(attrs: Mapping, name: str = "the file", *, key: str | None =
     if missing:
         where = f"{prefix}{missing[0]} attribute" if prefix else f"{key!r} attribute"
         raise ValueError(f"{name} records no {', '.join(missing)} (no {where})")
-    check_in_domains(model, values, name, prefix or f"{key}:")
+    check_in_domains(model, values, name, prefix or f"{key!r} entry ")
     return model.param_set(**values)
 
 
