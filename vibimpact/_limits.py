@@ -25,6 +25,13 @@ SECONDS_PER_POINT = 0.005
 MAX_PERIODS = 10_000_000
 #: the most worker processes of one run (``--workers``, ``vi.Execution(workers=)``)
 MAX_WORKERS = 4096
+#: the forcing frequencies a run may have (``eta`` of every grid, ``--eta``): the forcing
+#: period ``2 pi / eta`` within six orders of magnitude of the models' time unit (the
+#: built-in models are scaled so that their natural frequency is about 1).  Below, one
+#: forcing period needs more steps than the solver's step limit per period; above, a step
+#: of the model's own dynamics spans millions of forcing periods, and a run's period
+#: limit is spent before the motion shows
+ETA_RANGE = (1e-6, 1e6)
 #: rough cost of one forcing period of ``simulate``, seconds
 SECONDS_PER_PERIOD = 5e-5
 

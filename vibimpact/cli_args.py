@@ -80,7 +80,7 @@ def set_verbosity(count):
 
 
 #: the most processes a ``--workers`` option takes (the API's limit too)
-from ._limits import MAX_WORKERS  # noqa: E402
+from ._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
 #: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
 MAX_INT = 2**63 - 1
 
@@ -136,6 +136,10 @@ def with_sets(base, sets, eta=None):
     for option, name, value in given:
         if name in known and math.isfinite(value) and value not in base.domain(name):
             raise UsageError(f"{option}: {base.domain(name).rule(name)}, got {value!r}")
+        if name == "eta" and not ETA_RANGE[0] <= value <= ETA_RANGE[1]:
+            raise UsageError(f"{option}: eta must lie in [{ETA_RANGE[0]:g}, "
+                             f"{ETA_RANGE[1]:g}] (a forcing period the solver can "
+                             f"resolve), got {value!r}")
     try:
         return base.replace(**({} if eta is None else {"eta": eta}), **sets)
     except ValueError as exc:

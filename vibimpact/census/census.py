@@ -184,7 +184,7 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     """
     from ..engine import progress as prog
     from ..engine.compute import compute
-    from ..sweeps.sweep import check_grid
+    from ..sweeps.sweep import check_frequency, check_grid
     from .dataset import census_dataset
 
     system = as_system(system)
@@ -201,8 +201,12 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     if box.lo.size != d:
         raise ValueError(f"box must have {d} components, got {box.lo.size}")
     seed = _v.count("seed", seed, 0)
-    etas = np.array([system.omega]) if eta is None else \
-        check_grid(eta if np.ndim(eta) else [eta])
+    if eta is None:
+        name = system.model.param_names[system.model.omega_index]
+        etas = np.array([system.omega])
+        check_frequency(etas, f"system's forcing frequency {name}")
+    else:
+        etas = check_grid(eta if np.ndim(eta) else [eta])
     states = as_starts(starts, d, box, seed)
     execution = as_execution(execution)
     scale = box.scale

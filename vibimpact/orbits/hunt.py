@@ -34,7 +34,7 @@ from .. import _limits
 from .. import _validate as _v
 from ..analysis.shooting import shoot_periodic_orbit
 from ..census.reach import failed_integration
-from ..sweeps.sweep import ETA_RANGE
+from ..sweeps.sweep import check_frequency
 from ..run import Status
 from ..system import to_system
 from .found import OrbitHunt, describe_orbit
@@ -319,11 +319,8 @@ def hunt_orbits(system: System | Params | DuffingParams,
     ['P1, 0 impacts, stable', 'P1, 0 impacts, stable', 'P1, 0 impacts, unstable']
     """
     system = to_system(system, "system")
-    lo, hi = ETA_RANGE
-    if not lo <= system.omega <= hi:
-        name = system.model.param_names[system.model.omega_index]
-        raise ValueError(f"system: its forcing frequency {name} = {system.omega:g} must lie "
-                         f"in [{lo:g}, {hi:g}] (a forcing period the solver can resolve)")
+    name = system.model.param_names[system.model.omega_index]
+    check_frequency(system.omega, f"system's forcing frequency {name}")
     d = system.n_state
     periods = _periods(periods)
     st = _settings(periods, transient, record, starts, max_return, max_iter, tol)

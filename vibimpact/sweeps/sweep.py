@@ -50,12 +50,23 @@ if TYPE_CHECKING:  # names of the annotations only
 DIRECTIONS = ("up", "down", "both")
 
 
-#: the forcing frequencies a grid may hold: the forcing period ``2 pi / eta`` within six
-#: orders of magnitude of the models' time unit (the built-in models are scaled so that
-#: their natural frequency is about 1).  Below, one forcing period needs more steps than
-#: the solver's step limit per period; above, a step of the model's own dynamics spans
-#: millions of forcing periods, and a run's period limit is spent before the motion shows
-ETA_RANGE = (1e-6, 1e6)
+#: the forcing frequencies a grid may hold (:data:`vibimpact._limits.ETA_RANGE`)
+ETA_RANGE = _limits.ETA_RANGE
+
+
+def check_frequency(values, name, text=None):
+    """``values`` (forcing frequencies) unless one lies outside :data:`ETA_RANGE`: a
+    ValueError naming ``name`` (the argument, or the option), with ``text`` as given."""
+    arr = np.atleast_1d(np.asarray(values, dtype=np.float64))
+    lo, hi = ETA_RANGE
+    if arr.size and (arr.min() < lo or arr.max() > hi):
+        got = repr(text) if text is not None else (
+            f"{arr.min():.6g}" if arr.size == 1 else
+            f"values from {arr.min():.6g} to {arr.max():.6g}")
+        raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (a forcing period 2 pi / "
+                         f"eta the solver can resolve against the model's own time scale), "
+                         f"got {got}")
+    return values
 
 
 def check_grid(eta):
@@ -69,11 +80,7 @@ def check_grid(eta):
     _limits.check_points(arr.size)
     if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
         raise ValueError("eta must be finite and > 0")
-    lo, hi = ETA_RANGE
-    if arr.min() < lo or arr.max() > hi:
-        raise ValueError(f"eta must lie in [{lo:g}, {hi:g}] (a forcing period 2 pi / eta "
-                         f"the solver can resolve against the model's own time scale), got "
-                         f"values from {arr.min():.6g} to {arr.max():.6g}")
+    check_frequency(arr, "eta")
     if arr.size > 1 and not (np.all(np.diff(arr) > 0.0)):
         raise ValueError("eta must be strictly increasing (the direction is a separate "
                          "argument)")
@@ -231,7 +238,7 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
         "floquet")``; only these are computed ("period" always runs, it ends the
-        transients).  ``period``: the period in forcing periods and the regime;
+        transients: an empty sequence asks for the period analysis alone).  ``period``: the period in forcing periods and the regime;
         ``impacts``: contacts per period and contact statistics; ``response``: the
         amplitudes ``X_m``, ``Y_m`` from dense samples; ``poincare``: stroboscopic
         samples for bifurcation diagrams; ``lyapunov``: the largest Lyapunov exponent;
@@ -344,7 +351,7 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     name : str
         The quantity, named in error messages.
     positive : bool
-        Refuse values ``<= 0`` (a forcing frequency).
+        A forcing frequency: refuse values ``<= 0`` and outside :data:`ETA_RANGE`.
 
     Returns
     -------
@@ -359,7 +366,8 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     """
     text = str(text)
     if ":" not in text:
-        return _parse_list(text, name, positive)
+        grid = _parse_list(text, name, positive)
+        return check_frequency(grid, name, text) if positive else grid
     parts = text.split(":")
     if len(parts) != 3:
         raise ValueError(f"{name} must be START:STOP:STEP or V1,V2,..., got {text!r}")
@@ -391,7 +399,8 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
                              f"{max(abs(a), abs(b)):g}: values would repeat, got {text!r}")
         raise ValueError(f"{name} STEP must be >= 1e-12 (the grid is rounded to 12 "
                          f"decimals), got {text!r}")
-    return _check_unchanged(raw, grid, name, text)
+    grid = _check_unchanged(raw, grid, name, text)
+    return check_frequency(grid, name, text) if positive else grid
 
 
 @_v.checks_flags
