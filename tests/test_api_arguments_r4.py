@@ -15,6 +15,7 @@ import pytest
 import xarray as xr
 
 import vibimpact as vi
+from vibimpact.branches import follow_branch
 from vibimpact.census import Box
 from vibimpact.cli import main
 
@@ -54,6 +55,9 @@ def test_box_refuses_what_it_cannot_draw_from(kw, name):
     (lambda: vi.basins(vi.System(FIG8), 1e-9, grid=(2, 2), eps=1), "eta"),
     (lambda: vi.hunt_orbits(FIG8.replace(eta=1e300), [1], random=1,
                             continuation=False), "system"),
+    (lambda: vi.basins(vi.System(FIG8.replace(eta=1e-9)), grid=(2, 2), eps=1), "system"),
+    (lambda: follow_branch(FIG8, stop=1e7), "stop"),
+    (lambda: follow_branch(FIG8.replace(eta=1e-7), stop=1.0), "system"),
 ])
 def test_forcing_frequencies_outside_the_solvers_range_are_refused(call, name):
     """Hypothesis: a forcing frequency outside [1e-6, 1e6] (a forcing period the solver

@@ -147,6 +147,11 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     transient = _v.count("transient", transient, 0)
     mdl = system.model
     omega_name = mdl.param_names[mdl.omega_index]
+    if param == omega_name:  # a forcing frequency the solver can resolve, at both ends
+        from .sweeps.sweep import check_frequency
+
+        check_frequency(system.omega, f"system's forcing frequency {omega_name}")
+        check_frequency(stop, "stop")
     x = None if state0 is None else _v.state("state0", state0, system.n_state)
     if approach is not None:
         from .sweeps import continued_state
