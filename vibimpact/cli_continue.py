@@ -238,8 +238,14 @@ def _switch(args, system, branch, steps, command):
     from .analysis import switch_branch
     from .branches import branch_to_dataset
 
+    from .bifurcation_kinds import BifurcationKind
+
     t0 = time.perf_counter()
+    why = f"the period-{branch.n} branch holds no period doubling"
     try:
+        if not any(kind is BifurcationKind.PERIOD_DOUBLING
+                   for _, kind, _ in branch.bifurcations):
+            raise ValueError(why)
         doubled = switch_branch(system, branch, stop=args.stop, steps=steps,
                                 refine=args.refine)
     except ValueError as exc:
