@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from . import _validate as _v
+
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
 
@@ -69,6 +71,7 @@ def recorded_number(value, what: str) -> float:
     return number
 
 
+@_v.checks_flags
 def recorded_model(attrs: Mapping, name: str = "the file", *,
                    required: bool = False) -> Model | None:
     """The model a file records (its ``model`` attribute, :data:`DEFAULT_MODEL` without
