@@ -17,7 +17,8 @@ import xarray as xr
 import vibimpact as vi
 from vibimpact.branches import follow_branch
 from vibimpact.census import Box
-from vibimpact.cli import main
+
+from test_bad_input import run_cli
 
 FIG8 = vi.presets.get("fig8")
 
@@ -152,11 +153,7 @@ def test_plot_of_a_census_whose_fractions_add_above_one_is_one_line(tmp_path, ca
     ds["fraction"].values[:] = 1.5
     ds.attrs["command"] = "vibimpact attractors"
     vi.io.write_netcdf(ds, tmp_path / "c.nc")
-    try:
-        rc = main(["plot", str(tmp_path / "c.nc"), "-o", str(tmp_path / "c.png")])
-    except SystemExit as exc:
-        rc = exc.code
-    _, err = capfd.readouterr()
+    rc, _, err = run_cli(["plot", tmp_path / "c.nc", "-o", tmp_path / "c.png"], capfd)
     lines = err.strip().splitlines()
     assert rc == 2 and len(lines) == 1 and "fraction" in lines[0], err
     assert not (tmp_path / "c.png").exists()

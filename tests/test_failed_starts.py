@@ -14,17 +14,8 @@ import pytest
 
 import vibimpact as vi
 from vibimpact.census.reach import DIVERGED, FAILED
-from vibimpact.cli import main
 
-
-def run_cli(argv, capfd):
-    """main(argv) in this process -> (status, stdout, stderr)."""
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capfd.readouterr()
-    return rc, out, err
+from test_bad_input import run_cli
 
 
 def warnings_of(err):
