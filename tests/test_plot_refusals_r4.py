@@ -181,7 +181,7 @@ def test_continue2_over_a_map_of_other_parameters_is_refused_before_work(no_seed
 
 @pytest.mark.parametrize("extra,needle", [
     (["--state0", "0", "0", "0"], "--state0 expects 4 numbers"),
-    (["--refine", "1e-300"], "--refine must be >="),
+    (["--refine", "1e-300"], "the float resolution of eta over the window, got 1e-300"),
 ])
 def test_continue_refuses_a_start_state_or_width_it_cannot_use(extra, needle, monkeypatch,
                                                               tmp_path, capfd):

@@ -138,8 +138,9 @@ def _check_refine(refine, param, start, stop):
 
     floor = 4.0 * float(np.spacing(max(abs(start), abs(stop))))
     if refine < floor:
-        raise UsageError(f"--refine must be >= {floor:.3g}, the float resolution of "
-                         f"{param} over the window, got {refine:.3g}")
+        raise UsageError(f"--refine (the width stability changes and grazings are "
+                         f"narrowed to; default 1e-06) must be >= {floor:.3g}, the float "
+                         f"resolution of {param} over the window, got {refine:.3g}")
 
 
 def _summary(branch):

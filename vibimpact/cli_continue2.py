@@ -218,9 +218,9 @@ def _cmd_continue2(args):
         curve = continue_bifurcation(seed, x, args.period, kind,
                                      pair=(args.param1, args.param2), stop=window,
                                      step=args.step, max_points=args.max_points)
-    except ValueError as exc:
-        raise UsageError(error_text(exc) + ("" if args.stop1 is not None else
-                                            "; try --stop1 to seed it from a branch"))\
+    except ValueError as exc:  # the API's state0 is the start the command reached
+        raise UsageError(error_text(exc).removeprefix("state0: ") + (
+            "" if args.stop1 is not None else "; try --stop1 to seed it from a branch"))\
             from None
     elapsed = time.perf_counter() - t0
     ds = curve_to_dataset(curve, seed, command=shlex.join(["vibimpact"] + list(args.argv)),
