@@ -506,7 +506,8 @@ def test_rerun_sigterm_during_its_write_ends_with_nothing_left(tmp_path):
     write that deadlocked) ends it: exit 143, one line, only the original file left."""
     assert cli("simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "50",
                "--transient", "5", "-o", "s.nc", cwd=tmp_path).returncode == 0
-    status, lines = interrupt_while_writing(["rerun", "s.nc"], tmp_path)
+    status, (announced, *lines) = interrupt_while_writing(["rerun", "s.nc"], tmp_path)
+    assert announced.startswith("vibimpact: rerunning 'vibimpact simulate "), announced
     assert status == 143 and len(lines) == 1, (status, lines)
     assert lines[0].startswith("vibimpact: interrupted"), lines
     assert files(tmp_path) == ["s.nc"]

@@ -489,6 +489,8 @@ def test_stopped_rerun_leaves_no_hidden_file_and_no_resume_advice(moment, tmp_pa
             if proc.poll() is None:
                 os.killpg(proc.pid, signal.SIGKILL)
         lines = messages(tmp_path)
+    announced, *lines = lines  # rerun says what it runs first (issue 44, class 5)
+    assert announced.startswith("vibimpact: rerunning 'vibimpact classify "), announced
     assert status == 143 and lines == ["vibimpact: interrupted; nothing written"], \
         (status, lines)
     assert files(tmp_path) == ["c.nc"]

@@ -46,9 +46,15 @@ and coordinate (units, flag_meanings, ...): a file whose attributes were changed
 the run, or that otherwise contradicts its recorded command, is reported as different,
 naming them (VARIABLE:ATTRIBUTE for a variable's).
 
+Before it starts, rerun says on stderr what it runs and how big it is ('vibimpact:
+rerunning 'vibimpact classify ...': 301 sweep points, 2 worker processes, about 1.5 s
+of computing on one core').  A file may come from anyone: a recorded command larger
+than {limits} is refused (exit status 2, nothing computed) unless --yes is given.
+
 exit status: 0 identical ('identical: N variables and M attributes of the run'), 1
 different (the differing variables and attributes are listed), 2 bad input (missing,
-foreign or damaged file, no recorded command).
+foreign or damaged file, no recorded command, a recorded command over the limits above
+without --yes).
 """
 
 
@@ -132,6 +138,23 @@ def _running(pid):
     return True
 
 
+def _announce(path, command, parsed, yes):
+    """Say on stderr what the rerun will run and how big it is; UsageError, before any
+    work, when it is over a limit of :mod:`vibimpact.cli_rerun_size` and ``yes`` is
+    false (a file from an unknown source must not start a long job on its own)."""
+    from .cli_rerun_size import size_of
+
+    try:
+        size = size_of(parsed)
+    except UsageError as exc:  # a grid the command refuses, as it refuses it
+        raise UsageError(f"rerunning {command!r}: {exc}") from None
+    if size.over and not yes:
+        cost = f" ({size.cost()})" if size.cost() else ""
+        raise UsageError(f"{path!r} records {command!r}: {'; '.join(size.over)}{cost}; "
+                          f"check the command and pass --yes to run it")
+    print(f"vibimpact: rerunning {command!r}: {size.text()}", file=sys.stderr)
+
+
 def _cmd_rerun(args):
     import tempfile
 
@@ -153,6 +176,7 @@ def _cmd_rerun(args):
         from .cli_start import recorded_start
 
         parsed.recorded_start = recorded_start(old, path)
+    _announce(path, old.attrs["command"], parsed, args.yes)  # before any work or file
     if not keep:
         directory = os.path.dirname(os.path.abspath(path))
         _remove_dead_reruns(path)
@@ -212,8 +236,16 @@ def _cmd_rerun(args):
 def add_parser(sub, fmt, build_parser):
     """Add ``rerun`` to the subparsers ``sub``; ``build_parser`` makes the whole command
     line parser again, to read the recorded command with."""
+    import textwrap
+
+    from .cli_rerun_size import limits_text
+
+    head, sep, tail = _RERUN_EPILOG.partition("Before it starts")
+    first, blank, rest = (sep + tail).partition("\n\n")
+    epilog = head + textwrap.fill(" ".join(first.format(limits=limits_text()).split()),
+                                  88) + "\n" + blank + rest
     r = sub.add_parser("rerun", help="redo the command recorded in an output file and "
-                       "compare bit for bit", formatter_class=fmt, epilog=_RERUN_EPILOG,
+                       "compare bit for bit", formatter_class=fmt, epilog=epilog,
                        description="Run the command recorded in a simulate, classify, "
                                    "bifurcation, continue or map output\nagain and "
                                    "compare every data variable and coordinate with it, "
@@ -224,6 +256,9 @@ def add_parser(sub, fmt, build_parser):
                    help="keep the recomputed file here (default: a temporary file next "
                         "to OUT.nc, removed afterwards)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing NEW.nc")
+    r.add_argument("--yes", action="store_true",
+                   help="run the recorded command even when it is larger than a rerun "
+                        "starts without asking (see below)")
     r.set_defaults(func=_cmd_rerun, build_parser=build_parser)
 
 
