@@ -251,7 +251,8 @@ CLI_CASES = {
     "plot garbage": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _garbage),
     "plot empty file": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _empty),
     "plot truncated NetCDF": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _truncated),
-    "plot foreign NetCDF": (["plot", "bad.nc", "-o", "p.png"], "neither", _foreign),
+    "plot foreign NetCDF": (["plot", "bad.nc", "-o", "p.png"], "is not a file plot draws",
+                            _foreign),
     "plot PNG named .nc": (["plot", "bad.nc", "-o", "p.png"], "cannot read", _png_as_nc),
     "plot missing file": (["plot", "missing.nc", "-o", "p.png"], "no such file", None),
     # ... and to rerun
@@ -260,7 +261,8 @@ CLI_CASES = {
     "rerun foreign NetCDF": (["rerun", "bad.nc"], "no 'command' attribute", _foreign),
     "rerun foreign command": (["rerun", "bad.nc"], "not a vibimpact", _foreign_command),
     "rerun missing file": (["rerun", "missing.nc"], "no such file", None),
-    "rerun onto itself": (["rerun", "bad.nc", "-o", "bad.nc"], "differ", _foreign_command),
+    "rerun onto itself": (["rerun", "bad.nc", "-o", "bad.nc"], "is the file being rerun",
+                          _foreign_command),
     "rerun a directory": (["rerun", "dir.nc"], "is a directory", _directory("dir.nc")),
     "rerun damaged Zarr store": (["rerun", "m.zarr"], "cannot read", _damaged_store),
     # damaged checkpoints
