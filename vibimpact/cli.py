@@ -137,7 +137,7 @@ def _cmd_simulate(args):
 
     check_state0(state0 if args.from_sweep is None else None, to_system(params))
     n_state = to_system(params).n_state
-    _check_run_limits(args, dense, n_state)  # before sizing the output
+    check_run_limits(args, dense, n_state)  # before sizing the output
     # the file holds the run's arrays once: is there room for it?
     check_output(out, args.overwrite, "output file",
                  size=_limits.run_bytes(args.periods, dense, n_state) // 2)
@@ -172,7 +172,7 @@ def _cmd_simulate(args):
     return 0
 
 
-def _check_run_limits(args, dense, n_state):
+def check_run_limits(args, dense, n_state):
     """The limits of :func:`vibimpact._limits.check_run` (forcing periods, memory),
     checked here so that the refusal names the options (``--periods 5 with --dense
     10``), not the API's arguments (``periods=5``)."""

@@ -107,12 +107,12 @@ def _n_state(args):
 
 def _simulate(size, args):
     from ._limits import SECONDS_PER_PERIOD
-    from .cli import _check_run_limits
+    from .cli import check_run_limits
 
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
     n_state = _n_state(args)
     if n_state is not None:  # the command's own limits first: --yes does not lift them
-        _check_run_limits(args, dense, n_state)
+        check_run_limits(args, dense, n_state)
     periods = args.periods + args.transient
     size.add(periods, "forcing periods", RERUN_MAX_PERIODS, periods * SECONDS_PER_PERIOD)
     samples = (args.periods + 1) + (args.periods * dense + 1 if dense else 0)
