@@ -17,26 +17,8 @@ import xarray as xr
 import vibimpact as vi
 from vibimpact.cli import main
 
-
-def run_cli(argv, capfd):
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capfd.readouterr()
-    return rc, out, err
-
-
-def one_line(rc, out, err):
-    assert rc == 2, (rc, out, err)
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("vibimpact: error: "), err
-    assert "Traceback" not in err and "Warning" not in err
-    return lines[0]
-
-
-def listing(d):
-    return sorted(p.name for p in d.iterdir())
+from test_bad_input import listing, run_cli
+from test_plot_refusals_r4 import one_line
 
 
 def _never(*args, **kwargs):

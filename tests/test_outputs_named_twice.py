@@ -14,17 +14,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from vibimpact.cli import main
 from vibimpact.cli_inputs import same_file
 
-
-def run_cli(argv, capfd):
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capfd.readouterr()
-    return rc, out, err
+from test_bad_input import run_cli
 
 
 def _never(*args, **kwargs):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from vibimpact.cli import main
+from test_bad_input import run_cli
 
 #: the words that name what each figure needs (written here, not taken from the code)
 NEEDS = {"xy": "a 'vibimpact simulate' file",
@@ -60,15 +60,6 @@ def _file(kind, path):
           }[kind]()
     ds.to_netcdf(path)
     return path
-
-
-def run_cli(argv, capfd):
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:
-        rc = exc.code
-    out, err = capfd.readouterr()
-    return rc, out, err
 
 
 def one_line(rc, out, err):

@@ -25,6 +25,8 @@ import hashlib
 import os
 import shutil
 
+from _cases_r4_files import _dataset as _edit  # rewrites a NetCDF file with edit(ds)
+
 #: the files the cases start from (name -> command line), made once in one directory
 SOURCES = {
     "s.nc": ["classify", "--preset", "fig11", "--eta", "1.05,1.06", "--analyses",
@@ -37,18 +39,6 @@ SOURCES = {
                  "--no-progress", "-o", "map.zarr"],
     "branch.nc": ["continue", "--stop", "1.05", "--max-points", "3", "-o", "branch.nc"],
 }
-
-
-def _edit(change):
-    """A function that rewrites the NetCDF file at a path with ``change(ds)``."""
-    def edit(path):
-        import xarray as xr
-
-        with xr.open_dataset(path) as ds:
-            new = change(ds.load())
-        os.unlink(path)
-        new.to_netcdf(path)
-    return edit
 
 
 def _text_x(ds):
