@@ -88,13 +88,27 @@ def test_cli_refuses_with_a_message_that_names_the_problem(case, tmp_path, monke
                                         ("0.9:0.906:0.002", [0.9, 0.902, 0.904, 0.906])])
 def test_large_range_values_parse_without_numpy_warnings(text, grid):
     """Hypothesis: values of 10^4 and more are not rounded to 12 decimals (which overflowed
-    for 1e300 and printed numpy RuntimeWarning lines before 'eta must be finite'); the
-    ordinary grids keep their rounded values."""
+    for 1e300 and printed numpy RuntimeWarning lines); the ordinary grids keep their
+    rounded values.  Parsed as a grid of a parameter other than the forcing frequency,
+    whose values are not bounded by the frequency range."""
     from vibimpact.sweeps import parse_range
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert parse_range(text).tolist() == grid
+        assert parse_range(text, name="kh", positive=False).tolist() == grid
+
+
+@pytest.mark.parametrize("text", ["1e300:1e300:1", "2e6", "1e-9,2e-9", "5e5:2e6:5e5"])
+def test_eta_outside_the_frequency_range_is_refused_without_numpy_warnings(text):
+    """Hypothesis: an eta grid outside the forcing-frequency range is refused by that
+    range, naming eta, and no NumPy warning comes before the refusal."""
+    from vibimpact._limits import ETA_RANGE
+    from vibimpact.sweeps import parse_range
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=rf"eta must lie in \[{ETA_RANGE[0]:g}, "):
+            parse_range(text)
 
 
 def test_eta_step_below_a_floats_resolution_says_so():
