@@ -181,3 +181,18 @@ def test_simulate_state0_fits_the_model(argv, needle, tmp_path, monkeypatch, cap
     line = one_line(*run_cli(argv + ["--periods", "2", "-o", tmp_path / "r.nc"], capfd))
     assert needle in line, line
     assert listing(tmp_path) == []
+
+
+@pytest.mark.parametrize("stop", ["1e7", "1e-9"])
+def test_continue_stop_outside_the_frequency_range_names_the_option(stop, tmp_path,
+                                                                    monkeypatch, capfd):
+    """Hypothesis: continue --stop beyond the forcing-frequency range is refused before
+    the branch is followed, in one line naming --stop (the API's refusal named its
+    keyword 'stop', after the start orbit had been reached)."""
+    import vibimpact.branches as branches
+
+    monkeypatch.setattr(branches, "follow_branch", _never)
+    line = one_line(*run_cli(["continue", "--eta", "1.12", "--stop", stop, "-o",
+                              tmp_path / "x.nc"], capfd))
+    assert line.startswith("vibimpact: error: --stop: eta must lie in")
+    assert listing(tmp_path) == []

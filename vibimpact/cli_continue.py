@@ -95,6 +95,11 @@ def _inputs(args):
     domain = system.param_domain(args.param)
     if args.stop not in domain:  # a branch may end on a bound (BT = 0), not beyond it
         raise UsageError(f"--stop: {domain.rule(args.param)}, got {args.stop!r}")
+    if args.param == system.model.param_names[system.model.omega_index] and not (
+            _limits.ETA_RANGE[0] <= args.stop <= _limits.ETA_RANGE[1]):
+        raise UsageError(f"--stop: {args.param} must lie in [{_limits.ETA_RANGE[0]:g}, "
+                         f"{_limits.ETA_RANGE[1]:g}] (a forcing period the solver can "
+                         f"resolve), got {args.stop:g}")
     for name in ("refine", "approach"):
         value = getattr(args, name)
         if value is not None and not (math.isfinite(value) and value > 0):
