@@ -157,3 +157,23 @@ def test_plot_of_a_census_whose_fractions_add_above_one_is_one_line(tmp_path, ca
     lines = err.strip().splitlines()
     assert rc == 2 and len(lines) == 1 and "fraction" in lines[0], err
     assert not (tmp_path / "c.png").exists()
+
+
+@pytest.mark.parametrize("ranges, needle", [
+    (((-1e308, 1e308), (-1.0, 1.0)), "finite hi - lo"),
+    (((-1.0, 1.0), (-1.7e308, 1.7e308)), "finite hi - lo"),
+    (((1.0, 1.0000000000000002), (-1.0, 1.0)), "too narrow for 6 cells"),
+])
+def test_basins_ranges_that_overflow_or_coincide_are_refused_without_warnings(ranges,
+                                                                               needle):
+    """Hypothesis: vi.basins refuses a plane range whose width overflows a float (NumPy
+    printed overflow warnings, then 'starts must be finite') or whose cell centres would
+    coincide (it computed a plane of repeated starts), naming ``ranges``, before any
+    integration, and with no warning."""
+    import warnings
+
+    system = vi.System(vi.presets.get("fig11").replace(eta=1.06))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=rf"^ranges.*{needle}"):
+            vi.basins(system, grid=(6, 6), ranges=ranges)

@@ -99,7 +99,10 @@ def _grid(grid):
     return tuple(_v.count("grid", g, 2) for g in grid)
 
 
-def _ranges(ranges, axes, box):
+def _ranges(ranges, axes, box, cells=None):
+    """The plane's two ``(lo, hi)`` ranges (the box's, by default); ValueError naming
+    ``ranges`` unless each is finite with ``lo < hi``, a finite width, and wide enough
+    for its ``cells`` centres to differ in floats."""
     if ranges is None:
         return tuple((float(box.lo[i]), float(box.hi[i])) for i in axes)
     try:
@@ -107,9 +110,13 @@ def _ranges(ranges, axes, box):
     except (TypeError, ValueError):
         out = ()
     if len(out) != 2 or not all(math.isfinite(a) and math.isfinite(b) and a < b
-                                for a, b in out):
-        raise ValueError(f"ranges must be ((lo, hi), (lo, hi)) with finite lo < hi, one "
-                         f"per plane variable, got {ranges!r}")
+                                and math.isfinite(b - a) for a, b in out):
+        raise ValueError(f"ranges must be ((lo, hi), (lo, hi)) with finite lo < hi and a "
+                         f"finite hi - lo, one per plane variable, got {ranges!r}")
+    for (lo, hi), n in zip(out, cells or ()):
+        if (hi - lo) / (n - 1) < 4.0 * max(math.ulp(lo), math.ulp(hi)):
+            raise ValueError(f"ranges: ({lo!r}, {hi!r}) is too narrow for {n} cells: "
+                             f"their centres would coincide in floats")
     return out
 
 
@@ -271,7 +278,7 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
                          f"{eta!r}")
     d = system.n_state
     box = default_box(model)
-    rng = _ranges(ranges, axes, box)
+    rng = _ranges(ranges, axes, box, (cols, rows))
     base = np.zeros(d) if base is None else _v.state("base", base, d)
     starts = grid_starts(base, axes, rng, (rows, cols))
     census = attractors(system, eta, starts, settings=settings, execution=execution)
