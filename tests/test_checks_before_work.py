@@ -196,3 +196,21 @@ def test_continue_stop_outside_the_frequency_range_names_the_option(stop, tmp_pa
                               tmp_path / "x.nc"], capfd))
     assert line.startswith("vibimpact: error: --stop: eta must lie in")
     assert listing(tmp_path) == []
+
+
+def test_orbits_seeds_without_a_state_names_the_file_not_the_api_argument(tmp_path,
+                                                                           monkeypatch,
+                                                                           capfd):
+    """Hypothesis: orbits --seeds of a file that holds no state of the model is refused
+    before the hunt in one line naming --seeds and the file, without the API's argument
+    name 'ds'."""
+    import vibimpact.orbits as orbits
+
+    monkeypatch.setattr(orbits, "hunt_orbits", _never)
+    seeds = tmp_path / "empty.nc"
+    xr.Dataset({"a": ("x", [1.0])}).to_netcdf(seeds)
+    line = one_line(*run_cli(["orbits", "--preset", "fig11", "--eta", "1.06", "--period",
+                              "1", "--seeds", seeds, "-o", tmp_path / "o.nc"], capfd))
+    assert line.startswith(f"vibimpact: error: --seeds {str(seeds)!r} holds no state")
+    assert " ds " not in line
+    assert listing(tmp_path) == ["empty.nc"]

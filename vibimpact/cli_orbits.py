@@ -96,7 +96,9 @@ def _seeds(args, system):
     try:
         return seeds_from_dataset(ds, system.n_state)
     except ValueError as exc:
-        raise UsageError(f"--seeds {args.seeds!r}: {error_text(exc)}") from None
+        text = error_text(exc)  # the API names its argument ds: here it is the file
+        text = text[len("ds "):] if text.startswith("ds ") else text
+        raise UsageError(f"--seeds {args.seeds!r} {text}") from None
 
 
 def _cmd_orbits(args):
