@@ -332,10 +332,10 @@ LAYERS = (
     # the compiled kernel
     ("_kernel",),
     # vocabulary without dependencies: validation, text, limits, fill values, bifurcation
-    # kinds, provenance, signal-safe file writes, and the package root (its version and
-    # lazy name table)
+    # kinds, provenance, signal-safe file writes, regular files and bounded JSON read
+    # from files, and the package root (its version and lazy name table)
     ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance",
-     "_writing"),
+     "_writing", "_regular", "_json"),
 )
 
 

@@ -45,7 +45,10 @@ def fail_nth(func, match, at):
 
 
 def _is_entry(name):
-    return ".partial" in str(name) and str(name).endswith(".npz")
+    """A checkpoint entry: by its path, or by its name in the checkpoint (written
+    relative to the directory's descriptor)."""
+    return (".partial" in str(name) or os.sep not in str(name)) and \
+        str(name).endswith(".npz")
 
 
 def _leftovers(d):

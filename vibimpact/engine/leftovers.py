@@ -19,35 +19,33 @@ def stamp(out):
 def wrote_output(ckpt, out):
     """Record in ``ckpt`` that ``out`` was written from it, before the checkpoint is
     removed or kept (--keep-checkpoint): a later resume may replace that file, and
-    only that file, without overwriting (:func:`output_of`)."""
+    only that file, without overwriting (:func:`output_of`).  The stamp is written
+    atomically and never through a symbolic link (nor into a FIFO)."""
     import json
 
     try:
-        (ckpt.path / OUTPUT_STAMP).write_text(json.dumps(stamp(out)))
-    except OSError:  # no stamp: a resume then asks for --overwrite
+        ckpt.write_file(OUTPUT_STAMP, json.dumps(stamp(out)).encode())
+    except (OSError, ValueError):  # no stamp: a resume then asks for --overwrite
         pass
 
 
 def output_of(ckpt, out):
     """True when the existing ``out`` is the file written from the checkpoint ``ckpt``
     (:func:`wrote_output`), which a resume may replace; an unrelated file needs
-    overwriting."""
-    import json
-
+    overwriting.  The stamp is read only from a regular file, bounded."""
     try:
-        return json.loads((ckpt.path / OUTPUT_STAMP).read_text()) == stamp(out)
+        return ckpt.read_json(OUTPUT_STAMP) == stamp(out)
     except (OSError, ValueError):
         return False
 
 
 def remove_checkpoint_temporaries(checkpoint):
     """Remove the temporary entries (``.tmp-*``) a run killed while saving left in the
-    checkpoint directory ``checkpoint``.  Returns their number."""
-    import glob
+    checkpoint directory ``checkpoint`` (nothing where it is a symbolic link).  Returns
+    their number."""
+    from .ckdir import remove_temporaries
 
-    stale = glob.glob(os.path.join(glob.escape(os.fspath(checkpoint)), ".tmp-*"))
-    remove_paths(stale)
-    return len(stale)
+    return remove_temporaries(checkpoint)
 
 
 def remove_stale_temporaries(out):
@@ -63,8 +61,10 @@ def remove_stale_temporaries(out):
 
     directory, name = os.path.split(os.path.abspath(out))
     pattern = glob.escape(os.path.join(directory, "." + name + "."))
+    # a checkpoint being made (.OUT.partial.PID-*.tmp) is its maker's while it runs
     stale = [p for p in glob.glob(pattern + "*.tmp") + glob.glob(pattern + "*.old")
-             if (pid := temporary_pid(out, p)) is None or not running(pid)]
+             if (pid := temporary_pid(out, p) or temporary_pid(out + ".partial", p))
+             is None or not running(pid)]
     remove_paths(stale)
     return len(stale) + remove_checkpoint_temporaries(out + ".partial")
 

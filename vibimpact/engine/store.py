@@ -22,15 +22,25 @@ Layout
 Every file is written to a temporary name, flushed and renamed, so an entry is either
 completely on disk or absent: a run killed at any moment (Ctrl-C, SIGKILL, a lost
 cluster) loses only the points in flight, and every point is a deterministic function of
-the request, so a resumed run is identical to an uninterrupted one.
+the request, so a resumed run is identical to an uninterrupted one.  A new checkpoint
+is made whole, its ``request.json`` in it, under a temporary name and renamed into
+place: an interrupt never leaves a checkpoint without its request.
+
+Files are read and written through a descriptor of the checkpoint directory itself
+(:mod:`vibimpact.engine.ckdir`): a checkpoint that is, or becomes during the run, a
+symbolic link, a file or another directory is refused naming what was found, and
+nothing is read or written where a link points.  Only regular files are read (a FIFO
+named like an entry does not block: it is set aside), and JSON is bounded in size and
+depth (:mod:`vibimpact._json`).
 
 Damaged checkpoints
 -------------------
-* ``request.json`` unreadable, not JSON or not a checkpoint record, or a directory that
-  is not a checkpoint: :meth:`Checkpoint.open` raises ``ValueError`` naming it; nothing
-  is guessed.
-* An entry that cannot be read back completely (truncated, garbage, a foreign ``.npz``:
-  *damaged*), that carries another request's fingerprint (*foreign*: copied from another
+* ``request.json`` unreadable, not a regular file, not JSON (or nested too deep) or not
+  a checkpoint record, or a directory that is not a checkpoint: :meth:`Checkpoint.open`
+  raises ``ValueError`` naming it; nothing is guessed.
+* An entry that cannot be read back completely (truncated, garbage, a foreign ``.npz``,
+  a point result without the fields of its kind: *damaged*; a FIFO, a directory or a
+  link named like an entry: *not a file*), that carries another request's fingerprint (*foreign*: copied from another
   sweep or map), or whose own indices (row, direction, positions, grid indices) are not
   those of its name or lie outside the request (*misplaced*) can only come from a damaged
   disk or a hand edit: it is renamed ``<name>.corrupt`` (kept as evidence), its points
@@ -47,12 +57,14 @@ import logging
 import os
 import re
 import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from .. import _json
+from .._regular import NotRegular, open_regular
 from .._text import count
+from . import ckdir
 
 log = logging.getLogger(__name__)
 
@@ -63,7 +75,8 @@ _META = ("fingerprint", "row", "direction", "position", "eta_index")
 
 
 class SetAside(ValueError):
-    """An entry that is not loaded; ``reason`` is "damaged", "foreign" or "misplaced"."""
+    """An entry that is not loaded; ``reason`` is "damaged", "foreign", "misplaced" or
+    "special"."""
 
     def __init__(self, reason):
         super().__init__(reason)
@@ -72,7 +85,13 @@ class SetAside(ValueError):
 
 #: why an entry was set aside, in words
 REASONS = {"damaged": "damaged", "foreign": "from another request",
-           "misplaced": "indices not its own"}
+           "misplaced": "indices not its own", "special": "not a regular file"}
+
+#: the fields every point result of a checkpoint kind has (one without is damaged)
+FIELDS = {"sweep": ("final_state", "regime"), "map": ("final_state", "regime"),
+          "census": ("decided_by",),
+          "orbits": ("lo", "hi", "lo_reason", "hi_reason", "stable", "values",
+                     "stable_points", "impacts", "abs_max", "same_impacts")}
 
 
 def fingerprint(request):
@@ -83,21 +102,6 @@ def fingerprint(request):
 
 def entry_name(row, direction, start, stop):
     return f"{direction}_{row:06d}_{start:06d}-{stop:06d}.npz"
-
-
-def _atomic_write(target, data):
-    target = Path(target)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=".tmp-", suffix=target.suffix)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def pack(points):
@@ -152,21 +156,40 @@ class Checkpoint:
         self.what = what  # "checkpoint" or "map checkpoint", in messages
         self.fp = None
         self.n = None
+        self.kind = None  # "sweep", "map", "census", "orbits": what a point result holds
         self._record = None  # request.json's bytes, to restore a vanished checkpoint
+        self._ident = None  # (st_dev, st_ino) of the directory this run writes into
 
     # --- path level -----------------------------------------------------------------
     def exists(self):
         return os.path.lexists(self.path)
 
+    def _shown(self):
+        return repr(os.fspath(self.path))
+
+    def _not_a_directory(self, found, when=""):
+        """The refusal of a checkpoint path that holds ``found`` (:func:`ckdir.found_at`)
+        instead of a directory; ``when``: " during the run" for one replaced so."""
+        link = found.startswith("a symbolic link")
+        verb = "was replaced by" if when else "is"
+        return ValueError(f"{self.what} {self._shown()} {verb} {found}{when}, not a "
+                          "directory; " + ("not following a link out of the "
+                                           "checkpoint: " if link else "")
+                          + ("the run stops" if when else
+                             "remove it or choose another output"))
+
     def check_reusable(self, resume):
         """ValueError unless a run may go ahead: ``path`` is absent, or (with ``resume``)
-        a directory; without ``resume``, an existing checkpoint is a
-        :class:`vibimpact.io.NeedsFlag` naming the flag ``resume``."""
-        if self.exists() and not self.path.is_dir():
-            raise ValueError(f"checkpoint {os.fspath(self.path)!r} exists and is not a "
-                             "directory; remove it")
-        if self.exists() and not resume:
-            raise self._exists(f"checkpoint {os.fspath(self.path)!r} exists")
+        a directory (not a symbolic link to one); without ``resume``, an existing
+        checkpoint is a :class:`vibimpact.io.NeedsFlag` naming the flag ``resume``."""
+        found = ckdir.found_at(self.path)
+        if found is not None and found != "a directory":
+            if found.startswith("a symbolic link"):
+                raise self._not_a_directory(found)
+            raise ValueError(f"checkpoint {self._shown()} exists and is not a "
+                             f"directory ({found}); remove it")
+        if found is not None and not resume:
+            raise self._exists(f"checkpoint {self._shown()} exists")
 
     def _exists(self, refused):
         """The refusal of an existing checkpoint without ``resume``."""
@@ -175,22 +198,43 @@ class Checkpoint:
         return NeedsFlag(f"{refused} (an interrupted run)", "resume",
                          "to continue it, or remove it")
 
-    def entries(self):
-        """``[(name, row, direction, start, stop)]`` of the entry files now present."""
-        try:
-            names = sorted(os.listdir(self.path))
-        except OSError:
-            return []
+    @staticmethod
+    def _entries(fd):
         out = []
-        for name in names:
+        for name in sorted(os.listdir(fd)):
             m = _ENTRY.match(name)
             if m:
                 out.append((name, int(m[2]), m[1], int(m[3]), int(m[4])))
         return out
 
+    def entries(self):
+        """``[(name, row, direction, start, stop)]`` of the entry files now present (none
+        where the path is not a directory)."""
+        try:
+            with ckdir.opened(self.path) as fd:
+                return self._entries(fd)
+        except (OSError, ValueError):
+            return []
+
+    def _json(self, fd, name):
+        """The JSON file ``name`` of the checkpoint (regular, bounded, no link)."""
+        return _json.load_file(name, name, dir_fd=fd, follow=False)
+
+    def read_json(self, name):
+        """The JSON file ``name`` of the checkpoint; ValueError or OSError if it cannot
+        be read (not a regular file, too large or deep, not JSON, missing)."""
+        with ckdir.opened(self.path) as fd:
+            return self._json(fd, name)
+
+    def write_file(self, name, data):
+        """Write the file ``name`` (bytes) into the checkpoint, atomically, never through
+        a symbolic link; OSError or ValueError if it cannot be."""
+        with ckdir.opened(self.path) as fd:
+            ckdir.write_atomic(fd, name, data)
+
     def _streams_shape(self):
         try:
-            return json.loads((self.path / REQUEST).read_text())["streams"]["points"]
+            return int(self.read_json(REQUEST)["streams"]["points"])
         except Exception:
             return None
 
@@ -212,22 +256,25 @@ class Checkpoint:
         empty = {"points": 0, "streams": 0, "damaged": [], "reasons": {},
                  "recomputed_points": 0, "recomputed_streams": 0}
         try:
-            rec = json.loads((self.path / LAST_RESUME).read_text())
+            rec = self.read_json(LAST_RESUME)
             return {k: rec.get(k, v) if k not in ("points", "streams", "damaged") else rec[k]
                     for k, v in empty.items()}
         except Exception:
             return empty
 
     def remove(self):
-        shutil.rmtree(self.path, ignore_errors=True)
+        shutil.rmtree(self.path, ignore_errors=True)  # a symbolic link is left alone
 
     # --- one request ----------------------------------------------------------------
     def open(self, kind, request, streams, resume):
         """Create the checkpoint of ``request`` or, with ``resume``, reopen it.
 
+        A new checkpoint is made whole with its ``request.json`` (built under a
+        temporary name beside it and renamed into place, :func:`ckdir.create`).
+
         Parameters
         ----------
-        kind : {"sweep", "map"}
+        kind : {"sweep", "map", "census", "orbits"}
         request : dict
             JSON-able: everything the results depend on.
         streams : dict
@@ -238,40 +285,93 @@ class Checkpoint:
         ------
         ValueError
             ``path`` exists without ``resume`` (a :class:`vibimpact.io.NeedsFlag` naming
-            the flag ``resume``), is not a checkpoint, or belongs to a different
-            request.
+            the flag ``resume``), is not a checkpoint (a symbolic link or a file
+            included), or belongs to a different request.
         """
+        from .._writing import remove_dead_temporaries
+
         path, what = self.path, self.what
         self.fp = fingerprint(request)
         self.n = int(streams["points"])
         self.streams = streams
+        self.kind = kind
+        record = {"kind": kind, "fingerprint": self.fp, "request": request,
+                  "streams": streams}
+        data = json.dumps(record, sort_keys=True, default=str, indent=1).encode()
         if self.exists():
             if not resume:
                 raise self._exists(f"{what} {path} already exists")
             self._check(kind)
             return self
-        path.mkdir(parents=True)
-        record = {"kind": kind, "fingerprint": self.fp, "request": request,
-                  "streams": streams}
-        _atomic_write(path / REQUEST, json.dumps(record, sort_keys=True, default=str,
-                                                 indent=1).encode())
+        remove_dead_temporaries(os.fspath(path))  # a creation killed before its rename
+        self._record = data
+        st = ckdir.create(path, {REQUEST: data})
+        self._ident = (st.st_dev, st.st_ino)
         return self
 
     def _check(self, kind):
+        """Reopen the existing checkpoint; ValueError unless it is a directory (not a
+        link) whose request.json records this request."""
         path, what = self.path, self.what
-        meta = path / REQUEST
-        if not path.is_dir() or not meta.is_file():
-            raise ValueError(f"{what} {path} is not a vibimpact {kind} checkpoint (no "
-                             f"readable {REQUEST}); remove it or choose another output")
         try:
-            old = json.loads(meta.read_text())
-        except (OSError, ValueError):
-            raise ValueError(f"{what} {path} has no readable {REQUEST}") from None
+            fd, st = ckdir.dir_fd(path)
+        except ckdir.Found as exc:
+            raise self._not_a_directory(exc.found) from None
+        except OSError as exc:
+            raise ValueError(f"{what} {self._shown()} cannot be opened "
+                             f"({exc.strerror or exc})") from None
+        try:
+            raw, old = self._request(fd, kind)
+        finally:
+            os.close(fd)
         if not isinstance(old, dict) or "fingerprint" not in old:
             raise ValueError(f"{what} {path}: {REQUEST} is not a vibimpact checkpoint "
                              "record")
         if old.get("kind", kind) != kind or old["fingerprint"] != self.fp:
             raise ValueError(f"{what} {path} belongs to a different {kind} request")
+        self._record, self._ident = raw, (st.st_dev, st.st_ino)
+
+    def _request(self, fd, kind):
+        """``(bytes, value)`` of the request.json of the checkpoint directory ``fd``;
+        ValueError if there is none or it cannot be read."""
+        path, what = self.path, self.what
+        try:
+            raw = read_regular_request(fd)
+            return raw, _json.loads(raw, REQUEST)
+        except FileNotFoundError:
+            raise ValueError(f"{what} {path} is not a vibimpact {kind} checkpoint (no "
+                             f"readable {REQUEST}); remove it or choose another "
+                             "output") from None
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"{what} {path} has no readable {REQUEST} "
+                             f"({getattr(exc, 'strerror', None) or exc})") from None
+
+    def _dir_to_save(self):
+        """The descriptor of the checkpoint directory to save into: this run's (made
+        again with its request if it vanished).  ValueError naming what was found when
+        it was replaced by a symbolic link, a file or another directory."""
+        try:
+            fd, st = ckdir.dir_fd(self.path)
+        except ckdir.Found as exc:
+            raise self._not_a_directory(exc.found, " during the run") from None
+        except FileNotFoundError:  # moved or removed while the run goes on
+            ckdir.create(self.path, {REQUEST: self._record})
+            log.warning("%s %s vanished during the run; recreated (the points saved "
+                        "before are in the run's memory and its result)", self.what,
+                        self.path)
+            fd, st = ckdir.dir_fd(self.path)
+        if self._ident is not None and (st.st_dev, st.st_ino) != self._ident:
+            try:
+                same = read_regular_request(fd) == self._record
+            except (OSError, ValueError):
+                same = False
+            if not same:
+                os.close(fd)
+                raise ValueError(f"{self.what} {self._shown()} was replaced by another "
+                                 f"directory during the run (without this run's "
+                                 f"{REQUEST}); the run stops")
+        self._ident = (st.st_dev, st.st_ino)
+        return fd
 
     def save(self, row, direction, points):
         """Write one entry: ``points`` is ``[(position, result)]``, contiguous."""
@@ -285,20 +385,23 @@ class Checkpoint:
         name = entry_name(row, direction, int(pos[0]), int(pos[-1]) + 1)
         try:
             if self._record is None:
-                self._record = (self.path / REQUEST).read_bytes()
-            if not self.path.is_dir():  # moved or removed while the run goes on
-                self.path.mkdir(parents=True)
-                _atomic_write(self.path / REQUEST, self._record)
-                log.warning("%s %s vanished during the run; recreated (the points saved "
-                            "before are in the run's memory and its result)", self.what,
-                            self.path)
-            _atomic_write(self.path / name, buf.getvalue())
+                with ckdir.opened(self.path) as fd:
+                    self._record = read_regular_request(fd)
+            fd = self._dir_to_save()
+            try:
+                ckdir.write_atomic(fd, name, buf.getvalue())
+            finally:
+                os.close(fd)
         except OSError as exc:  # a full disk, a read-only file system
-            raise OSError(exc.errno, f"cannot save to {self.what} {os.fspath(self.path)!r}"
+            raise OSError(exc.errno, f"cannot save to {self.what} {self._shown()}"
                           f": {exc.strerror or exc}") from None
 
-    def _read(self, name, row, direction, start, stop):
-        with np.load(self.path / name, allow_pickle=False) as z:
+    def _read(self, fd, name, row, direction, start, stop):
+        try:
+            efd = open_regular(name, name, dir_fd=fd, follow=False)
+        except NotRegular:
+            raise SetAside("special") from None
+        with os.fdopen(efd, "rb") as fh, np.load(fh, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
         if any(k not in arrays for k in _META):
             raise SetAside("damaged")
@@ -315,11 +418,17 @@ class Checkpoint:
             points = unpack({k: v for k, v in arrays.items() if k not in _META}, pos.size)
         except (ValueError, IndexError):
             raise SetAside("damaged") from None
-        for r in points:  # a census start's result (census.reach) has no final state
-            if "decided_by" not in r and (np.ndim(r.get("final_state")) != 1 or
-                                          "regime" not in r):
-                raise SetAside("damaged")
+        if not all(self._whole(r) for r in points):
+            raise SetAside("damaged")
         return dict(zip(pos.tolist(), points))
+
+    def _whole(self, result):
+        """Whether a loaded point result has the fields of its kind (:data:`FIELDS`); a
+        sweep's or a map's final state is a vector."""
+        need = FIELDS.get(self.kind, ())
+        if any(k not in result for k in need):
+            return False
+        return "final_state" not in need or np.ndim(result["final_state"]) == 1
 
     def _inside(self, row, direction, stop):
         """Whether entry points ``.. stop - 1`` of stream ``(row, direction)`` lie in the
@@ -335,34 +444,43 @@ class Checkpoint:
         self.fp = record["fingerprint"]
         self.n = int(record["streams"]["points"])
         self.streams = record["streams"]
+        self.kind = record.get("kind")
         return record
 
     def load(self, resume=True):
         """``{(row, direction): {position: result}}`` of every readable entry.
 
-        With ``resume``, entries set aside (damaged, foreign or misplaced) are renamed
-        ``<name>.corrupt`` and what was loaded and set aside is written to
-        ``last_resume.json``; without, they are only skipped (a look at a running
-        checkpoint changes nothing).
+        With ``resume``, entries set aside (damaged, foreign, misplaced or not a regular
+        file) are renamed ``<name>.corrupt`` and what was loaded and set aside is
+        written to ``last_resume.json``; without, they are only skipped (a look at a
+        running checkpoint changes nothing).
         """
         done, aside = {}, []
-        for name, row, d, a, b in self.entries():
-            try:
-                points = self._read(name, row, d, a, b)
-            except Exception as exc:  # BadZipFile, EOFError, OSError, KeyError, ...
-                aside.append((name, getattr(exc, "reason", "damaged"), row, d, a, b))
-                if resume:
-                    try:
-                        os.replace(self.path / name, self.path / (name + ".corrupt"))
-                    except OSError:
-                        pass
-                continue
-            done.setdefault((row, d), {}).update(points)
-        if resume:
-            self._record_resume(done, aside)
+        try:
+            fd, _ = ckdir.dir_fd(self.path)
+        except ckdir.Found as exc:
+            raise self._not_a_directory(exc.found) from None
+        try:
+            for name, row, d, a, b in self._entries(fd):
+                try:
+                    points = self._read(fd, name, row, d, a, b)
+                except Exception as exc:  # BadZipFile, EOFError, OSError, KeyError, ...
+                    aside.append((name, getattr(exc, "reason", "damaged"), row, d, a, b))
+                    if resume:
+                        try:
+                            os.replace(name, name + ".corrupt", src_dir_fd=fd,
+                                       dst_dir_fd=fd)
+                        except OSError:
+                            pass
+                    continue
+                done.setdefault((row, d), {}).update(points)
+            if resume:
+                self._record_resume(fd, done, aside)
+        finally:
+            os.close(fd)
         return done
 
-    def _record_resume(self, done, aside):
+    def _record_resume(self, fd, done, aside):
         """Write ``last_resume.json``: what :meth:`load` loaded and set aside, and how many
         points (streams) of the request are computed again because of the latter."""
         npts = sum(len(v) for v in done.values())
@@ -379,7 +497,7 @@ class Checkpoint:
                "damaged": [name + ".corrupt" for name, *_ in aside],
                "reasons": {name + ".corrupt": why for name, why, *_ in aside},
                "recomputed_points": len(again), "recomputed_streams": len(streams)}
-        _atomic_write(self.path / LAST_RESUME, json.dumps(rec).encode())
+        ckdir.write_atomic(fd, LAST_RESUME, json.dumps(rec).encode())
         log.info("checkpoint %s: %d points loaded, %d entries set aside", self.path, npts,
                  len(aside))
 
@@ -419,13 +537,47 @@ def set_aside_line(last, where, unit="points"):
             f"({'; '.join(shown)}{more}); {again}")
 
 
+def read_regular_request(fd):
+    """The bytes of ``request.json`` in the checkpoint directory ``fd`` (a regular file,
+    bounded, not a link)."""
+    from .._regular import read_regular
+
+    return read_regular(REQUEST, REQUEST, _json.MAX_BYTES, dir_fd=fd, follow=False)
+
+
 def read_record(path):
-    """The ``request.json`` record of a checkpoint directory (ValueError if none)."""
+    """The ``request.json`` record of a checkpoint directory: a dict with a
+    ``fingerprint`` and the ``streams`` (``points``); ValueError naming ``path`` and why
+    not (not a directory, a symbolic link, no readable or too deep ``request.json``)."""
+    shown = repr(os.fspath(path))
     try:
-        return json.loads((Path(path) / REQUEST).read_text())
-    except (OSError, ValueError):
-        raise ValueError(f"{os.fspath(path)!r} is not a vibimpact checkpoint") from None
+        with ckdir.opened(path) as fd:
+            record = _json.load_file(REQUEST, f"its {REQUEST}", dir_fd=fd, follow=False)
+    except FileNotFoundError:
+        raise ValueError(f"{shown} is not a vibimpact checkpoint (no {REQUEST})") from None
+    except ckdir.Found as exc:
+        raise ValueError(f"{shown} is not a vibimpact checkpoint: it is {exc.found}") \
+            from None
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{shown} is not a vibimpact checkpoint: "
+                         f"{getattr(exc, 'strerror', None) or exc}") from None
+    streams = record.get("streams") if isinstance(record, dict) else None
+    points = streams.get("points") if isinstance(streams, dict) else None
+    if not isinstance(record.get("fingerprint") if isinstance(record, dict) else None,
+                      str) or not isinstance(points, int) or isinstance(points, bool) \
+            or points < 1:
+        raise ValueError(f"{shown} is not a vibimpact checkpoint: its {REQUEST} is not a "
+                         "checkpoint record")
+    return record
 
 
 def is_checkpoint(path):
-    return (Path(path) / REQUEST).is_file()
+    """Whether ``path`` is a directory (not a link) holding a regular ``request.json``."""
+    import stat
+
+    try:
+        with ckdir.opened(path) as fd:
+            st = os.stat(REQUEST, dir_fd=fd, follow_symlinks=False)
+    except (OSError, ValueError):
+        return False
+    return stat.S_ISREG(st.st_mode)
