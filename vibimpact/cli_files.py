@@ -2,6 +2,7 @@
 files read with one line on failure, outputs written together or not at all."""
 import os
 
+from ._regular import why_not_a_file
 from .cli_errors import UsageError, error_text, reason
 
 
@@ -68,7 +69,7 @@ def read_input(path, what="", stores=False):
         raise UsageError(f"{label} is a directory, not a NetCDF file"
                          + (" or a Zarr store" if stores else ""))
     elif not os.path.isfile(path):
-        raise UsageError(f"{label}: no such file")
+        raise UsageError(label + why_not_a_file(path))  # or a FIFO, a device, ...
     else:
         reader, kind = io.read_netcdf, "NetCDF"
     from ._limits import DeclaredTooLarge

@@ -307,10 +307,9 @@ def _has(ds, name):
 def _missing(ds, path, what, analysis):
     """The UsageError for a sweep file without finite ``what`` to draw: every point
     diverged or not computed, or the analysis was not requested."""
-    import json
-
     import numpy as np
 
+    from ._json import loads
     from ._text import count
     from .analysis.classify import Label
     from .points.point import REGIME_CODES
@@ -324,7 +323,7 @@ def _missing(ds, path, what, analysis):
         return UsageError(f"{path!r} has no {what} to draw: {why} (its labels: --kind "
                           "intervals)")
     try:
-        asked = analysis in json.loads(ds.attrs.get("settings", "{}")).get("analyses", "")
+        asked = analysis in loads(ds.attrs.get("settings", "{}"), "settings").get("analyses", "")
     except (ValueError, AttributeError):
         asked = False
     if asked:

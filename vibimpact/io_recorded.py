@@ -17,12 +17,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import json
 import math
 
 import numpy as np
 
-from . import _validate as _v
+from . import _json, _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
@@ -106,10 +105,7 @@ def _json_params(attrs, key, name):
     text = attrs[key]
     if not isinstance(text, str):
         raise ValueError(f"{name}'s {key!r} attribute is not text (JSON)")
-    try:
-        values = json.loads(text)
-    except (ValueError, RecursionError) as exc:
-        raise ValueError(f"{name}'s {key!r} attribute is not JSON ({exc})"[:300]) from None
+    values = _json.loads(text, f"{name}'s {key!r} attribute")  # bounded depth and size
     if not isinstance(values, dict):
         raise ValueError(f"{name}'s {key!r} attribute is not a JSON object of "
                          "parameters")

@@ -118,16 +118,15 @@ def scheduler_address(text):
     (JSON, as ``dask scheduler --scheduler-file`` writes), or ``text`` itself, checked
     (a known protocol, a port).  ValueError otherwise, before any connection is tried.
     """
-    import json
-
     from distributed.comm import get_address_host_port, parse_address, registry
+
+    from .._json import load_file
 
     if os.path.isdir(text):
         raise ValueError("a directory, not a scheduler file or address")
     if os.path.isfile(text):
         try:
-            with open(text, encoding="utf-8") as fh:
-                address = json.load(fh)["address"]
+            address = load_file(text, "scheduler file")["address"]
             if not isinstance(address, str):
                 raise TypeError
         except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):

@@ -167,16 +167,16 @@ class Checkpoint:
     def _shown(self):
         return repr(os.fspath(self.path))
 
-    def _not_a_directory(self, found, when=""):
+    def _not_a_directory(self, found, during=False):
         """The refusal of a checkpoint path that holds ``found`` (:func:`ckdir.found_at`)
-        instead of a directory; ``when``: " during the run" for one replaced so."""
-        link = found.startswith("a symbolic link")
-        verb = "was replaced by" if when else "is"
-        return ValueError(f"{self.what} {self._shown()} {verb} {found}{when}, not a "
-                          "directory; " + ("not following a link out of the "
-                                           "checkpoint: " if link else "")
-                          + ("the run stops" if when else
-                             "remove it or choose another output"))
+        instead of a directory (``during``: found so in the middle of the run)."""
+        link = "not following a link out of the checkpoint: " \
+            if found.startswith("a symbolic link") else ""
+        if during:
+            return ValueError(f"{self.what} {self._shown()} was replaced by {found} "
+                              f"during the run; {link}the run stops")
+        return ValueError(f"{self.what} {self._shown()} is {found}, not a directory; "
+                          f"{link}remove it or choose another output")
 
     def check_reusable(self, resume):
         """ValueError unless a run may go ahead: ``path`` is absent, or (with ``resume``)
@@ -353,7 +353,7 @@ class Checkpoint:
         try:
             fd, st = ckdir.dir_fd(self.path)
         except ckdir.Found as exc:
-            raise self._not_a_directory(exc.found, " during the run") from None
+            raise self._not_a_directory(exc.found, during=True) from None
         except FileNotFoundError:  # moved or removed while the run goes on
             ckdir.create(self.path, {REQUEST: self._record})
             log.warning("%s %s vanished during the run; recreated (the points saved "

@@ -165,6 +165,9 @@ def check_replaceable(path: str, what: str = "output") -> None:
         refuse("is a directory without a zarr.json (not a Zarr store)")
     if os.path.getsize(meta) > MAX_ZARR_JSON:
         refuse(f"has a zarr.json of {os.path.getsize(meta)} bytes")
+    special = _special_entry(path)
+    if special is not None:  # Zarr would block on a FIFO reading the metadata
+        refuse(f"holds {special[0]!r}, {special[1]}")
     import zarr
 
     try:
@@ -223,13 +226,13 @@ def _listed(path):
     (``{name: metadata}``); ValueError naming ``path`` when its ``zarr.json`` cannot be
     read or holds no consolidated metadata: :func:`write_map` always writes them, so a
     store without is damaged (or not one of a map), and Zarr would open what the
-    directory happens to hold."""
-    import json
+    directory happens to hold.  It is read only as a regular file, bounded in size and
+    nesting (:func:`vibimpact._json.load_file`)."""
+    from .._json import load_file
 
     where = os.path.join(path, "zarr.json")
     try:
-        with open(where, encoding="utf-8") as fh:
-            meta = json.load(fh)
+        meta = load_file(where, "it", follow=False, max_bytes=MAX_ZARR_JSON)
     except (OSError, ValueError) as exc:
         raise ValueError(f"map {path!r} is damaged: {where!r} cannot be read "
                          f"({getattr(exc, 'strerror', None) or exc})") from None
@@ -254,6 +257,10 @@ def check_store(path: str) -> None:
     """
     import zarr
 
+    special = _special_entry(path)
+    if special is not None:
+        raise ValueError(f"map {path!r} is damaged: {special[0]!r} is {special[1]}, not a "
+                         "regular file (a Zarr store holds files and directories only)")
     listed = _listed(path)
     for name, info in sorted(listed.items()):
         if isinstance(info, dict) and info.get("node_type") == "array" and \
@@ -282,6 +289,23 @@ def check_store(path: str) -> None:
             raise ValueError(f"map {path!r} is damaged: {want - have} of {want} chunks "
                              f"of variable {name!r} are missing (they would read as "
                              "the fill value)")
+
+
+def _special_entry(path):
+    """``(entry, what it is)`` of the first entry under the store ``path`` that is
+    neither a regular file nor a directory (a FIFO, a device, a socket, a symbolic
+    link): Zarr would block on a FIFO or follow a link; None when there is none."""
+    import stat
+
+    from .._regular import kind
+
+    for top, dirs, files in os.walk(path):
+        for name in sorted(dirs + files):
+            full = os.path.join(top, name)
+            mode = os.lstat(full).st_mode
+            if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+                return os.path.relpath(full, path), kind(mode)
+    return None
 
 
 def _unreadable(path, name, exc):

@@ -1,10 +1,9 @@
 """Helpers shared by the sweep figures: directions, colours, titles."""
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
+from .. import _json
 from .. import _validate as _v
 
 #: colour of each sweep direction
@@ -190,7 +189,7 @@ def title(ds):
     params = {}
     if "params" in a:
         try:
-            params = json.loads(a["params"])
+            params = _json.loads(a["params"], "the attribute 'params'")
         except (TypeError, ValueError):
             params = {}
     if not isinstance(params, dict):

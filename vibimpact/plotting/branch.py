@@ -208,9 +208,11 @@ def _without_param(ds, name):
     import json
     from types import SimpleNamespace
 
+    from .._json import loads
+
     attrs = {k: v for k, v in ds.attrs.items() if k != f"param_{name}"}
     try:
-        params = json.loads(attrs["params"])
+        params = loads(attrs["params"], "the attribute 'params'")
     except (KeyError, TypeError, ValueError):
         params = None
     if isinstance(params, dict) and name in params:

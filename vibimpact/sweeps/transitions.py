@@ -50,8 +50,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import json
-
 import numpy as np
 
 from ..analysis.classify import Label
@@ -62,7 +60,7 @@ from ..analysis.shooting import shoot_periodic_orbit
 from .. import models
 from ..params import Params
 from ..run import Status
-from .. import _validate as _v
+from .. import _json, _validate as _v
 from ..simulation import simulate
 from ..solver import SolverSettings
 from ..system import System
@@ -106,7 +104,7 @@ def _settings_of(ds):
     from ..engine.plan import settings_from_attrs
 
     try:
-        return settings_from_attrs(json.loads(ds.attrs["settings"]))
+        return settings_from_attrs(_json.loads(ds.attrs["settings"], "settings"))
     except (KeyError, TypeError, ValueError):
         return SweepSettings()
 
