@@ -8,10 +8,10 @@ directory".  Now a checkpoint's files are opened only when regular, without bloc
 and never through a link, and what was found is named.
 """
 import os
-import socket
 import subprocess
 import sys
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +19,9 @@ import pytest
 from vibimpact.engine.leftovers import output_of, wrote_output
 from vibimpact.engine.store import Checkpoint
 from test_bad_input import assert_refused, listing, run_cli
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analyses" / "reliability"))
+from _cases_r4_checkpoints import INPUT_COMMANDS, make_socket  # noqa: E402 -- shared
 
 REQUEST = {"a": 1}
 STREAMS = {"rows": 1, "directions": ["up"], "points": 3}
@@ -160,24 +163,11 @@ def test_a_checkpoint_that_is_a_symbolic_link_is_refused_before_any_work(
     assert listing(tmp_path) == ["c.nc.partial", "real"]
 
 
-def _socket(path):
-    s = socket.socket(socket.AF_UNIX)
-    s.bind(str(path))
-    s.close()
-
-
-INPUTS = {
-    "plot": ["plot", "IN", "-o", "p.png"],
-    "rerun": ["rerun", "IN"],
-    "simulate --from": ["simulate", "--from", "IN", "-o", "o.nc"],
-    "attractors --sweep": ["attractors", "--sweep", "IN", "-o", "o.nc"],
-    "orbits --seeds": ["orbits", "--seeds", "IN", "-o", "o.nc"],
-}
-KINDS = {"fifo": (os.mkfifo, "a FIFO"), "socket": (_socket, "a socket")}
+KINDS = {"fifo": (os.mkfifo, "a FIFO"), "socket": (make_socket, "a socket")}
 
 
 @pytest.mark.parametrize("kind", list(KINDS))
-@pytest.mark.parametrize("command", list(INPUTS))
+@pytest.mark.parametrize("command", list(INPUT_COMMANDS))
 def test_an_input_that_is_no_regular_file_is_named_so(command, kind, tmp_path,
                                                       monkeypatch, capfd):
     """Hypothesis: a FIFO or a socket given as a command's input file is refused in one
@@ -186,7 +176,7 @@ def test_an_input_that_is_no_regular_file_is_named_so(command, kind, tmp_path,
     monkeypatch.chdir(tmp_path)
     make, words = KINDS[kind]
     make(tmp_path / "in.nc")
-    argv = [a if a != "IN" else "in.nc" for a in INPUTS[command]]
+    argv = [a if a != "IN" else "in.nc" for a in INPUT_COMMANDS[command]]
     rc, out, err = run_cli(argv, capfd)
     assert_refused(rc, out, err, f"'in.nc' is {words}, not a regular file")
     assert listing(tmp_path) == ["in.nc"]

@@ -8,9 +8,9 @@ wanted a sweep's ``final_state``, which an orbit's extent does not have.  SIGINT
 checkpoint is made whole (under a temporary name, with its request, then renamed).
 """
 import os
-import signal
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +18,9 @@ import pytest
 from vibimpact.engine import ckdir
 from vibimpact.engine.store import FIELDS, Checkpoint
 from test_bad_input import listing
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analyses" / "reliability"))
+from _cases_r4_checkpoints import AT_CREATION  # noqa: E402 -- the reliability run's fault
 
 STREAMS = {"rows": 1, "directions": ["states"], "points": 2}
 
@@ -98,24 +101,14 @@ def test_a_killed_makers_temporary_checkpoint_is_removed(tmp_path):
 
 
 def _harness(tmp_path, code, argv):
-    """``vibimpact argv`` in a Python process that runs ``code`` first."""
-    return subprocess.run([sys.executable, "-c", code + "\nimport sys\n"
-                           "from vibimpact.cli import main\nsys.exit(main(sys.argv[1:]))",
-                           *argv], cwd=tmp_path, capture_output=True, text=True,
-                          timeout=180)
+    """``vibimpact argv`` in a Python process that runs ``code`` first (``code`` that
+    does not end by running the command line gets that appended)."""
+    if "main(sys.argv" not in code:
+        code += "\nimport sys\nfrom vibimpact.cli import main\nsys.exit(main(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, *argv], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=180)
 
 
-#: the process signals itself while it writes its new checkpoint's request.json
-AT_CREATION = """
-import os, signal
-from vibimpact.engine import ckdir
-real = ckdir.write_atomic
-def write_atomic(fd, name, data):
-    if name == "request.json":
-        os.kill(os.getpid(), signal.{sig})
-    return real(fd, name, data)
-ckdir.write_atomic = write_atomic
-"""
 #: the process signals itself after its second saved entry
 AFTER_TWO = """
 import os, signal

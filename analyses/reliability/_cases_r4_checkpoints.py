@@ -156,15 +156,17 @@ def fifo_cases(kit, base, timeout):
     return out + _input_cases(kit, base, timeout, klass)
 
 
-#: input kind -> (make(path), words of the refusal)
-def _socket(path):
+def make_socket(path):
+    """A Unix socket at ``path`` (nobody listening)."""
     s = socket.socket(socket.AF_UNIX)
     s.bind(str(path))
     s.close()
 
 
-INPUT_KINDS = {"a FIFO": os.mkfifo, "a socket": _socket,
+#: input kind -> make(path)
+INPUT_KINDS = {"a FIFO": os.mkfifo, "a socket": make_socket,
                "a directory": os.mkdir}
+#: command -> argv reading the input IN
 INPUT_COMMANDS = {
     "plot": ["plot", "IN", "-o", "p.png"],
     "rerun": ["rerun", "IN"],
