@@ -216,15 +216,12 @@ class Checkpoint:
         except (OSError, ValueError):
             return []
 
-    def _json(self, fd, name):
-        """The JSON file ``name`` of the checkpoint (regular, bounded, no link)."""
-        return _json.load_file(name, name, dir_fd=fd, follow=False)
-
     def read_json(self, name):
-        """The JSON file ``name`` of the checkpoint; ValueError or OSError if it cannot
-        be read (not a regular file, too large or deep, not JSON, missing)."""
+        """The JSON file ``name`` of the checkpoint (a regular file, bounded, not through
+        a link); ValueError or OSError if it cannot be read (not a regular file, too
+        large or deep, not JSON, missing)."""
         with ckdir.opened(self.path) as fd:
-            return self._json(fd, name)
+            return _json.load_file(name, name, dir_fd=fd, follow=False)
 
     def write_file(self, name, data):
         """Write the file ``name`` (bytes) into the checkpoint, atomically, never through
