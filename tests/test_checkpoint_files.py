@@ -40,7 +40,7 @@ def _saved(tmp_path, n=3):
 
 
 def _bounded(func, *args):
-    """``func(*args)`` in a thread that must finish within 10 s (a FIFO opened for
+    """``func(*args)`` in a thread that must finish within its bound (a FIFO opened for
     reading would block it for good); its result or exception."""
     got = []
 

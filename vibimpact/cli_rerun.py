@@ -47,7 +47,7 @@ the run, or that otherwise contradicts its recorded command, is reported as diff
 naming them (VARIABLE:ATTRIBUTE for a variable's).
 
 Before it starts, rerun says on stderr what it runs and how big it is ('vibimpact:
-rerunning 'vibimpact classify ...': 301 sweep points, 2 worker processes, about 1.5 s
+rerunning 'vibimpact classify ...': 301 sweep points, 2 worker processes, about N s
 of computing on one core').  A file may come from anyone: a recorded command larger
 than {limits} is refused (exit status 2, nothing computed) unless --yes is given.
 

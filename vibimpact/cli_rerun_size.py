@@ -55,7 +55,7 @@ class Size:
             self.seconds = (self.seconds or 0.0) + seconds
 
     def cost(self):
-        """``"about 1.5 s of computing on one core"`` ("" when not known)."""
+        """``"about N s of computing on one core"`` ("" when not known)."""
         from ._limits import human_duration
 
         if self.seconds is None:
@@ -63,7 +63,7 @@ class Size:
         return f"about {human_duration(self.seconds)} of computing on one core"
 
     def text(self):
-        """``"301 sweep points, 2 worker processes, about 1.5 s of computing on one
+        """``"301 sweep points, 2 worker processes, about N s of computing on one
         core"``."""
         return ", ".join(self.parts + ([self.cost()] if self.cost() else []))
 

@@ -13,7 +13,7 @@ streams that cannot be written (class 1) and reruns of crafted files (class 5).
   ``command`` attribute was replaced by a large job (100,000 points both ways, a
   300 x 300 map, 10,000,000 forcing periods, a 100,000-point bifurcation, a 100,000-point
   branch, 4096 workers).  Clean: one line, exit 2, within seconds (nothing computed) and
-  no file left; with ``--yes`` the guard lets it start (sent SIGTERM after 3 s: 143).
+  no file left; with ``--yes`` the guard lets it start (then sent SIGTERM a few seconds in: 143).
 """
 from __future__ import annotations
 
