@@ -425,13 +425,3 @@ def shrink():
             del table[key]
     for key in list(INPUT_COMMANDS)[1:]:
         del INPUT_COMMANDS[key]
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
-    out = []
-    for klass, func in CLASSES.items():
-        if only and klass not in only:
-            continue
-        out += func(kit, base, timeout)
-    return out

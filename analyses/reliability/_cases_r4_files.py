@@ -304,13 +304,3 @@ def shrink():
     for table in (CRAFTED, BIG_FILES, READERS, FOREIGN):
         for key in list(table)[1:]:
             del table[key]
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
-    out = []
-    for klass, func in CLASSES.items():
-        if only and klass not in only:
-            continue
-        out += func(kit, base, timeout)
-    return out

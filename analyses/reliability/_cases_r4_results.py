@@ -183,13 +183,3 @@ def shrink():
     global FAILED, API
     FAILED = dict(list(FAILED.items())[:1])
     API = dict(list(API.items())[:1])
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
-    out = []
-    for klass, func in CLASSES.items():
-        if only and klass not in only:
-            continue
-        out += func(kit, base, timeout)
-    return out

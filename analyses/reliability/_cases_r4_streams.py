@@ -204,13 +204,3 @@ def shrink():
         for key in list(table)[keep:]:
             del table[key]
     LIGHT_FAULTS, WITH_YES = LIGHT_FAULTS[:2], ()
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
-    out = []
-    for klass, func in CLASSES.items():
-        if only and klass not in only:
-            continue
-        out += func(kit, base, timeout)
-    return out

@@ -491,14 +491,3 @@ def shrink():
         for cases in group.values():
             for key in list(cases)[1:]:
                 del cases[key]
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of this round (of the classes ``only``)."""
-    out, done = [], set()
-    for klass, func in CLASSES.items():
-        if (only and klass not in only) or func in done:
-            continue
-        done.add(func)
-        out += [o for o in func(kit, base, timeout) if not only or o.klass in only]
-    return out

@@ -252,13 +252,3 @@ def shrink():
     IGNORING, IGNORED_AT = IGNORING[:1], IGNORED_AT[-1:]
     for key in list(IN_PROCESS)[1:]:
         del IN_PROCESS[key]
-
-
-def measure(kit, base, timeout, only=None):
-    """The :class:`Outcome` of every case of these classes (of the classes ``only``)."""
-    out = []
-    for klass, func in CLASSES.items():
-        if only and klass not in only:
-            continue
-        out += func(kit, base, timeout)
-    return out

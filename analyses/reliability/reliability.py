@@ -470,13 +470,26 @@ CLASS_CASES = {
     "command-line wording": lambda b, r, w, m, t: wording_cases(b, t),
     "user model sizes": lambda b, r, w, m, t: user_model_cases(b, t),
 }
-#: the modules of further classes (each: ``CLASSES``, ``shrink()``, ``measure(kit, base,
-#: timeout, only)``), run after this module's own
+#: the modules of further classes (each: ``CLASSES``, class -> ``func(kit, base,
+#: timeout)``, and ``shrink()``), run after this module's own
 EXTRA = (_cases_round3, _cases_signals, _cases_r4_streams, _cases_r4_checkpoints,
          _cases_r4_inputs, _cases_r4_files, _cases_r4_results)
 #: the classes that need the reference runs
 NEEDS_REFERENCES = {"killed worker", "SIGTERM", "SIGINT", "disk full",
                     "vanished checkpoint", "foreign checkpoint entry"}
+
+
+def measure_extra(extra, base, timeout, only=None):
+    """The :class:`Outcome` of every case of the classes of the module ``extra`` (of the
+    classes ``only``); a function serving several classes runs once."""
+    out, done = [], set()
+    for klass, func in extra.CLASSES.items():
+        if (only and klass not in only) or func in done:
+            continue
+        done.add(func)
+        out += [o for o in func(sys.modules[__name__], base, timeout)
+                if not only or o.klass in only]
+    return out
 
 
 def measure(quick=False, timeout=300, only=None):
@@ -497,7 +510,7 @@ def measure(quick=False, timeout=300, only=None):
             out += [o for o in func(base, ref, wall, moments, timeout)
                     if not only or o.klass in only]
         for extra in EXTRA:
-            out += extra.measure(sys.modules[__name__], base, timeout, only)
+            out += measure_extra(extra, base, timeout, only)
         return out, wall
     finally:
         subprocess.run(["umount", str(base / "small")], capture_output=True)
