@@ -309,33 +309,28 @@ LAYERS = (
     ("cli", "cli_*", "__main__"),
     # figures of any result
     ("plotting",),
-    # studies over parameters: sweeps, maps, censuses, orbit hunts, branches, curves
-    ("sweeps", "maps", "census", "orbits", "branches", "curves"),
+    # studies over parameters: sweeps, maps, censuses, orbit hunts, branches and curves
+    ("sweeps", "maps", "census", "orbits", "continuation"),
     # running many points: processes, checkpoints, progress
     ("engine",),
     # one point of a study: the decision pipeline
     ("points",),
     # analysers of one trajectory or orbit
     ("analysis",),
-    # simulate
-    ("simulation",),
-    # a System (model, parameters, solver settings) and the Solver that integrates it
-    ("system", "solver"),
     # files: the formats of runs and datasets
-    ("io", "io_compare", "io_recorded"),
-    # the result of one integration
-    ("run",),
-    # the shipped models and the presets (named parameter sets)
-    ("builtin_models", "presets"),
-    # declaring a model: the Model, its parameter sets, contact laws, the model probe
-    ("models", "params", "contact", "model_probe"),
+    ("io",),
+    # simulate, a System (model, parameters, solver settings), the Solver, a Run
+    ("core",),
+    # the shipped models
+    ("builtin_models",),
+    # declaring a model: the Model, its parameter sets, contact laws, the model probe,
+    # the presets
+    ("models",),
     # the compiled kernel
     ("_kernel",),
-    # vocabulary without dependencies: validation, text, limits, fill values, bifurcation
-    # kinds, provenance, signal-safe file writes, regular files and bounded JSON read
-    # from files, and the package root (its version and lazy name table)
-    ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance",
-     "_writing", "_regular", "_json"),
+    # vocabulary without dependencies, and the package root (its version and lazy name
+    # table)
+    ("", "base"),
 )
 
 
@@ -447,5 +442,5 @@ def test_the_layer_rule_catches_an_upward_import(tmp_path):
         f = tmp_path / f"probe{i}.py"
         f.write_text(src)
         deps = list(_dependencies(f))
-        assert any(_layer(d) is not None and _layer(d) < _layer("vibimpact.run")
+        assert any(_layer(d) is not None and _layer(d) < _layer("vibimpact.core.run")
                    for d in deps), (src, deps)

@@ -36,7 +36,7 @@ def _api_keywords():
     shorter than three letters."""
     import vibimpact as vi
     from vibimpact import io
-    from vibimpact.branches import follow_branch
+    from vibimpact.continuation.branches import follow_branch
     from vibimpact.maps.store import write_map
     from vibimpact.sweeps.start import sweep_start
 
@@ -158,7 +158,7 @@ def _damaged_branch(d):
     variables: drawing it fails inside the plotting function."""
     import xarray as xr
 
-    from vibimpact import branches
+    from vibimpact.continuation import branches
     from vibimpact.io import write_netcdf
 
     ds = xr.Dataset(coords={"eta": ("point", [1.1, 1.2])},

@@ -7,7 +7,7 @@ import time
 import numpy as np
 import pytest
 
-from vibimpact._text import count
+from vibimpact.base._text import count
 from vibimpact.cli import main
 
 

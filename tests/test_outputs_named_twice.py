@@ -33,7 +33,7 @@ COMMANDS = {
                ("vibimpact.orbits", "hunt_orbits")),
     "continue2": (["continue2", "--kind", "grazing", "--param2", "kh", "--range2",
                    "110:130"], ("vibimpact.cli_continue2", "_seed")),
-    "simulate": (["simulate", "--periods", "2"], ("vibimpact.simulation", "simulate")),
+    "simulate": (["simulate", "--periods", "2"], ("vibimpact.core.simulation", "simulate")),
 }
 
 
@@ -97,7 +97,7 @@ def _netcdf(path):
 INPUTS = {
     "plot FILE -o FILE": (["plot", "s.png", "-o", "./s.png", "--overwrite"], None),
     "simulate --from": (["simulate", "--from", "s.png", "--eta", "1.0", "-o", "./s.png",
-                         "--overwrite"], ("vibimpact.simulation", "simulate")),
+                         "--overwrite"], ("vibimpact.core.simulation", "simulate")),
     "attractors --sweep": (["attractors", "--eta", "1.06", "--starts", "2", "--sweep",
                             "s.png", "-o", "sub/../s.png", "--overwrite"],
                            ("vibimpact.census.census", "attractors")),
@@ -136,7 +136,7 @@ def test_continue_switch_output_linked_to_the_branch_file_is_refused(tmp_path,
     (tmp_path / "b.nc").write_bytes(b"old")
     os.symlink("b.nc", tmp_path / "b_P2.nc")
     line = _refused(["continue", "--stop", "1.1", "--switch", "-o", "b.nc", "--overwrite"],
-                    tmp_path, capfd, ("vibimpact.branches", "follow_branch"), monkeypatch)
+                    tmp_path, capfd, ("vibimpact.continuation.branches", "follow_branch"), monkeypatch)
     assert "--switch" in line
 
 

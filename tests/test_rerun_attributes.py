@@ -1,5 +1,5 @@
 """``vibimpact rerun`` and :func:`vibimpact.io.differences` compare attributes: every
-global attribute but the deny-list of :data:`vibimpact.provenance.NOT_COMPARED` (time
+global attribute but the deny-list of :data:`vibimpact.base.provenance.NOT_COMPARED` (time
 stamps, versions, platform, command line) and every attribute of every variable and
 coordinate, so that a file that contradicts itself is never "identical"."""
 import shutil
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact import provenance
+from vibimpact.base import provenance
 from vibimpact.io import attribute_differences, differences, read_netcdf
 
 from test_bad_input import run_cli  # noqa: F401

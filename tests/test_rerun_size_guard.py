@@ -151,7 +151,7 @@ def test_every_documented_command_reruns_without_asking():
     """Hypothesis: the file of every classify, bifurcation, map, simulate and continue
     command of the README and the user guide is under every rerun limit (the limits
     are sized for them), and the limits are below the commands' own."""
-    from vibimpact import _limits
+    from vibimpact.base import _limits
 
     commands = _doc_commands()
     assert len(commands) > 20

@@ -66,11 +66,11 @@ from .cli_figures import add_figure_options, figure_options
 from .cli_files import check_output, write_outputs
 from .engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
                              StopWorkersOnSignal)
-from ._text import count
+from .base._text import count
 
 
 def _cmd_presets(args):
-    from . import presets
+    from .models import presets
 
     header = ("name",) + tuple(c + "*" if c in ("B", "Ec") else c for c in _PRESET_COLUMNS)
     rows = []
@@ -99,7 +99,7 @@ def _cmd_simulate(args):
     import shlex
     import time
 
-    from . import presets
+    from .models import presets
 
     out = os.fspath(args.output)
     check_output(out, args.overwrite, "output file")
@@ -132,8 +132,8 @@ def _cmd_simulate(args):
             raise UsageError(error_text(exc)) from None
         params = with_sets(base, parse_sets(args.set), args.eta)
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
-    from . import _limits
-    from .system import to_system
+    from .base import _limits
+    from .core.system import to_system
 
     check_state0(state0 if args.from_sweep is None else None, to_system(params))
     n_state = to_system(params).n_state
@@ -143,8 +143,8 @@ def _cmd_simulate(args):
                  size=_limits.run_bytes(args.periods, dense, n_state) // 2)
 
     from . import io
-    from .simulation import simulate
-    from .solver import SolverSettings
+    from .core.simulation import simulate
+    from .core.solver import SolverSettings
 
     start = time.perf_counter()
     try:
@@ -173,10 +173,10 @@ def _cmd_simulate(args):
 
 
 def check_run_limits(args, dense, n_state):
-    """The limits of :func:`vibimpact._limits.check_run` (forcing periods, memory),
+    """The limits of :func:`vibimpact.base._limits.check_run` (forcing periods, memory),
     checked here so that the refusal names the options (``--periods 5 with --dense
     10``), not the API's arguments (``periods=5``)."""
-    from . import _limits
+    from .base import _limits
 
     total = args.periods + args.transient
     if total > _limits.MAX_PERIODS:

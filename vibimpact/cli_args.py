@@ -4,7 +4,7 @@ import argparse
 import math
 import sys
 
-from ._text import parse_integer, parse_real
+from .base._text import parse_integer, parse_real
 from .cli_errors import UsageError, error_text
 
 
@@ -80,7 +80,7 @@ def set_verbosity(count):
 
 
 #: the most processes a ``--workers`` option takes (the API's limit too)
-from ._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
+from .base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
 #: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
 MAX_INT = 2**63 - 1
 
@@ -88,7 +88,7 @@ MAX_INT = 2**63 - 1
 def positive_int(minimum, maximum=None):
     """The argparse type of an integer option in ``[minimum, maximum]`` (``maximum``
     defaults to :data:`MAX_INT`): written as a user writes an integer
-    (:func:`vibimpact._text.parse_integer`); a value out of range is refused as
+    (:func:`vibimpact.base._text.parse_integer`); a value out of range is refused as
     ``argument --NAME: must be >= 1, got 0``, in the option's name (not as the API's
     argument would be, later)."""
     maximum = MAX_INT if maximum is None else maximum
@@ -110,7 +110,7 @@ def positive_int(minimum, maximum=None):
 
 def number(text):
     """The argparse type of a number option: a finite float written as a user writes a
-    number (:func:`vibimpact._text.parse_real`: no digit separators, no non-ASCII
+    number (:func:`vibimpact.base._text.parse_real`: no digit separators, no non-ASCII
     digits, no NaN or infinity; refused here, in the option's name)."""
     try:
         return parse_real(text)

@@ -39,9 +39,9 @@ terminated (SIGTERM); the checkpoint is kept for --resume.
 
 
 def _inputs(args):
-    from . import presets
+    from .models import presets
     from .sweeps import parse_range
-    from .system import System
+    from .core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -107,7 +107,7 @@ def _same_system(ds, label, system, preset):
     import math
 
     from .sweeps.dataset import sweep_params
-    from .system import param_dict
+    from .core.system import param_dict
 
     model = str(ds.attrs.get("model", "rotor"))
     if model != system.model.name:

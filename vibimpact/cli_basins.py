@@ -8,7 +8,7 @@ import math
 import os
 import re
 
-from ._text import parse_integer, parse_real
+from .base._text import parse_integer, parse_real
 from .cli_args import number, parse_sets, positive_int, with_sets, MAX_WORKERS
 from .cli_checkpoints import checkpoint_of
 from .cli_errors import error_text, UsageError
@@ -84,9 +84,9 @@ def parse_ranges(text):
 
 def _inputs(args):
     """``(system, eta, axes names, ranges, base, grid)``; UsageError for bad input."""
-    from . import presets
+    from .models import presets
     from .census.basins import plane_axes
-    from .system import System
+    from .core.system import System
 
     try:
         base = presets.get(args.preset)

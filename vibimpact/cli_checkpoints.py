@@ -6,7 +6,7 @@ is the engine's (:mod:`vibimpact.engine.signals`, :mod:`vibimpact.engine.store`,
 import os
 import sys
 
-from ._text import count, one_line
+from .base._text import count, one_line
 from .cli_errors import UsageError, error_text, report_interrupt
 from .engine.leftovers import output_of, remove_stale_temporaries, wrote_output
 from .engine.signals import StopWorkersOnSignal

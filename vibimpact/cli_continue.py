@@ -2,9 +2,9 @@
 figures of ``vibimpact plot`` (``--kind branch``, ``--branch`` over response curves).
 
 Like :mod:`vibimpact.cli`, only the standard library is imported at module level; the
-work is :func:`vibimpact.branches.follow_branch` (pseudo-arclength continuation by
+work is :func:`vibimpact.continuation.branches.follow_branch` (pseudo-arclength continuation by
 :func:`vibimpact.analysis.continue_orbit`) and the file
-:func:`vibimpact.branches.branch_to_dataset`.
+:func:`vibimpact.continuation.branches.branch_to_dataset`.
 """
 import math
 import os
@@ -16,7 +16,7 @@ from .cli_errors import error_text, reason, UsageError
 from .cli_figures import figure_options, image_ext_ok
 from .cli_files import check_output, read_input
 from .cli_inputs import check_distinct, check_state0
-from ._text import count
+from .base._text import count
 
 _CONTINUE_EPILOG = """\
 examples:
@@ -74,10 +74,11 @@ period-2N branch switched to (nothing written: both files or neither).
 
 def _inputs(args):
     """``(System, Steps)`` of the parsed arguments; UsageError for bad input."""
-    from . import _limits, presets
+    from .base import _limits
+    from .models import presets
     from .analysis import Steps
     from .analysis.continuation import smallest_step
-    from .system import System
+    from .core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -153,7 +154,7 @@ def _summary(branch):
     bifurcations."""
     import numpy as np
 
-    from .branches import stretches
+    from .continuation.branches import stretches
 
     x = np.asarray(branch.values)
     p = branch.param
@@ -162,7 +163,7 @@ def _summary(branch):
     for i, j, stable in stretches(branch.stable):
         lines.append(f"  {'stable' if stable else 'unstable':9s}{p} {x[i]:.7g} .. "
                      f"{x[j]:.7g}")
-    from .bifurcation_kinds import BifurcationKind
+    from .base.bifurcation_kinds import BifurcationKind
 
     mu = np.abs(np.asarray(branch.multipliers)).max(axis=1)
     around = tuple(branch.event_impacts) or ((-1, -1),) * len(branch.bifurcations)
@@ -189,7 +190,7 @@ def _cmd_continue(args):
     system, steps = _inputs(args)
 
     from .analysis.continuation import StartFailed
-    from .branches import branch_to_dataset, follow_branch
+    from .continuation.branches import branch_to_dataset, follow_branch
 
     t0 = time.perf_counter()
     try:
@@ -242,9 +243,9 @@ def _switch(args, system, branch, steps, command):
     period doubling of ``branch`` (:func:`vibimpact.analysis.switch_branch`);
     UsageError, before anything is written, when there is none."""
     from .analysis import switch_branch
-    from .branches import branch_to_dataset
+    from .continuation.branches import branch_to_dataset
 
-    from .bifurcation_kinds import BifurcationKind
+    from .base.bifurcation_kinds import BifurcationKind
 
     t0 = time.perf_counter()
     why = f"the period-{branch.n} branch holds no period doubling"
@@ -267,7 +268,7 @@ def _switch(args, system, branch, steps, command):
 def read_branches(paths):
     """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
     continue`` file continued in eta."""
-    from .branches import is_branch_dataset
+    from .continuation.branches import is_branch_dataset
 
     out = []
     for path in map(os.fspath, paths):

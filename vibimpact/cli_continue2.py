@@ -1,6 +1,6 @@
 """``vibimpact continue2``: follow a fold, period doubling or grazing of a periodic orbit
 in two parameters (:func:`vibimpact.analysis.continue_bifurcation`), write the curve
-(:func:`vibimpact.curves.curve_to_dataset`) and draw it, over a regime map when given
+(:func:`vibimpact.continuation.curves.curve_to_dataset`) and draw it, over a regime map when given
 (:func:`vibimpact.plotting.bifurcation_curves.plot_bifurcation_curves`).
 
 Like :mod:`vibimpact.cli`, only the standard library is imported at module level.
@@ -10,7 +10,7 @@ import os
 import shlex
 import time
 
-from ._text import parse_real
+from .base._text import parse_real
 from .cli_args import number, parse_sets, positive_int, with_sets
 from .cli_errors import UsageError, error_text, reason
 from .cli_files import check_output, read_input, write_outputs
@@ -67,9 +67,10 @@ def _range(text):
 
 def _inputs(args):
     """``(System, kind, window)``; UsageError for bad input."""
-    from . import _limits, presets
+    from .base import _limits
+    from .models import presets
     from .analysis.two_parameter import curve_kind
-    from .system import System
+    from .core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -163,7 +164,7 @@ def _seed(args, system, kind):
     import numpy as np
 
     from .analysis import StartFailed, shoot_periodic_orbit
-    from .branches import follow_branch
+    from .continuation.branches import follow_branch
 
     if args.stop1 is None:
         if args.approach is not None:
@@ -210,7 +211,7 @@ def _cmd_continue2(args):
 
     from . import io
     from .analysis import continue_bifurcation
-    from .curves import curve_to_dataset
+    from .continuation.curves import curve_to_dataset
 
     t0 = time.perf_counter()
     seed, x = _seed(args, system, kind)

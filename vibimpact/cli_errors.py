@@ -2,7 +2,7 @@
 only)."""
 import sys
 
-from ._text import one_line
+from .base._text import one_line
 from .engine.signals import interrupt_status
 
 

@@ -3,7 +3,7 @@ and the image extension (matplotlib imported only when used)."""
 import argparse
 import os
 
-from ._text import parse_real
+from .base._text import parse_real
 from .cli_errors import UsageError
 
 
@@ -65,12 +65,12 @@ LARGEST_DPI = 300.0
 
 def check_figure_size(args):
     """Refuse, before any work, a ``--figsize`` and ``--dpi`` whose image would exceed
-    :data:`vibimpact._limits.MAX_PIXELS` (checked with :data:`LARGEST_DEFAULT` and
+    :data:`vibimpact.base._limits.MAX_PIXELS` (checked with :data:`LARGEST_DEFAULT` and
     :data:`LARGEST_DPI` for the option not given) or could not be drawn (a side under a
     pixel at the smallest resolution of a style, text under a pixel at ``--dpi``:
-    :func:`vibimpact._limits.check_drawable`); the one check of every command that
+    :func:`vibimpact.base._limits.check_drawable`); the one check of every command that
     draws.  UsageError naming the options."""
-    from . import _limits
+    from .base import _limits
 
     figsize, dpi = getattr(args, "figsize", None), getattr(args, "dpi", None)
     if figsize is None and dpi is None:

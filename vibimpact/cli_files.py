@@ -2,7 +2,7 @@
 files read with one line on failure, outputs written together or not at all."""
 import os
 
-from ._regular import why_not_a_file
+from .base._regular import why_not_a_file
 from .cli_errors import UsageError, error_text, reason
 
 
@@ -29,9 +29,9 @@ def check_output(path, overwrite, what, store=False, size=0):
 def sweep_file_bytes(params, points, direction="up"):
     """An estimate of the file of a sweep or map of ``points`` grid points per
     direction (``"both"``: twice as many), for :func:`check_output`'s ``size``."""
-    from ._limits import points_bytes
+    from .base._limits import points_bytes
     from .points.point import SweepSettings
-    from .system import to_system
+    from .core.system import to_system
 
     points *= 2 if direction == "both" else 1
     return points_bytes(points, SweepSettings().n_samples, to_system(params).n_state)
@@ -72,7 +72,7 @@ def read_input(path, what="", stores=False):
         raise UsageError(label + why_not_a_file(path))  # or a FIFO, a device, ...
     else:
         reader, kind = io.read_netcdf, "NetCDF"
-    from ._limits import DeclaredTooLarge
+    from .base._limits import DeclaredTooLarge
 
     try:
         return reader(path)

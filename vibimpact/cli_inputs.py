@@ -74,7 +74,7 @@ def check_state0(values, system, option="--state0"):
     ----------
     values : sequence of float or None
         The parsed numbers (None: not given, nothing to check).
-    system : vibimpact.system.System
+    system : vibimpact.core.system.System
     option : str
         The option named in the message.
 

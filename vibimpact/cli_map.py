@@ -13,7 +13,7 @@ from .cli_errors import error_text, reason, UsageError
 from .cli_figures import add_figure_options, figure_options, image_ext_ok
 from .cli_files import check_output, sweep_file_bytes
 from .engine.leftovers import output_of
-from ._text import count
+from .base._text import count
 
 DEFAULT_ETA = "0.9:1.5:0.005"
 
@@ -108,7 +108,7 @@ def _check_map_output(out, overwrite, size):
 
 def _inputs(args):
     """Parameters, eta grid, (name, values) from the parsed arguments."""
-    from . import presets
+    from .models import presets
     from .maps.map2d import check_size
     from .sweeps import parse_range
 
@@ -244,7 +244,7 @@ def plot_command(args, ds=None):
     if ds is None:
         if not os.path.exists(path):
             raise UsageError(f"{path!r}: no such file or directory")
-        from ._limits import DeclaredTooLarge
+        from .base._limits import DeclaredTooLarge
 
         try:
             ds = open_map(path)

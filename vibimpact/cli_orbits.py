@@ -9,7 +9,7 @@ work is :func:`vibimpact.orbits.hunt_orbits`, the file
 import os
 import sys
 
-from ._text import parse_integer
+from .base._text import parse_integer
 from .cli_args import number, parse_sets, positive_int, MAX_WORKERS
 from .cli_errors import error_text, UsageError
 from .cli_figures import add_figure_options
@@ -72,9 +72,9 @@ def parse_periods(text):
 
 def _system(args):
     """The System of the parsed arguments; UsageError for bad input."""
-    from . import presets
+    from .models import presets
     from .cli_args import with_sets
-    from .system import System
+    from .core.system import System
 
     try:
         base = presets.get(args.preset)

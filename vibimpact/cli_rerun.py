@@ -7,7 +7,7 @@ parser, runs it in this process with the output redirected to a new file, and co
 every data variable and coordinate of the two files bit for bit (NaN equal to NaN, string
 variables as text), and their attributes (:func:`vibimpact.io.attribute_differences`):
 every global attribute but the time stamps, versions, platform and command line
-(:data:`vibimpact.provenance.NOT_COMPARED`), and every attribute of every variable and
+(:data:`vibimpact.base.provenance.NOT_COMPARED`), and every attribute of every variable and
 coordinate, so that a file whose attributes contradict its data or its command (units,
 flag meanings, parameters, counters changed after the run) is reported.  Only the standard library is imported at
 module level.
@@ -21,7 +21,7 @@ import sys
 from .cli_errors import UsageError
 from .cli_files import check_output, is_store, read_input
 from .engine.leftovers import remove_paths
-from ._text import count
+from .base._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")
 

@@ -8,7 +8,7 @@ size from the recorded command's parsed arguments with the commands' own grid pa
 and refuses a command over one of the limits below unless ``--yes`` is given.  The
 limits are far above every example of the README and the user guide (at most a few
 hundred points, 700 forcing periods, a 400-point branch) and far below the command's
-own limits (:mod:`vibimpact._limits`).  Standard library only at import.
+own limits (:mod:`vibimpact.base._limits`).  Standard library only at import.
 """
 import math
 
@@ -56,7 +56,7 @@ class Size:
 
     def cost(self):
         """``"about N s of computing on one core"`` ("" when not known)."""
-        from ._limits import human_duration
+        from .base._limits import human_duration
 
         if self.seconds is None:
             return ""
@@ -81,7 +81,7 @@ def _grid_size(text, option, name="eta", positive=True):
 
 
 def _points(size, args, count):
-    from ._limits import SECONDS_PER_POINT
+    from .base._limits import SECONDS_PER_POINT
 
     directions = 2 if getattr(args, "direction", "up") == "both" else 1
     total = count * directions
@@ -96,8 +96,8 @@ def _n_state(args):
     recorded = getattr(args, "recorded_start", None)  # simulate --from: the record's
     if recorded is not None:
         return len(recorded[0].state)
-    from . import presets
-    from .system import to_system
+    from .models import presets
+    from .core.system import to_system
 
     try:
         return to_system(presets.get(args.preset or "fig8")).n_state
@@ -106,7 +106,7 @@ def _n_state(args):
 
 
 def _simulate(size, args):
-    from ._limits import SECONDS_PER_PERIOD
+    from .base._limits import SECONDS_PER_PERIOD
     from .cli import check_run_limits
 
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
@@ -120,7 +120,7 @@ def _simulate(size, args):
 
 
 def _continue(size, args):
-    from . import _limits
+    from .base import _limits
     from .cli_errors import error_text, UsageError
 
     try:  # the command's own limit first: --yes does not lift it
@@ -131,7 +131,7 @@ def _continue(size, args):
     if args.approach is not None:
         eta = args.eta
         if eta is None:  # the preset's
-            from . import presets
+            from .models import presets
 
             try:
                 eta = presets.get(args.preset).as_dict().get("eta", presets.DEFAULT_ETA)

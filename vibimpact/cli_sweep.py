@@ -15,7 +15,7 @@ from .cli_figures import add_figure_options, figure_options, image_ext_ok
 from .cli_files import check_output, is_store, read_input, sweep_file_bytes, write_outputs
 from .cli_inputs import check_distinct
 from .engine.leftovers import output_of
-from ._limits import MAX_POINTS
+from .base._limits import MAX_POINTS
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -120,7 +120,7 @@ def _default_workers():
 
 def _sweep_inputs(args):
     """Grid, parameters from the parsed arguments; UsageError for bad input."""
-    from . import presets
+    from .models import presets
     from .sweeps import parse_range
 
     try:
@@ -245,8 +245,8 @@ _HINTS = {("lyapunov", "map"): "; its exponent over (eta, PARAM) is a panel of i
 
 def _kind_of(ds):
     """The kind of vibimpact file ``ds`` is (a key of :data:`FILE_KINDS`), or None."""
-    from .branches import is_branch_dataset
-    from .curves import is_curve_dataset
+    from .continuation.branches import is_branch_dataset
+    from .continuation.curves import is_curve_dataset
     from .orbits.dataset import is_orbit_dataset
 
     if "map_vary" in ds.attrs:
@@ -309,8 +309,8 @@ def _missing(ds, path, what, analysis):
     diverged or not computed, or the analysis was not requested."""
     import numpy as np
 
-    from ._json import loads
-    from ._text import count
+    from .base._json import loads
+    from .base._text import count
     from .analysis.classify import Label
     from .points.point import REGIME_CODES
 

@@ -82,7 +82,7 @@ def load_file(path, what: str | None = None, *, dir_fd: int | None = None,
               follow: bool = True, max_depth: int = MAX_DEPTH,
               max_bytes: int = MAX_BYTES):
     """The value of the JSON file ``path``, a regular file read without blocking
-    (:func:`vibimpact._regular.read_regular`) and bounded (:func:`loads`).
+    (:func:`vibimpact.base._regular.read_regular`) and bounded (:func:`loads`).
 
     Parameters
     ----------

@@ -120,7 +120,7 @@ def provenance() -> dict[str, str | int]:
     """The provenance attributes: ``vibimpact_version``, ``vibimpact_git_commit`` and
     ``vibimpact_git_dirty`` (only from a git checkout), ``<dependency>_version`` for each
     imported dependency, ``python_version``, ``platform`` and ``cpu_model``."""
-    from . import __version__
+    from .. import __version__
 
     out = {"vibimpact_version": __version__}
     commit, dirty = git_commit()
@@ -161,7 +161,7 @@ def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
         The writing function, e.g. ``"vibimpact.io.write_netcdf"``: named in ``history``
         when the dataset records no ``command`` (an API call rather than the CLI).
     """
-    from . import __version__
+    from .. import __version__
 
     stamp = utc_now()
     out = dict(attrs)

@@ -10,13 +10,13 @@ from .system import System
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from .models import Model
-    from .params import DuffingParams, Params
+    from ..models import Model
+    from ..models.params import DuffingParams, Params
     from .run import Run
 
 __all__ = ["simulate", "METHODS"]
 
-#: defaults of :func:`simulate` (:data:`vibimpact.solver.SIMULATE_DEFAULTS`)
+#: defaults of :func:`simulate` (:data:`vibimpact.core.solver.SIMULATE_DEFAULTS`)
 STEPS_PER_PERIOD = SIMULATE_DEFAULTS["steps_per_period"]
 EVENT_TOL = SIMULATE_DEFAULTS["event_tol"]
 MAX_STEPS_PER_PERIOD = SIMULATE_DEFAULTS["max_steps_per_period"]
@@ -55,7 +55,7 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
         Solver settings (method, tolerances, steps, bound, ...); those not None replace
         the System's; the rest default to DOP853, ``rtol = 1e-9``, ``atol = 1e-12``,
         ``max_step`` a quarter period, the model's ``bound`` (1e3 clearances for the
-        rotor), ``event_tol = 1e-12`` (:data:`vibimpact.solver.SIMULATE_DEFAULTS`).
+        rotor), ``event_tol = 1e-12`` (:data:`vibimpact.core.solver.SIMULATE_DEFAULTS`).
     model : Model, optional
         A user model; ``p`` is then its parameter vector (not with a System).
     **moved
@@ -73,9 +73,9 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
     ------
     ValueError
         Naming the offending argument; also for more than
-        :data:`vibimpact._limits.MAX_PERIODS` forcing periods (``periods + transient``),
+        :data:`vibimpact.base._limits.MAX_PERIODS` forcing periods (``periods + transient``),
         with the estimated time, and for arrays (``periods`` stroboscopic and
-        ``periods * dense`` dense samples) over :data:`vibimpact._limits.MAX_BYTES`.
+        ``periods * dense`` dense samples) over :data:`vibimpact.base._limits.MAX_BYTES`.
     TypeError
         For the keywords the solver settings took before (``rtol=``, ``method=``, ...),
         saying where they went.

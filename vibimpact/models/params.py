@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import _validate as _v
+from ..base import _validate as _v
 
 #: Default linear damping of the magnetic support.  NOT from the paper (which omits it; it
 #: says only that passive magnetic bearings have very low radial damping): the converged

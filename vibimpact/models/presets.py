@@ -2,7 +2,7 @@
 models (each model declares its own: :attr:`vibimpact.models.Model.presets`).
 
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
-preset uses :data:`vibimpact.params.DEFAULT_B` and :data:`vibimpact.params.DEFAULT_EC`,
+preset uses :data:`vibimpact.models.params.DEFAULT_B` and :data:`vibimpact.models.params.DEFAULT_EC`,
 **calibrated** by ``analyses/paper/calibrate.py`` against the paper's interval claims
 (``vibimpact.paper.claims``); they are not values from the paper, and the fit is partial: no
 pair reproduces every claim (``reports/calibration.md``, ``reports/paper.md``).
@@ -15,7 +15,7 @@ reproduces the most claims (reading (a) of ``reports/calibration.md``).
 """
 from __future__ import annotations
 
-from ._validate import WrongType
+from ..base._validate import WrongType
 from .params import DEFAULT_B, DEFAULT_EC, Params
 
 _TABLE = {
@@ -56,7 +56,7 @@ def paper_values(name: str) -> dict:
 
 def _others():
     """``{preset: model}`` of the presets of the built-in models other than the rotor."""
-    from . import models
+    from .. import models
 
     return {name: model for mname in models.names() if mname != "rotor"
             for model in (models.get(mname),) for name in model.presets}

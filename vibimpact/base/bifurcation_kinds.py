@@ -5,7 +5,7 @@ Every place that names how a periodic orbit or a sweep's motion changes uses it:
 :func:`vibimpact.analysis.continue_orbit` (:attr:`Branch.bifurcations`), the stability
 change of :func:`vibimpact.analysis.refine_stability_change`,
 :func:`vibimpact.transition_types` (the ``type`` column, kinds joined by ``" + "``), the
-``bifurcation_kind`` flag of a branch file (:mod:`vibimpact.branches`) and the markers
+``bifurcation_kind`` flag of a branch file (:mod:`vibimpact.continuation.branches`) and the markers
 of :mod:`vibimpact.plotting.branch`.
 
 Each kind has its short name (the enum's value: a ``str``, so ``kind == "fold"`` holds),

@@ -13,7 +13,7 @@ The solver settings are one :class:`~vibimpact.SolverSettings` (``System(p,
 solver=vi.SolverSettings(rtol=1e-10))``); a setting left ``None`` means "the analysis' own
 default" (e.g. tolerances of 1e-9 for :meth:`System.simulate`, 1e-10 for the variational
 equations), so that a default ``System`` runs every analysis as it was designed and
-tested.  Runs go through a :class:`~vibimpact.Solver` (:mod:`vibimpact.solver`).
+tested.  Runs go through a :class:`~vibimpact.Solver` (:mod:`vibimpact.core.solver`).
 """
 from __future__ import annotations
 
@@ -24,9 +24,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import _validate as _v
-from .models import Model, resolve
-from .params import Domain
+from ..base import _validate as _v
+from ..models import Model, resolve
+from ..models.params import Domain
 from .run import Status, status_of
 from .solver import (NO_SETTINGS, SETTINGS, Solver, SolverSettings, as_settings,
                      run_system)
@@ -240,7 +240,7 @@ class System:
 
     def settings(self, **defaults) -> SolverSettings:
         """The solver settings, each ``None`` replaced by the caller's default (then by
-        :func:`vibimpact.simulate`'s, :data:`vibimpact.solver.SIMULATE_DEFAULTS`)."""
+        :func:`vibimpact.simulate`'s, :data:`vibimpact.core.solver.SIMULATE_DEFAULTS`)."""
         unknown = set(defaults) - set(SETTINGS)
         if unknown:
             raise ValueError(f"solver settings are {', '.join(SETTINGS)}, got "
@@ -339,7 +339,7 @@ def to_system(p, name="p"):
     the caller's argument, for anything else."""
     if isinstance(p, System):
         return p
-    from .models import of_params, param_set_names
+    from ..models import of_params, param_set_names
 
     if of_params(p) is None:
         raise _v.WrongType(f"{name} must be a vibimpact.System or the parameter set of a "

@@ -3,7 +3,7 @@
 A :class:`Model` is its right-hand side, Jacobian, switching surfaces and mode transitions
 (all ``@njit``, signatures in :mod:`vibimpact._kernel.integrator`) and what it declares
 about itself: its state layout and parameter table (:attr:`Model.param_set`), its contact
-(:class:`vibimpact.contact.Contact`: geometry and law; every impact analysis follows from
+(:class:`vibimpact.models.contact.Contact`: geometry and law; every impact analysis follows from
 it), what XY plots draw (:class:`PlotSpec`), its presets and its bound.
 
 The built-in models (the rotor of eq. (5), the forced Duffing oscillator, the soft-impact
@@ -27,9 +27,9 @@ from typing import Callable
 import numpy as np
 from numba.extending import is_jitted
 
-from ._kernel import boundary as _kb
-from ._kernel.boundary import Problem
-from . import _validate as _v
+from .._kernel import boundary as _kb
+from .._kernel.boundary import Problem
+from ..base import _validate as _v
 from .contact import Contact
 from .model_probe import check_model
 from .params import Domain
@@ -63,8 +63,8 @@ class Model:
     bound : float
         A state component larger than this in magnitude ends the run as DIVERGED.
     param_set : type, optional
-        A built-in model's parameter set (:class:`~vibimpact.params.Params`,
-        :class:`~vibimpact.params.DuffingParams`): where its parameters' domains are
+        A built-in model's parameter set (:class:`~vibimpact.models.params.Params`,
+        :class:`~vibimpact.models.params.DuffingParams`): where its parameters' domains are
         stated, also for a plain parameter vector of the model.
     contact : Contact, optional
         Where and how the model's body meets its obstacle (impacts, arcs and contact
@@ -73,7 +73,7 @@ class Model:
         What XY plots draw.
     presets : mapping, optional
         ``{name: (parameter values, description)}``: the model's named parameter sets
-        (:func:`vibimpact.presets.get`).
+        (:func:`vibimpact.models.presets.get`).
     state_text : mapping, optional
         ``{state name: what it is, in words}``: written into files next to the state
         (their ``state_<name>`` attribute, the ``long_name`` of its Poincaré samples).
@@ -155,7 +155,7 @@ class Model:
                    state_text=dict(state_text or {}))
 
     def domain(self, index: int) -> Domain:
-        """The :class:`~vibimpact.params.Domain` of parameter ``index``: the parameter
+        """The :class:`~vibimpact.models.params.Domain` of parameter ``index``: the parameter
         set's (a built-in model), the declared one (a user model's ``domains``), else any
         finite number; the forcing frequency is always ``> 0``."""
         name = self.param_names[index]
@@ -189,7 +189,7 @@ class Model:
         Raises
         ------
         ValueError
-            Naming the parameter: not a real number (:class:`~vibimpact._validate.WrongType`),
+            Naming the parameter: not a real number (:class:`~vibimpact.base._validate.WrongType`),
             not finite, or outside its domain (:meth:`domain`); or naming ``name`` for a
             vector of the wrong length, or a mapping with unknown or missing names.
         """
@@ -273,11 +273,11 @@ class Model:
         bound : float
             A state component larger than this in magnitude ends a run as DIVERGED.
         contact : Contact, optional
-            The model's contact (:class:`vibimpact.contact.Contact`): with it the model
+            The model's contact (:class:`vibimpact.models.contact.Contact`): with it the model
             gets impact records, impacts per period, contact arcs and contact statistics
             in runs, sweeps and maps.
         domains : mapping, optional
-            ``{parameter name: vibimpact.params.Domain}``: the values a parameter may
+            ``{parameter name: vibimpact.models.params.Domain}``: the values a parameter may
             take (e.g. ``{"delta": Domain.at_least(0.0)}``); every parameter vector of
             the model is checked against them, and the continuation steps up to a bound
             but never past it.  Undeclared: any finite number (the forcing frequency
@@ -305,7 +305,7 @@ class Model:
         n_mode = _v.count("n_mode", n_mode, 0)
         if contact is not None:
             if not isinstance(contact, Contact):
-                raise _v.WrongType(f"contact must be a vibimpact.contact.Contact, got "
+                raise _v.WrongType(f"contact must be a vibimpact.models.contact.Contact, got "
                                    f"{type(contact).__name__}")
             contact.check(len(states), term.size, n_mode, params)
         domains = _domains(domains, params)
@@ -330,7 +330,7 @@ def _domains(value, params):
             raise ValueError(f"domains: {key!r} is not a parameter ({', '.join(params)})"
                              [:200])
         if not isinstance(dom, Domain):
-            raise _v.WrongType(f"domains[{key!r}] must be a vibimpact.params.Domain, got "
+            raise _v.WrongType(f"domains[{key!r}] must be a vibimpact.models.params.Domain, got "
                                f"{type(dom).__name__}")
     return dict(value)
 
@@ -403,7 +403,7 @@ def _loaded():
         if not _REGISTRY and not _LOADING:
             _LOADING.append(True)
             try:  # the models' package is found by name, as the kernel finds its families
-                for model in importlib.import_module(f"{__package__}.builtin_models").load():
+                for model in importlib.import_module("..builtin_models", __package__).load():
                     register(model)
             finally:
                 _LOADING.clear()

@@ -21,12 +21,12 @@ import math
 
 import numpy as np
 
-from . import _json, _validate as _v
+from ..base import _json, _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
 
-    from .models import Model
+    from ..models import Model
 
 #: the model a file records when it has no ``model`` attribute (files of the first versions)
 DEFAULT_MODEL = "rotor"
@@ -83,7 +83,7 @@ def recorded_model(attrs: Mapping, name: str = "the file", *,
         For a ``model`` attribute that is not a name, or (``required``) one that names
         no model of this installation, or one without a parameter set.
     """
-    from . import models
+    from .. import models
 
     value = attrs.get("model", DEFAULT_MODEL)
     if not isinstance(value, str) or not value.strip():

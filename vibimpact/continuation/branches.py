@@ -12,7 +12,7 @@ Branch back.
 Dimensions: ``point`` (the orbits, in continuation order: the parameter is not monotonic
 past a fold), ``state``, ``multiplier`` and ``bifurcation`` (the events found along the
 branch, possibly none).  The kind of each event is stored as the ``code`` of its
-:class:`~vibimpact.bifurcation_kinds.BifurcationKind` (the codes of files written before
+:class:`~vibimpact.base.bifurcation_kinds.BifurcationKind` (the codes of files written before
 grazing joined are unchanged).
 """
 from __future__ import annotations
@@ -23,9 +23,9 @@ import logging
 
 import numpy as np
 
-from . import _validate as _v
-from ._fill import complex_parts
-from .bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
+from ..base import _validate as _v
+from ..base._fill import complex_parts
+from ..base.bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
 
 _log = logging.getLogger(__name__)
 #: the attributes of a count whose -1 means "not counted": valid from 0, so that -1 is
@@ -39,9 +39,9 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from numpy.typing import ArrayLike
 
-    from .analysis import Branch, Steps
-    from .params import DuffingParams, Params
-    from .system import System
+    from ..analysis import Branch, Steps
+    from ..models.params import DuffingParams, Params
+    from ..core.system import System
 
 __all__ = ["STABLE_FLAGS", "branch_from_dataset", "branch_to_dataset", "follow_branch",
            "is_branch_dataset", "stretches"]
@@ -139,8 +139,8 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     ValueError
         Naming the argument (``state0`` when no period-``n`` orbit is found there).
     """
-    from .analysis import Steps, continue_orbit
-    from .system import to_system
+    from ..analysis import Steps, continue_orbit
+    from ..core.system import to_system
 
     system = to_system(system, "system")
     stop = _v.finite("stop", stop)
@@ -148,13 +148,13 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     mdl = system.model
     omega_name = mdl.param_names[mdl.omega_index]
     if param == omega_name:  # a forcing frequency the solver can resolve, at both ends
-        from .sweeps.sweep import check_frequency
+        from ..sweeps.sweep import check_frequency
 
         check_frequency(system.omega, f"system's forcing frequency {omega_name}")
         check_frequency(stop, "stop")
     x = None if state0 is None else _v.state("state0", state0, system.n_state)
     if approach is not None:
-        from .sweeps import continued_state
+        from ..sweeps import continued_state
 
         approach = _v.positive("approach", approach)
         x = continued_state(system.params, system.omega, eta_start=approach,
@@ -280,7 +280,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
         ``orbit_state``, ``floquet_real``, ``floquet_imag``, ``floquet_abs_max``,
         ``stable`` (flag), ``impacts_per_period``, the amplitudes (``X_m``, ``Y_m``,
         ``R_m`` for the rotor) on ``point``; ``bifurcation_kind`` (flag: the
-        :attr:`~vibimpact.bifurcation_kinds.BifurcationKind.code`),
+        :attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.code`),
         ``bifurcation_value``, ``bifurcation_lower``, ``bifurcation_upper``,
         ``bifurcation_point``, ``bifurcation_impacts_before``,
         ``bifurcation_impacts_after`` on ``bifurcation``.  Global attributes: ``continuation_param``, ``period``,
@@ -293,9 +293,9 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     """
     import xarray as xr
 
-    from .analysis import Branch
-    from .analysis.bifurcation import CONTINUATION_SOLVER
-    from .system import SOLVER_FIELDS, param_dict, to_system
+    from ..analysis import Branch
+    from ..analysis.bifurcation import CONTINUATION_SOLVER
+    from ..core.system import SOLVER_FIELDS, param_dict, to_system
 
     if not isinstance(branch, Branch):
         raise _v.WrongType(f"branch must be a vibimpact.analysis.Branch, got "
@@ -341,7 +341,7 @@ def branch_from_dataset(ds: xr.Dataset) -> Branch:
     ValueError
         Naming ``ds`` when it is not such a dataset.
     """
-    from .analysis import Branch
+    from ..analysis import Branch
 
     _v.dataset("ds", ds, "the xarray.Dataset of a continued branch (branch_to_dataset)")
     if not is_branch_dataset(ds):

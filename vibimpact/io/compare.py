@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _validate as _v
+from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
@@ -53,7 +53,7 @@ def _short(value):
 def attribute_differences(a: xr.Dataset, b: xr.Dataset, *,
                           files: bool = False) -> tuple[list[tuple[str, str]], int]:
     """Compare the attributes of two datasets: every global attribute but those of
-    :data:`vibimpact.provenance.NOT_COMPARED` (time stamps, versions, platform, the
+    :data:`vibimpact.base.provenance.NOT_COMPARED` (time stamps, versions, platform, the
     command line), and every attribute of every variable and coordinate both have.
 
     Values are compared as text when either is text, numbers bit for bit (NaN equal to
@@ -75,7 +75,7 @@ def attribute_differences(a: xr.Dataset, b: xr.Dataset, *,
         ``(name, why)`` for every attribute that differs, named ``attr`` (global) or
         ``variable:attr`` (as ``ncdump`` writes them), and how many were compared.
     """
-    from .provenance import NOT_COMPARED
+    from ..base.provenance import NOT_COMPARED
 
     pairs = [("", a.attrs, b.attrs, NOT_COMPARED)]
     pairs += [(f"{n}:", a[n].attrs, b[n].attrs, ())
@@ -101,7 +101,7 @@ def differences(a: xr.Dataset, b: xr.Dataset, *,
     """Compare two datasets bit for bit (NaN equal to NaN): their data variables and
     coordinates and, with ``attributes``, the attributes both have
     (:func:`attribute_differences`: every global attribute but the time stamps, versions,
-    platform and command line of :data:`vibimpact.provenance.NOT_COMPARED`, which differ
+    platform and command line of :data:`vibimpact.base.provenance.NOT_COMPARED`, which differ
     between two runs of the same command, and every attribute of every variable), so
     that a file whose attributes contradict its data or its command (units, flag
     meanings, parameters changed after the run) is not the same.

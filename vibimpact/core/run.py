@@ -16,8 +16,8 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from numpy.typing import ArrayLike
 
-from . import contact as _contact
-from ._kernel import boundary as _k
+from ..models import contact as _contact
+from .._kernel import boundary as _k
 
 
 class Status(enum.Enum):
@@ -45,7 +45,7 @@ def status_of(code):
     return _REASONS[int(code)]
 
 
-#: fields of :attr:`Run.impacts`, one record per contact (:mod:`vibimpact.contact`)
+#: fields of :attr:`Run.impacts`, one record per contact (:mod:`vibimpact.models.contact`)
 IMPACT_DTYPE = _contact.IMPACT_DTYPE
 
 #: fields of :attr:`Run.events`, one record per located switching event
@@ -111,7 +111,7 @@ class Run:
     periods: int | None = None
     transient: int = 0
     dense_per_period: int = 0
-    #: the model's contact declaration (:class:`vibimpact.contact.Contact`; None: the
+    #: the model's contact declaration (:class:`vibimpact.models.contact.Contact`; None: the
     #: model declares none), to rebuild the impact records of joined runs
     contact: object = field(default=None, repr=False, compare=False)
 
@@ -155,7 +155,7 @@ class Run:
 
 
 def impacts_of(contact, p, events, t0, period):
-    """The impact records of an event log: :func:`vibimpact.contact.impacts_from_events`
+    """The impact records of an event log: :func:`vibimpact.models.contact.impacts_from_events`
     for a model that declares a contact, none otherwise.
 
     Parameters
@@ -223,7 +223,7 @@ def join_runs(runs, period):
 
 def _state_names(model, n):
     """The state names a built-in model declares (a user model's run: x0, x1, ...)."""
-    from . import models
+    from .. import models
 
     if model in models.names():
         return models.get(model).state_names
@@ -235,7 +235,7 @@ def state_text(model, name):
     name of a registered one) is, in words: the model's own words
     (:attr:`vibimpact.models.Model.state_text`), else the rotor's for its state names;
     None when neither has any."""
-    from . import models
+    from .. import models
 
     own = getattr(model, "state_text", None)
     if own is None:
@@ -317,7 +317,7 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     xarray.Dataset
         Variables ``strobe`` (``sample``, ``state``) with coordinate ``t_strobe``;
         ``impact_<field>`` on dimension ``impact`` for each field of
-        :data:`vibimpact.run.IMPACT_DTYPE`; ``trajectory`` (``time``, ``state``) when the
+        :data:`vibimpact.core.run.IMPACT_DTYPE`; ``trajectory`` (``time``, ``state``) when the
         run kept dense output; ``state0`` when the initial state is known.  Global
         attributes: ``model``, ``status``, ``reason``, ``param_<name>``,
         ``solver_<key>``, ``counter_<name>``, ``periods``, ``transient``, ``dense``,
@@ -335,7 +335,7 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     """
     import xarray as xr
 
-    from . import __version__
+    from .. import __version__
 
     strobe = np.asarray(run.strobe, dtype=np.float64)
     n = strobe.shape[1]

@@ -174,7 +174,7 @@ class Contact:
             if not callable(getattr(self, fn)):
                 raise ValueError(f"contact: {fn} must be a function of (states, p)")
         if not isinstance(self.law, ContactLaw):
-            raise ValueError("contact: law must be a vibimpact.contact.ContactLaw")
+            raise ValueError("contact: law must be a vibimpact.models.contact.ContactLaw")
         for role, name in self.law.parameters().items():
             if name not in param_names:
                 raise ValueError(f"contact: the law's {role} {name!r} is not a parameter "

@@ -15,7 +15,7 @@ import tempfile
 
 import numpy as np
 
-from . import _validate as _v
+from ..base import _validate as _v
 
 _log = logging.getLogger(__name__)
 
@@ -24,11 +24,11 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
-    from .run import Run
+    from ..core.run import Run
 
 # a Run's dataset is made beside Run itself (Run.to_dataset); re-exported here, where the
 # writers are
-from .run import run_to_dataset  # noqa: E402,F401
+from ..core.run import run_to_dataset  # noqa: E402,F401
 
 def as_run_dataset(value: xr.Dataset | Run, name: str = "ds") -> xr.Dataset:
     """The dataset of a run: a Dataset as it is, a :class:`~vibimpact.Run` through
@@ -185,7 +185,7 @@ def for_file(ds: xr.Dataset, call: str | None, *,
              netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
     copy (the data are shared, ``ds`` is not changed) whose global attributes carry the CF
-    and provenance attributes of :func:`vibimpact.provenance.file_attrs`, and the encoding
+    and provenance attributes of :func:`vibimpact.base.provenance.file_attrs`, and the encoding
     that writes no ``_FillValue`` on any coordinate (CF: coordinates have no missing
     values).
 
@@ -224,7 +224,7 @@ def for_file(ds: xr.Dataset, call: str | None, *,
         Naming the variable, for integers of a magnitude beyond 2**53 that CF-1.8 has no
         exact type for.
     """
-    from .provenance import file_attrs
+    from ..base.provenance import file_attrs
 
     if netcdf is None:
         netcdf = call != "vibimpact.maps.write_map"
@@ -359,7 +359,7 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     if not os.path.isdir(directory):
         raise ValueError(f"cannot write {what} {path!r}: directory {directory!r} does "
                          "not exist")
-    from ._writing import held_signals, remove_dead_temporaries, temp_prefix
+    from ..base._writing import held_signals, remove_dead_temporaries, temp_prefix
 
     # what writers of this output killed with SIGKILL left (their pid is in the name)
     remove_dead_temporaries(path)
@@ -384,7 +384,7 @@ def check_output_path(path: str | os.PathLike[str], overwrite: bool = False, *,
     except (OSError, AttributeError):
         left = None
     if left is not None and left < free:
-        from ._limits import human_bytes
+        from ..base._limits import human_bytes
 
         raise ValueError(f"cannot write {what} {path!r}: only {human_bytes(left)} free on "
                          f"the file system of {directory!r}, {human_bytes(free)} needed")
@@ -437,9 +437,9 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     returns (the temporary removed, nothing put in place) and are then delivered; a
     second one ends the process at once.  The temporary's name carries this process's
     id, so that a later write of ``path`` removes what a killed one left
-    (:mod:`vibimpact._writing`).
+    (:mod:`vibimpact.base._writing`).
     It carries the CF global attributes (``Conventions``, ``history``, ``date_created``)
-    and the provenance of :mod:`vibimpact.provenance`, and no ``_FillValue`` on its
+    and the provenance of :mod:`vibimpact.base.provenance`, and no ``_FillValue`` on its
     coordinates (:func:`for_file`); ``ds`` itself is not changed.
 
     Parameters
@@ -473,7 +473,7 @@ def write_netcdf(ds: xr.Dataset | Run, path: str | os.PathLike[str],
     import netCDF4  # noqa: F401 -- imported before the provenance records its version
 
     out, encoding = for_file(ds, "vibimpact.io.write_netcdf")
-    from ._writing import held_signals, temp_prefix
+    from ..base._writing import held_signals, temp_prefix
 
     # SIGINT / SIGTERM wait until netCDF4 returns (it holds locks while it writes; a
     # signal raised inside one deadlocked the clean-up), then end the write: the
@@ -528,7 +528,7 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
     ------
     ValueError
         When the data of a variable cannot be read (:func:`load_variables`), or the
-        variables declare more than :data:`vibimpact._limits.MAX_READ_BYTES` (checked
+        variables declare more than :data:`vibimpact.base._limits.MAX_READ_BYTES` (checked
         from the metadata before anything is read: :func:`check_declared_netcdf`).
     """
     import xarray as xr
@@ -541,11 +541,11 @@ def read_netcdf(path: str | os.PathLike[str]) -> xr.Dataset:
 
 def check_declared_netcdf(path: str, what: str = "file") -> None:
     """Refuse a NetCDF file whose variables declare more than
-    :data:`vibimpact._limits.MAX_READ_BYTES`, from its metadata alone (xarray reads the
+    :data:`vibimpact.base._limits.MAX_READ_BYTES`, from its metadata alone (xarray reads the
     coordinates as it opens a file); ValueError naming the file and the variable."""
     import netCDF4
 
-    from ._limits import check_declared
+    from ..base._limits import check_declared
 
     with netCDF4.Dataset(path, "r") as nc:
         nc.set_auto_mask(False)
@@ -588,4 +588,4 @@ def load_variables(ds: xr.Dataset, path: str, what: str = "file") -> xr.Dataset:
 
 
 # the comparison of two datasets lives in io_compare; re-exported here beside the readers
-from .io_compare import TEXT_KINDS, attribute_differences, differences  # noqa: E402,F401
+from .compare import TEXT_KINDS, attribute_differences, differences  # noqa: E402,F401

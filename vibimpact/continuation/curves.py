@@ -10,16 +10,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _validate as _v
-from .bifurcation_kinds import branch_flags
+from ..base import _validate as _v
+from ..base.bifurcation_kinds import branch_flags
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping
 
     import xarray as xr
 
-    from .analysis import BifurcationCurve
-    from .system import System
+    from ..analysis import BifurcationCurve
+    from ..core.system import System
 
 __all__ = ["curve_to_dataset", "is_curve_dataset"]
 
@@ -59,9 +59,9 @@ def curve_to_dataset(curve: BifurcationCurve, system: System, *,
     """
     import xarray as xr
 
-    from .analysis import BifurcationCurve
-    from .analysis.bifurcation import CONTINUATION_SOLVER
-    from .system import SOLVER_FIELDS, param_dict, to_system
+    from ..analysis import BifurcationCurve
+    from ..analysis.bifurcation import CONTINUATION_SOLVER
+    from ..core.system import SOLVER_FIELDS, param_dict, to_system
 
     if not isinstance(curve, BifurcationCurve):
         raise _v.WrongType(f"curve must be a vibimpact.analysis.BifurcationCurve, got "

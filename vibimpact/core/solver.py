@@ -26,16 +26,16 @@ import logging
 
 import numpy as np
 
-from . import _limits
-from . import _validate as _v
-from ._kernel import boundary as _kb
+from ..base import _limits
+from ..base import _validate as _v
+from .._kernel import boundary as _kb
 from .run import Run, Status, impacts_of, status_of
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ._kernel.boundary import Method, Options
-    from .models import Model
+    from .._kernel.boundary import Method, Options
+    from ..models import Model
 
 
 
