@@ -91,7 +91,7 @@ def test_names_and_counts_are_checked_under_their_own_names(call, name, kind):
 def test_the_api_and_the_command_line_share_one_worker_limit():
     """Hypothesis: the largest worker count the command line takes is the API's too."""
     from vibimpact.base import _limits
-    from vibimpact.cli_args import MAX_WORKERS
+    from vibimpact.cli.common.args import MAX_WORKERS
 
     assert MAX_WORKERS == _limits.MAX_WORKERS
     assert vi.Execution(workers=MAX_WORKERS).workers == MAX_WORKERS

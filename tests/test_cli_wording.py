@@ -473,7 +473,7 @@ def test_a_failed_start_of_continuation_is_structured_not_parsed():
 def test_a_set_value_outside_its_domain_names_the_option_in_every_command(argv, tmp_path,
                                                                           monkeypatch):
     """Every command that takes --set refuses a value outside its parameter's domain in
-    one line naming the option and the rule (one helper, cli_args.with_sets, for
+    one line naming the option and the rule (one helper, cli.common.args.with_sets, for
     all), before any work: nothing is written."""
     from test_continue_cli import run
 

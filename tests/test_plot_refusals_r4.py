@@ -121,7 +121,7 @@ CONTINUE2 = ["continue2", "--preset", "fig8", "--eta", "1.12", "--kind", "grazin
 @pytest.fixture
 def no_seed(monkeypatch):
     """continue2's first piece of work (the seed of the curve) fails the test if run."""
-    import vibimpact.cli_continue2 as c2
+    import vibimpact.cli.continue2 as c2
 
     def seed(*a, **k):
         raise AssertionError("continue2 started its work")

@@ -208,7 +208,7 @@ def test_the_deny_list_is_spelled_out_where_rerun_is_documented(where):
     documented list cannot drift from provenance.NOT_COMPARED."""
     from pathlib import Path
 
-    from vibimpact.cli_rerun import _RERUN_EPILOG
+    from vibimpact.cli.rerun import _RERUN_EPILOG
 
     text = _RERUN_EPILOG if where == "rerun --help" else (
         Path(__file__).resolve().parents[1] / where).read_text()

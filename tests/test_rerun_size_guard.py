@@ -3,7 +3,7 @@ asked for a classify of 100,000 points in both directions, a 300 x 300 map, 10,0
 forcing periods or a 100,000-point bifurcation, and rerun started it without a word.
 
 Now rerun says on stderr what it runs and how big it is, and refuses a command over the
-limits of :mod:`vibimpact.cli_rerun_size` (one line, exit 2, nothing computed, no file)
+limits of :mod:`vibimpact.cli.common.rerun_size` (one line, exit 2, nothing computed, no file)
 unless ``--yes`` is given.  The crafted files are a tiny sweep file with its ``command``
 attribute replaced (rerun reads nothing else before the guard); the runs accepted with
 ``--yes`` reach the recorded command's own function, replaced here by a stub.
@@ -18,10 +18,10 @@ import pytest
 from test_bad_input import run_cli, tiny_sweep_file
 
 import doc_blocks as db
-from vibimpact import cli_continue, cli_map, cli_sweep
+from vibimpact.cli import continue_ as cli_continue, map as cli_map, plot as cli_sweep
 from vibimpact import cli as cli_module
 from vibimpact.cli import build_parser
-from vibimpact.cli_rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIODS,
+from vibimpact.cli.common.rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIODS,
                                       RERUN_MAX_POINTS, RERUN_MAX_SAMPLES,
                                       RERUN_MAX_WORKERS, size_of)
 
@@ -132,7 +132,7 @@ def test_a_grid_the_command_refuses_is_one_line(tmp_path, capfd, monkeypatch):
 
 def _doc_commands():
     """Every rerunnable vibimpact command of README.md and the user guide."""
-    from vibimpact.cli_rerun import RERUNNABLE
+    from vibimpact.cli.rerun import RERUNNABLE
 
     out = []
     for page in db.pages():

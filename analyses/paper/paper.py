@@ -484,7 +484,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
 
 
 def main(argv=None):
-    from vibimpact.cli_args import parse_sets
+    from vibimpact.cli.common.args import parse_sets
 
     global REPORTS, FIGURES
     ap = smoke.parser(__doc__)

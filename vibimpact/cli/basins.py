@@ -8,11 +8,11 @@ import math
 import os
 import re
 
-from .base._text import parse_integer, parse_real
-from .cli_args import number, parse_sets, positive_int, with_sets, MAX_WORKERS
-from .cli_checkpoints import checkpoint_of
-from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options
+from ..base._text import parse_integer, parse_real
+from .common.args import number, parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.checkpoints import checkpoint_of
+from .common.errors import error_text, UsageError
+from .common.figures import add_figure_options
 
 _EPILOG = """\
 examples:
@@ -84,9 +84,9 @@ def parse_ranges(text):
 
 def _inputs(args):
     """``(system, eta, axes names, ranges, base, grid)``; UsageError for bad input."""
-    from .models import presets
-    from .census.basins import plane_axes
-    from .core.system import System
+    from ..models import presets
+    from ..census.basins import plane_axes
+    from ..core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -145,8 +145,8 @@ def summary(ds):
 
 
 def _cmd_basins(args):
-    from .cli_census_steps import check_outputs, draw, run_and_write
-    from .engine.store import Checkpoint
+    from .common.census_steps import check_outputs, draw, run_and_write
+    from ..engine.store import Checkpoint
 
     out = os.fspath(args.output)
     system, plane, ranges, state, grid = _inputs(args)
@@ -154,7 +154,7 @@ def _cmd_basins(args):
         checkpoint_of(out)
     resuming, fig_kw = check_outputs(args, out, ckpt)
 
-    from .census.basins import basins, write_basins
+    from ..census.basins import basins, write_basins
 
     ds, status, elapsed = run_and_write(
         args, out, ckpt, resuming, "basins", lambda run: basins(
@@ -164,7 +164,7 @@ def _cmd_basins(args):
         return status
     print("\n".join(summary(ds)))
     print(f"wrote {out} ({grid[0]} x {grid[1]} cells in {elapsed:.1f} s)")
-    from .plotting.basins import plot_basins
+    from ..plotting.basins import plot_basins
 
     draw(args, ds, out, plot_basins, fig_kw)
     return 0

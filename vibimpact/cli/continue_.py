@@ -11,12 +11,12 @@ import os
 import shlex
 import time
 
-from .cli_args import number, parse_sets, positive_int, with_sets
-from .cli_errors import error_text, reason, UsageError
-from .cli_figures import figure_options, image_ext_ok
-from .cli_files import check_output, read_input
-from .cli_inputs import check_distinct, check_state0
-from .base._text import count
+from .common.args import number, parse_sets, positive_int, with_sets
+from .common.errors import error_text, reason, UsageError
+from .common.figures import figure_options, image_ext_ok
+from .common.files import check_output, read_input
+from .common.inputs import check_distinct, check_state0
+from ..base._text import count
 
 _CONTINUE_EPILOG = """\
 examples:
@@ -74,11 +74,11 @@ period-2N branch switched to (nothing written: both files or neither).
 
 def _inputs(args):
     """``(System, Steps)`` of the parsed arguments; UsageError for bad input."""
-    from .base import _limits
-    from .models import presets
-    from .analysis import Steps
-    from .analysis.continuation import smallest_step
-    from .core.system import System
+    from ..base import _limits
+    from ..models import presets
+    from ..analysis import Steps
+    from ..analysis.continuation import smallest_step
+    from ..core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -154,7 +154,7 @@ def _summary(branch):
     bifurcations."""
     import numpy as np
 
-    from .continuation.branches import stretches
+    from ..continuation.branches import stretches
 
     x = np.asarray(branch.values)
     p = branch.param
@@ -163,7 +163,7 @@ def _summary(branch):
     for i, j, stable in stretches(branch.stable):
         lines.append(f"  {'stable' if stable else 'unstable':9s}{p} {x[i]:.7g} .. "
                      f"{x[j]:.7g}")
-    from .base.bifurcation_kinds import BifurcationKind
+    from ..base.bifurcation_kinds import BifurcationKind
 
     mu = np.abs(np.asarray(branch.multipliers)).max(axis=1)
     around = tuple(branch.event_impacts) or ((-1, -1),) * len(branch.bifurcations)
@@ -189,8 +189,8 @@ def _cmd_continue(args):
     check_distinct(("-o", out), ("--switch's output", switch_out))
     system, steps = _inputs(args)
 
-    from .analysis.continuation import StartFailed
-    from .continuation.branches import branch_to_dataset, follow_branch
+    from ..analysis.continuation import StartFailed
+    from ..continuation.branches import branch_to_dataset, follow_branch
 
     t0 = time.perf_counter()
     try:
@@ -225,8 +225,8 @@ def _cmd_continue(args):
 
 def _write(args, *outputs):
     """Write the ``(path, dataset)`` ``outputs`` together or not at all."""
-    from . import io
-    from .cli_files import write_outputs
+    from .. import io
+    from .common.files import write_outputs
 
     write_outputs(*((path, lambda path=path, ds=ds: io.write_netcdf(
         ds, path, overwrite=args.overwrite)) for path, ds in outputs))
@@ -242,10 +242,10 @@ def _switch(args, system, branch, steps, command):
     """``--switch``: ``(dataset, seconds, branch)`` of the period-2n branch from the first
     period doubling of ``branch`` (:func:`vibimpact.analysis.switch_branch`);
     UsageError, before anything is written, when there is none."""
-    from .analysis import switch_branch
-    from .continuation.branches import branch_to_dataset
+    from ..analysis import switch_branch
+    from ..continuation.branches import branch_to_dataset
 
-    from .base.bifurcation_kinds import BifurcationKind
+    from ..base.bifurcation_kinds import BifurcationKind
 
     t0 = time.perf_counter()
     why = f"the period-{branch.n} branch holds no period doubling"
@@ -268,7 +268,7 @@ def _switch(args, system, branch, steps, command):
 def read_branches(paths):
     """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
     continue`` file continued in eta."""
-    from .continuation.branches import is_branch_dataset
+    from ..continuation.branches import is_branch_dataset
 
     out = []
     for path in map(os.fspath, paths):
@@ -284,11 +284,11 @@ def read_branches(paths):
 
 def plot_command(args, ds):
     """``vibimpact plot BRANCH.nc [--kind branch]`` (its kind, --branch and the image
-    path ``args.output`` checked by :func:`vibimpact.cli_sweep.check_kind`)."""
+    path ``args.output`` checked by :func:`vibimpact.cli.plot.check_kind`)."""
     path, out = os.fspath(args.file), os.fspath(args.output)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
-    from .plotting.branch import plot_branch_figure
+    from ..plotting.branch import plot_branch_figure
 
     try:
         plot_branch_figure(ds, out, **figure_options(args))

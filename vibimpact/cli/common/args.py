@@ -4,8 +4,8 @@ import argparse
 import math
 import sys
 
-from .base._text import parse_integer, parse_real
-from .cli_errors import UsageError, error_text
+from ...base._text import parse_integer, parse_real
+from .errors import UsageError, error_text
 
 
 class Parser(argparse.ArgumentParser):
@@ -80,7 +80,7 @@ def set_verbosity(count):
 
 
 #: the most processes a ``--workers`` option takes (the API's limit too)
-from .base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
+from ...base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
 #: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
 MAX_INT = 2**63 - 1
 
@@ -167,7 +167,7 @@ def parse_sets(items):
 
 
 def parse_analyses(text):
-    from .points.point import ANALYSES
+    from ...points.point import ANALYSES
 
     names = [a.strip() for a in str(text).split(",") if a.strip()]
     if not names:

@@ -18,10 +18,10 @@ import os
 import shlex
 import sys
 
-from .cli_errors import UsageError
-from .cli_files import check_output, is_store, read_input
-from .engine.leftovers import remove_paths
-from .base._text import count
+from .common.errors import UsageError
+from .common.files import check_output, is_store, read_input
+from ..engine.leftovers import remove_paths
+from ..base._text import count
 
 RERUNNABLE = ("simulate", "classify", "bifurcation", "map", "continue")
 
@@ -140,9 +140,9 @@ def _running(pid):
 
 def _announce(path, command, parsed, yes):
     """Say on stderr what the rerun will run and how big it is; UsageError, before any
-    work, when it is over a limit of :mod:`vibimpact.cli_rerun_size` and ``yes`` is
+    work, when it is over a limit of :mod:`vibimpact.cli.common.rerun_size` and ``yes`` is
     false (a file from an unknown source must not start a long job on its own)."""
-    from .cli_rerun_size import size_of
+    from .common.rerun_size import size_of
 
     try:
         size = size_of(parsed)
@@ -158,13 +158,13 @@ def _announce(path, command, parsed, yes):
 def _cmd_rerun(args):
     import tempfile
 
-    from . import __version__, io
+    from .. import __version__, io
 
     path = os.fspath(args.file)
     keep = args.output is not None
     if keep:
         new = os.fspath(args.output)
-        from .cli_inputs import same_file
+        from .common.inputs import same_file
 
         if same_file(new, path):
             raise UsageError(f"-o {new!r} is the file being rerun, {path!r}; give another")
@@ -173,7 +173,7 @@ def _cmd_rerun(args):
     old = read_input(path, "file", stores=True)
     parsed = _recorded_args(path, old.attrs.get("command"), args.build_parser)
     if getattr(parsed, "from_sweep", None) is not None:  # simulate --from: start recorded
-        from .cli_start import recorded_start
+        from .common.start import recorded_start
 
         parsed.recorded_start = recorded_start(old, path)
     _announce(path, old.attrs["command"], parsed, args.yes)  # before any work or file
@@ -238,7 +238,7 @@ def add_parser(sub, fmt, build_parser):
     line parser again, to read the recorded command with."""
     import textwrap
 
-    from .cli_rerun_size import limits_text
+    from .common.rerun_size import limits_text
 
     head, sep, tail = _RERUN_EPILOG.partition("Before it starts")
     first, blank, rest = (sep + tail).partition("\n\n")

@@ -9,11 +9,11 @@ work is :func:`vibimpact.orbits.hunt_orbits`, the file
 import os
 import sys
 
-from .base._text import parse_integer
-from .cli_args import number, parse_sets, positive_int, MAX_WORKERS
-from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options
-from .cli_files import read_input
+from ..base._text import parse_integer
+from .common.args import number, parse_sets, positive_int, MAX_WORKERS
+from .common.errors import error_text, UsageError
+from .common.figures import add_figure_options
+from .common.files import read_input
 
 _ORBITS_EPILOG = """\
 examples:
@@ -52,7 +52,7 @@ exit status: 0 written, 2 bad input (nothing written).
 def parse_periods(text):
     """``"1:16"``, ``"6"`` or ``"6,8,14"`` -> a sorted tuple of ints; UsageError
     naming ``--period``."""
-    from .orbits.hunt import MAX_PERIOD
+    from ..orbits.hunt import MAX_PERIOD
 
     out = set()
     for part in str(text).split(","):
@@ -72,9 +72,9 @@ def parse_periods(text):
 
 def _system(args):
     """The System of the parsed arguments; UsageError for bad input."""
-    from .models import presets
-    from .cli_args import with_sets
-    from .core.system import System
+    from ..models import presets
+    from .common.args import with_sets
+    from ..core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -90,7 +90,7 @@ def _system(args):
 def _seeds(args, system):
     if args.seeds is None:
         return None
-    from .orbits import seeds_from_dataset
+    from ..orbits import seeds_from_dataset
 
     ds = read_input(os.fspath(args.seeds), "--seeds")
     try:
@@ -102,8 +102,8 @@ def _seeds(args, system):
 
 
 def _cmd_orbits(args):
-    from .cli_checkpoints import checkpoint_of
-    from .cli_census_steps import check_outputs, draw, run_and_write
+    from .common.checkpoints import checkpoint_of
+    from .common.census_steps import check_outputs, draw, run_and_write
 
     out = os.fspath(args.output)
     ckpt = checkpoint_of(out)
@@ -114,7 +114,7 @@ def _cmd_orbits(args):
     system = _system(args)
     seeds = _seeds(args, system)
 
-    from .orbits import hunt_orbits, hunt_to_dataset, write_orbits
+    from ..orbits import hunt_orbits, hunt_to_dataset, write_orbits
 
     hunts = []
 
@@ -136,7 +136,7 @@ def _cmd_orbits(args):
         print(f"vibimpact: warning: {hunt.failed_note()}", file=sys.stderr)
     print(f"wrote {out} ({elapsed:.1f} s: hunt {hunt.timings['hunt_s']:.1f} s, "
           f"continuation {hunt.timings['continuation_s']:.1f} s)")
-    from .plotting.orbits import plot_orbits
+    from ..plotting.orbits import plot_orbits
 
     draw(args, ds, out, plot_orbits, opts)
     return 0

@@ -24,7 +24,7 @@ RERUN_MAX_SAMPLES = 10_000_000
 RERUN_MAX_BRANCH_PERIODS = 20_000
 #: most worker processes a rerun starts unasked
 RERUN_MAX_WORKERS = 64
-#: continue --approach steps eta by this much (cli_continue's epilog)
+#: continue --approach steps eta by this much (the continue command's epilog)
 _APPROACH_STEP = 0.02
 
 
@@ -56,7 +56,7 @@ class Size:
 
     def cost(self):
         """``"about N s of computing on one core"`` ("" when not known)."""
-        from .base._limits import human_duration
+        from ...base._limits import human_duration
 
         if self.seconds is None:
             return ""
@@ -71,8 +71,8 @@ class Size:
 def _grid_size(text, option, name="eta", positive=True):
     """The number of values of the grid ``text`` of ``option`` (``START:STOP:STEP`` or a
     list); UsageError, worded as the command words it, for a grid it refuses."""
-    from .cli_errors import error_text, UsageError
-    from .sweeps import parse_range
+    from .errors import error_text, UsageError
+    from ...sweeps import parse_range
 
     try:
         return int(parse_range(text, name=name, positive=positive).size)
@@ -81,7 +81,7 @@ def _grid_size(text, option, name="eta", positive=True):
 
 
 def _points(size, args, count):
-    from .base._limits import SECONDS_PER_POINT
+    from ...base._limits import SECONDS_PER_POINT
 
     directions = 2 if getattr(args, "direction", "up") == "both" else 1
     total = count * directions
@@ -96,8 +96,8 @@ def _n_state(args):
     recorded = getattr(args, "recorded_start", None)  # simulate --from: the record's
     if recorded is not None:
         return len(recorded[0].state)
-    from .models import presets
-    from .core.system import to_system
+    from ...models import presets
+    from ...core.system import to_system
 
     try:
         return to_system(presets.get(args.preset or "fig8")).n_state
@@ -106,8 +106,8 @@ def _n_state(args):
 
 
 def _simulate(size, args):
-    from .base._limits import SECONDS_PER_PERIOD
-    from .cli import check_run_limits
+    from ...base._limits import SECONDS_PER_PERIOD
+    from .. import check_run_limits
 
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
     n_state = _n_state(args)
@@ -120,8 +120,8 @@ def _simulate(size, args):
 
 
 def _continue(size, args):
-    from .base import _limits
-    from .cli_errors import error_text, UsageError
+    from ...base import _limits
+    from .errors import error_text, UsageError
 
     try:  # the command's own limit first: --yes does not lift it
         _limits.check_points(args.max_points, "--max-points")
@@ -131,7 +131,7 @@ def _continue(size, args):
     if args.approach is not None:
         eta = args.eta
         if eta is None:  # the preset's
-            from .models import presets
+            from ...models import presets
 
             try:
                 eta = presets.get(args.preset).as_dict().get("eta", presets.DEFAULT_ETA)

@@ -7,7 +7,7 @@ Only the standard library is imported here (``vibimpact --help`` stays instant).
 import math
 import os
 
-from .cli_errors import UsageError
+from .errors import UsageError
 
 
 def same_file(a, b):

@@ -2,8 +2,8 @@
 files read with one line on failure, outputs written together or not at all."""
 import os
 
-from .base._regular import why_not_a_file
-from .cli_errors import UsageError, error_text, reason
+from ...base._regular import why_not_a_file
+from .errors import UsageError, error_text, reason
 
 
 def check_output(path, overwrite, what, store=False, size=0):
@@ -17,7 +17,7 @@ def check_output(path, overwrite, what, store=False, size=0):
     str
         The path (a store's trailing ``/`` removed).
     """
-    from .io import MIN_FREE, check_output_path
+    from ...io import MIN_FREE, check_output_path
 
     try:
         return check_output_path(path, overwrite, what=what, store=store,
@@ -29,9 +29,9 @@ def check_output(path, overwrite, what, store=False, size=0):
 def sweep_file_bytes(params, points, direction="up"):
     """An estimate of the file of a sweep or map of ``points`` grid points per
     direction (``"both"``: twice as many), for :func:`check_output`'s ``size``."""
-    from .base._limits import points_bytes
-    from .points.point import SweepSettings
-    from .core.system import to_system
+    from ...base._limits import points_bytes
+    from ...points.point import SweepSettings
+    from ...core.system import to_system
 
     points *= 2 if direction == "both" else 1
     return points_bytes(points, SweepSettings().n_samples, to_system(params).n_state)
@@ -58,11 +58,11 @@ def read_input(path, what="", stores=False):
     UsageError
         A directory, a missing file or one that cannot be read.
     """
-    from . import io
+    from ... import io
 
     label = f"{what} {path!r}".strip()
     if stores and is_store(path):
-        from .maps.store import open_map
+        from ...maps.store import open_map
 
         reader, kind = open_map, "a Zarr store"
     elif os.path.isdir(path):
@@ -72,7 +72,7 @@ def read_input(path, what="", stores=False):
         raise UsageError(label + why_not_a_file(path))  # or a FIFO, a device, ...
     else:
         reader, kind = io.read_netcdf, "NetCDF"
-    from .base._limits import DeclaredTooLarge
+    from ...base._limits import DeclaredTooLarge
 
     try:
         return reader(path)

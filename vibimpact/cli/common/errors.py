@@ -2,8 +2,8 @@
 only)."""
 import sys
 
-from .base._text import one_line
-from .engine.signals import interrupt_status
+from ...base._text import one_line
+from ...engine.signals import interrupt_status
 
 
 class UsageError(Exception):

@@ -10,12 +10,12 @@ import os
 import shlex
 import time
 
-from .base._text import parse_real
-from .cli_args import number, parse_sets, positive_int, with_sets
-from .cli_errors import UsageError, error_text, reason
-from .cli_files import check_output, read_input, write_outputs
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_inputs import check_distinct, check_state0
+from ..base._text import parse_real
+from .common.args import number, parse_sets, positive_int, with_sets
+from .common.errors import UsageError, error_text, reason
+from .common.files import check_output, read_input, write_outputs
+from .common.figures import add_figure_options, figure_options, image_ext_ok
+from .common.inputs import check_distinct, check_state0
 
 _EPILOG = """\
 examples:
@@ -67,10 +67,10 @@ def _range(text):
 
 def _inputs(args):
     """``(System, kind, window)``; UsageError for bad input."""
-    from .base import _limits
-    from .models import presets
-    from .analysis.two_parameter import curve_kind
-    from .core.system import System
+    from ..base import _limits
+    from ..models import presets
+    from ..analysis.two_parameter import curve_kind
+    from ..core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -130,7 +130,7 @@ def _check_stop1(args, system):
 def _check_over(over, path, args):
     """UsageError, before any work, unless ``--over`` is a map over eta and the curve's
     other parameter that can be drawn (drawn once into a figure that is thrown away)."""
-    from .plotting.bifurcation_curves import check_over
+    from ..plotting.bifurcation_curves import check_over
 
     try:
         check_over(over, (args.param1, args.param2))
@@ -144,7 +144,7 @@ def _check_step(args, start, lo, hi):
     (:data:`vibimpact.analysis.continuation.STEP_ULPS` units in the last place)."""
     import numpy as np
 
-    from .analysis.continuation import STEP_ULPS
+    from ..analysis.continuation import STEP_ULPS
 
     if args.step <= 0.0:
         raise UsageError(f"--step must be > 0, got {args.step:g}")
@@ -163,12 +163,12 @@ def _seed(args, system, kind):
     """``(system at the seed, state)``: the start of the curve (see the epilog)."""
     import numpy as np
 
-    from .analysis import StartFailed, shoot_periodic_orbit
-    from .continuation.branches import follow_branch
+    from ..analysis import StartFailed, shoot_periodic_orbit
+    from ..continuation.branches import follow_branch
 
     if args.stop1 is None:
         if args.approach is not None:
-            from .sweeps import continued_state
+            from ..sweeps import continued_state
 
             x = continued_state(system.params, system.omega, eta_start=args.approach,
                                 transient=args.transient, state0=args.state0)
@@ -209,9 +209,9 @@ def _cmd_continue2(args):
     if over is not None:
         _check_over(over, args.over, args)
 
-    from . import io
-    from .analysis import continue_bifurcation
-    from .continuation.curves import curve_to_dataset
+    from .. import io
+    from ..analysis import continue_bifurcation
+    from ..continuation.curves import curve_to_dataset
 
     t0 = time.perf_counter()
     seed, x = _seed(args, system, kind)
@@ -226,7 +226,7 @@ def _cmd_continue2(args):
     elapsed = time.perf_counter() - t0
     ds = curve_to_dataset(curve, seed, command=shlex.join(["vibimpact"] + list(args.argv)),
                           attrs={"preset": args.preset, "wall_time_s": round(elapsed, 3)})
-    from .plotting.bifurcation_curves import plot_bifurcation_curves
+    from ..plotting.bifurcation_curves import plot_bifurcation_curves
 
     fig = None
     if args.plot:  # drawn before anything is written: a figure that fails writes nothing
@@ -236,7 +236,7 @@ def _cmd_continue2(args):
             raise UsageError(f"--plot: {error_text(exc)}") from None
     writes = [(out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
     if fig is not None:
-        from .plotting.style import save_figure
+        from ..plotting.style import save_figure
 
         writes.append((args.plot, lambda: save_figure(fig, args.plot)))
     write_outputs(*writes)  # both or neither

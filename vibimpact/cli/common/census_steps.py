@@ -8,11 +8,11 @@ import shlex
 import sys
 import time
 
-from .cli_checkpoints import check_checkpoint, finish_checkpointed, run_checkpointed
-from .cli_errors import error_text, UsageError
-from .cli_figures import figure_options, image_ext_ok
-from .cli_files import check_output
-from .cli_inputs import check_distinct
+from .checkpoints import check_checkpoint, finish_checkpointed, run_checkpointed
+from .errors import error_text, UsageError
+from .figures import figure_options, image_ext_ok
+from .files import check_output
+from .inputs import check_distinct
 
 
 def check_outputs(args, out, ckpt, inputs=()):
@@ -20,7 +20,7 @@ def check_outputs(args, out, ckpt, inputs=()):
     checkpoint a resume cannot use and two of the command's files that are one (``-o``,
     ``--plot``, the checkpoint and the ``(option, path)`` of the files it reads,
     ``inputs``), before any work; ``(resuming, figure options)``."""
-    from .engine.leftovers import output_of
+    from ...engine.leftovers import output_of
 
     resuming = args.resume and ckpt.exists()
     check_output(out, args.overwrite or (resuming and output_of(ckpt, out)),
@@ -39,7 +39,7 @@ def run_and_write(args, out, ckpt, resuming, name, compute, write):
     """``compute(execution)`` with the command's workers, checkpoint and progress bar,
     then ``write(ds, out, overwrite=...)``; ``(ds, None, seconds)``, or ``(None, exit
     status, seconds)`` after an interrupt or a lost worker (checkpoint kept)."""
-    from .engine.execution import Execution
+    from ...engine.execution import Execution
 
     t0 = time.perf_counter()
     run = Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
@@ -53,7 +53,7 @@ def run_and_write(args, out, ckpt, resuming, name, compute, write):
     finish_checkpointed(ds, out, ckpt, write, resuming=resuming,
                         keep=args.keep_checkpoint, overwrite=args.overwrite,
                         unit="points")
-    from .census.dataset import failed_note
+    from ...census.dataset import failed_note
 
     note = failed_note(ds)  # starts whose integration failed: written, said, exit 0
     if note is not None:

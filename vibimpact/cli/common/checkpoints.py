@@ -6,16 +6,16 @@ is the engine's (:mod:`vibimpact.engine.signals`, :mod:`vibimpact.engine.store`,
 import os
 import sys
 
-from .base._text import count, one_line
-from .cli_errors import UsageError, error_text, report_interrupt
-from .engine.leftovers import output_of, remove_stale_temporaries, wrote_output
-from .engine.signals import StopWorkersOnSignal
+from ...base._text import count, one_line
+from .errors import UsageError, error_text, report_interrupt
+from ...engine.leftovers import output_of, remove_stale_temporaries, wrote_output
+from ...engine.signals import StopWorkersOnSignal
 
 
 def checkpoint_of(out):
     """The checkpoint ``OUT.partial`` of the output ``out``, a
     :class:`vibimpact.engine.store.Checkpoint` (nothing is checked or created)."""
-    from .engine.store import Checkpoint
+    from ...engine.store import Checkpoint
 
     return Checkpoint(out + ".partial")
 
@@ -70,7 +70,7 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
     written").  A ValueError (a checkpoint of another request, a lost scheduler) is a
     UsageError.
     """
-    from .engine.executors import WorkerLost
+    from ...engine.executors import WorkerLost
 
     try:
         with StopWorkersOnSignal():
@@ -102,7 +102,7 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
     --resume advice if ``resumable``), then propagates.  Returns the number of points
     loaded from the checkpoint and not recomputed.
     """
-    from .engine.store import set_aside_line
+    from ...engine.store import set_aside_line
 
     last = ckpt.last_resume() if resuming else {"points": 0, "streams": 0, "damaged": []}
     where = os.fspath(ckpt.path)

@@ -3,12 +3,12 @@ and the image extension (matplotlib imported only when used)."""
 import argparse
 import os
 
-from .base._text import parse_real
-from .cli_errors import UsageError
+from ...base._text import parse_real
+from .errors import UsageError
 
 
 def _figsize(text):
-    from .plotting.style import check_figsize
+    from ...plotting.style import check_figsize
 
     w, sep, h = str(text).lower().partition("x")
     try:
@@ -21,7 +21,7 @@ def _figsize(text):
 
 
 def _dpi(text):
-    from .plotting.style import check_dpi
+    from ...plotting.style import check_dpi
 
     try:
         return check_dpi(parse_real(text))
@@ -31,7 +31,7 @@ def _dpi(text):
 
 
 def _style(text):
-    from .plotting.style import STYLES, check_style
+    from ...plotting.style import STYLES, check_style
 
     try:
         return check_style(text)
@@ -70,12 +70,12 @@ def check_figure_size(args):
     pixel at the smallest resolution of a style, text under a pixel at ``--dpi``:
     :func:`vibimpact.base._limits.check_drawable`); the one check of every command that
     draws.  UsageError naming the options."""
-    from .base import _limits
+    from ...base import _limits
 
     figsize, dpi = getattr(args, "figsize", None), getattr(args, "dpi", None)
     if figsize is None and dpi is None:
         return
-    from .plotting.style import DPI, smallest_text_pt
+    from ...plotting.style import DPI, smallest_text_pt
 
     given = " ".join(f"--dpi {dpi:g}" if k == "dpi" else
                      f"--figsize {figsize[0]:g}x{figsize[1]:g}"

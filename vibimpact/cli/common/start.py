@@ -15,9 +15,9 @@ or gone since.  Only the standard library is imported at module level.
 """
 import os
 
-from .cli_args import parse_sets, with_sets
-from .cli_errors import error_text, UsageError
-from .cli_files import read_input
+from .args import parse_sets, with_sets
+from .errors import error_text, UsageError
+from .files import read_input
 
 #: how :func:`vibimpact.sweeps.sweep_start`'s messages name what the command line gives
 #: as the file of --from and the options --eta and --direction
@@ -48,7 +48,7 @@ def start_of(args):
         For ``--preset`` or ``--state0`` with ``--from``, and for everything
         :func:`vibimpact.sweeps.sweep_start` refuses, naming the file.
     """
-    from .sweeps.start import sweep_start
+    from ...sweeps.start import sweep_start
 
     path = os.fspath(args.from_sweep)
     for given, option in ((args.preset, "--preset"), (args.state0, "--state0")):
@@ -80,7 +80,7 @@ def recorded_start(ds, path):
     """The start recorded in the run file ``ds`` (read from ``path``) that ``vibimpact
     rerun`` hands to ``simulate --from`` as ``args.recorded_start``: ``(SweepStart,
     preset)``; UsageError when the file records none."""
-    from .sweeps.start import SweepStart
+    from ...sweeps.start import SweepStart
 
     try:
         start = SweepStart.from_run_dataset(ds, name="it")

@@ -6,14 +6,14 @@ instant.
 """
 import os
 
-from .cli_args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
-from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
+from .common.args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                               run_checkpointed)
-from .cli_errors import error_text, reason, UsageError
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output, sweep_file_bytes
-from .engine.leftovers import output_of
-from .base._text import count
+from .common.errors import error_text, reason, UsageError
+from .common.figures import add_figure_options, figure_options, image_ext_ok
+from .common.files import check_output, sweep_file_bytes
+from ..engine.leftovers import output_of
+from ..base._text import count
 
 DEFAULT_ETA = "0.9:1.5:0.005"
 
@@ -60,8 +60,8 @@ def parse_vary(text, preset_params):
     """
     import numpy as np
 
-    from .maps.map2d import check_vary, parameter_names
-    from .sweeps import parse_range
+    from ..maps.map2d import check_vary, parameter_names
+    from ..sweeps import parse_range
 
     name, sep, spec = str(text).partition("=")
     name = name.strip()
@@ -86,7 +86,7 @@ def parse_vary(text, preset_params):
 
 
 def _check_map_output(out, overwrite, size):
-    from .maps.store import output_format
+    from ..maps.store import output_format
 
     try:
         fmt = output_format(out)
@@ -97,7 +97,7 @@ def _check_map_output(out, overwrite, size):
     if os.path.lexists(out):
         if not overwrite:
             raise UsageError(f"output {out!r} exists; pass --overwrite to replace it")
-        from .maps.store import check_replaceable
+        from ..maps.store import check_replaceable
 
         try:  # only what vibimpact wrote is replaced, never a user's directory
             check_replaceable(out)
@@ -108,9 +108,9 @@ def _check_map_output(out, overwrite, size):
 
 def _inputs(args):
     """Parameters, eta grid, (name, values) from the parsed arguments."""
-    from .models import presets
-    from .maps.map2d import check_size
-    from .sweeps import parse_range
+    from ..models import presets
+    from ..maps.map2d import check_size
+    from ..sweeps import parse_range
 
     try:
         etas = parse_range(args.eta)
@@ -155,15 +155,15 @@ def _cmd_map(args):
     if args.plot is not None:
         image_ext_ok(args.plot, "--plot")
         check_output(args.plot, args.overwrite, "plot file")
-    from .cli_inputs import check_distinct
+    from .common.inputs import check_distinct
 
     check_distinct(("-o", out), ("--plot", args.plot), ("the checkpoint", ckpt.path))
     check_checkpoint(ckpt, args.resume)
 
-    from .engine import cluster
-    from .engine.execution import Execution
-    from .maps import store
-    from .maps.map2d import map2d
+    from ..engine import cluster
+    from ..engine.execution import Execution
+    from ..maps import store
+    from ..maps.map2d import map2d
 
     scheduler = None
     if args.scheduler is not None:
@@ -205,7 +205,7 @@ def _plot_or_undo(ds, out, ckpt, args, fig_kw):
     succeed or fail together) and keep the checkpoint, so that --resume loses nothing."""
     import shutil
 
-    from .plotting.map2d import plot_map
+    from ..plotting.map2d import plot_map
 
     try:
         plot_map(ds, path=args.plot, **fig_kw)
@@ -238,13 +238,13 @@ def _summary(ds, elapsed, computed):
 
 def plot_command(args, ds=None):
     """``vibimpact plot FILE --kind map``: FILE is a map (.zarr store or .nc)."""
-    from .maps.store import open_map
+    from ..maps.store import open_map
 
     path = os.fspath(args.file)
     if ds is None:
         if not os.path.exists(path):
             raise UsageError(f"{path!r}: no such file or directory")
-        from .base._limits import DeclaredTooLarge
+        from ..base._limits import DeclaredTooLarge
 
         try:
             ds = open_map(path)
@@ -256,7 +256,7 @@ def plot_command(args, ds=None):
     if "map_vary" not in ds.attrs:
         raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
                           "one")
-    # its --kind checked by vibimpact.cli_sweep.check_kind, from the table of plot
+    # its --kind checked by vibimpact.cli.plot.check_kind, from the table of plot
     out = args.output
     if out is None:
         out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"
@@ -264,7 +264,7 @@ def plot_command(args, ds=None):
 
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
-    from .plotting.map2d import plot_map
+    from ..plotting.map2d import plot_map
 
     try:
         plot_map(ds, path=out, **figure_options(args))

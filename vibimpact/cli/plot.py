@@ -7,15 +7,15 @@ instant.
 """
 import os
 
-from .cli_args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
-from .cli_checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
+from .common.args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                               run_checkpointed)
-from .cli_errors import error_text, reason, UsageError
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output, is_store, read_input, sweep_file_bytes, write_outputs
-from .cli_inputs import check_distinct
-from .engine.leftovers import output_of
-from .base._limits import MAX_POINTS
+from .common.errors import error_text, reason, UsageError
+from .common.figures import add_figure_options, figure_options, image_ext_ok
+from .common.files import check_output, is_store, read_input, sweep_file_bytes, write_outputs
+from .common.inputs import check_distinct
+from ..engine.leftovers import output_of
+from ..base._limits import MAX_POINTS
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
@@ -120,8 +120,8 @@ def _default_workers():
 
 def _sweep_inputs(args):
     """Grid, parameters from the parsed arguments; UsageError for bad input."""
-    from .models import presets
-    from .sweeps import parse_range
+    from ..models import presets
+    from ..sweeps import parse_range
 
     try:
         etas = parse_range(args.eta)
@@ -154,8 +154,8 @@ def _cmd_classify(args):
     check_checkpoint(ckpt, args.resume)
 
     import vibimpact as vi
-    from . import io
-    from .sweeps import format_intervals
+    from .. import io
+    from ..sweeps import format_intervals
 
     run = vi.Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
                        progress=not args.no_progress and "classify")
@@ -191,8 +191,8 @@ def _cmd_bifurcation(args):
     check_distinct(("-o", None if data_only is not None else image), ("its data file", data))
 
     import vibimpact as vi
-    from . import io
-    from .plotting import plot_bifurcation
+    from .. import io
+    from ..plotting import plot_bifurcation
 
     run = vi.Execution(workers=args.workers,
                        progress=not args.no_progress and "bifurcation")
@@ -245,9 +245,9 @@ _HINTS = {("lyapunov", "map"): "; its exponent over (eta, PARAM) is a panel of i
 
 def _kind_of(ds):
     """The kind of vibimpact file ``ds`` is (a key of :data:`FILE_KINDS`), or None."""
-    from .continuation.branches import is_branch_dataset
-    from .continuation.curves import is_curve_dataset
-    from .orbits.dataset import is_orbit_dataset
+    from ..continuation.branches import is_branch_dataset
+    from ..continuation.curves import is_curve_dataset
+    from ..orbits.dataset import is_orbit_dataset
 
     if "map_vary" in ds.attrs:
         return "map"
@@ -309,10 +309,10 @@ def _missing(ds, path, what, analysis):
     diverged or not computed, or the analysis was not requested."""
     import numpy as np
 
-    from .base._json import loads
-    from .base._text import count
-    from .analysis.classify import Label
-    from .points.point import REGIME_CODES
+    from ..base._json import loads
+    from ..base._text import count
+    from ..analysis.classify import Label
+    from ..points.point import REGIME_CODES
 
     reg = ds["regime"].values if "regime" in ds else np.zeros(0)
     diverged = int(np.sum(reg == REGIME_CODES[Label.DIVERGED]))
@@ -340,7 +340,7 @@ def _states(args, ds, kind):
     if kind != "bifurcation":
         raise UsageError(f"--state names the states of a bifurcation diagram, not of "
                          f"--kind {kind}")
-    from .plotting.poincare import poincare_variable
+    from ..plotting.poincare import poincare_variable
 
     try:
         names = [poincare_variable(ds, n)[1] for n in args.state.split(",")]
@@ -361,8 +361,8 @@ def _no_state(args, what):
 
 def _read_plotted(path):
     """``(dataset, kind of file)`` of ``plot``'s FILE; the dataset None for a map's Zarr
-    store or checkpoint directory (:func:`vibimpact.cli_map.plot_command` reads it)."""
-    from .engine.store import is_checkpoint
+    store or checkpoint directory (:func:`vibimpact.cli.map.plot_command` reads it)."""
+    from ..engine.store import is_checkpoint
 
     if os.path.isdir(path) and (is_store(path) or is_checkpoint(path)):
         return None, "map"
@@ -393,13 +393,13 @@ def _cmd_plot(args):
                                         *(("--branch", b) for b in args.branch)))
     args.output = out
     if what == "map":
-        from .cli_map import plot_command
+        from .map import plot_command
         return plot_command(args, ds)
     if what == "branch":
-        from .cli_continue import plot_command
+        from .continue_ import plot_command
         return plot_command(args, ds)
     if what == "census":
-        from .cli_attractors import plot_command
+        from .attractors import plot_command
         return plot_command(args, ds)
     if kind == "response" and not _has(ds, "X_m"):
         raise _missing(ds, path, "response data (X_m)", "response")
@@ -412,12 +412,12 @@ def _cmd_plot(args):
     states = _states(args, ds, kind)
     branches = []
     if args.branch:
-        from .cli_continue import read_branches
+        from .continue_ import read_branches
         branches = read_branches(args.branch)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
 
-    from . import plotting
+    from .. import plotting
 
     try:
         if kind == "xy":
@@ -430,7 +430,7 @@ def _cmd_plot(args):
                     "lyapunov": plotting.plot_lyapunov}[kind]
             fig = draw(ds, **figure_options(args), **states)
             if branches:
-                from .plotting.branch import overlay_branches
+                from ..plotting.branch import overlay_branches
                 overlay_branches(fig.axes[:2], branches,
                                  [os.path.basename(b) for b in args.branch],
                                  style=figure_options(args)["style"])

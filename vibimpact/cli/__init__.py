@@ -59,18 +59,18 @@ written).
 """
 
 
-from .cli_args import (number, parse_sets, Parser, positive_int, positive_number,
+from .common.args import (number, parse_sets, Parser, positive_int, positive_number,
                        set_verbosity, verbosity, with_sets)
-from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options, figure_options
-from .cli_files import check_output, write_outputs
-from .engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
+from .common.errors import error_text, UsageError
+from .common.figures import add_figure_options, figure_options
+from .common.files import check_output, write_outputs
+from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
                              StopWorkersOnSignal)
-from .base._text import count
+from ..base._text import count
 
 
 def _cmd_presets(args):
-    from .models import presets
+    from ..models import presets
 
     header = ("name",) + tuple(c + "*" if c in ("B", "Ec") else c for c in _PRESET_COLUMNS)
     rows = []
@@ -99,7 +99,7 @@ def _cmd_simulate(args):
     import shlex
     import time
 
-    from .models import presets
+    from ..models import presets
 
     out = os.fspath(args.output)
     check_output(out, args.overwrite, "output file")
@@ -112,14 +112,14 @@ def _cmd_simulate(args):
         if ext not in FigureCanvasBase.get_supported_filetypes():
             raise UsageError(f"--plot {args.plot!r}: unknown image extension "
                               "(use .png, .pdf or .svg)")
-    from .cli_inputs import check_distinct, check_state0
+    from .common.inputs import check_distinct, check_state0
 
     check_distinct(("-o", out), ("--plot", args.plot),
                    inputs=(("--from", args.from_sweep),))
     attrs, note = {"preset": "fig8" if args.preset is None else args.preset}, ""
     state0 = args.state0
     if args.from_sweep is not None:
-        from .cli_start import start_of
+        from .common.start import start_of
 
         params, state0, start_attrs, note = start_of(args)
         attrs = start_attrs
@@ -132,8 +132,8 @@ def _cmd_simulate(args):
             raise UsageError(error_text(exc)) from None
         params = with_sets(base, parse_sets(args.set), args.eta)
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
-    from .base import _limits
-    from .core.system import to_system
+    from ..base import _limits
+    from ..core.system import to_system
 
     check_state0(state0 if args.from_sweep is None else None, to_system(params))
     n_state = to_system(params).n_state
@@ -142,9 +142,9 @@ def _cmd_simulate(args):
     check_output(out, args.overwrite, "output file",
                  size=_limits.run_bytes(args.periods, dense, n_state) // 2)
 
-    from . import io
-    from .core.simulation import simulate
-    from .core.solver import SolverSettings
+    from .. import io
+    from ..core.simulation import simulate
+    from ..core.solver import SolverSettings
 
     start = time.perf_counter()
     try:
@@ -158,7 +158,7 @@ def _cmd_simulate(args):
     ds = run.to_dataset(command, attrs={**attrs, "wall_time_s": round(elapsed, 3)})
     writes = [(out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
     if args.plot is not None:
-        from .plotting import plot_xy
+        from ..plotting import plot_xy
 
         writes.append((args.plot, lambda: plot_xy(ds, args.plot, **fig_kw)))
     write_outputs(*writes)  # both or neither
@@ -176,7 +176,7 @@ def check_run_limits(args, dense, n_state):
     """The limits of :func:`vibimpact.base._limits.check_run` (forcing periods, memory),
     checked here so that the refusal names the options (``--periods 5 with --dense
     10``), not the API's arguments (``periods=5``)."""
-    from .base import _limits
+    from ..base import _limits
 
     total = args.periods + args.transient
     if total > _limits.MAX_PERIODS:
@@ -205,7 +205,7 @@ class _VersionAction(argparse.Action):
         self.version = version
 
     def __call__(self, parser, namespace, values, option_string=None):
-        from ._kernel.boundary import precompiled_status
+        from .._kernel.boundary import precompiled_status
 
         print(f"{self.version}\nprecompiled kernel: {precompiled_status()}")
         parser.exit()
@@ -223,7 +223,7 @@ def build_parser():
                      verbose_dest="verbose_before",
                      description="Bifurcation and chaos analysis of a vibro-impact rotor on "
                                  "magnetic bearings\n(Pust & Kozanek, eq. 5).")
-    from . import __version__
+    from .. import __version__
 
     parser.add_argument("--version", action=_VersionAction, version=f"vibimpact {__version__}",
                         help="show the version and whether the kernel compiled at install "
@@ -279,14 +279,14 @@ def build_parser():
                    help="replace existing output files")
     s.set_defaults(func=_cmd_simulate)
 
-    from .cli_attractors import add_parser as add_attractors
-    from .cli_basins import add_parser as add_basins
-    from .cli_continue import add_parser as add_continue
-    from .cli_continue2 import add_parser as add_continue2
-    from .cli_map import add_parser as add_map
-    from .cli_orbits import add_parser as add_orbits
-    from .cli_rerun import add_parser as add_rerun
-    from .cli_sweep import add_parsers
+    from .attractors import add_parser as add_attractors
+    from .basins import add_parser as add_basins
+    from .continue_ import add_parser as add_continue
+    from .continue2 import add_parser as add_continue2
+    from .map import add_parser as add_map
+    from .orbits import add_parser as add_orbits
+    from .rerun import add_parser as add_rerun
+    from .plot import add_parsers
 
     add_parsers(sub, fmt)
     add_map(sub, fmt)
@@ -324,7 +324,7 @@ def main(argv=None):
         From argparse (``--help``, ``--version``, a refused option), its status changed
         as above when the text it printed was lost.
     """
-    from .cli_streams import Streams
+    from .common.streams import Streams
 
     program = argv is None  # the process's own command line: it exits after this
     stopped = None
@@ -376,7 +376,7 @@ def _main(argv, program):
         quiet_after_interrupt()
     try:
         try:
-            from .cli_figures import check_figure_size
+            from .common.figures import check_figure_size
 
             check_figure_size(args)  # every command that draws, before any work
             with StopWorkersOnSignal():

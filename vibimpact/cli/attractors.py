@@ -4,11 +4,11 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 """
 import os
 
-from .cli_args import parse_sets, positive_int, with_sets, MAX_WORKERS
-from .cli_checkpoints import checkpoint_of
-from .cli_errors import error_text, UsageError
-from .cli_figures import add_figure_options, figure_options, image_ext_ok
-from .cli_files import check_output
+from .common.args import parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.checkpoints import checkpoint_of
+from .common.errors import error_text, UsageError
+from .common.figures import add_figure_options, figure_options, image_ext_ok
+from .common.files import check_output
 
 _EPILOG = """\
 examples:
@@ -39,9 +39,9 @@ terminated (SIGTERM); the checkpoint is kept for --resume.
 
 
 def _inputs(args):
-    from .models import presets
-    from .sweeps import parse_range
-    from .core.system import System
+    from ..models import presets
+    from ..sweeps import parse_range
+    from ..core.system import System
 
     try:
         base = presets.get(args.preset)
@@ -56,7 +56,7 @@ def _inputs(args):
 
 
 def _table(ds):
-    from .census.dataset import attractor_table
+    from ..census.dataset import attractor_table
 
     lines = []
     for i, eta in enumerate(ds.eta.values):
@@ -78,7 +78,7 @@ def _sweep_file(args, system, etas):
     of every state the census places (see :func:`_sample_names`)."""
     if args.sweep is None:
         return None
-    from .cli_files import read_input
+    from .common.files import read_input
 
     path = os.fspath(args.sweep)
     ds = read_input(path, "--sweep")
@@ -88,7 +88,7 @@ def _sweep_file(args, system, etas):
                          "'bifurcation')")
     _same_system(ds, label, system, args.preset)
     try:
-        from .plotting._sweep import check_contents
+        from ..plotting._sweep import check_contents
 
         check_contents(ds, grids=("eta",), codes=(), increasing=("eta",))
     except ValueError as exc:
@@ -106,8 +106,8 @@ def _same_system(ds, label, system, preset):
     parameters, which a census of others does not list."""
     import math
 
-    from .sweeps.dataset import sweep_params
-    from .core.system import param_dict
+    from ..sweeps.dataset import sweep_params
+    from ..core.system import param_dict
 
     model = str(ds.attrs.get("model", "rotor"))
     if model != system.model.name:
@@ -184,7 +184,7 @@ def _located(ds, sweep, path):
     """Lines: which census attractor the sweep followed at every common eta."""
     import numpy as np
 
-    from .census.locate import locate
+    from ..census.locate import locate
 
     try:
         where = locate(ds, sweep)
@@ -208,7 +208,7 @@ def _located(ds, sweep, path):
 
 
 def _cmd_attractors(args):
-    from .cli_census_steps import check_outputs, draw, run_and_write
+    from .common.census_steps import check_outputs, draw, run_and_write
 
     out = os.fspath(args.output)
     system, etas = _inputs(args)
@@ -216,8 +216,8 @@ def _cmd_attractors(args):
     resuming, fig_kw = check_outputs(args, out, ckpt, inputs=(("--sweep", args.sweep),))
     sweep = _sweep_file(args, system, etas)
 
-    from . import io
-    from .census.census import attractors
+    from .. import io
+    from ..census.census import attractors
 
     ds, status, elapsed = run_and_write(
         args, out, ckpt, resuming, "census", lambda run: attractors(
@@ -230,7 +230,7 @@ def _cmd_attractors(args):
         print("\n".join(_located(ds, sweep, args.sweep)))
     print(f"wrote {out} ({ds.sizes['eta']} eta x {ds.sizes['start']} starts in "
           f"{elapsed:.1f} s)")
-    from .plotting.census import plot_census
+    from ..plotting.census import plot_census
 
     draw(args, ds, out, plot_census, fig_kw)
     return 0
@@ -238,13 +238,13 @@ def _cmd_attractors(args):
 
 def plot_command(args, ds):
     """``vibimpact plot CENSUS.nc [--kind census]`` (its kind, --branch and the image
-    path ``args.output`` checked by :func:`vibimpact.cli_sweep.check_kind`)."""
-    from .cli_errors import reason
+    path ``args.output`` checked by :func:`vibimpact.cli.plot.check_kind`)."""
+    from .common.errors import reason
 
     path, out = os.fspath(args.file), os.fspath(args.output)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
-    from .plotting.census import plot_census
+    from ..plotting.census import plot_census
 
     try:
         plot_census(ds, path=out, **figure_options(args))
