@@ -18,8 +18,7 @@ import pytest
 from test_bad_input import run_cli, tiny_sweep_file
 
 import doc_blocks as db
-from vibimpact.cli import continue_ as cli_continue, map as cli_map, plot as cli_sweep
-from vibimpact import cli as cli_module
+from vibimpact.cli import bifurcation, classify, continue_, map as cli_map, simulate
 from vibimpact.cli import build_parser
 from vibimpact.cli.common.rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIODS,
                                       RERUN_MAX_POINTS, RERUN_MAX_SAMPLES,
@@ -29,10 +28,10 @@ from vibimpact.cli.common.rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX
 CRAFTED = {
     "classify 100,000 points both ways": (
         "vibimpact classify --eta 0.50001:1.5:0.00001 --direction both -o c.nc",
-        cli_sweep, "_cmd_classify", "200,000 sweep points (both directions)"),
+        classify, "_cmd_classify", "200,000 sweep points (both directions)"),
     "bifurcation 100,000 points": (
         "vibimpact bifurcation --eta 0.50001:1.5:0.00001 --direction up -o b.png",
-        cli_sweep, "_cmd_bifurcation", "100,000 sweep points"),
+        bifurcation, "_cmd_bifurcation", "100,000 sweep points"),
     "map 300 x 300": (
         "vibimpact map --eta 1.001:1.3:0.001 --vary kh=1:300:1 -o m.zarr",
         cli_map, "_cmd_map", "90,000 map cells"),
@@ -41,25 +40,25 @@ CRAFTED = {
         cli_map, "_cmd_map", "24,000 map cells (both directions)"),
     "simulate 10,000,000 periods": (
         "vibimpact simulate --periods 9999500 -o s.nc",
-        cli_module, "_cmd_simulate", "10,000,000 forcing periods"),
+        simulate, "_cmd_simulate", "10,000,000 forcing periods"),
     "simulate dense samples": (
         "vibimpact simulate --periods 200000 --dense 60 -o s.nc",
-        cli_module, "_cmd_simulate", "12,200,002 samples stored"),
+        simulate, "_cmd_simulate", "12,200,002 samples stored"),
     "simulate --plot's samples": (
         "vibimpact simulate --periods 200000 -o s.nc --plot s.png",
-        cli_module, "_cmd_simulate", "13,000,002 samples stored"),
+        simulate, "_cmd_simulate", "13,000,002 samples stored"),
     "continue 100,000 points": (
         "vibimpact continue --stop 1.2 --max-points 100000 -o p.nc",
-        cli_continue, "_cmd_continue", "100,000 orbit periods along the branch"),
+        continue_, "_cmd_continue", "100,000 orbit periods along the branch"),
     "continue long period with --switch": (
         "vibimpact continue --stop 1.2 --period 20 --max-points 400 --switch -o p.nc",
-        cli_continue, "_cmd_continue", "24,000 orbit periods along the branch and its"),
+        continue_, "_cmd_continue", "24,000 orbit periods along the branch and its"),
     "continue far --approach": (
         "vibimpact continue --eta 1.1 --approach 100 --transient 20000 --stop 1.2 -o p.nc",
-        cli_continue, "_cmd_continue", "forcing periods to the start"),
+        continue_, "_cmd_continue", "forcing periods to the start"),
     "classify 4096 workers": (
         "vibimpact classify --eta 1.0:1.01:0.01 --workers 4096 -o c.nc",
-        cli_sweep, "_cmd_classify", "4,096 worker processes"),
+        classify, "_cmd_classify", "4,096 worker processes"),
 }
 
 

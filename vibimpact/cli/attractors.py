@@ -7,8 +7,7 @@ import os
 from .common.args import parse_sets, positive_int, with_sets, MAX_WORKERS
 from .common.checkpoints import checkpoint_of
 from .common.errors import error_text, UsageError
-from .common.figures import add_figure_options, figure_options, image_ext_ok
-from .common.files import check_output
+from .common.figures import add_figure_options
 
 _EPILOG = """\
 examples:
@@ -236,24 +235,6 @@ def _cmd_attractors(args):
     return 0
 
 
-def plot_command(args, ds):
-    """``vibimpact plot CENSUS.nc [--kind census]`` (its kind, --branch and the image
-    path ``args.output`` checked by :func:`vibimpact.cli.plot.check_kind`)."""
-    from .common.errors import reason
-
-    path, out = os.fspath(args.file), os.fspath(args.output)
-    image_ext_ok(out, "-o")
-    check_output(out, args.overwrite, "image file")
-    from ..plotting.census import plot_census
-
-    try:
-        plot_census(ds, path=out, **figure_options(args))
-    except Exception as exc:  # a damaged file can fail anywhere in drawing
-        raise UsageError(f"cannot draw a census from {path!r}: {reason(exc)}") from None
-    print(f"wrote {out}")
-    return 0
-
-
 def add_parser(sub, fmt):
     """Add ``attractors`` to the subparsers ``sub``."""
     a = sub.add_parser("attractors", help="attractor census: every attractor and its "
@@ -293,4 +274,4 @@ def add_parser(sub, fmt):
     a.set_defaults(func=_cmd_attractors)
 
 
-__all__ = ["add_parser", "plot_command"]
+__all__ = ["add_parser"]

@@ -12,9 +12,8 @@ import shlex
 import time
 
 from .common.args import number, parse_sets, positive_int, with_sets
-from .common.errors import error_text, reason, UsageError
-from .common.figures import figure_options, image_ext_ok
-from .common.files import check_output, read_input
+from .common.errors import error_text, UsageError
+from .common.files import check_output
 from .common.inputs import check_distinct, check_state0
 from ..base._text import count
 
@@ -265,39 +264,6 @@ def _switch(args, system, branch, steps, command):
     return ds, seconds, doubled
 
 
-def read_branches(paths):
-    """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
-    continue`` file continued in eta."""
-    from ..continuation.branches import is_branch_dataset
-
-    out = []
-    for path in map(os.fspath, paths):
-        ds = read_input(path, "--branch")
-        if not is_branch_dataset(ds):
-            raise UsageError(f"--branch {path!r} is not a 'vibimpact continue' file")
-        if ds.attrs.get("continuation_param") != "eta":
-            raise UsageError(f"--branch {path!r} is continued in "
-                             f"{ds.attrs.get('continuation_param')}, not eta")
-        out.append(ds)
-    return out
-
-
-def plot_command(args, ds):
-    """``vibimpact plot BRANCH.nc [--kind branch]`` (its kind, --branch and the image
-    path ``args.output`` checked by :func:`vibimpact.cli.plot.check_kind`)."""
-    path, out = os.fspath(args.file), os.fspath(args.output)
-    image_ext_ok(out, "-o")
-    check_output(out, args.overwrite, "image file")
-    from ..plotting.branch import plot_branch_figure
-
-    try:
-        plot_branch_figure(ds, out, **figure_options(args))
-    except Exception as exc:  # a damaged file can fail anywhere in drawing
-        raise UsageError(f"cannot draw a branch from {path!r}: {reason(exc)}") from None
-    print(f"wrote {out}")
-    return 0
-
-
 def add_parser(sub, fmt):
     """Add ``continue`` to the subparsers ``sub``."""
     c = sub.add_parser("continue", help="follow a periodic orbit in a parameter "
@@ -348,4 +314,4 @@ def add_parser(sub, fmt):
     c.set_defaults(func=_cmd_continue)
 
 
-__all__ = ["add_parser", "plot_command", "read_branches"]
+__all__ = ["add_parser"]

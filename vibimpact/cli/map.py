@@ -8,8 +8,8 @@ import os
 
 from .common.args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
 from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
-                              run_checkpointed)
-from .common.errors import error_text, reason, UsageError
+                                 run_checkpointed)
+from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options, figure_options, image_ext_ok
 from .common.files import check_output, sweep_file_bytes
 from ..engine.leftovers import output_of
@@ -236,44 +236,6 @@ def _summary(ds, elapsed, computed):
           f"{elapsed:.1f} s, {computed / max(elapsed, 1e-9):.1f} points/s)")
 
 
-def plot_command(args, ds=None):
-    """``vibimpact plot FILE --kind map``: FILE is a map (.zarr store or .nc)."""
-    from ..maps.store import open_map
-
-    path = os.fspath(args.file)
-    if ds is None:
-        if not os.path.exists(path):
-            raise UsageError(f"{path!r}: no such file or directory")
-        from ..base._limits import DeclaredTooLarge
-
-        try:
-            ds = open_map(path)
-        except DeclaredTooLarge as exc:  # names the store already
-            raise UsageError(error_text(exc)) from None
-        except Exception as exc:
-            raise UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
-                             f"{reason(exc)}") from None
-    if "map_vary" not in ds.attrs:
-        raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
-                          "one")
-    # its --kind checked by vibimpact.cli.plot.check_kind, from the table of plot
-    out = args.output
-    if out is None:
-        out = os.path.splitext(path.rstrip("/" + os.sep))[0] + "_map.png"
-    out = os.fspath(out)
-
-    image_ext_ok(out, "-o")
-    check_output(out, args.overwrite, "image file")
-    from ..plotting.map2d import plot_map
-
-    try:
-        plot_map(ds, path=out, **figure_options(args))
-    except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
-        raise UsageError(f"cannot draw a map from {path!r}: {reason(exc)}") from None
-    print(f"wrote {out}")
-    return 0
-
-
 def add_parser(sub, fmt):
     """Add ``map`` to the subparsers ``sub``."""
     m = sub.add_parser("map", help="regime map over eta and one other parameter (Dask)",
@@ -319,4 +281,4 @@ def add_parser(sub, fmt):
     m.set_defaults(func=_cmd_map)
 
 
-__all__ = ["add_parser", "parse_vary", "plot_command"]
+__all__ = ["add_parser", "parse_vary"]

@@ -1,77 +1,18 @@
-"""The sweep commands of the ``vibimpact`` command line: ``classify``, ``bifurcation`` and
-``plot``.
+"""``vibimpact plot``: a figure drawn from a file any command wrote (a run, a sweep, a map,
+a branch, a census).
 
-Like :mod:`vibimpact.cli`, this module imports only the standard library at module level;
-numpy, numba, xarray and matplotlib are imported inside the commands, so ``--help`` stays
-instant.
+Only the standard library and the command line's shared parts are imported at module
+level; numpy, numba, xarray and matplotlib inside the command.
 """
 import os
 
-from .common.args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
-from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
-                              run_checkpointed)
 from .common.errors import error_text, reason, UsageError
 from .common.figures import add_figure_options, figure_options, image_ext_ok
-from .common.files import check_output, is_store, read_input, sweep_file_bytes, write_outputs
+from .common.files import check_output, is_store, read_input
 from .common.inputs import check_distinct
-from ..engine.leftovers import output_of
-from ..base._limits import MAX_POINTS
 
-#: the main job
-DEFAULT_ETA = "0.9:1.5:0.002"
-DEFAULT_PRESET = "fig8"
 PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch", "poincare",
               "lyapunov", "census")
-
-_CLASSIFY_EPILOG = """\
-examples:
-  vibimpact classify --eta 0.9:1.5:0.002 -o fig8.nc
-  vibimpact classify --eta 1.0:1.3:0.005 --preset fig10 --set BT=0.07 \\
-      --direction both --analyses period,impacts,response -o fig10.nc
-
-Every point starts from the previous point's final state (continuation) inside each of
---blocks blocks (16 by default), so jumps and hysteresis show as in the paper; every
-block but the first starts from a short seeding pass, and --blocks 1 is one unbroken
-continuation.  --workers processes compute the blocks at once.  The result depends on
---blocks, never on --workers.
-
-Each finished point is saved at once in the checkpoint directory OUT.partial.  After
-Ctrl-C (exit status 130), SIGTERM (143), a worker process killed (2) or a crash, run the
-same command again with --resume: the saved points are loaded, not recomputed, and the
-file is the one an uninterrupted run writes (on the same CPU type with the same versions:
-see the reproducibility page of the docs).
-The checkpoint is removed once OUT is written.
-
-Labels need evidence: periodic a period found (or an orbit found by Newton shooting
-from a slowly settling transient and confirmed by integration), chaotic a positive
-exponent beyond its error, quasi-periodic a zero exponent, a regular 0-1 test and
-Poincare points that neither contract nor stop recurring; what no test decides within
-the transient budget is "unsettled" (its contraction rate and the periods it would
-still need are stored).  This keeps labels right at the very low damping of passive
-magnetic bearings, where transients decay over thousands of periods.
-
-The NetCDF file holds per eta (and direction): regime (flag), label, period,
-impacts_per_period, lyapunov, lyapunov_err, k01, floquet_exponent, contraction,
-settle_periods, shoot_residual, X_m, Y_m, R_m, min_gap, arcs, poincare_X, poincare_Y,
-...; every parameter and the command line as attributes.  The interval table
-(consecutive points with the same label) is printed on stdout.
-
-exit status: 0 written, 2 bad input (nothing computed) or a worker process died
-(checkpoint kept), 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
-"""
-
-_BIFURCATION_EPILOG = """\
-example:
-  vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
-
-Sweeps eta up and down (--direction both by default) computing only the period and the
-Poincare (stroboscopic) points, draws X and Y of the Poincare points against eta (up and
-down sweeps in two colours) and writes the data next to the image (bif.png -> bif.nc);
-'vibimpact plot bif.nc --kind bifurcation' redraws it.
-
-exit status: 0 written, 2 bad input (nothing computed) or a worker process died
-(nothing written), 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
-"""
 
 _PLOT_EPILOG = """\
 examples:
@@ -114,107 +55,6 @@ FILE_KIND.png next to FILE.
 """
 
 
-def _default_workers():
-    return min(2, os.cpu_count() or 1)
-
-
-def _sweep_inputs(args):
-    """Grid, parameters from the parsed arguments; UsageError for bad input."""
-    from ..models import presets
-    from ..sweeps import parse_range
-
-    try:
-        etas = parse_range(args.eta)
-    except ValueError as exc:
-        raise UsageError(f"--eta: {exc}") from None
-    try:
-        base = presets.get(args.preset)
-    except ValueError as exc:
-        raise UsageError(error_text(exc)) from None
-    return etas, with_sets(base, parse_sets(args.set))
-
-
-def _command_line(args):
-    import shlex
-
-    return shlex.join(["vibimpact"] + list(args.argv))
-
-
-def _cmd_classify(args):
-    out = os.fspath(args.output)
-    etas, params = _sweep_inputs(args)
-    analyses = parse_analyses(args.analyses)
-    ckpt = checkpoint_of(out)
-    resuming = args.resume and ckpt.exists()
-    resumable = not getattr(args, "rerun_of", None)  # rerun has no --resume
-    # an existing output is replaced with --overwrite, or by --resume if it was written
-    # from this checkpoint (kept, or its run killed before removing it); never otherwise
-    check_output(out, args.overwrite or (resuming and output_of(ckpt, out)), "output file",
-                 size=sweep_file_bytes(params, etas.size, args.direction))
-    check_checkpoint(ckpt, args.resume)
-
-    import vibimpact as vi
-    from .. import io
-    from ..sweeps import format_intervals
-
-    run = vi.Execution(workers=args.workers, checkpoint=ckpt.path, resume=args.resume,
-                       progress=not args.no_progress and "classify")
-    ds, status = run_checkpointed(ckpt, "points", lambda: vi.sweep(
-        params, etas, direction=args.direction, analyses=analyses,
-        continuation=vi.Continuation(blocks=args.blocks), execution=run),
-        resumable=resumable)
-    if ds is None:
-        return status
-    ds.attrs.update(command=_command_line(args), preset=args.preset, eta_range=args.eta)
-    finish_checkpointed(ds, out, ckpt, io.write_netcdf, resuming=resuming,
-                        keep=args.keep_checkpoint, overwrite=args.overwrite, unit="points",
-                        resumable=resumable)
-    print(format_intervals(vi.intervals(ds)))
-    print(f"wrote {out}")
-    return 0
-
-
-def _cmd_bifurcation(args):
-    # ``vibimpact rerun`` sets ``data_only`` to the .nc path: no image is drawn then
-    data_only = getattr(args, "data_only", None)
-    image = os.fspath(args.output)
-    if data_only is None:
-        image_ext_ok(image, "-o")
-        data = os.path.splitext(image)[0] + ".nc"
-    else:
-        data = os.fspath(data_only)
-    etas, params = _sweep_inputs(args)
-    if data_only is None:
-        check_output(image, args.overwrite, "image file")
-    check_output(data, args.overwrite, "data file",
-                 size=sweep_file_bytes(params, etas.size, args.direction))
-    check_distinct(("-o", None if data_only is not None else image), ("its data file", data))
-
-    import vibimpact as vi
-    from .. import io
-    from ..plotting import plot_bifurcation
-
-    run = vi.Execution(workers=args.workers,
-                       progress=not args.no_progress and "bifurcation")
-    ds, status = run_checkpointed(None, "points", lambda: vi.sweep(
-        params, etas, direction=args.direction, analyses=("period", "poincare"),
-        continuation=vi.Continuation(blocks=args.blocks), execution=run))
-    if ds is None:
-        return status
-    ds.attrs.update(command=_command_line(args), preset=args.preset, eta_range=args.eta)
-    writes = [(data, lambda: io.write_netcdf(ds, data, overwrite=args.overwrite))]
-    if data_only is None:
-        writes.append((image, lambda: plot_bifurcation(ds, path=image,
-                                                       **figure_options(args))))
-    write_outputs(*writes)  # both or neither
-    if data_only is not None:
-        print(f"wrote {data}")
-        return 0
-    print(f"wrote {image} and {data}")
-    return 0
-
-
-#: what each kind of file is, in the refusals of ``plot``
 FILE_KINDS = {
     "run": "a 'vibimpact simulate' file",
     "sweep": "a sweep file ('vibimpact classify' or 'bifurcation')",
@@ -361,7 +201,7 @@ def _no_state(args, what):
 
 def _read_plotted(path):
     """``(dataset, kind of file)`` of ``plot``'s FILE; the dataset None for a map's Zarr
-    store or checkpoint directory (:func:`vibimpact.cli.map.plot_command` reads it)."""
+    store or checkpoint directory (:func:`_plot_map` reads it)."""
     from ..engine.store import is_checkpoint
 
     if os.path.isdir(path) and (is_store(path) or is_checkpoint(path)):
@@ -392,15 +232,9 @@ def _cmd_plot(args):
     check_distinct(("-o", out), inputs=(("FILE", path),
                                         *(("--branch", b) for b in args.branch)))
     args.output = out
-    if what == "map":
-        from .map import plot_command
-        return plot_command(args, ds)
-    if what == "branch":
-        from .continue_ import plot_command
-        return plot_command(args, ds)
-    if what == "census":
-        from .attractors import plot_command
-        return plot_command(args, ds)
+    if what in ("map", "branch", "census"):
+        return {"map": _plot_map, "branch": _plot_branch, "census": _plot_census}[what](
+            args, ds)
     if kind == "response" and not _has(ds, "X_m"):
         raise _missing(ds, path, "response data (X_m)", "response")
     if kind in ("bifurcation", "poincare") and not _has(ds, "poincare_X"):
@@ -412,8 +246,7 @@ def _cmd_plot(args):
     states = _states(args, ds, kind)
     branches = []
     if args.branch:
-        from .continue_ import read_branches
-        branches = read_branches(args.branch)
+        branches = _read_branches(args.branch)
     image_ext_ok(out, "-o")
     check_output(out, args.overwrite, "image file")
 
@@ -442,62 +275,83 @@ def _cmd_plot(args):
     return 0
 
 
-def _add_sweep_options(s, direction):
-    s.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP|V1,V2,...",
-                   help="grid of the forcing frequency ratio: a range (STOP is included "
-                        "when it lies on the grid) or a list of increasing values, e.g. "
-                        f"1.0,1.1,1.25 (default: {DEFAULT_ETA})")
-    s.add_argument("--preset", default=DEFAULT_PRESET, help="parameter set (default: "
-                   f"{DEFAULT_PRESET}); see 'vibimpact presets'")
-    s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
-                   help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
-    s.add_argument("--direction", choices=("up", "down", "both"), default=direction,
-                   help=f"sweep direction (default: {direction})")
-    s.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=_default_workers(),
-                   metavar="N", help="processes computing at once (default: min(2, CPUs) "
-                   f"= {_default_workers()}); does not change the result")
-    s.add_argument("--blocks", type=positive_int(1, MAX_POINTS), default=16, metavar="N",
-                   help="seeded blocks per direction, 1 = pure serial continuation "
-                        "(default: 16)")
-    s.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    s.add_argument("--no-progress", action="store_true",
-                   help="no progress bar on stderr")
+def _plot_map(args, ds=None):
+    """``vibimpact plot FILE --kind map``: FILE is a map (.zarr store or .nc)."""
+    from ..maps.store import open_map
+
+    path = os.fspath(args.file)
+    if ds is None:
+        if not os.path.exists(path):
+            raise UsageError(f"{path!r}: no such file or directory")
+        from ..base._limits import DeclaredTooLarge
+
+        try:
+            ds = open_map(path)
+        except DeclaredTooLarge as exc:  # names the store already
+            raise UsageError(error_text(exc)) from None
+        except Exception as exc:
+            raise UsageError(f"cannot read {path!r} as a map (Zarr or NetCDF): "
+                             f"{reason(exc)}") from None
+    if "map_vary" not in ds.attrs:
+        raise UsageError(f"--kind map needs a file of 'vibimpact map'; {path!r} is not "
+                          "one")
+    # its --kind checked by check_kind, from the table of plot
+    from ..plotting.map2d import plot_map
+
+    return _draw_file(args, ds, "a map", lambda ds, out, **kw: plot_map(ds, path=out, **kw))
 
 
-def add_parsers(sub, fmt):
-    """Add ``classify``, ``bifurcation`` and ``plot`` to the subparsers ``sub``."""
-    c = sub.add_parser("classify", help="sweep eta, classify every point, print the "
-                       "intervals", formatter_class=fmt, epilog=_CLASSIFY_EPILOG,
-                       description="Sweep the forcing frequency eta with continuation, "
-                                   "classify the motion at every point\n(period, impacts, "
-                                   "Lyapunov exponent, 0-1 test, Floquet multipliers), write a NetCDF file and "
-                                   "print the\nlabelled frequency intervals.")
-    _add_sweep_options(c, "up")
-    c.add_argument("--analyses", default="all", metavar="A,B,...",
-                   help="what to compute: comma-separated subset of period, impacts, "
-                        "response, poincare, lyapunov, test01, floquet (Floquet "
-                        "multipliers of periodic points by shooting) (default: all; "
-                        "period always runs)")
-    c.add_argument("-o", "--output", default="classify.nc", metavar="OUT.nc",
-                   help="NetCDF file to write (default: classify.nc)")
-    c.add_argument("--resume", action="store_true",
-                   help="continue an interrupted run from its checkpoint OUT.partial")
-    c.add_argument("--keep-checkpoint", action="store_true",
-                   help="keep OUT.partial after OUT is written")
-    c.set_defaults(func=_cmd_classify)
+def _plot_branch(args, ds):
+    """``vibimpact plot BRANCH.nc [--kind branch]`` (its kind, --branch and the image
+    path ``args.output`` checked by :func:`check_kind`)."""
+    from ..plotting.branch import plot_branch_figure
 
-    b = sub.add_parser("bifurcation", help="sweep eta and draw the bifurcation diagram",
-                       formatter_class=fmt, epilog=_BIFURCATION_EPILOG,
-                       description="Sweep eta up and down and draw the Poincare points "
-                                   "against eta; the data is written\nnext to the image "
-                                   "as NetCDF.")
-    _add_sweep_options(b, "both")
-    b.add_argument("-o", "--output", default="bifurcation.png", metavar="FILE.png",
-                   help="image to write (default: bifurcation.png); the data goes to "
-                        "FILE.nc")
-    add_figure_options(b, "the image")
-    b.set_defaults(func=_cmd_bifurcation)
+    return _draw_file(args, ds, "a branch", plot_branch_figure)
 
+
+def _read_branches(paths):
+    """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
+    continue`` file continued in eta."""
+    from ..continuation.branches import is_branch_dataset
+
+    out = []
+    for path in map(os.fspath, paths):
+        ds = read_input(path, "--branch")
+        if not is_branch_dataset(ds):
+            raise UsageError(f"--branch {path!r} is not a 'vibimpact continue' file")
+        if ds.attrs.get("continuation_param") != "eta":
+            raise UsageError(f"--branch {path!r} is continued in "
+                             f"{ds.attrs.get('continuation_param')}, not eta")
+        out.append(ds)
+    return out
+
+
+def _plot_census(args, ds):
+    """``vibimpact plot CENSUS.nc [--kind census]`` (its kind, --branch and the image
+    path ``args.output`` checked by :func:`check_kind`)."""
+    from ..plotting.census import plot_census
+
+    return _draw_file(args, ds, "a census", plot_census)
+
+
+def _draw_file(args, ds, what, draw):
+    """Draw ``ds``, the FILE of ``plot`` holding ``what`` ("a map", ...), into the image
+    ``args.output`` with ``draw(ds, path, figsize=, dpi=, style=)``; exit status 0, or
+    one line naming the file when drawing fails (the image is written atomically, so
+    nothing partial is left)."""
+    path, out = os.fspath(args.file), os.fspath(args.output)
+    image_ext_ok(out, "-o")
+    check_output(out, args.overwrite, "image file")
+    try:
+        draw(ds, out, **figure_options(args))
+    except Exception as exc:  # a foreign or damaged file can fail anywhere in drawing
+        raise UsageError(f"cannot draw {what} from {path!r}: {reason(exc)}") from None
+    print(f"wrote {out}")
+    return 0
+
+
+def add_parser(sub, fmt):
+    """Add ``plot`` to the subparsers ``sub``."""
     p = sub.add_parser("plot", help="draw a figure from a NetCDF file", formatter_class=fmt,
                        epilog=_PLOT_EPILOG,
                        description="Draw a figure from a file written by 'vibimpact "
@@ -520,4 +374,4 @@ def add_parsers(sub, fmt):
     p.set_defaults(func=_cmd_plot)
 
 
-__all__ = ["add_parsers", "DEFAULT_ETA", "PLOT_KINDS"]
+__all__ = ["add_parser", "PLOT_KINDS"]

@@ -60,7 +60,7 @@ without --yes).
 
 def _recorded_args(path, command, build_parser):
     """Parse the recorded command line with today's parser (``build_parser()``, handed
-    down by :mod:`vibimpact.cli` so that this module does not import it back); the
+    down by :mod:`vibimpact.cli` so that no command imports the registration table); the
     argparse Namespace."""
     if not isinstance(command, str) or not command.strip():
         raise UsageError(f"{path!r} has no 'command' attribute: not written by vibimpact "
@@ -233,9 +233,10 @@ def _cmd_rerun(args):
     return 1
 
 
-def add_parser(sub, fmt, build_parser):
-    """Add ``rerun`` to the subparsers ``sub``; ``build_parser`` makes the whole command
-    line parser again, to read the recorded command with."""
+def add_parser(sub, fmt):
+    """Add ``rerun`` to the subparsers ``sub`` (the whole command line's parser, to read
+    the recorded command with, comes as ``args.build_parser``: set by
+    :func:`vibimpact.cli.build_parser` for every command)."""
     import textwrap
 
     from .common.rerun_size import limits_text
@@ -259,7 +260,7 @@ def add_parser(sub, fmt, build_parser):
     r.add_argument("--yes", action="store_true",
                    help="run the recorded command even when it is larger than a rerun "
                         "starts without asking (see below)")
-    r.set_defaults(func=_cmd_rerun, build_parser=build_parser)
+    r.set_defaults(func=_cmd_rerun)
 
 
 __all__ = ["add_parser", "RERUNNABLE"]

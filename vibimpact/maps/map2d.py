@@ -45,7 +45,7 @@ from ..base import _validate as _v
 from .. import models
 from ..models.params import DuffingParams, Params
 from ..core.system import (System, param_dict, to_system, varied_names, with_frequency,
-                      with_values)
+                           with_values)
 from ..sweeps.sweep import check_grid, check_request, snap_grid
 from ..engine.execution import Execution, as_execution, refuse_moved
 

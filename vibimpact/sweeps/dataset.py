@@ -22,7 +22,7 @@ from ..analysis.classify import Label
 from ..core.run import state_text
 from ..core.system import param_dict, to_system
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
-                             CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
+                            CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping, Sequence

@@ -107,7 +107,7 @@ def _n_state(args):
 
 def _simulate(size, args):
     from ...base._limits import SECONDS_PER_PERIOD
-    from .. import check_run_limits
+    from .run_limits import check_run_limits
 
     dense = args.dense if args.dense is not None else (64 if args.plot else 0)
     n_state = _n_state(args)
