@@ -67,7 +67,6 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-
 def build_parser():
     """The argument parser of the ``vibimpact`` command.
 
@@ -196,4 +195,3 @@ def _main(argv, program):
 
             for sig in (signal.SIGINT, signal.SIGTERM):
                 signal.signal(sig, signal.SIG_IGN)
-

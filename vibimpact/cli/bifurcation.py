@@ -66,7 +66,6 @@ def _cmd_bifurcation(args):
     return 0
 
 
-
 def add_parser(sub, fmt):
     """Add ``bifurcation`` to the subparsers ``sub``."""
     b = sub.add_parser("bifurcation", help="sweep eta and draw the bifurcation diagram",

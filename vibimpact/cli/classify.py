@@ -85,7 +85,6 @@ def _cmd_classify(args):
     return 0
 
 
-
 def add_parser(sub, fmt):
     """Add ``classify`` to the subparsers ``sub``."""
     c = sub.add_parser("classify", help="sweep eta, classify every point, print the "

@@ -35,7 +35,6 @@ def _cmd_presets(args):
     return 0
 
 
-
 def add_parser(sub, fmt):
     """Add ``presets`` to the subparsers ``sub``."""
     p = sub.add_parser("presets", help="list the paper's parameter sets",

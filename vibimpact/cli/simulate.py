@@ -120,7 +120,6 @@ def _cmd_simulate(args):
     return 0
 
 
-
 def add_parser(sub, fmt):
     """Add ``simulate`` to the subparsers ``sub``."""
     s = sub.add_parser("simulate", help="integrate one run and write it as NetCDF",

@@ -23,4 +23,3 @@ def check_run_limits(args, dense, n_state):
                              f"--periods {args.periods} with {samples}")
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
-

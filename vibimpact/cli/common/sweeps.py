@@ -17,7 +17,6 @@ def default_workers():
     return min(2, os.cpu_count() or 1)
 
 
-
 def sweep_inputs(args):
     """Grid, parameters from the parsed arguments; UsageError for bad input."""
     from ...models import presets
@@ -34,13 +33,11 @@ def sweep_inputs(args):
     return etas, with_sets(base, parse_sets(args.set))
 
 
-
 def command_line(args):
     """The command line as the file records it: ``vibimpact ARGS``, quoted for a shell."""
     import shlex
 
     return shlex.join(["vibimpact"] + list(args.argv))
-
 
 
 def add_sweep_options(s, direction):
@@ -65,4 +62,3 @@ def add_sweep_options(s, direction):
     s.add_argument("--overwrite", action="store_true", help="replace existing output files")
     s.add_argument("--no-progress", action="store_true",
                    help="no progress bar on stderr")
-
