@@ -2,7 +2,7 @@
 
 Build with ``python -m sphinx -W --keep-going -b html docs docs/_build/html``.  The presets
 table and the calibration summary of the model page are generated at build time from
-:mod:`vibimpact.presets`, :mod:`vibimpact.params` and ``reports/calibration.md``
+:mod:`vibimpact.models.presets`, :mod:`vibimpact.models.params` and ``reports/calibration.md``
 (``_ext/vibimpact_docs.py``); the example gallery is executed on every build.
 """
 import os

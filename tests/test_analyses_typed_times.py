@@ -159,7 +159,7 @@ def test_the_scan_covers_the_package_the_tests_the_analyses_and_setup():
     """Hypothesis: the files scanned include setup.py, the package's modules (kernel
     included), the tests and the analyses scripts."""
     names = {str(p.relative_to(ROOT)) for p in _sources()}
-    assert {"setup.py", "vibimpact/_kernel/precompiled.py", "vibimpact/_limits.py",
+    assert {"setup.py", "vibimpact/_kernel/precompiled.py", "vibimpact/base/_limits.py",
             "tests/test_ring.py", "analyses/performance/first_run.py"} <= names
 
 

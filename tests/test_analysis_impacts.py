@@ -4,7 +4,7 @@ import pytest
 
 from vibimpact.analysis import impacts as ia
 from vibimpact.analysis.impacts import contact_arcs, impact_count, impact_statistics
-from vibimpact.run import IMPACT_DTYPE
+from vibimpact.core.run import IMPACT_DTYPE
 
 
 def test_period_three_orbit_with_eight_impacts_counts_eight_per_period():
@@ -158,7 +158,7 @@ def test_contact_still_open_at_the_end_of_the_window_keeps_its_peak_penetration(
     """A window with one contact entry, an extremum of R inside it and no exit (the contact
     is still open when the run ends) gives one impact with that extremum's penetration and
     an undefined duration; it used to index an empty array of exits."""
-    from vibimpact.contact import impacts_from_events
+    from vibimpact.models.contact import impacts_from_events
     from vibimpact.models import ROTOR
 
     t = np.array([1.0, 1.2])

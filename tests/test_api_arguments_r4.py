@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 
 import vibimpact as vi
-from vibimpact.branches import follow_branch
+from vibimpact.continuation.branches import follow_branch
 from vibimpact.census import Box
 
 from test_bad_input import run_cli
@@ -90,8 +90,8 @@ def test_names_and_counts_are_checked_under_their_own_names(call, name, kind):
 
 def test_the_api_and_the_command_line_share_one_worker_limit():
     """Hypothesis: the largest worker count the command line takes is the API's too."""
-    from vibimpact import _limits
-    from vibimpact.cli_args import MAX_WORKERS
+    from vibimpact.base import _limits
+    from vibimpact.cli.common.args import MAX_WORKERS
 
     assert MAX_WORKERS == _limits.MAX_WORKERS
     assert vi.Execution(workers=MAX_WORKERS).workers == MAX_WORKERS
@@ -103,7 +103,7 @@ def test_a_terminal_longer_than_the_switching_functions_is_refused():
     switches function sets is refused before the kernel runs it, naming terminal (it was
     taken, the kernel then reading an entry nothing sets)."""
     from test_model_sizes import P6, _model
-    from vibimpact.model_probe import check_model
+    from vibimpact.models.model_probe import check_model
 
     text = refused(lambda: check_model(_model(terminal=[0, 1, 1]), P6), "terminal")
     assert "g[1]" in text

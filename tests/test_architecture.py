@@ -181,14 +181,14 @@ def test_imports_run_downwards():
     for path in _modules():
         rel = path.relative_to(PKG)
         in_kernel = rel.parts[0] == "_kernel"
-        is_cli = rel.name.startswith("cli") or rel.name in ("_cli_common.py", "__main__.py")
+        is_cli = rel.parts[0] == "cli" or rel.name == "__main__.py"
         for mod, name in _imports(path):
             if not mod.startswith("vibimpact"):
                 continue
             full = f"{mod}.{name}" if name else mod
             if in_kernel and not mod.startswith("vibimpact._kernel"):
                 bad.append(f"{rel}: {full}")
-            if not is_cli and (".cli" in full or "_cli_common" in full):
+            if not is_cli and full.startswith("vibimpact.cli"):
                 bad.append(f"{rel}: {full}")
     assert not bad, bad
 
@@ -297,62 +297,95 @@ def test_the_analyser_rules_catch_a_settings_parameter_and_an_undocumented_one()
     assert _documented_parameters(bad) != [p for p in inspect.signature(bad).parameters]
 
 
-#: the package's layers, top to bottom: a module may import its own layer and those below.
-#: Every module of the package is in exactly one (test below); a top-level module is named
-#: by its file name, a subpackage by its folder, the package root by "" (it imports no
-#: vibimpact module: its public names are loaded lazily, by name, from the table
+DOCS = PKG.parent / "docs" / "internals.rst"
+#: the comment that introduces the layer table in ``docs/internals.rst``
+TABLE_MARK = ".. The layer table"
+
+
+def _table_rows(text):
+    """The rows of the layer table in ``text`` (an rst page): the lines of the code block
+    after the comment :data:`TABLE_MARK`, each as the tuple of its leading folders
+    (``name/``) and modules (``name.py``), the words before its description."""
+    lines = text[text.index(TABLE_MARK):].splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith(".. code-block::"))
+    rows = []
+    for line in lines[at + 1:]:
+        if line and not line.startswith(" "):
+            break
+        names = []
+        for word in line.split():
+            if not (word.endswith("/") or word.endswith(".py")):
+                break
+            names.append(word)
+        if names:
+            rows.append(tuple(names))
+    return rows
+
+
+def _unit_of_entry(name):
+    """The layer unit a table entry names: a folder ``sweeps/`` is ``sweeps``, a
+    top-level module ``__main__.py`` is ``__main__``, the package root ``__init__.py``
+    is ``""``."""
+    stem = name[:-1] if name.endswith("/") else name[:-3]
+    return "" if stem == "__init__" else stem
+
+
+def _layer_table(text):
+    """The layers, top to bottom, as tuples of units (:func:`_unit_of_entry`)."""
+    return tuple(tuple(_unit_of_entry(n) for n in row) for row in _table_rows(text))
+
+
+#: the package's layers, top to bottom, read from the table in ``docs/internals.rst``: a
+#: module may import its own layer and those below.  A module's layer is that of its
+#: top folder (a top-level module's its own, the package root's "": it imports no
+#: vibimpact module, its public names are loaded lazily, by name, from the table
 #: ``_EXPORTS``, and an import of one of them is charged to the module that defines it).
-LAYERS = (
-    # outside the core: the paper's claims, the reference solver of the tests
-    ("paper", "testing"),
-    # the command line (every ``cli_*`` module, by its name) and ``python -m vibimpact``
-    ("cli", "cli_*", "__main__"),
-    # figures of any result
-    ("plotting",),
-    # studies over parameters: sweeps, maps, censuses, orbit hunts, branches, curves
-    ("sweeps", "maps", "census", "orbits", "branches", "curves"),
-    # running many points: processes, checkpoints, progress
-    ("engine",),
-    # one point of a study: the decision pipeline
-    ("points",),
-    # analysers of one trajectory or orbit
-    ("analysis",),
-    # simulate
-    ("simulation",),
-    # a System (model, parameters, solver settings) and the Solver that integrates it
-    ("system", "solver"),
-    # files: the formats of runs and datasets
-    ("io", "io_compare", "io_recorded"),
-    # the result of one integration
-    ("run",),
-    # the shipped models and the presets (named parameter sets)
-    ("builtin_models", "presets"),
-    # declaring a model: the Model, its parameter sets, contact laws, the model probe
-    ("models", "params", "contact", "model_probe"),
-    # the compiled kernel
-    ("_kernel",),
-    # vocabulary without dependencies: validation, text, limits, fill values, bifurcation
-    # kinds, provenance, signal-safe file writes, regular files and bounded JSON read
-    # from files, and the package root (its version and lazy name table)
-    ("", "_validate", "_text", "_limits", "_fill", "bifurcation_kinds", "provenance",
-     "_writing", "_regular", "_json"),
-)
+LAYERS = _layer_table(DOCS.read_text())
+
+
+def _units_on_disk():
+    """The units of the package's top level: every folder holding ``__init__.py`` by its
+    name, every top-level module by its name, the package root as ""."""
+    folders = {d.name for d in PKG.iterdir() if (d / "__init__.py").is_file()}
+    modules = {"" if f.stem == "__init__" else f.stem for f in PKG.glob("*.py")}
+    return folders | modules
+
+
+def test_the_layer_table_of_the_docs_names_exactly_the_folders_of_the_package():
+    """Hypothesis: the layer table of ``docs/internals.rst`` names every folder and
+    top-level module of ``vibimpact/`` once and nothing else, so the folder tree and the
+    page agree (a folder added, removed or renamed without the page fails), and the
+    top level holds only packages besides ``__init__.py`` and ``__main__.py``."""
+    named = [u for layer in LAYERS for u in layer]
+    assert len(LAYERS) >= 10, LAYERS
+    assert sorted(named) == sorted(set(named)), named
+    assert set(named) == _units_on_disk(), (set(named) ^ _units_on_disk())
+    assert sorted(f.name for f in PKG.glob("*.py")) == ["__init__.py", "__main__.py"]
 
 
 def _unit(dotted):
-    """The layer unit of a module: its subpackage or top-level module name ("" for the
+    """The layer unit of a module: its top folder or top-level module name ("" for the
     package root)."""
     parts = dotted.split(".")
     return parts[1] if len(parts) > 1 else ""
 
 
 def _layer(dotted):
+    """The index in :data:`LAYERS` of the layer of module ``dotted`` (0 the top), or
+    None."""
     unit = _unit(dotted)
-    for i, names in enumerate(LAYERS):
-        for n in names:
-            if unit == n or (n.endswith("*") and unit.startswith(n[:-1])):
-                return i
-    return None
+    return next((i for i, units in enumerate(LAYERS) if unit in units), None)
+
+
+def test_the_table_reader_takes_each_rows_leading_folders_only():
+    """Hypothesis: the reader of the layer table keeps a row's folders and modules and
+    stops at its description (which may name folders too), skips blank lines and ends
+    with the block."""
+    text = ("x\n\n.. The layer table\n\n.. code-block:: text\n\n"
+            "   cli/ __main__.py   the command line, cli/common/ shared\n\n"
+            "   io/                files\n"
+            "   base/ __init__.py  vocabulary\n\nAfter the block: sweeps/\n")
+    assert _layer_table(text) == (("cli", "__main__"), ("io",), ("base", ""))
 
 
 def _exports():
@@ -400,13 +433,13 @@ def _dependencies(path):
 
 def test_every_module_is_in_exactly_one_layer():
     """Hypothesis: every module of the package -- top-level modules, the package root and
-    every subpackage -- belongs to exactly one layer of ``LAYERS`` (a new module must be
-    placed, none is let through for being in no layer)."""
+    every module of every folder -- belongs to exactly one layer of ``LAYERS``, by its top
+    folder (a new folder must be placed in the table, none is let through for being in
+    no layer)."""
     missing, twice = [], []
     for path in _modules():
         unit = _unit(_module_name(path))
-        hits = [i for i, names in enumerate(LAYERS) for n in names
-                if unit == n or (n.endswith("*") and unit.startswith(n[:-1]))]
+        hits = [i for i, units in enumerate(LAYERS) if unit in units]
         if not hits:
             missing.append(str(path.relative_to(PKG)))
         elif len(hits) > 1:
@@ -447,5 +480,85 @@ def test_the_layer_rule_catches_an_upward_import(tmp_path):
         f = tmp_path / f"probe{i}.py"
         f.write_text(src)
         deps = list(_dependencies(f))
-        assert any(_layer(d) is not None and _layer(d) < _layer("vibimpact.run")
+        assert any(_layer(d) is not None and _layer(d) < _layer("vibimpact.core.run")
                    for d in deps), (src, deps)
+
+
+CLI = PKG / "cli"
+
+
+def _commands():
+    """The command modules of the command line: the modules directly in ``cli/`` other
+    than its ``__init__.py`` (the registration table) and ``__main__.py``."""
+    return sorted(p for p in CLI.glob("*.py") if p.stem not in ("__init__", "__main__"))
+
+
+def _command_imports(path):
+    """The command modules (dotted) that ``path`` uses, the registration package
+    ``vibimpact.cli`` itself included (lazy imports inside functions count)."""
+    commands = {_module_name(p) for p in _commands()}
+    own = _module_name(path) if PKG in path.parents else None
+    return sorted({d for d in _dependencies(path) if d in commands or d == "vibimpact.cli"}
+                  - {own})
+
+
+def test_no_command_imports_another_command():
+    """Hypothesis: no command module of ``cli/`` imports another command module or the
+    registration table ``vibimpact.cli`` (what two commands share is in ``cli/common/``,
+    or in a layer below), and no module of ``cli/common/`` imports a command: ``plot``
+    draws a map, a branch and a census without importing ``map``, ``continue`` or
+    ``attractors``."""
+    shared = sorted((CLI / "common").rglob("*.py"))
+    bad = {str(p.relative_to(PKG)): _command_imports(p) for p in _commands() + shared}
+    assert {k: v for k, v in bad.items() if v} == {}
+
+
+def test_the_command_rule_catches_an_import_of_another_command(tmp_path):
+    """Hypothesis: the command rule sees a command taken from another command's module,
+    at module level or inside a function, and the registration table imported."""
+    for i, src in enumerate(("from vibimpact.cli.map import parse_vary\n",
+                             "def f():\n    from vibimpact.cli import continue_\n",
+                             "from vibimpact.cli import build_parser\n")):
+        f = tmp_path / f"probe{i}.py"
+        f.write_text(src)
+        assert _command_imports(f), src
+
+
+def test_the_registration_table_names_every_command_module_once():
+    """Hypothesis: ``vibimpact.cli.COMMANDS`` maps each command name to a command module
+    of ``cli/``, every command module is in it exactly once, and each has the
+    ``add_parser(sub, fmt)`` the parser is built with; the commands ``--help`` lists
+    are the table's, in its order."""
+    import argparse
+    import importlib
+
+    from vibimpact import cli
+
+    assert sorted(cli.COMMANDS.values()) == [p.stem for p in _commands()]
+    for module in cli.COMMANDS.values():
+        add = importlib.import_module(f"vibimpact.cli.{module}").add_parser
+        assert list(inspect.signature(add).parameters) == ["sub", "fmt"], module
+    sub = next(a for a in cli.build_parser()._actions
+               if isinstance(a, argparse._SubParsersAction))
+    assert list(sub.choices) == list(cli.COMMANDS)
+
+
+def test_help_of_the_program_and_of_every_command_imports_nothing_heavy(tmp_path):
+    """Hypothesis: ``vibimpact --help`` and ``vibimpact COMMAND --help`` for every command
+    of the registration table, run one after the other in one fresh process through the
+    script's entry point (``vibimpact.__main__.run``), exit 0 and leave numba, numpy,
+    xarray, SciPy and matplotlib unimported: building the parser imports every command
+    module, and none of them imports a heavy library at module level."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom vibimpact.__main__ import run\nfrom vibimpact.cli import "
+            "COMMANDS\nfor argv in [[]] + [[c] for c in COMMANDS]:\n"
+            "    sys.argv = ['vibimpact', *argv, '--help']\n    try:\n        run()\n"
+            "    except SystemExit as e:\n        assert e.code == 0, (argv, e.code)\n"
+            "heavy = [m for m in ('numba', 'numpy', 'xarray', 'scipy', 'matplotlib') "
+            "if m in sys.modules]\nprint('HEAVY', heavy)\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.splitlines()[-1] == "HEAVY []", r.stdout[-300:]

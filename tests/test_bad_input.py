@@ -396,7 +396,7 @@ def test_cli_refuses_bad_input(case, tmp_path, monkeypatch, capfd):
 def test_too_many_points_message_has_the_estimate(tmp_path, monkeypatch, capfd):
     """10^9 points: refused before any work with the estimated time and the limit."""
     monkeypatch.chdir(tmp_path)
-    from vibimpact._limits import SECONDS_PER_POINT, human_duration
+    from vibimpact.base._limits import SECONDS_PER_POINT, human_duration
 
     rc, out, err = run_cli(["classify", "--eta", "0.5:1000000000.5:1", "-o", "c.nc"], capfd)
     cost = human_duration(1000000001 * SECONDS_PER_POINT)

@@ -93,7 +93,7 @@ def _steps(**kw):
 
 def _follow(**kw):
     import vibimpact as vi
-    from vibimpact.branches import follow_branch
+    from vibimpact.continuation.branches import follow_branch
 
     return follow_branch(vi.presets.get("fig8"), stop=1.1, **kw)
 
@@ -103,7 +103,7 @@ def _branch_io(name, what):
     import xarray as xr
 
     import vibimpact as vi
-    from vibimpact import branches
+    from vibimpact.continuation import branches
 
     if what == "run":
         run = vi.simulate(vi.presets.get("fig8"), periods=1)
@@ -233,10 +233,10 @@ def test_a_run_given_to_the_other_dataset_functions_is_a_clear_type_error(
 
 def test_simulate_periods_message_has_the_estimate():
     """A run of 10^9 periods is refused at once with the estimated time (the measured cost
-    per period of vibimpact._limits)."""
+    per period of vibimpact.base._limits)."""
     import re
 
-    from vibimpact._limits import SECONDS_PER_PERIOD, human_duration
+    from vibimpact.base._limits import SECONDS_PER_PERIOD, human_duration
 
     cost = human_duration(10**9 * SECONDS_PER_PERIOD)
     with pytest.raises(ValueError, match=rf"periods=1000000000 .*about {re.escape(cost)}"):
@@ -430,7 +430,7 @@ def _plot_with(**kw):
 
 def _follow_to(stop):
     import vibimpact as vi
-    from vibimpact.branches import follow_branch
+    from vibimpact.continuation.branches import follow_branch
 
     return follow_branch(vi.presets.get("fig8"), stop=stop)
 

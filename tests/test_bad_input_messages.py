@@ -102,7 +102,7 @@ def test_large_range_values_parse_without_numpy_warnings(text, grid):
 def test_eta_outside_the_frequency_range_is_refused_without_numpy_warnings(text):
     """Hypothesis: an eta grid outside the forcing-frequency range is refused by that
     range, naming eta, and no NumPy warning comes before the refusal."""
-    from vibimpact._limits import ETA_RANGE
+    from vibimpact.base._limits import ETA_RANGE
     from vibimpact.sweeps import parse_range
 
     with warnings.catch_warnings():

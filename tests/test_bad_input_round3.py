@@ -10,7 +10,7 @@ import pytest
 from numba import njit
 
 import vibimpact as vi
-from vibimpact.params import Domain
+from vibimpact.models.params import Domain
 
 
 def _outside(dom):
@@ -145,7 +145,7 @@ def test_user_model_declared_ranges_are_checked_like_a_builtin_models():
 
 @pytest.mark.parametrize("domains, match", [
     ({"nope": Domain()}, r"^domains: 'nope' is not a parameter"),
-    ({"c": (0, 1)}, r"^domains\['c'\] must be a vibimpact.params.Domain"),
+    ({"c": (0, 1)}, r"^domains\['c'\] must be a vibimpact.models.params.Domain"),
     ([("c", Domain())], r"^domains must be a mapping"),
 ])
 def test_user_model_domains_of_wrong_form_are_refused(domains, match):
@@ -169,7 +169,7 @@ def _public_functions():
     """(qualified name, function, flag argument, None allowed) of every public function
     defined in a public module that takes an argument annotated ``bool`` or
     ``bool | None``."""
-    from vibimpact._validate import flag_annotation
+    from vibimpact.base._validate import flag_annotation
 
     out, seen = [], set()
     for module in _public_modules():
@@ -217,7 +217,7 @@ def test_every_public_flag_refuses_what_is_not_a_bool(qualname, fn, arg, optiona
 def test_checks_flags_passes_none_on_for_an_optional_flag():
     """checks_flags lets None through for ``bool | None`` (it means "decide") but not
     for ``bool``, and refuses a string for both."""
-    from vibimpact._validate import checks_flags
+    from vibimpact.base._validate import checks_flags
 
     @checks_flags
     def f(a: bool = False, b: bool | None = None):

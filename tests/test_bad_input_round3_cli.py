@@ -154,7 +154,7 @@ def test_every_drawing_command_refuses_an_image_too_large_before_any_work(
 def test_the_pixel_limit_lets_ordinary_figures_through():
     """The pixel check refuses only what is too large: a journal figure at 600 dpi and
     the largest default figure at 300 dpi pass; the limit's sides are named."""
-    from vibimpact import _limits
+    from vibimpact.base import _limits
 
     _limits.check_pixels(3.5, 2.8, 600)
     _limits.check_pixels(12, 16, 300)

@@ -69,7 +69,7 @@ CASES = [(c, o) for c in COMMANDS for o in OUTPUTS]
 def integrations(monkeypatch):
     """A list that grows by one with every integration started in this process (every
     simulate, sweep point, seeding pass and orbit goes through ``Solver._start``)."""
-    from vibimpact.solver import Solver
+    from vibimpact.core.solver import Solver
 
     started = []
     original = Solver._start

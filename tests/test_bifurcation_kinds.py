@@ -1,4 +1,4 @@
-"""One vocabulary of bifurcations: :class:`vibimpact.bifurcation_kinds.BifurcationKind`
+"""One vocabulary of bifurcations: :class:`vibimpact.base.bifurcation_kinds.BifurcationKind`
 (issue 29, point 4).
 
 The kinds named by continuation, by the transitions of a sweep and by a branch file are
@@ -13,10 +13,10 @@ import pytest
 
 import vibimpact as vi
 from vibimpact.analysis import Branch
-from vibimpact.bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags, kinds_in
-from vibimpact.branches import branch_from_dataset, branch_to_dataset
+from vibimpact.base.bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags, kinds_in
+from vibimpact.continuation.branches import branch_from_dataset, branch_to_dataset
 
-#: the codes of the files written before this vocabulary (vibimpact.branches'
+#: the codes of the files written before this vocabulary (vibimpact.continuation.branches'
 #: BIFURCATION_CODES then): such files must read the same
 STORED_BEFORE = {"?": 0, "fold (turning point)": 1, "fold": 2, "period doubling": 3,
                  "Neimark-Sacker": 4}
@@ -129,7 +129,7 @@ def test_a_file_without_impacts_reads_with_impacts_not_counted(tmp_path):
 def test_the_module_imports_nothing_heavy():
     """Hypothesis: the vocabulary is importable from any layer: it imports neither
     numpy, numba, xarray nor matplotlib."""
-    code = ("import sys\nimport vibimpact.bifurcation_kinds\nprint('HEAVY', [m for m in "
+    code = ("import sys\nimport vibimpact.base.bifurcation_kinds\nprint('HEAVY', [m for m in "
             "('numpy', 'numba', 'xarray', 'matplotlib') if m in sys.modules])\n")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        timeout=60)
@@ -141,7 +141,7 @@ def test_the_old_vocabularies_are_gone():
     names that held them are gone)."""
     import vibimpact.analysis.bifurcation as bif
     import vibimpact.analysis.continuation as cont
-    import vibimpact.branches as branches
+    import vibimpact.continuation.branches as branches
     import vibimpact.plotting.branch as plot_branch
     import vibimpact.sweeps.transitions as transitions
 

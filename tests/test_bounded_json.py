@@ -2,7 +2,7 @@
 
 Python's json module recurses: text nested 200,000 levels deep was a RecursionError
 traceback from a checkpoint's request.json and from a sweep's or branch's ``params`` /
-``settings`` attribute.  Every such read goes through :mod:`vibimpact._json`: one
+``settings`` attribute.  Every such read goes through :mod:`vibimpact.base._json`: one
 ValueError naming the file or attribute, one line and exit 2 on the command line.
 """
 import os
@@ -13,8 +13,8 @@ import threading
 import netCDF4
 import pytest
 
-from vibimpact import _json
-from vibimpact._regular import NotRegular
+from vibimpact.base import _json
+from vibimpact.base._regular import NotRegular
 from vibimpact.engine.store import Checkpoint, read_record
 from test_bad_input import assert_refused, listing, run_cli
 

@@ -209,7 +209,7 @@ def test_file_attrs_add_references_source_and_title():
     """Hypothesis: the global attributes of any file name the paper (references), the
     package (source) and say what the file holds (title: the dataset's kind or the
     command), keeping what the dataset already says."""
-    from vibimpact import provenance
+    from vibimpact.base import provenance
 
     a = provenance.file_attrs({"command": "vibimpact simulate --eta 1.2"}, "test")
     assert a["references"] == provenance.REFERENCES and "Kozánek" in a["references"]

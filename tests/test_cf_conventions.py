@@ -33,7 +33,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact import provenance
+from vibimpact.base import provenance
 from vibimpact.cli import main
 
 #: integer-coded variables: each must be a CF flag variable where present

@@ -175,7 +175,7 @@ def test_basins_range_is_refused_without_a_warning(ranges, needle, tmp_path,
 def test_simulate_state0_fits_the_model(argv, needle, tmp_path, monkeypatch, capfd):
     """Hypothesis: simulate --state0 takes one value per state of the model and refuses
     another count in one line before the run (argparse demanded exactly four)."""
-    import vibimpact.simulation as simulation
+    import vibimpact.core.simulation as simulation
 
     monkeypatch.setattr(simulation, "simulate", _never)
     line = one_line(*run_cli(argv + ["--periods", "2", "-o", tmp_path / "r.nc"], capfd))
@@ -189,7 +189,7 @@ def test_continue_stop_outside_the_frequency_range_names_the_option(stop, tmp_pa
     """Hypothesis: continue --stop beyond the forcing-frequency range is refused before
     the branch is followed, in one line naming --stop (the API's refusal named its
     keyword 'stop', after the start orbit had been reached)."""
-    import vibimpact.branches as branches
+    import vibimpact.continuation.branches as branches
 
     monkeypatch.setattr(branches, "follow_branch", _never)
     line = one_line(*run_cli(["continue", "--eta", "1.12", "--stop", stop, "-o",

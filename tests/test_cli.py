@@ -316,7 +316,7 @@ def test_verbose_counts_before_and_after_the_command(argv, count):
     """Hypothesis: argparse copies a command parser's own namespace over the main one, so
     `-v classify -v` would count 1 (INFO) instead of 2 (DEBUG); every -v counts wherever
     it stands."""
-    from vibimpact.cli_args import verbosity
+    from vibimpact.cli.common.args import verbosity
     from vibimpact.cli import build_parser
 
     args = [*argv, "--eta", "1.0"] if "classify" in argv else argv
@@ -330,7 +330,7 @@ def test_verbosity_does_not_outlive_an_in_process_run(tmp_path, monkeypatch, cap
     import contextlib
     import io
 
-    from vibimpact.cli_args import set_verbosity
+    from vibimpact.cli.common.args import set_verbosity
     from vibimpact.cli import main
 
     monkeypatch.chdir(tmp_path)

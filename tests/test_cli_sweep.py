@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vibimpact._text import count
+from vibimpact.base._text import count
 
 ROOT = Path(__file__).resolve().parents[1]
 TINY = ["--eta", "1.0:1.02:0.01", "--preset", "fig8"]

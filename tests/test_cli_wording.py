@@ -36,7 +36,7 @@ def _api_keywords():
     shorter than three letters."""
     import vibimpact as vi
     from vibimpact import io
-    from vibimpact.branches import follow_branch
+    from vibimpact.continuation.branches import follow_branch
     from vibimpact.maps.store import write_map
     from vibimpact.sweeps.start import sweep_start
 
@@ -158,7 +158,7 @@ def _damaged_branch(d):
     variables: drawing it fails inside the plotting function."""
     import xarray as xr
 
-    from vibimpact import branches
+    from vibimpact.continuation import branches
     from vibimpact.io import write_netcdf
 
     ds = xr.Dataset(coords={"eta": ("point", [1.1, 1.2])},
@@ -473,7 +473,7 @@ def test_a_failed_start_of_continuation_is_structured_not_parsed():
 def test_a_set_value_outside_its_domain_names_the_option_in_every_command(argv, tmp_path,
                                                                           monkeypatch):
     """Every command that takes --set refuses a value outside its parameter's domain in
-    one line naming the option and the rule (one helper, cli_args.with_sets, for
+    one line naming the option and the rule (one helper, cli.common.args.with_sets, for
     all), before any work: nothing is written."""
     from test_continue_cli import run
 

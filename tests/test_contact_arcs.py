@@ -16,7 +16,7 @@ import pytest
 import vibimpact as vi
 from vibimpact.analysis import contact_arcs
 from vibimpact.analysis.impacts import contact_spans_of
-from vibimpact.contact import SPAN_DTYPE, contact_spans
+from vibimpact.models.contact import SPAN_DTYPE, contact_spans
 
 #: cell of the dense-output reference, degrees
 REF_CELL = 0.05

@@ -3,7 +3,7 @@
 Every preset has ``Bh = BT = f = Rr = 0``, on the bound of their domain (``>= 0``), so a
 branch in one of them starts on the bound.  The central difference of the map in the
 parameter stepped to ``-1e-6`` there and the continuation failed with "BT must be >= 0,
-got -1e-06".  The domain of each parameter is stated once (:class:`vibimpact.params.Domain`,
+got -1e-06".  The domain of each parameter is stated once (:class:`vibimpact.models.params.Domain`,
 read by :meth:`vibimpact.System.param_domain`); the continuation takes a one-sided
 second-order difference where the central one would leave it, ends a branch that
 reaches a bound on it, and never computes an orbit outside it.
@@ -22,7 +22,7 @@ import vibimpact as vi
 from vibimpact.analysis import Steps, continue_orbit, refine_stability_change
 from vibimpact.analysis.bifurcation import CONTINUATION_SOLVER
 from vibimpact.analysis.continuation import _map_derivative
-from vibimpact.params import Domain
+from vibimpact.models.params import Domain
 
 from test_continue_cli import run as run_cli
 from test_user_model import _init_mode, _jac, _rhs, _switches, _transition

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.bifurcation_kinds import BifurcationKind
+from vibimpact.base.bifurcation_kinds import BifurcationKind
 from vibimpact.cli import main
 
 START = ["--preset", "fig8", "--eta", "1.12", "--approach", "1.1", "--transient", "200"]
@@ -213,7 +213,7 @@ def test_dataset_round_trip_gives_the_branch_back(files):
     """Hypothesis: branch_from_dataset inverts branch_to_dataset through a file: the
     parameter, states, multipliers, stability, amplitudes and bifurcations come back
     equal."""
-    from vibimpact.branches import branch_from_dataset, branch_to_dataset
+    from vibimpact.continuation.branches import branch_from_dataset, branch_to_dataset
 
     d, _ = files
     back = branch_from_dataset(vi.io.read_netcdf(d / "p1.nc"))
@@ -233,7 +233,7 @@ def test_refine_off_gives_the_interpolated_value_of_the_plain_branch():
     interpolated Neimark-Sacker value lies within one continuation step of the refined
     one (the steps are at most ds_max = 0.02 apart)."""
     from vibimpact.analysis import continue_orbit
-    from vibimpact.branches import follow_branch
+    from vibimpact.continuation.branches import follow_branch
 
     p = vi.presets.get("fig8").replace(eta=1.12)
     br, x0 = follow_branch(p, stop=1.25, approach=1.1, transient=200, refine=None)
@@ -254,7 +254,7 @@ def test_folds_of_a_duffing_branch_are_turning_points_in_file_and_figure():
     outer parts stable; refinement leaves turning points alone; the branch figure (no
     rotor amplitudes: x_m and |mu|max) explains both line styles and the fold marker."""
     from vibimpact.analysis import Steps, continue_orbit
-    from vibimpact.branches import branch_to_dataset
+    from vibimpact.continuation.branches import branch_to_dataset
     from vibimpact.plotting.branch import plot_branch_figure
 
     p = vi.DuffingParams(delta=0.1, alpha=1.0, beta=0.05, gamma=0.5, omega=0.8)

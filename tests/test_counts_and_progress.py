@@ -7,7 +7,7 @@ import time
 import numpy as np
 import pytest
 
-from vibimpact._text import count
+from vibimpact.base._text import count
 from vibimpact.cli import main
 
 
@@ -53,7 +53,7 @@ def test_map_summary_counts_points_and_directions(capsys):
     "2 directions" for an up-and-down map (it said "1 points", "2 direction")."""
     import xarray as xr
 
-    from vibimpact.cli_map import _summary
+    from vibimpact.cli.map import _summary
 
     one = xr.Dataset({"regime": (("kh", "eta"), np.array([[1]], dtype="i1"))},
                      coords={"kh": [40.0], "eta": [1.0]})

@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 import vibimpact as vi
-from vibimpact.io_recorded import (check_recorded, recorded_params, recorded_state,
+from vibimpact.io.recorded import (check_recorded, recorded_params, recorded_state,
                                    recorded_values)
 from vibimpact.sweeps import SweepStart
 

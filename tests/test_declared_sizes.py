@@ -2,7 +2,7 @@
 can declare a variable of 2**28 x 4 values (8 GiB of fill values once read); every
 reader of an input -- :func:`vibimpact.io.read_netcdf` (so every command's input file)
 and the map store reader -- adds up the bytes its variables declare, from the metadata
-alone, and refuses more than :data:`vibimpact._limits.MAX_READ_BYTES` before reading
+alone, and refuses more than :data:`vibimpact.base._limits.MAX_READ_BYTES` before reading
 any: one line and exit 2 on the command line, a ValueError naming the file and the
 variable in the API."""
 import os
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from vibimpact import _limits
+from vibimpact.base import _limits
 from vibimpact.io import read_netcdf
 from vibimpact.maps import open_map, write_map
 

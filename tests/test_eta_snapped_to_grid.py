@@ -72,7 +72,7 @@ def test_map_rows_built_by_hand_are_the_command_lines_vary(name, text, built):
     """The map's other axis is snapped as eta is: an arange (or start + step * k) of
     the varied parameter gives exactly the values of the command line's --vary range,
     though several of its values differ from them before."""
-    from vibimpact.cli_map import parse_vary
+    from vibimpact.cli.map import parse_vary
     from vibimpact.maps.map2d import check_vary
 
     fig8 = vi.presets.get("fig8")

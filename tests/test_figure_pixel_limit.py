@@ -4,7 +4,7 @@
 import pytest
 
 import vibimpact as vi
-from vibimpact import _limits
+from vibimpact.base import _limits
 
 
 @pytest.fixture(scope="module")

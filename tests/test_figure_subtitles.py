@@ -7,7 +7,7 @@ import pytest
 
 import vibimpact as vi
 from vibimpact.analysis import Branch
-from vibimpact.branches import branch_to_dataset
+from vibimpact.continuation.branches import branch_to_dataset
 from vibimpact.plotting.branch import plot_branch_figure
 
 #: every parameter of the rotor a branch can be continued in, at a start value that the

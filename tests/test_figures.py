@@ -62,7 +62,7 @@ def branch_ds():
     """A hand-made P1 branch in eta, stable then unstable past a period doubling."""
     import vibimpact as vi
     from vibimpact.analysis import Branch
-    from vibimpact.branches import branch_to_dataset
+    from vibimpact.continuation.branches import branch_to_dataset
 
     k = 6
     mu = np.tile(np.array([0.5 + 0.1j, 0.5 - 0.1j, 0.3, 0.2]), (k, 1))

@@ -18,8 +18,8 @@ import pytest
 
 import vibimpact as vi
 from vibimpact.analysis.stability_change import impacts_per_period, refine_grazing
-from vibimpact.bifurcation_kinds import BifurcationKind
-from vibimpact.branches import branch_from_dataset
+from vibimpact.base.bifurcation_kinds import BifurcationKind
+from vibimpact.continuation.branches import branch_from_dataset
 from vibimpact.cli import main
 
 #: the grazing of fig8's P1, measured to 2e-10 (module docstring), rounded to 1e-8

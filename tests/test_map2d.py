@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact._text import count
+from vibimpact.base._text import count
 from vibimpact.cli import main
 from vibimpact.engine import cluster as dask_executor
 from vibimpact.engine import plan

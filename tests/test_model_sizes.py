@@ -1,5 +1,5 @@
 """A user model's declared sizes are checked against what its functions read and write,
-before the kernel runs them (vibimpact.model_probe), and its construction refuses
+before the kernel runs them (vibimpact.models.model_probe), and its construction refuses
 arguments the kernel cannot take."""
 import math
 

@@ -4,7 +4,7 @@ A point that was not computed (DIVERGED, an analysis not requested, a map row no
 yet) holds NaN in every float variable -- both parts of a complex result split into
 ``*_real`` / ``*_imag`` included --, the declared fill or flag value in every integer
 variable and the empty string in text; never a computed-looking 0.  The fills are made in
-one place, :mod:`vibimpact._fill`.  The commands run in this process on small grids.
+one place, :mod:`vibimpact.base._fill`.  The commands run in this process on small grids.
 """
 import contextlib
 import io as stdio
@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 
 import vibimpact as vi
-from vibimpact import _fill
+from vibimpact.base import _fill
 from vibimpact.cli import main
 from vibimpact.maps.store import open_map
 from vibimpact.points.point import ANALYSES, SCALARS, SweepSettings

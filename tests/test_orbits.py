@@ -190,7 +190,7 @@ def test_cli_writes_file_table_and_plot(tmp_path):
     for label in ds["label"].values:
         assert label in text
     assert png.stat().st_size > 0
-    from vibimpact.cli_orbits import DEFAULT_RANDOM
+    from vibimpact.cli.orbits import DEFAULT_RANDOM
     from vibimpact.orbits.hunt import DEFAULT_RANDOM as API_RANDOM
 
     assert DEFAULT_RANDOM == API_RANDOM

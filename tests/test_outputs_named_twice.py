@@ -6,7 +6,7 @@ one file (``x.png`` and ``./x.png``) exited 0, one output overwriting the other;
 no command compared an output with the file it reads (``simulate --from s.nc -o s.nc
 --overwrite`` replaced the sweep it started from).  Now every such pair, however it is
 spelled, is refused in one line before any work
-(:func:`vibimpact.cli_inputs.check_distinct`).
+(:func:`vibimpact.cli.common.inputs.check_distinct`).
 """
 import os
 
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from vibimpact.cli_inputs import same_file
+from vibimpact.cli.common.inputs import same_file
 
 from test_bad_input import run_cli
 
@@ -32,8 +32,8 @@ COMMANDS = {
     "orbits": (["orbits", "--period", "1", "--no-progress"],
                ("vibimpact.orbits", "hunt_orbits")),
     "continue2": (["continue2", "--kind", "grazing", "--param2", "kh", "--range2",
-                   "110:130"], ("vibimpact.cli_continue2", "_seed")),
-    "simulate": (["simulate", "--periods", "2"], ("vibimpact.simulation", "simulate")),
+                   "110:130"], ("vibimpact.cli.continue2", "_seed")),
+    "simulate": (["simulate", "--periods", "2"], ("vibimpact.core.simulation", "simulate")),
 }
 
 
@@ -97,7 +97,7 @@ def _netcdf(path):
 INPUTS = {
     "plot FILE -o FILE": (["plot", "s.png", "-o", "./s.png", "--overwrite"], None),
     "simulate --from": (["simulate", "--from", "s.png", "--eta", "1.0", "-o", "./s.png",
-                         "--overwrite"], ("vibimpact.simulation", "simulate")),
+                         "--overwrite"], ("vibimpact.core.simulation", "simulate")),
     "attractors --sweep": (["attractors", "--eta", "1.06", "--starts", "2", "--sweep",
                             "s.png", "-o", "sub/../s.png", "--overwrite"],
                            ("vibimpact.census.census", "attractors")),
@@ -105,7 +105,7 @@ INPUTS = {
                         "--overwrite"], ("vibimpact.orbits", "hunt_orbits")),
     "continue2 --over": (["continue2", "--kind", "grazing", "--param2", "kh", "--range2",
                           "110:130", "--over", "s.png", "-o", "./s.png", "--plot",
-                          "c.png", "--overwrite"], ("vibimpact.cli_continue2", "_seed")),
+                          "c.png", "--overwrite"], ("vibimpact.cli.continue2", "_seed")),
     "rerun -o FILE": (["rerun", "s.png", "-o", "link.png", "--overwrite"], None),
     "plot --branch": (["plot", "t.nc", "--branch", "s.png", "-o", "link.png",
                        "--overwrite"], None),
@@ -136,7 +136,7 @@ def test_continue_switch_output_linked_to_the_branch_file_is_refused(tmp_path,
     (tmp_path / "b.nc").write_bytes(b"old")
     os.symlink("b.nc", tmp_path / "b_P2.nc")
     line = _refused(["continue", "--stop", "1.1", "--switch", "-o", "b.nc", "--overwrite"],
-                    tmp_path, capfd, ("vibimpact.branches", "follow_branch"), monkeypatch)
+                    tmp_path, capfd, ("vibimpact.continuation.branches", "follow_branch"), monkeypatch)
     assert "--switch" in line
 
 

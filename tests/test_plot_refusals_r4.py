@@ -35,8 +35,8 @@ IS = {"run": "is a 'vibimpact simulate' file", "sweep": "is a sweep file",
 
 def _file(kind, path):
     """A small file of ``kind``, as the commands' files are told apart."""
-    from vibimpact.branches import _TITLE as BRANCH
-    from vibimpact.curves import _TITLE as CURVE
+    from vibimpact.continuation.branches import _TITLE as BRANCH
+    from vibimpact.continuation.curves import _TITLE as CURVE
     from vibimpact.orbits.dataset import TITLE as ORBITS
 
     eta = {"eta": [1.0, 1.1]}
@@ -121,7 +121,7 @@ CONTINUE2 = ["continue2", "--preset", "fig8", "--eta", "1.12", "--kind", "grazin
 @pytest.fixture
 def no_seed(monkeypatch):
     """continue2's first piece of work (the seed of the curve) fails the test if run."""
-    import vibimpact.cli_continue2 as c2
+    import vibimpact.cli.continue2 as c2
 
     def seed(*a, **k):
         raise AssertionError("continue2 started its work")
@@ -180,7 +180,7 @@ def test_continue_refuses_a_start_state_or_width_it_cannot_use(extra, needle, mo
     values, so soft-impact's 2 could not be given) or a --refine below the float
     resolution (the bisection looped for ever) exits 2 with one line before any
     work."""
-    import vibimpact.branches as branches
+    import vibimpact.continuation.branches as branches
 
     monkeypatch.setattr(branches, "follow_branch", lambda *a, **k: pytest.fail("work"))
     line = one_line(*run_cli(["continue", "--stop", "1.2", *extra, "-o",

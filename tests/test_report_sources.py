@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import vibimpact as vi
-from vibimpact import params
+from vibimpact.models import params
 
 ROOT = Path(__file__).resolve().parents[1]
 REPORTS = ROOT / "reports"

@@ -94,7 +94,7 @@ def test_rerun_of_a_command_with_verbose_before_its_name(flag, tmp_path, monkeyp
     """Hypothesis: a file written by `vibimpact -v simulate ...` (-v before the command
     name, as the README shows) records that command line, and rerun took the word after
     'vibimpact' for the command, refusing the file as 'not a vibimpact ... command'."""
-    from vibimpact.cli_args import set_verbosity
+    from vibimpact.cli.common.args import set_verbosity
 
     monkeypatch.chdir(tmp_path)
     try:

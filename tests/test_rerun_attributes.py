@@ -1,5 +1,5 @@
 """``vibimpact rerun`` and :func:`vibimpact.io.differences` compare attributes: every
-global attribute but the deny-list of :data:`vibimpact.provenance.NOT_COMPARED` (time
+global attribute but the deny-list of :data:`vibimpact.base.provenance.NOT_COMPARED` (time
 stamps, versions, platform, command line) and every attribute of every variable and
 coordinate, so that a file that contradicts itself is never "identical"."""
 import shutil
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact import provenance
+from vibimpact.base import provenance
 from vibimpact.io import attribute_differences, differences, read_netcdf
 
 from test_bad_input import run_cli  # noqa: F401
@@ -208,7 +208,7 @@ def test_the_deny_list_is_spelled_out_where_rerun_is_documented(where):
     documented list cannot drift from provenance.NOT_COMPARED."""
     from pathlib import Path
 
-    from vibimpact.cli_rerun import _RERUN_EPILOG
+    from vibimpact.cli.rerun import _RERUN_EPILOG
 
     text = _RERUN_EPILOG if where == "rerun --help" else (
         Path(__file__).resolve().parents[1] / where).read_text()

@@ -3,7 +3,7 @@ asked for a classify of 100,000 points in both directions, a 300 x 300 map, 10,0
 forcing periods or a 100,000-point bifurcation, and rerun started it without a word.
 
 Now rerun says on stderr what it runs and how big it is, and refuses a command over the
-limits of :mod:`vibimpact.cli_rerun_size` (one line, exit 2, nothing computed, no file)
+limits of :mod:`vibimpact.cli.common.rerun_size` (one line, exit 2, nothing computed, no file)
 unless ``--yes`` is given.  The crafted files are a tiny sweep file with its ``command``
 attribute replaced (rerun reads nothing else before the guard); the runs accepted with
 ``--yes`` reach the recorded command's own function, replaced here by a stub.
@@ -18,10 +18,9 @@ import pytest
 from test_bad_input import run_cli, tiny_sweep_file
 
 import doc_blocks as db
-from vibimpact import cli_continue, cli_map, cli_sweep
-from vibimpact import cli as cli_module
+from vibimpact.cli import bifurcation, classify, continue_, map as cli_map, simulate
 from vibimpact.cli import build_parser
-from vibimpact.cli_rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIODS,
+from vibimpact.cli.common.rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIODS,
                                       RERUN_MAX_POINTS, RERUN_MAX_SAMPLES,
                                       RERUN_MAX_WORKERS, size_of)
 
@@ -29,10 +28,10 @@ from vibimpact.cli_rerun_size import (RERUN_MAX_BRANCH_PERIODS, RERUN_MAX_PERIOD
 CRAFTED = {
     "classify 100,000 points both ways": (
         "vibimpact classify --eta 0.50001:1.5:0.00001 --direction both -o c.nc",
-        cli_sweep, "_cmd_classify", "200,000 sweep points (both directions)"),
+        classify, "_cmd_classify", "200,000 sweep points (both directions)"),
     "bifurcation 100,000 points": (
         "vibimpact bifurcation --eta 0.50001:1.5:0.00001 --direction up -o b.png",
-        cli_sweep, "_cmd_bifurcation", "100,000 sweep points"),
+        bifurcation, "_cmd_bifurcation", "100,000 sweep points"),
     "map 300 x 300": (
         "vibimpact map --eta 1.001:1.3:0.001 --vary kh=1:300:1 -o m.zarr",
         cli_map, "_cmd_map", "90,000 map cells"),
@@ -41,25 +40,25 @@ CRAFTED = {
         cli_map, "_cmd_map", "24,000 map cells (both directions)"),
     "simulate 10,000,000 periods": (
         "vibimpact simulate --periods 9999500 -o s.nc",
-        cli_module, "_cmd_simulate", "10,000,000 forcing periods"),
+        simulate, "_cmd_simulate", "10,000,000 forcing periods"),
     "simulate dense samples": (
         "vibimpact simulate --periods 200000 --dense 60 -o s.nc",
-        cli_module, "_cmd_simulate", "12,200,002 samples stored"),
+        simulate, "_cmd_simulate", "12,200,002 samples stored"),
     "simulate --plot's samples": (
         "vibimpact simulate --periods 200000 -o s.nc --plot s.png",
-        cli_module, "_cmd_simulate", "13,000,002 samples stored"),
+        simulate, "_cmd_simulate", "13,000,002 samples stored"),
     "continue 100,000 points": (
         "vibimpact continue --stop 1.2 --max-points 100000 -o p.nc",
-        cli_continue, "_cmd_continue", "100,000 orbit periods along the branch"),
+        continue_, "_cmd_continue", "100,000 orbit periods along the branch"),
     "continue long period with --switch": (
         "vibimpact continue --stop 1.2 --period 20 --max-points 400 --switch -o p.nc",
-        cli_continue, "_cmd_continue", "24,000 orbit periods along the branch and its"),
+        continue_, "_cmd_continue", "24,000 orbit periods along the branch and its"),
     "continue far --approach": (
         "vibimpact continue --eta 1.1 --approach 100 --transient 20000 --stop 1.2 -o p.nc",
-        cli_continue, "_cmd_continue", "forcing periods to the start"),
+        continue_, "_cmd_continue", "forcing periods to the start"),
     "classify 4096 workers": (
         "vibimpact classify --eta 1.0:1.01:0.01 --workers 4096 -o c.nc",
-        cli_sweep, "_cmd_classify", "4,096 worker processes"),
+        classify, "_cmd_classify", "4,096 worker processes"),
 }
 
 
@@ -132,7 +131,7 @@ def test_a_grid_the_command_refuses_is_one_line(tmp_path, capfd, monkeypatch):
 
 def _doc_commands():
     """Every rerunnable vibimpact command of README.md and the user guide."""
-    from vibimpact.cli_rerun import RERUNNABLE
+    from vibimpact.cli.rerun import RERUNNABLE
 
     out = []
     for page in db.pages():
@@ -151,7 +150,7 @@ def test_every_documented_command_reruns_without_asking():
     """Hypothesis: the file of every classify, bifurcation, map, simulate and continue
     command of the README and the user guide is under every rerun limit (the limits
     are sized for them), and the limits are below the commands' own."""
-    from vibimpact import _limits
+    from vibimpact.base import _limits
 
     commands = _doc_commands()
     assert len(commands) > 20

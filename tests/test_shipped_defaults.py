@@ -41,7 +41,7 @@ def sweeps():
 
 def test_the_report_was_made_at_the_shipped_defaults():
     """Hypothesis: the verdicts below are those of the shipped B and Ec."""
-    from vibimpact.params import DEFAULT_B, DEFAULT_EC
+    from vibimpact.models.params import DEFAULT_B, DEFAULT_EC
 
     assert PAPER["B"] == pytest.approx(DEFAULT_B)
     assert PAPER["Ec"] == pytest.approx(DEFAULT_EC)

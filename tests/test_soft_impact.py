@@ -13,7 +13,7 @@ from numba import njit
 import vibimpact as vi
 from vibimpact import models
 from vibimpact.analysis import shoot_periodic_orbit
-from vibimpact.contact import Contact, ContactLaw
+from vibimpact.models.contact import Contact, ContactLaw
 
 MODEL = models.get("soft_impact")
 P = MODEL.param_set

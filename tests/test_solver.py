@@ -1,4 +1,4 @@
-"""The solver object and its settings (:mod:`vibimpact.solver`): one settings object a
+"""The solver object and its settings (:mod:`vibimpact.core.solver`): one settings object a
 System carries, one builder of the kernel's options, one place the kernel is entered, and
 ``simulate`` as a thin layer over :meth:`Solver.advance`."""
 import ast
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import vibimpact as vi
-from vibimpact.solver import SETTINGS, SIMULATE_DEFAULTS, Solver, SolverSettings
+from vibimpact.core.solver import SETTINGS, SIMULATE_DEFAULTS, Solver, SolverSettings
 
 P = vi.presets.get("fig8").replace(eta=1.185)
 SYSTEM = vi.System(P)
@@ -200,7 +200,7 @@ def _kernel_calls(path):
 
 
 def test_the_kernel_is_entered_in_one_module():
-    """Hypothesis: above vibimpact/_kernel, only vibimpact/solver.py calls the boundary's
+    """Hypothesis: above vibimpact/_kernel, only vibimpact/core/solver.py calls the boundary's
     integration entry points (integrate, benettin, two_trajectory), makes a clock or
     builds kernel options; the scan finds them there (so it can fail)."""
     found = {}
@@ -210,7 +210,7 @@ def test_the_kernel_is_entered_in_one_module():
         calls = _kernel_calls(path)
         if calls:
             found[str(path.relative_to(PACKAGE))] = sorted(set(calls))
-    assert found == {"solver.py": ["Options", "benettin", "integrate", "new_clock",
+    assert found == {"core/solver.py": ["Options", "benettin", "integrate", "new_clock",
                                    "two_trajectory"]}
 
 

@@ -238,7 +238,7 @@ def test_runs_joined_from_chunks_equal_one_run():
     (a contact spanning two chunks is one record, its period counted from the start), the
     dense samples and the events of the same trajectory integrated in one run, to the
     integrator's tolerance (the chunks restart the step size, so not bit for bit)."""
-    from vibimpact.run import join_runs
+    from vibimpact.core.run import join_runs
     from vibimpact.sweeps import continued_state
 
     p = FIG8.replace(eta=1.185)  # two bottom impacts per period (paper, fig. 8)

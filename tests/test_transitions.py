@@ -11,7 +11,7 @@ import pytest
 import vibimpact as vi
 from vibimpact.analysis import detect_period
 from vibimpact.sweeps import SweepSettings
-from vibimpact.bifurcation_kinds import BifurcationKind, kinds_in
+from vibimpact.base.bifurcation_kinds import BifurcationKind, kinds_in
 from vibimpact.sweeps.transitions import format_transitions, transition_types
 from conftest import continued_state, preset
 

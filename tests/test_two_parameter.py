@@ -23,7 +23,7 @@ from vibimpact.analysis import (BifurcationCurve, continue_bifurcation, continue
                                 shoot_periodic_orbit, signed_gap)
 from vibimpact.analysis.stability_change import impacts_per_period
 from vibimpact.cli import main
-from vibimpact.curves import curve_to_dataset, is_curve_dataset
+from vibimpact.continuation.curves import curve_to_dataset, is_curve_dataset
 
 SOFT = vi.presets.get("soft-impact")
 

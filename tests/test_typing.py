@@ -18,7 +18,7 @@ import vibimpact
 PKG = pathlib.Path(vibimpact.__file__).parent
 #: the modules whose public names users call
 PUBLIC = ("vibimpact", "vibimpact.analysis", "vibimpact.maps", "vibimpact.plotting",
-          "vibimpact.io", "vibimpact.sweeps", "vibimpact.presets", "vibimpact.points")
+          "vibimpact.io", "vibimpact.sweeps", "vibimpact.models.presets", "vibimpact.points")
 
 
 def _public_callables():

@@ -20,7 +20,7 @@ import sys
 import pytest
 
 from vibimpact.cli import main
-from vibimpact.cli_streams import BROKEN_PIPE, Guarded, LOST_OUTPUT
+from vibimpact.cli.common.streams import BROKEN_PIPE, Guarded, LOST_OUTPUT
 
 SIM = ["simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "2", "--transient", "2"]
 

@@ -6,7 +6,7 @@ being imported, either ends it with one line and exit status 128 + signum (not a
 process was started ignoring (a shell script's background job ignores SIGINT) stays
 ignored throughout.  A standard stream the process was started without (``>&-``) gets
 the null device as its descriptor before anything else is opened
-(:func:`vibimpact.cli_streams.fill_closed_descriptors`).
+(:func:`vibimpact.cli.common.streams.fill_closed_descriptors`).
 """
 import signal
 import sys
@@ -31,7 +31,7 @@ def run():
         if signal.getsignal(sig) != signal.SIG_IGN:  # an ignored signal stays ignored
             signal.signal(sig, _stop)
     try:
-        from vibimpact.cli_streams import fill_closed_descriptors
+        from vibimpact.cli.common.streams import fill_closed_descriptors
 
         fill_closed_descriptors()  # no file the command opens may become its stdout
         from vibimpact.cli import main

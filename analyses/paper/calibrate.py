@@ -163,7 +163,7 @@ def main(argv=None):
         lands, state = search(engine, readings, coarse_b, coarse_ec, max_iter=max_iter,
                               n_contenders=n_cont, ec_step=S.COARSE_EC[1] - S.COARSE_EC[0],
                               log=lambda m: print(m, file=sys.stderr, flush=True))
-        from vibimpact.params import DEFAULT_B, DEFAULT_EC
+        from vibimpact.models.params import DEFAULT_B, DEFAULT_EC
 
         ra = readings[0]
         engine.ensure(S.rows_needed(ra, [(DEFAULT_B, DEFAULT_EC)]))
@@ -193,7 +193,7 @@ def rank_readings(readings, lands, state):
 def write_outputs(out, readings, lands, state, engine, defaults, step, elapsed, args,
                   chash, coarse_b, coarse_ec):
     """Write the report, the dataset and the figure into ``out``."""
-    from vibimpact.params import DEFAULT_B, DEFAULT_EC
+    from vibimpact.models.params import DEFAULT_B, DEFAULT_EC
 
     (out / "figures").mkdir(parents=True, exist_ok=True)
     by_key = {r.key: r for r in readings}
@@ -262,7 +262,7 @@ def write_outputs(out, readings, lands, state, engine, defaults, step, elapsed, 
         f"by less than {S.TOL:g}.", "",
         verdict, "",
         "```json", R.winner_json(win), "```", "",
-        f"The presets' defaults (`vibimpact.params`: B = {DEFAULT_B:g}, Ec = "
+        f"The presets' defaults (`vibimpact.models.params`: B = {DEFAULT_B:g}, Ec = "
         f"{DEFAULT_EC:g}) under reading (a): objective {defaults[0]:.3f}, "
         f"{defaults[1]} of {win['claims']} claims agree.", "",
         "![landscapes](figures/calibration.png)", "",

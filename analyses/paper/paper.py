@@ -404,7 +404,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
         f"Parameters the paper does not state: **B = {p8.B:g}, Ec = {p8.Ec:g}**"
         + (" (set on the command line)" if overrides else
            " (the presets' defaults, calibrated in [calibration.md](calibration.md))")
-        + ".  Everything else is the presets' table (`vibimpact.presets`).  \"Chaos\" in the paper is matched by our "
+        + ".  Everything else is the presets' table (`vibimpact.models.presets`).  \"Chaos\" in the paper is matched by our "
         "*irregular* motion: chaotic, quasi-periodic, unsettled (impacting, no test decided it) or periodic with a period above the detector's maximum "
         "(the paper judged from response curves and trajectories, on which these look "
         "alike); the labels column names which of ours make up each interval.",
@@ -484,7 +484,7 @@ def report(data, cost, panels, step, elapsed, overrides, types=None, census=None
 
 
 def main(argv=None):
-    from vibimpact.cli_args import parse_sets
+    from vibimpact.cli.common.args import parse_sets
 
     global REPORTS, FIGURES
     ap = smoke.parser(__doc__)

@@ -30,7 +30,7 @@ from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 import vibimpact.maps
-from vibimpact.cli_map import parse_vary
+from vibimpact.cli.map import parse_vary
 from vibimpact.maps import DEFAULT_TASK_POINTS, MAP_ANALYSES
 from vibimpact.engine import plan
 from vibimpact.engine.store import Checkpoint

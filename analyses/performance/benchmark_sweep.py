@@ -26,7 +26,7 @@ from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
 from vibimpact.paper import claims as C
-from vibimpact.params import DEFAULT_B, DEFAULT_EC
+from vibimpact.models.params import DEFAULT_B, DEFAULT_EC
 from vibimpact.sweeps import parse_range
 from vibimpact.points.point import REGIME_CODES
 

@@ -104,7 +104,7 @@ def fixed_labels(system, states, census, periods):
     from vibimpact.points.point import point_system
     from vibimpact.census.library import nearest_distances
     from vibimpact.census.reach import CensusSettings
-    from vibimpact.solver import Solver
+    from vibimpact.core.solver import Solver
 
     sys_ = point_system(system, CensusSettings().point)
     sub = census.isel(eta=0)

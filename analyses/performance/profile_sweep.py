@@ -52,7 +52,7 @@ BUCKETS = (
      "analysis/shooting.py", "shoot_periodic_orbit", "cumtime"),
     ("of the total: period detection (cumulative)", "analysis/period.py", "detect_period",
      "cumtime"),
-    ("of the total: impact records (cumulative)", "contact.py", "impacts_from_events",
+    ("of the total: impact records (cumulative)", "models/contact.py", "impacts_from_events",
      "cumtime"),
 )
 #: the parts whose times are the compiled kernels' own (the Python rest is wall - these)

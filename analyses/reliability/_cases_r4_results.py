@@ -98,7 +98,7 @@ API = {
         "vi.basins(vi.System(vi.presets.get('fig8').replace(eta=1e-9)), grid=(2, 2), "
         "eps=1)", "system"),
     "follow_branch stop=1e7": (
-        "__import__('vibimpact.branches').branches.follow_branch(vi.presets.get('fig8'), "
+        "__import__('vibimpact.continuation.branches').branches.follow_branch(vi.presets.get('fig8'), "
         "stop=1e7)", "stop"),
     "CensusSettings max_periods=10**12": ("vi.CensusSettings(max_periods=10**12)",
                                           "max_periods"),
@@ -115,7 +115,7 @@ import numpy as np
 import vibimpact as vi
 from numba import njit
 from vibimpact.census import Box
-from vibimpact.model_probe import check_model
+from vibimpact.models.model_probe import check_model
 from vibimpact.plotting.census import plot_census
 
 

@@ -4,10 +4,10 @@ Numbers on the documentation pages are never typed by hand.  When the builder st
 this extension writes reStructuredText includes into ``docs/_generated/``:
 
 ``presets.rst``
-    the table of the presets, from :mod:`vibimpact.presets` (every :class:`~vibimpact.Params`
+    the table of the presets, from :mod:`vibimpact.models.presets` (every :class:`~vibimpact.Params`
     field of every preset and what the paper shows for it);
 ``defaults.rst``
-    the calibrated defaults ``B`` and ``Ec`` from :mod:`vibimpact.params`, with the
+    the calibrated defaults ``B`` and ``Ec`` from :mod:`vibimpact.models.params`, with the
     calibration report (``reports/calibration.md``) and the README's summary quoted;
 
 It also provides :func:`figure_scraper`, a sphinx-gallery image scraper for the
@@ -98,13 +98,13 @@ def _fmt(value):
 
 
 def presets_rst():
-    """The presets table (a list-table) from :mod:`vibimpact.presets`."""
+    """The presets table (a list-table) from :mod:`vibimpact.models.presets`."""
     from vibimpact import presets
 
     names = presets.paper_names()
     fields = list(presets.get(names[0]).as_dict())
-    lines = [".. list-table:: The presets (``vibimpact.presets.get(name)``), generated from "
-             "``vibimpact.presets``",
+    lines = [".. list-table:: The presets (``vibimpact.models.presets.get(name)``), generated from "
+             "``vibimpact.models.presets``",
              "   :header-rows: 1",
              "   :class: presets-table",
              "",
@@ -142,13 +142,14 @@ def _readme_summary():
 
 def defaults_rst():
     """The calibrated defaults of ``B`` and ``Ec`` and where they come from."""
-    from vibimpact import params, presets
+    from vibimpact.models import params
+    from vibimpact import presets
 
     record, paras = _calibration()
     lines = [
         f"The presets use ``B = {_fmt(params.DEFAULT_B)}`` "
-        f"(:data:`vibimpact.params.DEFAULT_B`) and ``Ec = {_fmt(params.DEFAULT_EC)}`` "
-        f"(:data:`vibimpact.params.DEFAULT_EC`).",
+        f"(:data:`vibimpact.models.params.DEFAULT_B`) and ``Ec = {_fmt(params.DEFAULT_EC)}`` "
+        f"(:data:`vibimpact.models.params.DEFAULT_EC`).",
         "",
     ]
     if record:

@@ -11,7 +11,7 @@ a periodic motion with two impacts at the bottom of the retainer (η = 1.185) an
 # %%
 # Parameters
 # ----------
-# :func:`vibimpact.presets.get` returns a frozen, validated :class:`vibimpact.Params`;
+# :func:`vibimpact.models.presets.get` returns a frozen, validated :class:`vibimpact.Params`;
 # ``replace`` makes a changed copy.
 
 import vibimpact as vi

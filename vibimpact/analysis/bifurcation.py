@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bifurcation_kinds import BifurcationKind
-from ..run import Status
-from .. import _validate as _v
-from ..system import as_system
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.run import Status
+from ..base import _validate as _v
+from ..core.system import as_system
 from .shooting import PeriodicOrbit, critical_multiplier, shoot_periodic_orbit
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -42,7 +42,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["Bifurcation", "locate_bifurcation", "orbit_signature", "grazing_gap",
            "CONTINUATION_SOLVER"]

@@ -31,10 +31,10 @@ import dataclasses
 
 import numpy as np
 
-from .. import _validate as _v
-from ..bifurcation_kinds import BifurcationKind
-from ..run import Status
-from ..system import as_system
+from ..base import _validate as _v
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.run import Status
+from ..core.system import as_system
 from .bifurcation import CONTINUATION_SOLVER
 from .._kernel.boundary import solve
 from .continuation import Branch, Steps, continue_orbit
@@ -42,7 +42,7 @@ from .shooting import floquet_multipliers, shoot_periodic_orbit
 from .stability_change import impacts_per_period, refine_stability_change
 
 if TYPE_CHECKING:  # names of the annotations only
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["switch_branch", "period_doubling_point"]
 

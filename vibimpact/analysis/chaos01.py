@@ -35,7 +35,7 @@ import numbers
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from .._kernel.boundary import matmul
 
 if TYPE_CHECKING:  # names of the annotations only

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._text import count
-from .. import _validate as _v
-from .._validate import WrongType
+from ..base._text import count
+from ..base import _validate as _v
+from ..base._validate import WrongType
 from .chaos01 import test01
 from .period import detect_period
 

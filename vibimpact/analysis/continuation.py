@@ -12,7 +12,7 @@ Two tools on top of :func:`~vibimpact.analysis.shooting.shoot_periodic_orbit`:
   the stability changes, the turning points and the grazings (the orbit's impacts per
   period change; no multiplier crosses the unit circle there).
 
-Every kind is a :class:`~vibimpact.bifurcation_kinds.BifurcationKind`.
+Every kind is a :class:`~vibimpact.base.bifurcation_kinds.BifurcationKind`.
 
 References
 ----------
@@ -38,10 +38,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bifurcation_kinds import BifurcationKind
-from ..run import Status
-from .. import _validate as _v
-from ..system import as_system
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.run import Status
+from ..base import _validate as _v
+from ..core.system import as_system
 from .._kernel.boundary import dot, solve
 from .bifurcation import (CONTINUATION_SOLVER, Bifurcation, locate_bifurcation,
                           orbit_signature, grazing_gap)
@@ -54,7 +54,7 @@ from .stability_change import (Grazing, StabilityChange, branch_grazings,
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["Bifurcation", "Branch", "Steps", "locate_bifurcation", "continue_orbit",
            "refine_stability_change", "StabilityChange", "refine_grazing", "Grazing",
@@ -344,7 +344,7 @@ def _usable_bound(bound, closed, inward, ds_min):
 
 def _limits(system, param, window, lam0, ds_min):
     """The window cut to the domain of ``param``, and for each end the domain's rule
-    (:meth:`~vibimpact.params.Domain.rule`) if the domain ends the window there, else
+    (:meth:`~vibimpact.models.params.Domain.rule`) if the domain ends the window there, else
     None: ``((lo, hi), (rule or None, rule or None))``."""
     dom = system.param_domain(param)
     rule = dom.rule(param_name(system, param))

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 __all__ = ["STEP_ULPS", "Steps", "check_steps", "smallest_step"]
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import _validate as _v
-from ..run import Status
+from ..base import _validate as _v
+from ..core.run import Status
 
 __all__ = ["LyapunovResult", "Averaging", "TANGENT_TOL", "KIND_FLOW", "KIND_FLOW_PHASE"]
 

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from .._kernel.boundary import lstsq, matmul
 
 if TYPE_CHECKING:  # names of the annotations only

@@ -10,16 +10,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..run import Status
-from .. import _validate as _v
-from ..system import as_system
+from ..core.run import Status
+from ..base import _validate as _v
+from ..core.system import as_system
 from .exponents import KIND_FLOW, KIND_FLOW_PHASE, LyapunovResult
 from .shooting import floquet_exponents, floquet_multipliers, shoot_periodic_orbit
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["floquet_lyapunov"]
 

@@ -24,9 +24,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .. import _validate as _v
-from .._text import count
-from ..contact import wrap_degrees as _wrap
+from ..base import _validate as _v
+from ..base._text import count
+from ..models.contact import wrap_degrees as _wrap
 
 if TYPE_CHECKING:  # names of the annotations only
     from typing import Any
@@ -34,7 +34,7 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from numpy.typing import ArrayLike
 
-    from ..run import Run
+    from ..core.run import Run
 
 __all__ = ["ImpactCount", "impact_count", "ContactArcs", "contact_arcs", "contact_spans_of",
            "ImpactStatistics", "impact_statistics", "SMALL_ARC_WIDTH", "MAX_SMALL_ARCS",
@@ -217,7 +217,7 @@ def summarize_arcs(start, width, largest_gap):
 def contact_spans_of(run) -> np.ndarray:
     """The contact intervals of a run, with the angles each covers.
 
-    :func:`vibimpact.contact.contact_spans` on the run's event log over its recorded
+    :func:`vibimpact.models.contact.contact_spans` on the run's event log over its recorded
     window (the stroboscopic times' first to last), with its stroboscopic and dense
     samples as further points of the angle's path; a run that starts in contact and
     never switches is one span over the whole window (a permanent contact).
@@ -229,10 +229,10 @@ def contact_spans_of(run) -> np.ndarray:
 
     Returns
     -------
-    ndarray of :data:`vibimpact.contact.SPAN_DTYPE`
+    ndarray of :data:`vibimpact.models.contact.SPAN_DTYPE`
         Empty for a model without a contact.
     """
-    from ..contact import SPAN_DTYPE, contact_spans
+    from ..models.contact import SPAN_DTYPE, contact_spans
 
     contact = getattr(run, "contact", None)
     if contact is None or len(run.t_strobe) == 0:
@@ -343,7 +343,7 @@ def contact_arcs(angles: Run | xr.Dataset | ArrayLike,
     """The loaded arcs of the retainer: where the contacts are, entry to exit.
 
     Each contact covers the angles from its entry to its exit with the sliding in between
-    (:func:`vibimpact.contact.contact_spans`); the arcs are the union of those intervals
+    (:func:`vibimpact.models.contact.contact_spans`); the arcs are the union of those intervals
     on the circle over the whole record, every uncovered gap of at most ``gap`` degrees
     closed (the arcs' resolution: contacts of a chaotic motion that fall that close
     together load one arc).  An arc across +-180 deg is one arc.
@@ -354,8 +354,8 @@ def contact_arcs(angles: Run | xr.Dataset | ArrayLike,
         The contacts: a :class:`vibimpact.Run` (its contact intervals from the event
         log, with its stroboscopic and dense samples, including a contact open at the
         record's start and a permanent one); or a run's dataset (``impact_theta_min``
-        / ``impact_theta_max``); or records of :data:`vibimpact.run.IMPACT_DTYPE` or
-        :data:`vibimpact.contact.SPAN_DTYPE`; or plain contact angles in degrees (any
+        / ``impact_theta_max``); or records of :data:`vibimpact.core.run.IMPACT_DTYPE` or
+        :data:`vibimpact.models.contact.SPAN_DTYPE`; or plain contact angles in degrees (any
         finite values, each a point: the entry angles of older files).
     gap : float
         Widest uncovered gap (degrees) closed inside one arc, in (0, 360).
@@ -433,7 +433,7 @@ def impact_statistics(impacts: np.ndarray) -> ImpactStatistics:
 
     Parameters
     ----------
-    impacts : ndarray of :data:`vibimpact.run.IMPACT_DTYPE`, shape (n,)
+    impacts : ndarray of :data:`vibimpact.core.run.IMPACT_DTYPE`, shape (n,)
         :attr:`vibimpact.Run.impacts`; needs the fields ``v_impact``, ``penetration`` and
         ``duration``.
 
@@ -445,12 +445,12 @@ def impact_statistics(impacts: np.ndarray) -> ImpactStatistics:
     Raises
     ------
     TypeError
-        When ``impacts`` lacks those fields (:class:`vibimpact._validate.WrongType`).
+        When ``impacts`` lacks those fields (:class:`vibimpact.base._validate.WrongType`).
     """
     a, needed = np.asarray(impacts), {"v_impact", "penetration", "duration"}
     if not needed <= set(a.dtype.names or ()):
         raise _v.WrongType(f"impacts must be a structured array with fields v_impact, "
-                           f"penetration and duration (vibimpact.run.IMPACT_DTYPE), got "
+                           f"penetration and duration (vibimpact.core.run.IMPACT_DTYPE), got "
                            f"{type(impacts).__name__}")
     a, nan = a.ravel(), float("nan")
     if a.size == 0:

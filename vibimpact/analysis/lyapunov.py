@@ -44,10 +44,10 @@ from dataclasses import replace
 import numpy as np
 
 from .._kernel import boundary as _kb
-from ..run import Status, status_of
-from .. import _validate as _v
-from ..solver import Solver
-from ..system import as_system
+from ..core.run import Status, status_of
+from ..base import _validate as _v
+from ..core.solver import Solver
+from ..core.system import as_system
 from .exponents import KIND_FLOW, KIND_FLOW_PHASE, TANGENT_TOL, Averaging, LyapunovResult
 from .floquet import floquet_lyapunov
 from .period import detect_period
@@ -56,7 +56,7 @@ from .shooting import shoot_periodic_orbit
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["lyapunov_spectrum", "largest_lyapunov", "lyapunov_from_jacobians",
            "lyapunov_from_series", "strobe_map_jacobian", "floquet_lyapunov",

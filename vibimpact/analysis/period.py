@@ -27,12 +27,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..run import Run
+    from ..core.run import Run
 
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from .._kernel.boundary import dot, eigvals, lstsq, matmul
 
 if TYPE_CHECKING:  # names of the annotations only

@@ -42,15 +42,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..run import Status
-from .. import _validate as _v
-from ..system import Monodromy, as_system
+from ..core.run import Status
+from ..base import _validate as _v
+from ..core.system import Monodromy, as_system
 from .._kernel.boundary import eigvals, solve
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["Monodromy", "PeriodicOrbit", "monodromy", "floquet_multipliers",
            "floquet_exponents", "critical_multiplier", "shoot_periodic_orbit",

@@ -18,17 +18,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..run import Status
-from .. import _validate as _v
-from ..bifurcation_kinds import BifurcationKind
-from ..system import as_system
+from ..core.run import Status
+from ..base import _validate as _v
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.system import as_system
 from .bifurcation import CONTINUATION_SOLVER
 from .shooting import critical_multiplier, shoot_periodic_orbit
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 
 def param_name(system, param):

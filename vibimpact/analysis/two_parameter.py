@@ -52,10 +52,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _validate as _v
-from ..bifurcation_kinds import BifurcationKind
-from ..run import Status
-from ..system import as_system
+from ..base import _validate as _v
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.run import Status
+from ..core.system import as_system
 from .._kernel.boundary import solve
 from .bifurcation import CONTINUATION_SOLVER
 from .shooting import floquet_multipliers, shoot_periodic_orbit
@@ -64,7 +64,7 @@ from .stability_change import impacts_per_period, param_name
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
 
 __all__ = ["BifurcationCurve", "CURVE_KINDS", "continue_bifurcation", "signed_gap",
            "curve_kind"]

@@ -6,7 +6,7 @@ Kernel: :mod:`vibimpact._kernel.duffing`.  Parameters: :class:`vibimpact.Duffing
 No contact.
 """
 from ..models import Model, PlotSpec
-from ..params import DuffingParams
+from ..models.params import DuffingParams
 
 MODEL = Model.builtin_model("duffing", "duffing", ("x", "dx"), omega_index=4,
                             param_set=DuffingParams, bound=1e6,

@@ -15,10 +15,10 @@ A large ``Jr`` (or a ring whose bearing holds it) gives eq. (5) back; the preset
 (``Jr = 0.05``, ``cr = 1e-4``, ``Mr = 1e-3``: a small ball bearing's inner ring on the
 paper's rig, inside the ranges the model page justifies).
 """
-from .. import presets as _presets
-from ..contact import Contact, ContactLaw
+from ..models import presets as _presets
+from ..models.contact import Contact, ContactLaw
 from ..models import Model, PlotSpec
-from ..params import Domain, Params, param_set
+from ..models.params import Domain, Params, param_set
 from .rotor import angle, normal_speed, penetration  # the same retainer circle
 
 _ROTOR_ROWS = [

@@ -2,16 +2,16 @@
 retainer (backup) bearing, a circle of radius 1 in the clearance plane.
 
 Kernel: :mod:`vibimpact._kernel.rotor`.  Parameters: :class:`vibimpact.Params`.  Presets:
-the paper's figures (:mod:`vibimpact.presets`).  Contact: Hertz contact with material
+the paper's figures (:mod:`vibimpact.models.presets`).  Contact: Hertz contact with material
 damping, Coulomb friction and viscous tangential damping at ``R = sqrt(X^2 + Y^2) = 1``;
 its angle is ``atan2(Y, X)`` (+90 degrees: the bottom, where the weight pulls).
 """
 import numpy as np
 
-from .. import presets as _presets
-from ..contact import Contact, ContactLaw
+from ..models import presets as _presets
+from ..models.contact import Contact, ContactLaw
 from ..models import Model, PlotSpec
-from ..params import Params
+from ..models.params import Params
 
 
 def penetration(states, p):

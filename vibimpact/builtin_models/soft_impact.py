@@ -12,9 +12,9 @@ bifurcations in n-dimensional piecewise-smooth dynamical systems", Physica D 160
 """
 import numpy as np
 
-from ..contact import Contact, ContactLaw
+from ..models.contact import Contact, ContactLaw
 from ..models import Model, PlotSpec
-from ..params import Domain, param_set
+from ..models.params import Domain, param_set
 
 SoftImpactParams = param_set(
     "SoftImpactParams",

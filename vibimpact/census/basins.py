@@ -32,15 +32,15 @@ import xarray as xr
 
 from typing import TYPE_CHECKING
 
-from .. import _validate as _v
-from ..system import as_system
+from ..base import _validate as _v
+from ..core.system import as_system
 from .starts import default_box, grid_starts
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ..engine.execution import Execution
-    from ..system import System
+    from ..core.system import System
     from .reach import CensusSettings
 
 __all__ = ["basins", "boundary_cells", "boundary_measures", "plane_axes", "write_basins",

@@ -25,12 +25,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ..engine.execution import as_execution
 from ..engine.plan import STATES, Task, block_starts
 from ..points.point import REGIME_CODES
 from ..analysis.classify import Label
-from ..system import System, as_system, param_dict, with_frequency
+from ..core.system import System, as_system, param_dict, with_frequency
 from .library import Attractor, cloud_radius, same
 from .reach import DIVERGED, ENTERED, ESCAPED_LABEL, FAILED, FAILED_LABEL, \
     CensusRound, CensusSettings

@@ -32,7 +32,7 @@ import xarray as xr
 
 from ..points.point import REGIME_CODES, REGIME_FLAGS
 from ..analysis.classify import Label
-from ..system import param_dict
+from ..core.system import param_dict
 from ..sweeps.dataset import label_text, period_attrs
 from .reach import DECIDED_FLAGS, ESCAPED_LABEL, FAILED_LABEL
 from .library import nearest_distances

@@ -23,15 +23,15 @@ from typing import Any
 
 import numpy as np
 
-from .. import _limits
-from .. import _validate as _v
+from ..base import _limits
+from ..base import _validate as _v
 from ..points.point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point, \
     point_system
 from ..analysis.classify import Label
 from ..analysis.period import detect_period
-from ..run import Status
-from ..solver import Solver
-from ..system import with_frequency
+from ..core.run import Status
+from ..core.solver import Solver
+from ..core.system import with_frequency
 from .library import entered
 
 __all__ = ["CensusSettings", "CensusRound", "reach", "ENTERED", "ANALYSED", "DIVERGED",
@@ -93,7 +93,7 @@ class CensusSettings:
     ------
     ValueError
         Naming the field: the counts are at least 1 and at most the period limit of a
-        run (``vibimpact._limits.MAX_PERIODS``; ``cloud`` at most :data:`MAX_CLOUD`).
+        run (``vibimpact.base._limits.MAX_PERIODS``; ``cloud`` at most :data:`MAX_CLOUD`).
     """
 
     max_periods: int = 600

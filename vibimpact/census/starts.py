@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _limits
-from .. import _validate as _v
+from ..base import _limits
+from ..base import _validate as _v
 
 __all__ = ["Box", "default_box", "random_starts", "grid_starts", "as_starts"]
 

@@ -6,7 +6,7 @@ itself (:func:`dir_fd`: ``O_DIRECTORY | O_NOFOLLOW``), so a checkpoint path swap
 a symbolic link, a file or another directory while a run goes on is noticed and named
 (:class:`Found`), and nothing is read or written where a link points.  Files are read
 only when regular (a FIFO named like an entry or ``request.json`` does not block,
-:mod:`vibimpact._regular`), JSON bounded in size and depth (:mod:`vibimpact._json`),
+:mod:`vibimpact.base._regular`), JSON bounded in size and depth (:mod:`vibimpact.base._json`),
 and written to a temporary name and renamed (:func:`write_atomic`).  A new checkpoint
 is made whole (:func:`create`): built under a temporary name beside it with its
 ``request.json``, then renamed into place, so an interrupt never leaves a checkpoint
@@ -20,7 +20,7 @@ import os
 import secrets
 import stat
 
-from .._regular import kind
+from ..base._regular import kind
 
 __all__ = ["Found", "found_at", "dir_fd", "opened", "write_atomic", "create",
            "remove_temporaries"]
@@ -103,7 +103,7 @@ def write_atomic(dfd: int, name: str, data: bytes) -> None:
 
 def create(path, files: dict) -> os.stat_result:
     """Make the directory ``path`` holding ``files`` (``{name: bytes}``) at once: built
-    under a temporary name beside it (:func:`vibimpact._writing.temp_prefix`, removed on
+    under a temporary name beside it (:func:`vibimpact.base._writing.temp_prefix`, removed on
     any failure) and renamed into place.  Returns the new directory's stat.
 
     Raises
@@ -115,7 +115,7 @@ def create(path, files: dict) -> os.stat_result:
     """
     import shutil
 
-    from .._writing import temp_prefix
+    from ..base._writing import temp_prefix
 
     path = os.fspath(path)
     parent = os.path.dirname(os.path.abspath(path))

@@ -18,7 +18,7 @@ import os
 import threading
 import uuid
 
-from .._text import one_line
+from ..base._text import one_line
 
 #: seconds to wait for a remote scheduler (and for the workers of a local cluster)
 CONNECT_TIMEOUT = 20
@@ -120,7 +120,7 @@ def scheduler_address(text):
     """
     from distributed.comm import get_address_host_port, parse_address, registry
 
-    from .._json import load_file
+    from ..base._json import load_file
 
     if os.path.isdir(text):
         raise ValueError("a directory, not a scheduler file or address")

@@ -11,8 +11,8 @@ import functools
 from dataclasses import dataclass
 from typing import Any
 
-from .. import _limits
-from .. import _validate as _v
+from ..base import _limits
+from ..base import _validate as _v
 
 #: least points per job of a map (a second or more of work at the points per second and
 #: core that reports/performance.md, section map, measures)

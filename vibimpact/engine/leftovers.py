@@ -53,11 +53,11 @@ def remove_stale_temporaries(out):
     temporary files and stores of :func:`vibimpact.io.write_netcdf` and
     :func:`vibimpact.maps.write_map` (``.OUT.*.tmp``, ``.OUT.*.old``) and the temporary
     entries of its checkpoint (``OUT.partial/.tmp-*``).  A temporary whose name carries
-    the id of a process still running (:mod:`vibimpact._writing`) is left alone.
+    the id of a process still running (:mod:`vibimpact.base._writing`) is left alone.
     Returns their number."""
     import glob
 
-    from .._writing import running, temporary_pid
+    from ..base._writing import running, temporary_pid
 
     directory, name = os.path.split(os.path.abspath(out))
     pattern = glob.escape(os.path.join(directory, "." + name + "."))

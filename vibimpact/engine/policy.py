@@ -27,13 +27,13 @@ if TYPE_CHECKING:  # names of the annotations only
 
 import numpy as np
 
-from .. import _limits
-from .. import _validate as _v
+from ..base import _limits
+from ..base import _validate as _v
 from ..analysis.classify import Label
 from ..points.point import REGIME_CODES, analyse_point
 from ..points.predict import extrapolate_branch
-from ..run import Status
-from ..system import to_system, with_frequency
+from ..core.run import Status
+from ..core.system import to_system, with_frequency
 
 PERIODIC = REGIME_CODES[Label.PERIODIC]
 
@@ -83,7 +83,7 @@ class Continuation:
         pass reaches at its first point (``seed_periods`` forcing periods per grid point
         before it, no analyses), so blocks run independently.  The result depends on
         ``blocks`` (1 = pure serial continuation), never on where or in which order the
-        blocks run.  At most :data:`vibimpact._limits.MAX_POINTS` (more blocks than
+        blocks run.  At most :data:`vibimpact.base._limits.MAX_POINTS` (more blocks than
         points are as many blocks as points).
     seed_periods : int
         Forcing periods per grid point of the seeding pass.

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import sys
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 
 def nothing(k):

@@ -12,7 +12,7 @@ from __future__ import annotations
 import contextlib
 import os
 
-from .._writing import on_before_write
+from ..base._writing import on_before_write
 
 
 class Interrupted(KeyboardInterrupt):

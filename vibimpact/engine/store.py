@@ -31,7 +31,7 @@ Files are read and written through a descriptor of the checkpoint directory itse
 symbolic link, a file or another directory is refused naming what was found, and
 nothing is read or written where a link points.  Only regular files are read (a FIFO
 named like an entry does not block: it is set aside), and JSON is bounded in size and
-depth (:mod:`vibimpact._json`).
+depth (:mod:`vibimpact.base._json`).
 
 Damaged checkpoints
 -------------------
@@ -61,9 +61,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import _json
-from .._regular import NotRegular, open_regular
-from .._text import count
+from ..base import _json
+from ..base._regular import NotRegular, open_regular
+from ..base._text import count
 from . import ckdir
 
 log = logging.getLogger(__name__)
@@ -285,7 +285,7 @@ class Checkpoint:
             the flag ``resume``), is not a checkpoint (a symbolic link or a file
             included), or belongs to a different request.
         """
-        from .._writing import remove_dead_temporaries
+        from ..base._writing import remove_dead_temporaries
 
         path, what = self.path, self.what
         self.fp = fingerprint(request)
@@ -537,7 +537,7 @@ def set_aside_line(last, where, unit="points"):
 def read_regular_request(fd):
     """The bytes of ``request.json`` in the checkpoint directory ``fd`` (a regular file,
     bounded, not a link)."""
-    from .._regular import read_regular
+    from ..base._regular import read_regular
 
     return read_regular(REQUEST, REQUEST, _json.MAX_BYTES, dir_fd=fd, follow=False)
 

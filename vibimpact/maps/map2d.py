@@ -39,13 +39,13 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .. import _limits
-from .._text import one_line
-from .. import _validate as _v
+from ..base import _limits
+from ..base._text import one_line
+from ..base import _validate as _v
 from .. import models
-from ..params import DuffingParams, Params
-from ..system import (System, param_dict, to_system, varied_names, with_frequency,
-                      with_values)
+from ..models.params import DuffingParams, Params
+from ..core.system import (System, param_dict, to_system, varied_names, with_frequency,
+                           with_values)
 from ..sweeps.sweep import check_grid, check_request, snap_grid
 from ..engine.execution import Execution, as_execution, refuse_moved
 

@@ -18,7 +18,7 @@ import warnings
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
@@ -90,10 +90,10 @@ def write_map(ds: xr.Dataset, path: str | os.PathLike[str],
         out[name].encoding = {}
     for name, chunks in _chunks(out).items():
         encoding.setdefault(name, {}).update(chunks)
-    from .._writing import held_signals, temp_prefix
+    from ..base._writing import held_signals, temp_prefix
 
     # SIGINT / SIGTERM wait until zarr returns, then end the write: the temporary store
-    # is removed and nothing put in place (see vibimpact._writing)
+    # is removed and nothing put in place (see vibimpact.base._writing)
     with held_signals() as held:
         tmp = tempfile.mkdtemp(prefix=temp_prefix(path), suffix=".tmp", dir=directory)
         held.temporaries.append(tmp)
@@ -227,8 +227,8 @@ def _listed(path):
     read or holds no consolidated metadata: :func:`write_map` always writes them, so a
     store without is damaged (or not one of a map), and Zarr would open what the
     directory happens to hold.  It is read only as a regular file, bounded in size and
-    nesting (:func:`vibimpact._json.load_file`)."""
-    from .._json import load_file
+    nesting (:func:`vibimpact.base._json.load_file`)."""
+    from ..base._json import load_file
 
     where = os.path.join(path, "zarr.json")
     try:
@@ -267,7 +267,7 @@ def check_store(path: str) -> None:
                 not os.path.isfile(os.path.join(path, name, "zarr.json")):
             raise ValueError(f"map {path!r} is damaged: variable {name!r} is missing "
                              f"({os.path.join(path, name)!r} has no zarr.json)")
-    from .._limits import check_declared
+    from ..base._limits import check_declared
 
     arrays, declared = [], []
     for name in sorted(os.listdir(path)):  # one array at a time: a group's arrays()
@@ -297,7 +297,7 @@ def _special_entry(path):
     link): Zarr would block on a FIFO or follow a link; None when there is none."""
     import stat
 
-    from .._regular import kind
+    from ..base._regular import kind
 
     for top, dirs, files in os.walk(path):
         for name in sorted(dirs + files):

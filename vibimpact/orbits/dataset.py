@@ -7,7 +7,7 @@ NaN), ``state``, ``multiplier``, ``interval`` (the stable sub-intervals of each 
 padded with NaN), ``branch_point`` (the points of each orbit's continued branch in
 increasing forcing frequency, padded) and ``seed`` (every seed of the hunt).  Complex
 Floquet multipliers are stored as ``floquet_real`` and ``floquet_imag`` (as
-:mod:`vibimpact.branches` stores them).
+:mod:`vibimpact.continuation.branches` stores them).
 """
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ import logging
 
 import numpy as np
 
-from .. import _validate as _v
-from .._fill import complex_parts
+from ..base import _validate as _v
+from ..base._fill import complex_parts
 
 _log = logging.getLogger(__name__)
 
@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
-    from ..system import System
+    from ..core.system import System
     from .found import OrbitHunt
 
 __all__ = ["hunt_to_dataset", "write_orbits", "read_orbits", "is_orbit_dataset",
@@ -191,7 +191,7 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
     """
     import xarray as xr
 
-    from ..system import SOLVER_FIELDS, param_dict, to_system
+    from ..core.system import SOLVER_FIELDS, param_dict, to_system
     from .found import OrbitHunt
 
     if not isinstance(hunt, OrbitHunt):

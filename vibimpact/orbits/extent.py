@@ -26,16 +26,16 @@ import math
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ..analysis.continuation import Steps, continue_orbit
 from ..analysis.stability_change import multiplier_crossing
-from ..bifurcation_kinds import BifurcationKind
-from ..run import Status
-from ..system import to_system
+from ..base.bifurcation_kinds import BifurcationKind
+from ..core.run import Status
+from ..core.system import to_system
 from .found import Extent
 
 if TYPE_CHECKING:  # names of the annotations only
-    from ..system import System
+    from ..core.system import System
     from .found import FoundOrbit
 
 __all__ = ["orbit_extent", "HUNT_STEPS"]

@@ -91,7 +91,7 @@ def run_extents(system, orbits, window, steps, execution) -> list[Extent]:
     """
     from ..engine import progress as prog
     from ..engine.compute import compute
-    from ..system import param_dict
+    from ..core.system import param_dict
 
     m = len(orbits)
     if m == 0:

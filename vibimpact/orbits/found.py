@@ -13,11 +13,11 @@ import math
 
 import numpy as np
 
-from .._text import count
+from ..base._text import count
 from ..analysis.bifurcation import CONTINUATION_SOLVER
 from ..analysis.impacts import contact_arcs
 from ..analysis.shooting import shoot_periodic_orbit
-from ..run import Status
+from ..core.run import Status
 
 __all__ = ["Extent", "FoundOrbit", "OrbitHunt", "describe_orbit", "canonical_cycle",
            "orbit_label", "orbit_table", "interval_text"]

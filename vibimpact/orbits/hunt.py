@@ -30,13 +30,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from .. import _limits
-from .. import _validate as _v
+from ..base import _limits
+from ..base import _validate as _v
 from ..analysis.shooting import shoot_periodic_orbit
 from ..census.reach import failed_integration
 from ..sweeps.sweep import check_frequency
-from ..run import Status
-from ..system import to_system
+from ..core.run import Status
+from ..core.system import to_system
 from .found import OrbitHunt, describe_orbit
 from .seeds import close_returns, random_seeds, user_seeds
 
@@ -47,8 +47,8 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from ..analysis import Steps
     from ..engine.execution import Execution
-    from ..params import DuffingParams, Params
-    from ..system import System
+    from ..models.params import DuffingParams, Params
+    from ..core.system import System
 
 __all__ = ["hunt_orbits", "same_orbit", "DEFAULT_RANDOM", "MAX_PERIOD"]
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from .dataset import is_orbit_dataset
 from .found import interval_text
 

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _json
-from .. import _validate as _v
+from ..base import _json
+from ..base import _validate as _v
 
 #: colour of each sweep direction
 DIRECTION_COLORS = {"up": "tab:blue", "down": "tab:orange"}
@@ -181,7 +181,7 @@ def title(ds):
     """``preset, kh = .., G = .., ...`` from the dataset's attributes: the rotor's
     parameters (kh, G, B, Ec; Bh, BT, f, Rr where not 0), then every other parameter the
     dataset records (a ring's Jr, cr, Mr; another model's own)."""
-    from ..io_recorded import check_recorded
+    from ..io.recorded import check_recorded
 
     a = ds.attrs
     check_recorded(a)  # what the title shows is what --set would accept

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ._sweep import DIRECTION_COLORS, axes_of, check_sweep, directions, new_figure, title
 from .poincare import poincare_variable, state_names
 from .style import look

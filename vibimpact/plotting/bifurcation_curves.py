@@ -1,5 +1,5 @@
 """Two-parameter bifurcation curves (:func:`vibimpact.analysis.continue_bifurcation`,
-written by :func:`vibimpact.curves.curve_to_dataset`) drawn in their parameter plane,
+written by :func:`vibimpact.continuation.curves.curve_to_dataset`) drawn in their parameter plane,
 over the regime map of :func:`vibimpact.map2d` when one is given.
 
 The map's regime cells (as the first panel of :func:`vibimpact.plotting.map2d.plot_map`,
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..bifurcation_kinds import BifurcationKind
+from ..base.bifurcation_kinds import BifurcationKind
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -33,14 +33,14 @@ CURVE_STYLES = {BifurcationKind.FOLD: ("k", "-"),
 def _curves(curves):
     import xarray as xr
 
-    from ..curves import is_curve_dataset
+    from ..continuation.curves import is_curve_dataset
 
     items = [curves] if isinstance(curves, xr.Dataset) else list(curves)
     if not items:
         raise ValueError("curves must hold at least one curve dataset")
     for ds in items:
         if not isinstance(ds, xr.Dataset) or not is_curve_dataset(ds):
-            raise ValueError("curves must be datasets of vibimpact.curves.curve_to_dataset "
+            raise ValueError("curves must be datasets of vibimpact.continuation.curves.curve_to_dataset "
                              "('vibimpact continue2' files)")
     return items
 
@@ -132,7 +132,7 @@ def plot_bifurcation_curves(curves: xr.Dataset | Sequence[xr.Dataset],
     Parameters
     ----------
     curves : xarray.Dataset or sequence of them
-        From :func:`vibimpact.curves.curve_to_dataset` (or ``vibimpact continue2``
+        From :func:`vibimpact.continuation.curves.curve_to_dataset` (or ``vibimpact continue2``
         files read back); each drawn as a line in the style of its kind
         (:data:`CURVE_STYLES`), with its start marked.
     over : xarray.Dataset, optional

@@ -14,7 +14,7 @@ Stable solid and unstable dashed is the usual convention of bifurcation diagrams
 2010, sec. 2.2).  Every line style and marker drawn gets a legend entry: the stable and
 unstable parts of each branch, and each kind of bifurcation found (open black markers,
 :data:`BIFURCATION_MARKERS`, placed at the bifurcation's parameter value, with the kind's
-:attr:`~vibimpact.bifurcation_kinds.BifurcationKind.words` in the legend).
+:attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.words` in the legend).
 """
 from __future__ import annotations
 
@@ -22,8 +22,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
-from ..bifurcation_kinds import BifurcationKind
+from ..base import _validate as _v
+from ..base.bifurcation_kinds import BifurcationKind
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -53,7 +53,7 @@ def _as_branch(branch):
     import xarray as xr
 
     if isinstance(branch, xr.Dataset):
-        from ..branches import branch_from_dataset
+        from ..continuation.branches import branch_from_dataset
 
         from ._sweep import check_contents
 
@@ -119,7 +119,7 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
     markers : bool
         Mark the bifurcations of the branch (:data:`BIFURCATION_MARKERS`), grazings
         included, each kind with a legend entry (its
-        :attr:`~vibimpact.bifurcation_kinds.BifurcationKind.words`) unless ``ax`` has one
+        :attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.words`) unless ``ax`` has one
         already.
 
     Returns
@@ -156,7 +156,7 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
                          f"got {var!r}")
     x = np.asarray(branch.values, dtype=float)
     st = np.asarray(branch.stable, dtype=bool)
-    from ..branches import stretches
+    from ..continuation.branches import stretches
 
     artists = []
     labelled = {True: False, False: False}
@@ -208,7 +208,7 @@ def _without_param(ds, name):
     import json
     from types import SimpleNamespace
 
-    from .._json import loads
+    from ..base._json import loads
 
     attrs = {k: v for k, v in ds.attrs.items() if k != f"param_{name}"}
     try:
@@ -233,7 +233,7 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
     Parameters
     ----------
     ds : xarray.Dataset
-        From :func:`vibimpact.branches.branch_to_dataset` (a ``vibimpact continue``
+        From :func:`vibimpact.continuation.branches.branch_to_dataset` (a ``vibimpact continue``
         file).
     path : str or os.PathLike, optional
         Save the figure there (atomically).
@@ -254,7 +254,7 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
     ValueError
         Naming ``ds``, ``figsize``, ``dpi`` or ``style``.
     """
-    from .._text import count
+    from ..base._text import count
     from ._sweep import title
     from .style import look, width
 

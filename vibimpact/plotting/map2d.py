@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ._sweep import title
 from .map_panels import (MAP_REGIME_COLORS, MISSING, exponent_norm, exponent_panel,
                          impacts_keys, impacts_scale, period_keys, period_scale,

@@ -80,8 +80,8 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     """
     from matplotlib.lines import Line2D
 
-    from .. import _validate as _v
-    from .._text import count
+    from ..base import _validate as _v
+    from ..base._text import count
     from ..orbits.dataset import is_orbit_dataset
     from .style import look, width
 

@@ -5,7 +5,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
                      grid_step, new_figure, title)
 from .style import (BAND_ALPHA, LONG_PERIOD_COLOR, PERIOD_COLORS, REGIME_COLORS, class_color,

@@ -26,7 +26,7 @@ import os
 import tempfile
 from dataclasses import dataclass
 
-from .. import _validate as _v
+from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.figure import Figure
@@ -154,7 +154,7 @@ def smallest_text_pt():
     size of mathtext's sub- and superscripts (``$X_m$``; matplotlib's
     ``SHRINK_FACTOR``).
 
-    :func:`vibimpact._limits.check_pixels` refuses a resolution at which it is under
+    :func:`vibimpact.base._limits.check_pixels` refuses a resolution at which it is under
     one pixel (FreeType cannot raster such a glyph)."""
     from matplotlib import rcParamsDefault
     from matplotlib._mathtext import SHRINK_FACTOR
@@ -286,7 +286,7 @@ class Look:
         """A new constrained-layout Figure of :meth:`size` at the look's resolution."""
         from matplotlib.figure import Figure
 
-        from .._limits import check_pixels
+        from ..base._limits import check_pixels
 
         size, dpi = self.size(default, paper_height, columns), self.dpi or DPI[self.style]
         try:
@@ -368,8 +368,8 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
     if ext not in supported:
         raise ValueError(f"cannot save a figure as {path!r}: unknown extension; use one of "
                          f"{', '.join('.' + e for e in sorted(supported))}")
-    from .._limits import check_drawable, check_pixels
-    from .._writing import before_write, temp_prefix
+    from ..base._limits import check_drawable, check_pixels
+    from ..base._writing import before_write, temp_prefix
 
     out_dpi = fig.dpi if dpi is None else check_dpi(dpi)
     try:
@@ -427,7 +427,7 @@ def look(figsize=None, dpi=None, style=None, ax=None):
                          "(size ax's figure instead)")
     dpi = check_dpi(dpi)
     if figsize is not None or dpi is not None:
-        from .._limits import check_drawable, check_pixels
+        from ..base._limits import check_drawable, check_pixels
 
         # a pixel a side at the style's smallest resolution, text of a pixel at dpi (every
         # default figure is over an inch a side: the text rule keeps it over one pixel)

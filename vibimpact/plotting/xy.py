@@ -11,11 +11,11 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from matplotlib.axes import Axes
 
-    from ..run import Run
+    from ..core.run import Run
 
 
 def _title(ds):
-    from ..io_recorded import check_recorded
+    from ..io.recorded import check_recorded
 
     a = ds.attrs
     check_recorded(a)  # what the title shows is what --set would accept

@@ -65,7 +65,7 @@ def per_period_needed(xy, per_period, px_per_unit):
 def _system_and_start(value, ds):
     """``(params, state0, transient, periods, solver)`` of the recorded run, or None."""
     from .. import models
-    from ..solver import SolverSettings
+    from ..core.solver import SolverSettings
 
     a = ds.attrs
     if str(a.get("status", "ok")) != "ok" or "state0" not in ds:
@@ -101,7 +101,7 @@ def fine_trajectory(value, ds, per_period):
     """``(times, states)`` of the recorded run with ``per_period`` samples per forcing
     period, integrated again; None when it cannot be made the same motion (a user
     model, a run that stopped, no recorded start, too many samples, other strobes)."""
-    from ..simulation import simulate
+    from ..core.simulation import simulate
 
     got = _system_and_start(value, ds)
     if got is None:

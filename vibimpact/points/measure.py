@@ -21,7 +21,7 @@ from ..analysis.impacts import contact_arcs, impact_count
 from ..analysis.lyapunov import lyapunov_spectrum
 from ..analysis.period import detect_period
 from ..analysis.settling import contraction_rate, settling_periods, torus_evidence
-from ..run import Status
+from ..core.run import Status
 from .codes import CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERMANENT, REGIME_CODES
 
 #: longest period the recurrence search looks for when the exponent is negative but no

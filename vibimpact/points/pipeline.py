@@ -17,15 +17,15 @@ from typing import TYPE_CHECKING
 import math
 from dataclasses import fields, replace
 
-from .. import _validate as _v
+from ..base import _validate as _v
 from ..analysis.classify import Label, Regime
-from ..system import as_system
+from ..core.system import as_system
 from .point import ANALYSES, REGIME_CODES, SweepSettings, analyse_point
 
 if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
-    from ..system import System
+    from ..core.system import System
     from .point import PointResult
 
 __all__ = ["classify_params", "CLASSIFY_ANALYSES", "CLASSIFY_SETTINGS"]

@@ -16,9 +16,9 @@ from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
-from .._fill import not_computed
+from ..base._fill import not_computed
 from ..analysis.classify import DecisionRule, Label
-from ..system import System
+from ..core.system import System
 from .codes import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE, CONTACT_PERMANENT,
                     REGIME_CODES, REGIME_FLAGS)
 from .logtext import Lazy, point as point_text
@@ -33,8 +33,8 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from numpy.typing import ArrayLike
 
-    from ..params import DuffingParams, Params
-    from ..run import Status
+    from ..models.params import DuffingParams, Params
+    from ..core.run import Status
 
 __all__ = ["ANALYSES", "SweepSettings", "PointResult", "SCALARS", "analyse_point",
            "point_system", "REGIME_CODES", "REGIME_FLAGS", "CONTACT_FLAGS",

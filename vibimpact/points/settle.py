@@ -32,7 +32,7 @@ import numpy as np
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.period import detect_period
 from ..analysis.settling import Contraction, contraction_rates, settling_periods
-from ..run import Status
+from ..core.run import Status
 
 #: candidate periods of the shooting
 SHOOT_MAX_N = 8

@@ -18,7 +18,7 @@ import numpy as np
 from ..analysis.exponents import TANGENT_TOL
 from ..analysis.extrapolation import extrapolate_limit
 from ..analysis.period import detect_period, detect_period_windows
-from ..run import Status, join_runs
+from ..core.run import Status, join_runs
 from .settle import MIN_SHOOT_PERIODS, find_contraction, needs_shooting, shoot, unsettled_repeat
 
 #: the transient's contraction is checked every this many chunks

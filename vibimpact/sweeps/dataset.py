@@ -15,24 +15,24 @@ import sys
 import numpy as np
 
 from .. import __version__
-from .. import _validate as _v
-from .._fill import complex_parts, not_computed
-from .._text import count
+from ..base import _validate as _v
+from ..base._fill import complex_parts, not_computed
+from ..base._text import count
 from ..analysis.classify import Label
-from ..run import state_text
-from ..system import param_dict, to_system
+from ..core.run import state_text
+from ..core.system import param_dict, to_system
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
-                             CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
+                            CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
 
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Mapping, Sequence
 
     import xarray as xr
 
-    from ..params import DuffingParams, Params
+    from ..models.params import DuffingParams, Params
     from .interval_table import Intervals
     from ..points.point import PointResult, SweepSettings
-    from ..system import System
+    from ..core.system import System
 
 #: what a function that takes a sweep's dataset asks for, in its TypeError
 SWEEP_DATASET = "the xarray.Dataset of a sweep (vibimpact.sweep)"
@@ -283,11 +283,11 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
     ------
     ValueError
         When the file's parameters are not what the command line would accept
-        (:func:`vibimpact.io_recorded.recorded_params`): its ``params`` attribute or a
+        (:func:`vibimpact.io.recorded.recorded_params`): its ``params`` attribute or a
         ``param_NAME`` attribute missing, text, not finite, outside the parameter's
         domain, the two disagreeing, or a model this installation does not know.
     """
-    from ..io_recorded import recorded_model, recorded_params
+    from ..io.recorded import recorded_model, recorded_params
 
     _v.dataset(name, ds, SWEEP_DATASET)
     if eta is None:  # the records leave the forcing frequency out: the set's default

@@ -31,8 +31,8 @@ import numpy as np
 
 from ..analysis.classify import Label
 from ..points.codes import REGIME_CODES
-from .. import _validate as _v
-from ..io_recorded import recorded_model, recorded_params, recorded_state
+from ..base import _validate as _v
+from ..io.recorded import recorded_model, recorded_params, recorded_state
 from .dataset import SWEEP_DATASET, sweep_params
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -40,7 +40,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
-    from ..params import Params
+    from ..models.params import Params
 
 __all__ = ["SweepStart", "sweep_start"]
 
@@ -119,7 +119,7 @@ class SweepStart:
         ValueError
             When ``ds`` records no complete start.
         """
-        from ..io_recorded import recorded_number
+        from ..io.recorded import recorded_number
 
         a = ds.attrs
         missing = [k for k in (*_ATTRS, "start_params") if k not in a]

@@ -30,13 +30,13 @@ import math
 
 import numpy as np
 
-from .. import _limits
-from .. import _validate as _v
-from .._text import count, parse_real
+from ..base import _limits
+from ..base import _validate as _v
+from ..base._text import count, parse_real
 from .. import models
-from ..params import DuffingParams, Params
-from ..system import System, param_dict, to_system, with_frequency
-from ..simulation import simulate
+from ..models.params import DuffingParams, Params
+from ..core.system import System, param_dict, to_system, with_frequency
+from ..core.simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
 from ..engine.execution import Execution, as_execution, refuse_moved
 from ..engine.policy import Continuation, Independent, as_policy
@@ -50,7 +50,7 @@ if TYPE_CHECKING:  # names of the annotations only
 DIRECTIONS = ("up", "down", "both")
 
 
-#: the forcing frequencies a grid may hold (:data:`vibimpact._limits.ETA_RANGE`)
+#: the forcing frequencies a grid may hold (:data:`vibimpact.base._limits.ETA_RANGE`)
 ETA_RANGE = _limits.ETA_RANGE
 
 
@@ -132,7 +132,7 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
     ----------
     p : Params, DuffingParams, System or str
         The parameters (any built-in model's parameter set), a System (run with its own
-        solver settings), or a preset's name (:func:`vibimpact.presets.get`).
+        solver settings), or a preset's name (:func:`vibimpact.models.presets.get`).
     eta : float
         The forcing frequency of the returned state (``eta`` of the rotor, the model's
         forcing frequency otherwise), > 0.
@@ -157,7 +157,7 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
         ``eta``, ``eta_start``, ``step``, ``transient`` or ``state0``.
     """
     if isinstance(p, str):
-        from .. import presets
+        from ..models import presets
 
         try:
             p = presets.get(p)
@@ -362,7 +362,7 @@ def parse_range(text: str, name: str = "eta", positive: bool = True) -> np.ndarr
     ------
     ValueError
         Naming ``name``, for anything else, and for a grid of more than
-        :data:`vibimpact._limits.MAX_POINTS` points (with the estimated time).
+        :data:`vibimpact.base._limits.MAX_POINTS` points (with the estimated time).
     """
     text = str(text)
     if ":" not in text:

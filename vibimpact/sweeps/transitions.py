@@ -2,7 +2,7 @@
 
 A response curve says *where* the motion changes; :func:`transition_types` says *how*, at
 each boundary of :func:`vibimpact.intervals` (in sweep order, for each direction), by
-the short name of a :class:`~vibimpact.bifurcation_kinds.BifurcationKind`:
+the short name of a :class:`~vibimpact.base.bifurcation_kinds.BifurcationKind`:
 
 ===================  ==================================================================
 ``period doubling``  a Floquet multiplier of the periodic orbit leaves through -1 (or
@@ -53,17 +53,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analysis.classify import Label
-from ..bifurcation_kinds import BifurcationKind
+from ..base.bifurcation_kinds import BifurcationKind
 from ..analysis.continuation import locate_bifurcation
 from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
 from .. import models
-from ..params import Params
-from ..run import Status
-from .. import _json, _validate as _v
-from ..simulation import simulate
-from ..solver import SolverSettings
-from ..system import System
+from ..models.params import Params
+from ..core.run import Status
+from ..base import _json, _validate as _v
+from ..core.simulation import simulate
+from ..core.solver import SolverSettings
+from ..core.system import System
 from .dataset import label_text, sweep_params
 from ..points.point import REGIME_CODES, SweepSettings, analyse_point
 
@@ -72,7 +72,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
-    from ..params import DuffingParams
+    from ..models.params import DuffingParams
 
 __all__ = ["transition_types", "format_transitions"]
 
@@ -431,9 +431,9 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
         ``eta_to`` (the grid points on both sides), ``eta_lo``, ``eta_hi`` (the refined
         bracket of the first event), ``eta`` (its midpoint), ``from_label``,
         ``to_label``, ``type`` (the short name of a
-        :class:`~vibimpact.bifurcation_kinds.BifurcationKind`, or several joined by
+        :class:`~vibimpact.base.bifurcation_kinds.BifurcationKind`, or several joined by
         " + " when one sweep step holds several events, in sweep order: e.g. "grazing +
-        period doubling", :func:`~vibimpact.bifurcation_kinds.kinds_in` splits it; the
+        period doubling", :func:`~vibimpact.base.bifurcation_kinds.kinds_in` splits it; the
         evidence gives each event's eta), ``mu_real``, ``mu_imag`` (the
         largest Floquet multiplier of the followed orbit at the bracket's persisting
         end; NaN when no orbit was followed), ``gap`` (its smallest ``|R - 1|`` at an
