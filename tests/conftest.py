@@ -42,39 +42,14 @@ def fig8_chaotic():
     return p, continued_state("fig8", 1.22)
 
 
-class _ThisCheckoutOnly:
-    """A finder first on ``sys.meta_path`` that lets a ``vibimpact.*`` module come only
-    from the package's own folders: an editable install of another checkout (setuptools'
-    finder maps ``vibimpact`` to that checkout) would otherwise supply a module this one
-    has moved or removed, and a test would run that stale copy beside this one's (two
-    ``Params`` classes, say).  It finds nothing itself; a module the package's folders
-    lack is a ``ModuleNotFoundError``."""
-
-    @staticmethod
-    def find_spec(fullname, path=None, target=None):
-        import importlib.machinery
-        import sys
-
-        parent = fullname.rpartition(".")[0]
-        if not fullname.startswith("vibimpact.") or parent not in sys.modules:
-            return None
-        folders = getattr(sys.modules[parent], "__path__", None)
-        if folders is None or importlib.machinery.PathFinder.find_spec(fullname, folders):
-            return None
-        raise ModuleNotFoundError(f"No module named {fullname!r}", name=fullname)
-
-
 def pytest_configure(config):
     """The suite runs with SIGINT as from a terminal (Python's own KeyboardInterrupt
     handler), however it was started: a test run started as a shell script's background
     job inherits SIGINT ignored, and the commands the tests start (and signal) would
     inherit that and rightly ignore the tests' SIGINT.  tests/test_ignored_signals.py
-    checks the ignored case on purpose.  A ``vibimpact`` module comes only from this
-    checkout (:class:`_ThisCheckoutOnly`)."""
+    checks the ignored case on purpose."""
     import signal
-    import sys
 
-    sys.meta_path.insert(0, _ThisCheckoutOnly)
     if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
