@@ -1,8 +1,9 @@
 """The rotor's hand-written variational functions against the generic ones (issue 42,
 item 4: one saltation).
 
-Run as ``python analyses/performance/variational_bench.py``; replaces the section
-``variational`` of ``reports/performance.md``.  Every number written is measured here, in
+Run as ``python analyses/performance/variational_bench.py`` (or through
+``performance.py``); replaces the section ``variational`` of ``reports/performance.md``
+(``--smoke DIR``: a tiny run writing under DIR).  Every number written is measured here, in
 one run, on the fig11 parameters (friction and tangential damping on):
 
 (a) the variational right-hand side (state plus 4 tangent vectors, the Lyapunov
@@ -36,6 +37,7 @@ import numpy as np
 from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
+from _common import smoke  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi  # noqa: E402
@@ -158,9 +160,11 @@ def report(measured):
         f"{per['events'] * res['var_transition'][1] / 1e3:.2f} us (generic)."])
 
 
-def main():
+def main(argv=None):
+    opts = smoke.parser(__doc__).parse_args(argv)
+    smoke.shrink(globals(), opts.smoke, CALLS=1000, REPEATS=1)
     text = report(measure())
-    write_section(REPORT, SECTION, text)
+    write_section(smoke.moved(REPORT, opts.smoke), SECTION, text)
     print(text)
 
 
