@@ -214,6 +214,45 @@ class Contact:
                                  f"({', '.join(param_names)})")
 
 
+@dataclass(frozen=True)
+class _Column:
+    """``states[:, index] - p[offset]`` (no offset: ``None``), a picklable function of
+    ``(states, p)``."""
+
+    index: int
+    offset: int | None = None
+
+    def __call__(self, states, p):
+        column = np.array(states[:, self.index], dtype=float)
+        return column - p[self.offset] if self.offset is not None else column
+
+
+def _zero_angle(states, p):
+    """The angle of a stop on the positive side of its coordinate: 0 degrees."""
+    return np.zeros(np.shape(states)[0])
+
+
+def stop_contact(law: ContactLaw | Restitution, position: int, velocity: int, stop: int,
+                 switch: int = 0, mode: int = 0, extremum: int | None = None) -> Contact:
+    """The :class:`Contact` of a one-dimensional stop at ``q = p[stop]`` above the
+    coordinate ``q = states[:, position]`` (free while ``q < d``): penetration ``q - d``,
+    normal speed ``q' = states[:, velocity]``, angle 0.
+
+    Parameters
+    ----------
+    law : ContactLaw or Restitution
+    position, velocity : int
+        Indices of ``q`` and ``q'`` in the state.
+    stop : int
+        Index of the stop's position ``d`` in the parameter vector.
+    switch, mode, extremum : int
+        As :class:`Contact`'s.
+    """
+    return Contact(switch=switch, mode=mode, penetration=_Column(position, stop),
+                   normal_speed=_Column(velocity), angle=_zero_angle, extremum=extremum,
+                   positions=(position,), law=law)
+
+
 def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
                         samples=None, mode_after=None):
     """Contact records from a run's event log (vectorised).
