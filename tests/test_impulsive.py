@@ -173,3 +173,36 @@ def test_the_saltation_of_an_impact_matches_the_flow_maps_differences():
                           for e in np.eye(2)])
     M = an.monodromy(vi.System(p, model=MODEL, solver=sol), x0).matrix
     np.testing.assert_allclose(M, fd, atol=1e-7)
+
+
+@njit
+def _accel_mirror(s, y, p):
+    return -p[3] * math.cos(p[4] * s) - 2.0 * p[0] * y[1] - y[0]
+
+
+@njit
+def _free_rhs_mirror(s, y, p, out):
+    out[0] = y[1]
+    out[1] = _accel_mirror(s, y, p)
+
+
+@pytest.mark.slow  # compiles a second user model's kernel
+def test_a_stop_below_the_coordinate_is_the_mirror_image():
+    """Hypothesis: the oscillator mirrored (``z = -x``: the force ``-A cos t``, the stop
+    at ``z = -d`` below the coordinate, ``side = -1``) chatters, sticks and is released
+    at the same times as the original (to 1e-12), with the mirrored states and impact
+    speeds."""
+    mirror = vi.Model.from_functions(
+        "mirrored impact oscillator",
+        *stop_model(_free_rhs_mirror, _free_jac, _accel_mirror, 2, 0, 1, 1, 2, side=-1.0,
+                    cache=False),
+        terminal=TERMINAL, state_names=("z", "w"), param_names=("zeta", "d", "r", "A", "w"),
+        omega_index=4, n_mode=N_MODE)
+    run = _run([0.0, -1.0, 0.5, 2.0, 1.0], [-1.0, -0.01])
+    image = vi.simulate(np.array([0.0, 1.0, 0.5, 2.0, 1.0]), periods=1,
+                        state0=np.array([1.0, 0.01]), model=mirror)
+    for key in ("which", "mode_before", "mode_after"):
+        np.testing.assert_array_equal(image.events[key], run.events[key])
+    np.testing.assert_allclose(image.events["t"], run.events["t"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(image.events["state"], -run.events["state"], atol=1e-12)
+    np.testing.assert_allclose(image.strobe, -run.strobe, atol=1e-12)

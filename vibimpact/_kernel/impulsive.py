@@ -18,7 +18,8 @@ index  switching function                                               kind
 0      free: the gap ``side (d - q)`` (an impact where it vanishes);     terminal
        held: the force into the stop, ``side q''`` of the free motion
        on the stop (the body leaves where it changes sign)
-1      ``q'`` in free flight (the extrema of ``q``); 1 while held        observer
+1      ``side q'`` in free flight (closest approaches to the stop);      observer
+       1 while held
 2      chattering: the envelope speed ``V = -side q'``; 1 otherwise      terminal
 =====  ===============================================================  ==========
 
@@ -100,7 +101,8 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
     side : float
         +1: the stop is above ``q`` (free while ``q < d``); -1: below.
     chatter_time : float
-        A chattering sequence whose predicted remainder is below this ends in sticking.
+        A chattering sequence whose predicted remainder (:func:`chatter_remainder`) is
+        below this is replaced by its envelope, which ends at the accumulation point.
     cache : bool
         Cache the functions on disk (a built-in model; a user model's are compiled per
         process).
@@ -133,6 +135,7 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
 
     @njit(**leaf)
     def rhs(s, y, p, mode, out):
+        """The free motion; held: ``q`` fixed, ``q'`` the chattering envelope or 0."""
         free_rhs(s, y, p, out)
         if mode[0] == HELD:
             out[pos] = 0.0
@@ -141,6 +144,7 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
 
     @njit(**leaf)
     def jac(s, y, p, mode, J):
+        """The Jacobian of :func:`rhs` in the given mode."""
         free_jac(s, y, p, J)
         if mode[0] == HELD:
             c = 0.5 * (1.0 - p[restitution]) if mode[1] == CHATTER else 0.0
@@ -150,17 +154,20 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
 
     @njit(**leaf)
     def switches(s, y, p, mode, g):
+        """The stop (gap or force), the velocity observer, the envelope's speed."""
         if mode[0] == HELD:
             g[0] = side * accel(s, y, p)
             g[1] = 1.0
             g[2] = -side * y[vel] if mode[1] == CHATTER else 1.0
         else:
             g[0] = side * (p[stop] - y[pos])
-            g[1] = y[vel]
+            g[1] = side * y[vel]
             g[2] = 1.0
 
     @njit(**leaf)
     def transition(s, y, p, mode, which):
+        """An impact (the jump, and chattering's envelope or sticking when its remainder
+        is short), the accumulation point, or the release."""
         if mode[0] == HELD:
             if which == SW_CHATTER:  # the accumulation point: the body comes to rest
                 y[vel] = 0.0
@@ -188,6 +195,7 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
 
     @njit(**leaf)
     def init_mode(s, y, p, mode):
+        """Held (sticking) at rest on the stop with the force pressing; free otherwise."""
         mode[0] = FREE
         mode[1] = STICK
         if side * (y[pos] - p[stop]) >= 0.0 and y[vel] == 0.0 and side * accel(s, y, p) > 0.0:
