@@ -45,6 +45,7 @@ PERFORMANCE_SECTIONS = {
     "work_precision.py": ["work_precision"], "stress.py": ["stress"],
     "benchmark_map.py": ["map"], "lyapunov_error_control.py": ["lyapunov-error-control"],
     "census_bench.py": ["census"], "ring_bench.py": ["ring"],
+    "variational_bench.py": ["variational"],
 }
 
 

@@ -29,12 +29,10 @@ _EXPORTS = {
     "System": ("core.system", "System"),
     "SolverSettings": ("core.solver", "SolverSettings"),
     "Solver": ("core.solver", "Solver"),
-    "ROTOR": ("models", "ROTOR"),
-    "DUFFING": ("models", "DUFFING"),
-    "SOFT_IMPACT": ("models", "SOFT_IMPACT"),
     "models": ("models", None),
     "Contact": ("models.contact", "Contact"),
     "ContactLaw": ("models.contact", "ContactLaw"),
+    "Restitution": ("models.contact", "Restitution"),
     "BifurcationKind": ("base.bifurcation_kinds", "BifurcationKind"),
     "Regime": ("analysis.classify", "Regime"),
     "analysis": ("analysis", None),
@@ -66,7 +64,7 @@ _EXPORTS = {
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System", "SolverSettings", "Solver",
-           "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
+           "models", "Contact", "ContactLaw", "Restitution",
            "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals", "SweepSettings", "classify_params",
            "transition_types",
            "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting", "sweeps", "io", "__version__",
@@ -79,13 +77,32 @@ def _load(name):
     return mod if attr is None else getattr(mod, attr)
 
 
+def _model_constants():
+    """``ROTOR``, ``DUFFING``, ...: the constant name of every built-in model, one per
+    module of :mod:`vibimpact.builtin_models` (found without importing them)."""
+    import pkgutil
+    from pathlib import Path
+
+    found = pkgutil.iter_modules([str(Path(__file__).with_name("builtin_models"))])
+    return sorted(m.name.upper() for m in found if not m.ispkg)
+
+
+#: the built-in models by their constant names (vi.ROTOR, vi.SOFT_IMPACT, ...), taken from
+#: the registry (:mod:`vibimpact.models`) on first use
+__all__ += _model_constants()
+
+
 def __getattr__(name):
     if name in _EXPORTS:
         value = _load(name)
+        globals()[name] = value
+        return value
+    if name.isupper() and name in __all__:
+        value = getattr(importlib.import_module(f"{__name__}.models"), name)
         globals()[name] = value
         return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+    return sorted(set(globals()) | set(_EXPORTS) | set(__all__))

@@ -17,6 +17,8 @@ replaces its own section of the report:
 ``lyapunov_error_control.py``  the tangent vectors' error test of the exponents
 ``census_bench.py``        the attractor census, a 200 x 200 basin image, early stopping
 ``ring_bench.py``          the ring model's sweep against eq. (5)'s; its cost per period
+``variational_bench.py``   the rotor's hand-written variational functions against the
+                           generic ones (issue 42)
 =========================  ==========================================================
 
 With ``--smoke DIR`` every script runs in its smoke mode (``--smoke DIR``: tiny problems,
@@ -33,7 +35,7 @@ from _common import smoke  # noqa: E402
 
 SCRIPTS = ("benchmark_kernel.py", "first_run.py", "benchmark_sweep.py", "profile_sweep.py",
            "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py",
-           "census_bench.py", "ring_bench.py")
+           "census_bench.py", "ring_bench.py", "variational_bench.py")
 
 
 def main(argv):

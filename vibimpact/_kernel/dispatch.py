@@ -226,9 +226,12 @@ def _ol_transition(model, s, y, p, mode, which):
                 var(s, y, p, mode, which)
         return impl_builtin
     if len(model.types) == 7:
+        body = variational.user_transition(model.types[1].dispatcher,
+                                           model.types[2].dispatcher,
+                                           model.types[3].dispatcher)
+
         def impl_var(model, s, y, p, mode, which):
-            variational.user_transition(model[1], model[2], model[3], model[5], model[6], s,
-                                        y, p, mode, which)
+            body(model[5], model[6], s, y, p, mode, which)
         return impl_var
 
     def impl_user(model, s, y, p, mode, which):

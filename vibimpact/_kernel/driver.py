@@ -224,19 +224,24 @@ def _switch_now(problem, cfg, ws, log, n_ev, mode, k, k_record, s, y, h, imm, co
     T = cfg.T
     if abs(ws.G[0, imm]) <= cfg.event_tol and h > 1e-6 * T:
         return _RETRY_SAME_START, n_ev
-    mode_old = ws.mode_old
+    mode_old, y_old = ws.mode_old, ws.yint
     for m in range(mode.size):
         mode_old[m] = mode[m]
+    for m in range(y.size):
+        y_old[m] = y[m]
     model_transition(model, s, y, p, mode, imm)
     same = True
     for m in range(mode.size):
         if mode[m] != mode_old[m]:
             same = False
+    for m in range(y.size):
+        if y[m] != y_old[m]:
+            same = False
     if same:
         return _RETRY_NEW_START, n_ev
     counters[C_EVENTS] += 1
     if k >= k_record:
-        n_ev = _log(log, n_ev, k * T + s, imm, mode_old, mode, y)
+        n_ev = _log(log, n_ev, k * T + s, imm, mode_old, mode, y_old)
     model_rhs(model, s, y, p, mode, ws.f0)
     counters[C_RHS] += 1
     return _SWITCHED, n_ev
@@ -379,13 +384,15 @@ def _next_start(problem, cfg, ws, log, n_ev, mode, k_record, t_abs, s, y, y_end,
         for m in range(y.size):
             f0[m] = ws.f1r[m]
         return n_ev
-    mode_old = ws.mode_old
+    mode_old, y_old = ws.mode_old, ws.yint
     for m in range(mode.size):
         mode_old[m] = mode[m]
+    for m in range(y.size):
+        y_old[m] = y[m]
     model_transition(model, s, y, p, mode, which)
     counters[C_EVENTS] += 1
-    if t_abs >= k_record * cfg.T:
-        n_ev = _log(log, n_ev, t_abs, which, mode_old, mode, y)
+    if t_abs >= k_record * cfg.T:  # the state before the event (before an impact's jump)
+        n_ev = _log(log, n_ev, t_abs, which, mode_old, mode, y_old)
     model_rhs(model, s, y, p, mode, f0)
     counters[C_RHS] += 1
     return n_ev

@@ -43,7 +43,7 @@ from .dispatch import model_rhs
 from .jitopts import INNER, LEAF
 from .tableaux import DOP853, DP5, RK4
 
-# status codes (mirrored in vibimpact.run.Status)
+# status codes (mirrored in vibimpact.core.run.Status)
 OK = 0
 DIVERGED_NONFINITE = 1
 DIVERGED_BOUND = 2

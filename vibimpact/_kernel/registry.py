@@ -61,6 +61,31 @@ class KernelModel(NamedTuple):
         return (self.n_state, len(self.param_names), self.n_mode, int(self.terminal.size))
 
 
+def kernel_model(rhs, jac, switches, transition, init_mode, n_state, n_mode, terminal,
+                 param_names, step_cap=None) -> KernelModel:
+    """The :class:`KernelModel` of a module whose variational equations are the generic
+    ones: :func:`.variational.tangent_rhs` over ``rhs`` and ``jac``, and
+    :func:`.variational.saltation_transition` (the one saltation) over ``rhs``,
+    ``switches`` and ``transition``.
+
+    Parameters
+    ----------
+    rhs, jac, switches, transition, init_mode : numba dispatchers
+    n_state, n_mode : int
+    terminal : ndarray of int64, shape (n_switch,)
+    param_names : tuple of str
+    step_cap : numba dispatcher, optional
+    """
+    from .variational import saltation_transition, tangent_rhs
+
+    return KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
+                       init_mode=init_mode, var_rhs=tangent_rhs(rhs, jac, n_state),
+                       var_transition=saltation_transition(rhs, switches, transition,
+                                                           n_state, terminal.size),
+                       step_cap=step_cap, n_state=n_state, n_mode=n_mode,
+                       terminal=terminal, param_names=tuple(param_names))
+
+
 def families() -> list[str]:
     """The names of every built-in family: the modules of this package that declare a
     ``KERNEL_MODEL`` (each imported to see)."""

@@ -39,9 +39,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .jitopts import INNER, INNER_ALLOC, LEAF
+from .jitopts import INNER, LEAF
 from .registry import KernelModel
-from .variational import apply_saltation, fd_step
+from .variational import saltation_transition
 
 PARAM_NAMES = ("B", "k3", "kh", "Bh", "BT", "f", "Rr", "Ec", "G", "eta", "eps")
 I_B, I_K3, I_KH, I_BH, I_BT, I_F, I_RR, I_EC, I_G, I_ETA, I_EPS = range(11)
@@ -446,41 +446,9 @@ def var_rhs(s, y, p, mode, out):
         out[b + 3] = j30 * v0 + j31 * v1 + j32 * v2 + j33 * v3
 
 
-@njit(**INNER_ALLOC)
-def var_transition(s, y, p, mode, which):
-    """Mode change of the rotor plus the saltation map of the tangent vectors."""
-    n = np.int64(4)  # not a literal: apply_saltation would be compiled for it alone
-    x = y[:n].copy()
-    fm = np.empty(n)
-    rhs(s, x, p, mode, fm)
-    grad = np.empty(n)
-    g = np.empty(N_SWITCH)
-    xp = x.copy()
-    for j in range(n):
-        d = fd_step(x[j])
-        xp[j] = x[j] + d
-        switches(s, xp, p, mode, g)
-        gp = g[which]
-        xp[j] = x[j] - d
-        switches(s, xp, p, mode, g)
-        grad[j] = (gp - g[which]) / (2.0 * d)
-        xp[j] = x[j]
-    d = fd_step(s)
-    switches(s + d, x, p, mode, g)
-    gp = g[which]
-    switches(s - d, x, p, mode, g)
-    g_s = (gp - g[which]) / (2.0 * d)
-    old0 = mode[0]
-    old1 = mode[1]
-    transition(s, y, p, mode, which)
-    if mode[0] == old0 and mode[1] == old1:
-        return
-    fp = np.empty(n)
-    rhs(s, x, p, mode, fp)
-    apply_saltation(y, n, fm, fp, grad, g_s)
-
-
 KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
                            init_mode=init_mode, var_rhs=var_rhs,
-                           var_transition=var_transition, step_cap=step_cap, n_state=N_STATE,
+                           var_transition=saltation_transition(
+                               rhs, switches, transition, N_STATE, N_SWITCH),
+                           step_cap=step_cap, n_state=N_STATE,
                            n_mode=N_MODE, terminal=TERMINAL, param_names=PARAM_NAMES)

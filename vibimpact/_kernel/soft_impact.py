@@ -26,8 +26,7 @@ import numpy as np
 from numba import njit
 
 from .jitopts import LEAF
-from .registry import KernelModel
-from .variational import saltation_transition, tangent_rhs
+from .registry import kernel_model
 
 PARAM_NAMES = ("zeta", "k", "c", "d", "A", "eta")
 I_ZETA, I_K, I_C, I_D, I_A, I_ETA = range(6)
@@ -79,9 +78,5 @@ def transition(s, y, p, mode, which):
         mode[0] = 1 - mode[0]
 
 
-KERNEL_MODEL = KernelModel(rhs=rhs, jac=jac, switches=switches, transition=transition,
-                           init_mode=init_mode, var_rhs=tangent_rhs(rhs, jac, N_STATE),
-                           var_transition=saltation_transition(rhs, switches, transition,
-                                                               N_STATE, TERMINAL.size),
-                           step_cap=None, n_state=N_STATE, n_mode=N_MODE, terminal=TERMINAL,
-                           param_names=PARAM_NAMES)
+KERNEL_MODEL = kernel_model(rhs, jac, switches, transition, init_mode, N_STATE, N_MODE,
+                            TERMINAL, PARAM_NAMES)

@@ -247,7 +247,8 @@ def contact_spans_of(run) -> np.ndarray:
     ev = run.events
     return contact_spans(contact, p, ev["t"], ev["which"], ev["mode_before"], ev["state"],
                          (float(run.t_strobe[0]), float(run.t_strobe[-1])),
-                         (np.concatenate(times), np.concatenate(states)), inside0)
+                         (np.concatenate(times), np.concatenate(states)), inside0,
+                         mode_after=ev["mode_after"])
 
 
 def _union(lo, width, gap):

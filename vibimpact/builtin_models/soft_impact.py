@@ -10,9 +10,8 @@ bifurcations in n-dimensional piecewise-smooth dynamical systems", Physica D 160
 222-254; Ing et al. 2008, Phil. Trans. R. Soc. A 366, 679-705).  Both are checked in
 ``tests/test_soft_impact.py``.
 """
-import numpy as np
 
-from ..models.contact import Contact, ContactLaw
+from ..models.contact import ContactLaw, stop_contact
 from ..models import Model, PlotSpec
 from ..models.params import Domain, param_set
 
@@ -28,24 +27,11 @@ SoftImpactParams = param_set(
     doc="Dimensionless parameters of the soft-impact oscillator.")
 
 
-def _penetration(states, p):
-    return states[:, 0] - p[3]
-
-
-def _normal_speed(states, p):
-    return states[:, 1].copy()
-
-
-def _angle(states, p):
-    return np.zeros(states.shape[0])  # the stop is on the positive side
-
-
 MODEL = Model.builtin_model(
     "soft_impact", "soft_impact", ("x", "dx"), omega_index=5, param_set=SoftImpactParams,
     bound=1e6,
-    contact=Contact(switch=0, mode=0, penetration=_penetration, normal_speed=_normal_speed,
-                    angle=_angle, extremum=1, positions=(0,),
-                    law=ContactLaw(stiffness="k", exponent=1.0, damping="c")),
+    contact=stop_contact(ContactLaw(stiffness="k", exponent=1.0, damping="c"), 0, 1, 3,
+                         extremum=1),
     plot=PlotSpec(xy=("x", "dx")),
     presets={"soft-impact": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.8),
                              "soft-impact oscillator below grazing (linear response)"),

@@ -55,8 +55,15 @@ _TABLE = ("fraction", "fraction_se", "regime", "period", "impacts_per_period", "
           "failed_fraction", "failure")
 
 
+def default_plane(model) -> tuple[str, str]:
+    """The plane of a model's basins when none is asked for: the states its XY plots draw
+    (:class:`vibimpact.models.PlotSpec`), else its first two."""
+    plot = getattr(model, "plot", None)
+    return tuple(plot.xy) if plot is not None else tuple(model.state_names[:2])
+
+
 def plane_axes(model, plane) -> tuple[int, int]:
-    """The state indices of the two names of ``plane``.
+    """The state indices of the two names of ``plane`` (None: :func:`default_plane`).
 
     A name is a state name of the model (``"X"``, ``"dY"``, ``"x"``), matched exactly or
     else ignoring case when that is unique; ``"X'"`` (a prime) stands for ``"dX"``.
@@ -67,6 +74,8 @@ def plane_axes(model, plane) -> tuple[int, int]:
         Naming ``plane``: not two names, an unknown name, or the same state twice.
     """
     names = list(model.state_names)
+    if plane is None:
+        plane = default_plane(model)
     if isinstance(plane, str):
         plane = [p for p in plane.split(",")]
     plane = list(plane) if isinstance(plane, (list, tuple)) else None
@@ -199,7 +208,7 @@ def boundary_measures(image, eps: int = EPS) -> dict:
 
 
 def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (200, 200),
-           plane: tuple[str, str] = ("X", "Y"),
+           plane: tuple[str, str] | None = None,
            ranges: tuple[tuple[float, float], tuple[float, float]] | None = None,
            base: ArrayLike | None = None, *, eps: int = EPS,
            settings: CensusSettings | None = None,
@@ -214,9 +223,10 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         The forcing frequency (one value); the system's own by default.
     grid : (int, int)
         Cells along the first and the second plane variable (``(columns, rows)``).
-    plane : (str, str) or str
+    plane : (str, str) or str, optional
         Two state names of the model (``("X", "Y")``, ``"X,dX"``; ``"X'"`` stands for
-        ``"dX"``): the first varies along the image's columns, the second along its rows.
+        ``"dX"``): the first varies along the image's columns, the second along its rows;
+        by default the states the model's XY plots draw (:func:`default_plane`).
     ranges : ((float, float), (float, float)), optional
         ``(lo, hi)`` of each plane variable: the cell centres span them, ends included;
         by default the census' box (:func:`vibimpact.census.starts.default_box`: ``[-1,

@@ -85,7 +85,7 @@ def parse_ranges(text):
 def _inputs(args):
     """``(system, eta, axes names, ranges, base, grid)``; UsageError for bad input."""
     from ..models import presets
-    from ..census.basins import plane_axes
+    from ..census.basins import default_plane, plane_axes
     from ..core.system import System
 
     try:
@@ -93,7 +93,8 @@ def _inputs(args):
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     system = System(with_sets(base, parse_sets(args.set), args.eta))
-    plane = [p.strip() for p in str(args.plane).split(",")]
+    plane = ([p.strip() for p in str(args.plane).split(",")] if args.plane is not None
+             else list(default_plane(system.model)))
     try:
         plane_axes(system.model, plane)
     except ValueError as exc:
@@ -191,9 +192,10 @@ def add_parser(sub, fmt):
     b.add_argument("--grid", default="200x200", metavar="COLUMNSxROWS",
                    help="cells along the first and second plane variable (default: "
                         "200x200)")
-    b.add_argument("--plane", default="X,Y", metavar="A,B",
+    b.add_argument("--plane", default=None, metavar="A,B",
                    help="two state names of the model, e.g. X,Y or X,X' (X' is dX; "
-                        "default: X,Y)")
+                        "default: the states the model's XY plots draw, X,Y for the "
+                        "rotor)")
     b.add_argument("--range", default=None, metavar="LO:HI,LO:HI",
                    help="the span of the cell centres of each plane variable (default: "
                         "the census box, -1:1 each)")

@@ -175,7 +175,8 @@ def impacts_of(contact, p, events, t0, period):
     if contact is None:
         return np.zeros(0, dtype=IMPACT_DTYPE)
     return _contact.impacts_from_events(contact, p, events["t"], events["which"],
-                                        events["mode_before"], events["state"], t0, period)
+                                        events["mode_before"], events["state"], t0, period,
+                                        mode_after=events["mode_after"])
 
 
 def join_runs(runs, period):

@@ -309,6 +309,8 @@ class Model:
                                    f"{type(contact).__name__}")
             contact.check(len(states), term.size, n_mode, params)
         domains = _domains(domains, params)
+        if contact is not None and contact.law.impulsive:  # r in [0, 1] unless declared
+            domains = {contact.law.coefficient: Domain(0.0, 1.0, True, True), **domains}
         return cls(name=name, state_names=states, param_names=params,
                    omega_index=omega_index, n_mode=n_mode,
                    terminal=term.astype(np.int64), kernel_model=(rhs, switches, transition),

@@ -20,7 +20,7 @@ Systems*. Springer, ch. 2-3 (contact laws, switching functions, saltation).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, ClassVar
 
 import numpy as np
 
@@ -85,6 +85,7 @@ class ContactLaw:
     """
 
     stiffness: str
+    impulsive: ClassVar[bool] = False
     exponent: float = 1.5
     damping: str | None = None
     friction: str | None = None
@@ -115,6 +116,37 @@ class ContactLaw:
 
 
 @dataclass(frozen=True)
+class Restitution:
+    """An impulsive contact law: a rigid stop and Newton's impact law ``v+ = -r v-``.
+
+    The body does not penetrate the stop; at impact its normal velocity is reversed and
+    reduced by the coefficient of restitution ``r`` in ``[0, 1]`` (the kernel's transition
+    applies the jump, :mod:`vibimpact._kernel.impulsive`), a sequence of impacts that
+    accumulates in finite time ends in sticking (Shaw & Holmes 1983, "A periodically
+    forced piecewise linear oscillator", J. Sound Vib. 90, 129-155; Budd & Dux 1994,
+    Phil. Trans. R. Soc. A 347, 365-389).  An impact record's duration is 0 unless the
+    impact ends a chattering sequence: it then lasts until the body leaves the stop.
+
+    Parameters
+    ----------
+    coefficient : str
+        Parameter of the coefficient of restitution ``r`` (its domain is ``[0, 1]``).
+    """
+
+    coefficient: str
+    impulsive: ClassVar[bool] = True
+
+    def __post_init__(self):
+        if not isinstance(self.coefficient, str) or not self.coefficient:
+            raise ValueError(f"coefficient must name a parameter (a non-empty str), got "
+                             f"{self.coefficient!r}"[:200])
+
+    def parameters(self) -> dict:
+        """``{"restitution": parameter name}``."""
+        return {"restitution": self.coefficient}
+
+
+@dataclass(frozen=True)
 class Contact:
     """Where and how a model's body meets its obstacle.
 
@@ -134,8 +166,8 @@ class Contact:
         ``angle(states, p) -> (m,)``: where on the obstacle the contact is, in degrees
         (the angle of the contact normal in the plane of a two-dimensional contact; 0 or
         180 for a one-dimensional stop on the positive or negative side).
-    law : ContactLaw
-        The contact law.
+    law : ContactLaw or Restitution
+        The contact law: a force (:class:`ContactLaw`) or an impact (:class:`Restitution`).
     extremum : int, optional
         Index of an observer switching function whose events in contact are the extrema
         of the penetration (for the peak penetration of each contact); without one the
@@ -173,16 +205,56 @@ class Contact:
         for fn in ("penetration", "normal_speed", "angle"):
             if not callable(getattr(self, fn)):
                 raise ValueError(f"contact: {fn} must be a function of (states, p)")
-        if not isinstance(self.law, ContactLaw):
-            raise ValueError("contact: law must be a vibimpact.models.contact.ContactLaw")
+        if not isinstance(self.law, (ContactLaw, Restitution)):
+            raise ValueError("contact: law must be a vibimpact.models.contact.ContactLaw "
+                             "or Restitution")
         for role, name in self.law.parameters().items():
             if name not in param_names:
                 raise ValueError(f"contact: the law's {role} {name!r} is not a parameter "
                                  f"({', '.join(param_names)})")
 
 
+@dataclass(frozen=True)
+class _Column:
+    """``states[:, index] - p[offset]`` (no offset: ``None``), a picklable function of
+    ``(states, p)``."""
+
+    index: int
+    offset: int | None = None
+
+    def __call__(self, states, p):
+        column = np.array(states[:, self.index], dtype=float)
+        return column - p[self.offset] if self.offset is not None else column
+
+
+def _zero_angle(states, p):
+    """The angle of a stop on the positive side of its coordinate: 0 degrees."""
+    return np.zeros(np.shape(states)[0])
+
+
+def stop_contact(law: ContactLaw | Restitution, position: int, velocity: int, stop: int,
+                 switch: int = 0, mode: int = 0, extremum: int | None = None) -> Contact:
+    """The :class:`Contact` of a one-dimensional stop at ``q = p[stop]`` above the
+    coordinate ``q = states[:, position]`` (free while ``q < d``): penetration ``q - d``,
+    normal speed ``q' = states[:, velocity]``, angle 0.
+
+    Parameters
+    ----------
+    law : ContactLaw or Restitution
+    position, velocity : int
+        Indices of ``q`` and ``q'`` in the state.
+    stop : int
+        Index of the stop's position ``d`` in the parameter vector.
+    switch, mode, extremum : int
+        As :class:`Contact`'s.
+    """
+    return Contact(switch=switch, mode=mode, penetration=_Column(position, stop),
+                   normal_speed=_Column(velocity), angle=_zero_angle, extremum=extremum,
+                   positions=(position,), law=law)
+
+
 def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
-                        samples=None):
+                        samples=None, mode_after=None):
     """Contact records from a run's event log (vectorised).
 
     Parameters
@@ -201,6 +273,10 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
     samples : (ndarray, ndarray), optional
         ``(times, states)`` of further states known in the window (stroboscopic, dense):
         points of the angle's path inside long contacts (:func:`contact_spans`).
+    mode_after : ndarray, shape (m, n_mode), optional
+        The modes after the events: with an impulsive law (:class:`Restitution`) an
+        impact after which the body is not held on the stop lasts no time (its exit is
+        its entry); without them every impact lasts until the next exit.
 
     Returns
     -------
@@ -229,6 +305,8 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
     has_exit = j < exits.size
     t_exit = np.full(entry.size, np.nan)
     t_exit[has_exit] = t[exits[j[has_exit]]]
+    instant = _instantaneous(contact, entry, mode_after)
+    t_exit[instant] = t[entry[instant]]
     out["t_exit"] = t_exit
     out["duration"] = t_exit - out["t_entry"]
     pen = np.zeros(entry.size)
@@ -248,11 +326,20 @@ def impacts_from_events(contact, p, t, which, mode_before, state, t0, period,
         depth = contact.penetration(state[ext], p)
         np.maximum.at(pen, owner[inside], depth[inside])
     out["penetration"] = pen
-    spans = contact_spans(contact, p, t, which, mode_before, state, (t0, np.inf), samples)
+    spans = contact_spans(contact, p, t, which, mode_before, state, (t0, np.inf), samples,
+                          mode_after=mode_after)
     spans = spans[spans["entered"]]                    # one per entry, in the same order
     out["theta_min"], out["theta_max"] = spans["theta_min"], spans["theta_max"]
     out["theta_exit"] = np.where(spans["exited"], spans["theta_end"], np.nan)
     return out
+
+
+def _instantaneous(contact, entry, mode_after):
+    """Which of the entries (event indices) are impacts that last no time: those of an
+    impulsive law after which the mode is not in contact (none without ``mode_after``)."""
+    if mode_after is None or not getattr(contact.law, "impulsive", False):
+        return np.zeros(entry.size, dtype=bool)
+    return np.asarray(mode_after)[entry, contact.mode] == 0
 
 
 def wrap_degrees(angle):
@@ -261,7 +348,7 @@ def wrap_degrees(angle):
 
 
 def contact_spans(contact, p, t, which, mode_before, state, window, samples=None,
-                  inside0=False):
+                  inside0=False, mode_after=None):
     """The intervals of contact in a recorded window, with the angles each one covers.
 
     A span runs from an entry to the next exit (the contact switch's events); a contact
@@ -291,6 +378,9 @@ def contact_spans(contact, p, t, which, mode_before, state, window, samples=None
         ``(times, states)`` of further states known in the window.
     inside0 : bool
         In contact at the window's start (read only when the log has no contact event).
+    mode_after : ndarray, shape (m, n_mode), optional
+        The modes after the events: an impact of an impulsive law after which the body
+        is not held on the stop is a span of no time (:func:`impacts_from_events`).
 
     Returns
     -------
@@ -319,6 +409,10 @@ def contact_spans(contact, p, t, which, mode_before, state, window, samples=None
     exited = j < ends.size
     stop = np.full(starts.size, t1)
     stop[exited] = ends[j[exited]]
+    instant = np.r_[np.zeros(int(opened), dtype=bool),
+                    _instantaneous(contact, sw[~is_exit], mode_after)]
+    stop[instant] = starts[instant]
+    exited |= instant
     out = np.zeros(starts.size, dtype=SPAN_DTYPE)
     out["t_start"], out["t_end"], out["exited"] = starts, stop, exited
     out["entered"] = True
