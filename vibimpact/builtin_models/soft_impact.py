@@ -46,7 +46,7 @@ MODEL = Model.builtin_model(
     contact=Contact(switch=0, mode=0, penetration=_penetration, normal_speed=_normal_speed,
                     angle=_angle, extremum=1, positions=(0,),
                     law=ContactLaw(stiffness="k", exponent=1.0, damping="c")),
-    plot=PlotSpec(xy=("x", "dx")),
+    plot=PlotSpec(xy=("x", "dx"), symbols={"eta": "η"}),
     presets={"soft-impact": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.8),
                              "soft-impact oscillator below grazing (linear response)"),
              "soft-impact-grazing": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.86),

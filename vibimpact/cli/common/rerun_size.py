@@ -133,10 +133,11 @@ def _continue(size, args):
         if eta is None:  # the preset's
             from ...models import presets
 
-            try:
-                eta = presets.get(args.preset).as_dict().get("eta", presets.DEFAULT_ETA)
+            try:  # the preset's forcing frequency
+                model = presets.model_of(args.preset or presets.DEFAULT)
+                eta = presets.get(args.preset).as_array()[model.omega_index]
             except ValueError:  # an unknown preset: the command refuses it
-                eta = presets.DEFAULT_ETA
+                eta = args.approach
         distance = abs(float(eta) - float(args.approach))
         if math.isfinite(distance):
             steps += math.ceil(distance / _APPROACH_STEP)
