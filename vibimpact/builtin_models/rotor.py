@@ -239,7 +239,9 @@ def angle(states, p):
 
 #: what the rotor's plots and tables show
 PLOT = PlotSpec(
-    xy=("X", "Y"), circle=1.0, circle_name="retainer clearance", length_unit="clearance",
+    xy=("X", "Y"), circle=1.0, circle_label="retainer R = 1",
+    circle_name="retainer clearance", y_down=True, y_note="+Y down, along gravity",
+    length_unit="clearance",
     symbols={"eta": "η"}, title=("kh", "G", "B", "Ec"),
     title_nonzero=("Bh", "BT", "f", "Rr"), title_hidden=("k3", "eps"),
     preset_columns=("kh", "G", "Bh", "BT", "f", "Rr", "B", "Ec"), preset_marked=("B", "Ec"),

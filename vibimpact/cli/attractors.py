@@ -107,8 +107,12 @@ def _same_system(ds, label, system, preset):
 
     from ..sweeps.dataset import sweep_params
     from ..core.system import param_dict
+    from ..io.recorded import model_name
 
-    model = str(ds.attrs.get("model", "rotor"))
+    try:
+        model = str(model_name(ds.attrs, label))
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
     if model != system.model.name:
         raise UsageError(f"{label} is a sweep of the {model} model; the census is of the "
                          f"{system.model.name} model (--preset {preset}): give the "

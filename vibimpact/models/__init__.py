@@ -370,8 +370,14 @@ class PlotSpec:
     circle : float, optional
         Radius of a circular obstacle centred at the origin, drawn with the orbit (the
         rotor's retainer: 1); None: none.
+    circle_label : str
+        The circle's entry in the legend of an XY plot.
     circle_name : str
-        What the circle is, in a legend (the line at its radius in response plots).
+        What the circle's radius is, in the legend of a response plot (its line there).
+    y_down : bool
+        The second state points down (along gravity): XY plots invert that axis.
+    y_note : str
+        Added to the second axis's label of an XY plot (``"+Y down, along gravity"``).
     length_unit : str, optional
         The unit of the model's lengths, in axis labels (``"clearance"``); None: lengths
         are dimensionless numbers.
@@ -397,7 +403,10 @@ class PlotSpec:
 
     xy: tuple
     circle: float | None = None
+    circle_label: str = "obstacle"
     circle_name: str = "obstacle"
+    y_down: bool = False
+    y_note: str = ""
     length_unit: str | None = None
     symbols: Mapping = field(default_factory=dict)
     title: tuple = ()

@@ -37,13 +37,15 @@ _DIVERGED = 4
 
 def state_names(ds: xr.Dataset) -> tuple[str, ...]:
     """The names of the states of the model a sweep dataset records: its ``state``
-    coordinate, else the built-in model its ``model`` attribute names (the rotor when it
-    names none, as every file written before models had names)."""
+    coordinate, else the built-in model its ``model`` attribute names (a dataset that
+    names none is refused: ValueError), else the names of the stored samples
+    ``poincare_X``, ``poincare_Y``."""
     from .. import models
+    from ..io.recorded import model_name
 
     if "state" in ds.coords:
         return tuple(str(s) for s in ds["state"].values)
-    name = ds.attrs.get("model", "rotor")
+    name = model_name(ds.attrs, "ds")
     if isinstance(name, str) and name in models.names():
         return tuple(models.get(name).state_names)
     return ("X", "Y")
