@@ -19,14 +19,14 @@ PKG = pathlib.Path(vi.__file__).resolve().parent
 #: constant names (``vi.ROTOR``, ...): the export table is generated from the registry on
 #: branch ``impact``.
 PENDING = {
-    "__init__.py": {"ROTOR", "DUFFING", "SOFT_IMPACT"},
     "_kernel/dispatch.py": {"ROTOR", "DUFFING", "ROTOR_VAR", "DUFFING_VAR", "'rotor'",
                             "'duffing'"},
-    "_kernel/argcheck.py": {"'rotor_init_mode'", "'rotor'"},
-    "_kernel/boundary.py": {"rotor"},
-    "_kernel/aot_build.py": set(),
+    "_kernel/argcheck.py": {"'rotor'"},
+    "_kernel/boundary.py": {"rotor", "'rotor'"},
 }
-
+#: what stays, and why: the CF ``references`` every file carries is the citation of the
+#: paper the package is built on, whose title names its rotor
+ALLOWED = {"base/provenance.py": {"'rotor'"}}
 
 def _families():
     """The kernel families of the registered built-in models."""
@@ -124,10 +124,11 @@ def test_no_generic_module_names_a_builtin_model():
 
     Prose in docstrings and comments may still use the paper's rotor as an example; what
     is checked is code, which is where a model name becomes a branch or a default.  Hits
-    in modules another branch owns are listed in :data:`PENDING`, exactly."""
+    in modules another branch owns are listed in :data:`PENDING`, exactly; a citation
+    stays (:data:`ALLOWED`)."""
     found = _scan()
-    unexpected = {f: sorted(h - PENDING.get(f, set())) for f, h in found.items()
-                  if h - PENDING.get(f, set())}
+    known = {f: PENDING.get(f, set()) | ALLOWED.get(f, set()) for f in found}
+    unexpected = {f: sorted(h - known[f]) for f, h in found.items() if h - known[f]}
     assert not unexpected, unexpected
     gone = {f: sorted(h - found.get(f, set())) for f, h in PENDING.items()
             if h - found.get(f, set())}
@@ -147,7 +148,7 @@ def test_the_scan_finds_model_knowledge():
             '    raise ValueError(f"only the rotor has {name}")\n'
             '    return p.replace(kh=1.0), "Ec", ROTOR_VAR\n')
     hits = _hits(ast.parse(code), names, params)
-    assert hits == {"'rotor'", "kh", "'Ec'", "ROTOR_VAR"}, hits
+    assert hits == {"'rotor'", "'only the rotor has '", "kh", "'Ec'", "ROTOR_VAR"}, hits
 
 
 @pytest.mark.parametrize("name", ["rotor", "duffing"])

@@ -31,7 +31,7 @@ examples:
 The start: the motion is integrated --transient forcing periods from rest (or --state0)
 at the start value, or, with --approach ETA0, eta is stepped from ETA0 to --eta in steps
 of 0.02 with --transient periods each, every step starting from the previous one's final
-state, as a sweep does: the rotor then settles on the orbit a sweep from ETA0 follows
+state, as a sweep does: the motion then settles on the orbit a sweep from ETA0 follows
 (fig8 at eta 1.12 from rest: the impactless orbit; approached from 1.1: the impacting
 P1).  The period-N orbit is found there by Newton shooting and followed by
 pseudo-arclength continuation in --param (eta by default) towards --stop, through folds
@@ -279,7 +279,7 @@ def add_parser(sub, fmt):
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     c.add_argument("--eta", type=number, default=None,
-                   help="rotor speed eta of the start (default: the preset's, 1.0)")
+                   help="forcing frequency eta of the start (default: the preset's, 1.0)")
     c.add_argument("--param", default="eta", metavar="NAME",
                    help="parameter continued (default: eta); its start value is the "
                         "preset's after --set")

@@ -27,8 +27,8 @@ examples:
 Seeds: the states of --seeds FILE.nc (every variable whose last dimension is 'state': a
 census's representatives, a sweep's final_state, a run's strobe; each is itself a Newton
 start, then the points of its trajectory) and --random states drawn with the generator
-seeded by --seed in a box (the rotor: X, Y uniform in the unit disk, X', Y' in [-1, 1];
-another model: [-1, 1] for every state variable).  From each seed the motion is
+seeded by --seed in a box (a planar contact's two positions uniform in the unit disk,
+their velocities in [-1, 1]; another model: [-1, 1] for every state variable).  From each seed the motion is
 integrated a few forcing periods; for each period N its closest returns after N
 periods start Newton shooting for the period-N orbit (variational equations with
 saltation matrices).  Orbits met at another phase of their cycle, or of a lower period
@@ -161,7 +161,7 @@ def add_parser(sub, fmt):
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset (repeatable)")
     c.add_argument("--eta", type=number, default=None,
-                   help="rotor speed eta of the hunt (default: the preset's)")
+                   help="forcing frequency eta of the hunt (default: the preset's)")
     c.add_argument("--period", default="1:16", metavar="N|A:B|LIST",
                    help="periods to shoot for (default: 1:16)")
     c.add_argument("--seeds", default=None, metavar="FILE.nc",
@@ -173,7 +173,7 @@ def add_parser(sub, fmt):
     c.add_argument("--transient", type=positive_int(0, 100_000), default=5, metavar="N",
                    help="forcing periods each seed is integrated before Newton's method "
                         "(default: 5; more for a slowly settling state, such as a light "
-                        "retainer ring's speed)")
+                        "turning retainer's speed)")
     c.add_argument("--window", type=number, default=0.05, metavar="W",
                    help="continue each orbit within +-W of --eta (default: 0.05)")
     c.add_argument("--no-continue", action="store_true",
