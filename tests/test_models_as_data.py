@@ -160,3 +160,78 @@ def test_parameter_sets_live_in_their_model_modules(name):
     pset = models.get(name).param_set
     assert pset.__module__ == f"vibimpact.builtin_models.{name}"
     assert getattr(old, pset.__name__) is pset is getattr(vi, pset.__name__)
+
+
+def _sweep(model, xm):
+    """A hand-made up sweep of three points of ``model`` (None: no ``model`` attribute)
+    with response maxima ``xm`` (X_m and Y_m alike)."""
+    import numpy as np
+    import xarray as xr
+
+    ds = xr.Dataset({"regime": ("eta", np.array([1, 1, 3], dtype="i1")),
+                     "X_m": ("eta", np.asarray(xm, float)),
+                     "Y_m": ("eta", np.asarray(xm, float))},
+                    coords={"eta": [1.0, 1.1, 1.2]}, attrs={"sweep_direction": "up"})
+    if model is not None:
+        ds.attrs["model"] = model
+    return ds
+
+
+def test_response_plots_use_the_models_own_names():
+    """Hypothesis: the rotor's response panels keep its words (X, Y in clearances, the
+    retainer clearance at 1, eta as η), taken from its PlotSpec; a user model's sweep
+    with maxima is labelled by the variables alone, with no obstacle line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from vibimpact.plotting import plot_response
+
+    fig = plot_response(_sweep("rotor", [0.5, 0.9, 1.05]), bands=False)
+    assert [a.get_ylabel() for a in fig.axes] == ["X_m  (max |X| / clearance)",
+                                                 "Y_m  (max |Y| / clearance)"]
+    assert fig.axes[-1].get_xlabel() == "η"
+    assert "retainer clearance" in [t.get_text() for t in fig.axes[0].get_legend().texts]
+    user = plot_response(_sweep("linear", [0.5, 0.9, 1.05]), bands=False)
+    assert [a.get_ylabel() for a in user.axes] == ["X_m  (max |X|)", "Y_m  (max |Y|)"]
+    assert all(line.get_linestyle() != "--" for line in user.axes[0].lines)
+
+
+@pytest.mark.parametrize("model", ["linear", "duffing"])
+def test_a_response_plot_the_data_cannot_draw_is_refused_in_one_line(model):
+    """Hypothesis: a sweep whose points hold no response maxima (a user model's, the
+    Duffing oscillator's: no planar contact) is refused with one line naming the model,
+    not drawn as empty axes labelled with the rotor's clearance."""
+    from vibimpact.plotting import plot_response
+
+    with pytest.raises(ValueError, match=f"^the sweep of the {model} model records no "
+                                         "response maxima") as err:
+        plot_response(_sweep(model, [float("nan")] * 3))
+    assert "\n" not in str(err.value)
+
+
+def test_a_file_naming_no_model_is_refused_not_read_as_the_rotors():
+    """Hypothesis: a sweep dataset without a ``model`` attribute is refused in one line
+    by the plots and by the reader of recorded parameters, never taken for the rotor."""
+    from vibimpact.io.recorded import recorded_model
+    from vibimpact.plotting import plot_response
+
+    with pytest.raises(ValueError, match=r"^ds names no model \(no 'model' attribute\)"):
+        plot_response(_sweep(None, [0.5, 0.9, 1.05]), bands=False)
+    with pytest.raises(ValueError, match=r"^the file names no model") as err:
+        recorded_model({"param_kh": 120.0})
+    assert "\n" not in str(err.value)
+
+
+def test_the_presets_come_from_the_models_declarations():
+    """Hypothesis: every preset is one model's declaration, ``vi.presets.get`` gives that
+    model's parameter set with the declared values, and the default preset is the first
+    model's declared one."""
+    for name in vi.presets.names():
+        model = vi.presets.model_of(name)
+        values, _ = model.presets[name]
+        p = vi.presets.get(name)
+        assert type(p) is model.param_set and \
+            all(getattr(p, k) == v for k, v in values.items())
+    first = models.get(models.names()[0])
+    assert vi.presets.DEFAULT == first.default_preset and \
+        vi.presets.get() == vi.presets.get(first.default_preset)
