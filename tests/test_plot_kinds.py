@@ -76,7 +76,8 @@ def test_poincare_scatter_holds_exactly_the_files_finite_samples(duffing_file, t
     """Hypothesis: each direction's panel holds one scatter whose points are exactly the
     finite (poincare_X, poincare_Y) pairs of that direction in the file (count and
     coordinates, ordered by eta then sample) and whose colour values are their points'
-    eta, on one colour scale over both panels, with a colour bar named eta."""
+    eta, on one colour scale over both panels, with a colour bar named by the model's own
+    forcing frequency (the Duffing oscillator's omega: ω, not the rotor's η)."""
     ds = xr.open_dataset(duffing_file)
     fig = plot_poincare(ds, path=tmp_path / "p.png")
     panels = [a for a in fig.axes if a.get_label() != "<colorbar>"]
@@ -94,7 +95,7 @@ def test_poincare_scatter_holds_exactly_the_files_finite_samples(duffing_file, t
         norms.add((sc.norm.vmin, sc.norm.vmax))
     assert norms == {(1.25, 1.40)}
     (bar,) = [a for a in fig.axes if a.get_label() == "<colorbar>"]
-    assert bar.get_ylabel() == "η"
+    assert bar.get_ylabel() == "ω"
     assert (tmp_path / "p.png").read_bytes()[:8] == PNG
 
 

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import axes_of, check_sweep, directions, title
+from ._sweep import axes_of, check_sweep, directions, frequency_label, title
 from .style import look
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -240,7 +240,7 @@ def plot_poincare(ds: xr.Dataset, ax: Axes | None = None,
             if len(dirs) > 1:
                 a.set_title(f"sweep {d}", loc="left", fontsize="small")
         axes[0].set_ylabel(f"{vname}  (Poincaré)")
-        fig.colorbar(sc, ax=axes, label="η", shrink=0.9)
+        fig.colorbar(sc, ax=axes, label=frequency_label(ds), shrink=0.9)
         if own:
             lk.title(fig, title(ds))
         return lk.finish(fig, path)
