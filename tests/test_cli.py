@@ -260,7 +260,7 @@ def test_plot_xy_reads_only_the_dataset(tmp_path):
     ds = xr.Dataset(
         {"strobe": (("sample", "state"), [[0.0, 0.5, 0.0, 0.0], [0.1, 0.6, 0.0, 0.0]]),
          "impact_theta": ("impact", [90.0, 45.0])},
-        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"param_eta": 1.2})
+        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"model": "rotor", "param_eta": 1.2})
     ax = plot_xy(ds, tmp_path / "p.png")
     assert ax.yaxis_inverted() and ax.get_xlabel() == "X"
     assert (tmp_path / "p.png").stat().st_size > 1000

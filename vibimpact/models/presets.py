@@ -7,7 +7,15 @@ registered model's :attr:`~vibimpact.models.Model.default_preset` (else its firs
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..base._validate import WrongType
+
+if TYPE_CHECKING:  # names of the annotations only
+    from . import Model
+
+#: what ``get`` is given when no preset is named: :data:`DEFAULT`, looked up then
+_DEFAULT = "<the default preset>"
 
 
 def _all():
@@ -29,7 +37,7 @@ def names() -> list[str]:
     return list(_all())
 
 
-def model_of(name: str):
+def model_of(name: str) -> Model:
     """The built-in :class:`~vibimpact.models.Model` that declares preset ``name``.
 
     Raises
@@ -50,21 +58,23 @@ def describe(name: str) -> str:
     return model_of(name).presets[name][1]
 
 
-def get(name: str | None = None) -> object:
+def get(name: str = _DEFAULT) -> object:
     """The parameter set of a preset: the declaring model's own parameter set
     (:class:`~vibimpact.Params` for the paper's figures) with the preset's values.
 
     Parameters
     ----------
     name : str, optional
-        The preset (default: :data:`DEFAULT`).
+        The preset (default: :data:`DEFAULT`, the first model's declared default).
 
     Raises
     ------
+    TypeError
+        For a name that is not a str (:class:`~vibimpact.base._validate.WrongType`).
     ValueError
         For an unknown preset name.
     """
-    if name is None:
+    if name == _DEFAULT:
         name = __getattr__("DEFAULT")
     model = model_of(name)
     return model.param_set(**model.presets[name][0])

@@ -73,13 +73,13 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
     line (the rotor's retainer clearance).
     """
     check_sweep(ds, "X_m", "Y_m", "regime")
-    _check_response(ds)
     lk = look(figsize, dpi, style, ax)
     with lk.context():
         if ax is None:
             fig, axes = new_figure(lk, 2, 6.5, 4.0)
         else:
             fig, axes = axes_of(ax, 2, "for X_m and for Y_m")
+        _check_response(ds)  # after the options' checks, before anything is drawn
         if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
             _bands(ds, axes, lk, own=ax is None)
         _curves(ds, axes, lk)

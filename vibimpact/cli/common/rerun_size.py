@@ -134,8 +134,8 @@ def _continue(size, args):
             from ...models import presets
 
             try:  # the preset's forcing frequency
-                model = presets.model_of(args.preset or presets.DEFAULT)
-                eta = presets.get(args.preset).as_array()[model.omega_index]
+                name = args.preset or presets.DEFAULT
+                eta = presets.get(name).as_array()[presets.model_of(name).omega_index]
             except ValueError:  # an unknown preset: the command refuses it
                 eta = args.approach
         distance = abs(float(eta) - float(args.approach))
