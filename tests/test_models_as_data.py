@@ -235,3 +235,27 @@ def test_the_presets_come_from_the_models_declarations():
     first = models.get(models.names()[0])
     assert vi.presets.DEFAULT == first.default_preset and \
         vi.presets.get() == vi.presets.get(first.default_preset)
+
+
+@pytest.mark.parametrize("model, text, markdown", [("rotor", "eta from", "| η from |"),
+                                                   ("duffing", "omega from", "| ω from |"),
+                                                   ("linear", "eta from", "| η from |")])
+def test_interval_tables_name_the_models_forcing_frequency(model, text, markdown):
+    """Hypothesis: the interval tables' columns are named after the swept model's forcing
+    frequency (the Duffing oscillator's omega, not eta); a model this installation does
+    not know keeps the sweeps' coordinate name."""
+    import numpy as np
+    import xarray as xr
+
+    from vibimpact.sweeps.dataset import format_intervals, intervals
+
+    ds = xr.Dataset({"label": ("eta", np.array(["P1", "P1", "chaotic"], dtype=object)),
+                     "regime": ("eta", np.array([1, 1, 3], dtype="i1")),
+                     "period": ("eta", np.array([1, 1, 0], dtype="i4")),
+                     "impacts_per_period": ("eta", np.array([0.0, 0.0, 1.5])),
+                     "arcs": ("eta", np.array(["", "", ""], dtype=object))},
+                    coords={"eta": [1.0, 1.1, 1.2]},
+                    attrs={"sweep_direction": "up", "model": model})
+    iv = intervals(ds)
+    assert format_intervals(iv).splitlines()[0].split()[1:3] == text.split()
+    assert markdown in iv.to_markdown().splitlines()[0]
