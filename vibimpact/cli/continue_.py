@@ -11,7 +11,8 @@ import os
 import shlex
 import time
 
-from .common.args import number, parse_sets, positive_int, with_sets
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, number, parse_sets, positive_int,
+                          preset_name, with_sets)
 from .common.errors import error_text, UsageError
 from .common.files import check_output
 from .common.inputs import check_distinct, check_state0
@@ -274,8 +275,9 @@ def add_parser(sub, fmt):
                                    "unstable parts, with its Floquet multipliers and the "
                                    "bifurcations\nwhere it changes stability; write a "
                                    "NetCDF file and print what was found.")
-    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
-                   "'vibimpact presets'")
+    c.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     c.add_argument("--eta", type=number, default=None,

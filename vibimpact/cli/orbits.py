@@ -10,7 +10,8 @@ import os
 import sys
 
 from ..base._text import parse_integer
-from .common.args import number, parse_sets, positive_int, MAX_WORKERS
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, number, parse_sets, positive_int,
+                          preset_name, MAX_WORKERS)
 from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options
 from .common.files import read_input
@@ -156,8 +157,9 @@ def add_parser(sub, fmt):
                                    "arcs and Floquet multipliers; continue each in the\n"
                                    "forcing frequency; write a NetCDF file and print a "
                                    "table.")
-    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
-                   "'vibimpact presets'")
+    c.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset (repeatable)")
     c.add_argument("--eta", type=number, default=None,

@@ -21,7 +21,9 @@ def _table(model):
     rows = []
     for name in model.presets:
         p = presets.get(name).as_dict()
-        rows.append((name,) + tuple(f"{p[c]:g}" for c in cols) + (presets.describe(name),))
+        mark = " (default)" if name == presets.DEFAULT else ""
+        rows.append((name,) + tuple(f"{p[c]:g}" for c in cols)
+                    + (presets.describe(name) + mark,))
     widths = [max(len(r[i]) for r in rows + [header]) for i in range(len(header))]
     lines = ["  ".join(h.ljust(w) for h, w in zip(header, widths)) + "  description"]
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) + "  " + r[-1] for r in rows]
@@ -47,8 +49,9 @@ def _cmd_presets(args):
         print("\nPresets of the other built-in models:")
         for name in others:
             values = ", ".join(f"{k}={v:g}" for k, v in presets.get(name).as_dict().items())
+            mark = " (default)" if name == presets.DEFAULT else ""
             print(f"  {name}  ({type(presets.get(name)).__name__}: {values})  "
-                  f"{presets.describe(name)}")
+                  f"{presets.describe(name)}{mark}")
     return 0
 
 

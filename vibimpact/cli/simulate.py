@@ -64,7 +64,7 @@ def _cmd_simulate(args):
 
     check_distinct(("-o", out), ("--plot", args.plot),
                    inputs=(("--from", args.from_sweep),))
-    attrs, note = {"preset": "fig8" if args.preset is None else args.preset}, ""
+    attrs, note = {"preset": presets.DEFAULT if args.preset is None else args.preset}, ""
     state0 = args.state0
     if args.from_sweep is not None:
         from .common.start import start_of
@@ -127,8 +127,8 @@ def add_parser(sub, fmt):
                                    "the run (stroboscopic\nsamples, impacts, parameters) "
                                    "to a NetCDF file.", epilog=_SIMULATE_EPILOG,
                        formatter_class=fmt)
-    s.add_argument("--preset", default=None, help="parameter set (default: fig8); "
-                   "see 'vibimpact presets'")
+    s.add_argument("--preset", default=None, help="parameter set (default: the one "
+                   "'vibimpact presets' marks as the default); see 'vibimpact presets'")
     s.add_argument("--eta", type=number, default=None,
                    help="forcing frequency ratio, > 0 (default: the preset's, 1.0)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],

@@ -100,7 +100,7 @@ def _n_state(args):
     from ...core.system import to_system
 
     try:
-        return to_system(presets.get(args.preset or "fig8")).n_state
+        return to_system(presets.get(args.preset or presets.DEFAULT)).n_state
     except ValueError:
         return None
 
