@@ -55,7 +55,8 @@ def run_ds():
     return xr.Dataset(
         {"strobe": (("sample", "state"), [[0.0, 0.5, 0.0, 0.0], [0.1, 0.6, 0.0, 0.0]]),
          "impact_theta": ("impact", [90.0, 45.0])},
-        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"model": "rotor", "param_eta": 1.2, "preset": "fig8"})
+        coords={"state": ["X", "Y", "dX", "dY"]},
+        attrs={"model": "rotor", "param_eta": 1.2, "preset": "fig8"})
 
 
 def branch_ds():

@@ -149,7 +149,8 @@ def defaults_rst():
     record, paras = _calibration()
     lines = [
         f"The presets use ``B = {_fmt(params.DEFAULT_B)}`` "
-        f"(:data:`vibimpact.builtin_models.rotor.DEFAULT_B`) and ``Ec = {_fmt(params.DEFAULT_EC)}`` "
+        f"(:data:`vibimpact.builtin_models.rotor.DEFAULT_B`) and "
+        f"``Ec = {_fmt(params.DEFAULT_EC)}`` "
         f"(:data:`vibimpact.builtin_models.rotor.DEFAULT_EC`).",
         "",
     ]

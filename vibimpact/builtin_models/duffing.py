@@ -2,8 +2,8 @@
 a smooth model with published results (Guckenheimer & Holmes 1983, sec. 2.2), on which
 every integrator and analyser is checked.
 
-Kernel: :mod:`vibimpact._kernel.duffing`.  Parameters: :class:`DuffingParams` (``vi.DuffingParams``).
-No contact.
+Kernel: :mod:`vibimpact._kernel.duffing`.  Parameters: :class:`DuffingParams`
+(``vi.DuffingParams``).  No contact.
 """
 from __future__ import annotations
 

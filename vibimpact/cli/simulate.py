@@ -123,7 +123,8 @@ def _cmd_simulate(args):
 def add_parser(sub, fmt):
     """Add ``simulate`` to the subparsers ``sub``."""
     s = sub.add_parser("simulate", help="integrate one run and write it as NetCDF",
-                       description="Integrate a preset's model at one forcing frequency eta and write "
+                       description="Integrate a preset's model at one forcing frequency "
+                                   "eta and write "
                                    "the run (stroboscopic\nsamples, impacts, parameters) "
                                    "to a NetCDF file.", epilog=_SIMULATE_EPILOG,
                        formatter_class=fmt)

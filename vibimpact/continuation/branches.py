@@ -110,9 +110,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
         window is cut there: the branch ends on the bound, and its ``status`` says so.
     param : str
-        The parameter continued (``"eta"``: the rotor's speed, its forcing frequency).  Its start value may lie
-        on a bound of its domain (``BT = 0``, as in every preset): the branch then
-        steps into the domain (towards ``stop``).
+        The parameter continued (``"eta"``: the rotor's speed, its forcing frequency).
+        Its start value may lie on a bound of its domain (``BT = 0``, as in every
+        preset): the branch then steps into the domain (towards ``stop``).
     n : int
         Period of the orbit in forcing periods.
     state0 : array_like, optional

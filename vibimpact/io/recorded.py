@@ -89,8 +89,9 @@ def model_name(attrs: Mapping, name: str = "the file") -> str:
 def recorded_model(attrs: Mapping, name: str = "the file", *,
                    required: bool = False) -> Model | None:
     """The model a file records (its ``model`` attribute; a file without one is refused,
-    never read as one model's): the installed :class:`~vibimpact.models.Model`, or None for a name this
-    installation does not know (a user model's file) unless ``required``.
+    never read as one model's): the installed :class:`~vibimpact.models.Model`, or None
+    for a name this installation does not know (a user model's file) unless
+    ``required``.
 
     Raises
     ------

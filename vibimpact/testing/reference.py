@@ -4,9 +4,9 @@
 :class:`~vibimpact.Params`) with :func:`scipy.integrate.solve_ivp`, one discrete mode at a
 time, and restarts at every switch.  It shares only the model functions of the model's
 kernel module (right-hand side, switching functions, mode transitions, initial mode:
-:mod:`vibimpact._kernel.rotor` for the rotor) with the production integrator :func:`vibimpact.simulate`; the Runge--Kutta
-steps, the step-size control and the event location are SciPy's.  It is the *cross-check*
-of the kernel and the fair SciPy baseline of the benchmarks (compiled right-hand side,
+:mod:`vibimpact._kernel.rotor` for the rotor) with the production integrator
+:func:`vibimpact.simulate`; the Runge--Kutta steps, the step-size control and the event
+location are SciPy's.  It is the *cross-check* of the kernel and the fair SciPy baseline of the benchmarks (compiled right-hand side,
 restarted at switches), **not** the production integrator: it is one to two orders of
 magnitude slower and keeps no impact log.
 """
