@@ -50,6 +50,7 @@ def test_presets_lists_all(tmp_path):
     the paper's nine in the table, every other built-in model's preset with its own
     parameter set's name."""
     import vibimpact as vi
+    from vibimpact.builtin_models import rotor
 
     r = cli("presets", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
@@ -59,8 +60,8 @@ def test_presets_lists_all(tmp_path):
         row = [ln for ln in lines if ln.split()[:1] == [name]]
         assert len(row) == 1, name
         assert vi.presets.describe(name) in row[0]
-    assert len(vi.presets.paper_names()) == 9
-    for name in set(vi.presets.names()) - set(vi.presets.paper_names()):
+    assert len(rotor.paper_names()) == 9
+    for name in set(vi.presets.names()) - set(rotor.paper_names()):
         row = [ln for ln in lines if ln.split()[:1] == [name]]
         assert type(vi.presets.get(name)).__name__ in row[0], name
     assert "not values from the paper" in r.stdout
@@ -259,7 +260,7 @@ def test_plot_xy_reads_only_the_dataset(tmp_path):
     ds = xr.Dataset(
         {"strobe": (("sample", "state"), [[0.0, 0.5, 0.0, 0.0], [0.1, 0.6, 0.0, 0.0]]),
          "impact_theta": ("impact", [90.0, 45.0])},
-        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"param_eta": 1.2})
+        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"model": "rotor", "param_eta": 1.2})
     ax = plot_xy(ds, tmp_path / "p.png")
     assert ax.yaxis_inverted() and ax.get_xlabel() == "X"
     assert (tmp_path / "p.png").stat().st_size > 1000

@@ -440,7 +440,7 @@ def _fake_sweep(both=True):
                         attrs={"sweep_direction": "down"})
         ds["poincare_X"] = (("eta", "sample"), px)
         ds["poincare_Y"] = (("eta", "sample"), px)
-    ds.attrs.update(preset="fig8", param_kh=120.0, param_G=0.3)
+    ds.attrs.update(model="rotor", preset="fig8", param_kh=120.0, param_G=0.3)
     return ds
 
 

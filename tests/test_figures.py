@@ -47,7 +47,7 @@ def sweep_ds(both=True, permanent=False):
                         attrs={"sweep_direction": "up"})
         ds["poincare_X"] = (("eta", "sample"), px)
         ds["poincare_Y"] = (("eta", "sample"), px)
-    ds.attrs.update(preset="fig8", param_kh=120.0, param_G=0.3)
+    ds.attrs.update(model="rotor", preset="fig8", param_kh=120.0, param_G=0.3)
     return ds
 
 
@@ -55,7 +55,8 @@ def run_ds():
     return xr.Dataset(
         {"strobe": (("sample", "state"), [[0.0, 0.5, 0.0, 0.0], [0.1, 0.6, 0.0, 0.0]]),
          "impact_theta": ("impact", [90.0, 45.0])},
-        coords={"state": ["X", "Y", "dX", "dY"]}, attrs={"param_eta": 1.2, "preset": "fig8"})
+        coords={"state": ["X", "Y", "dX", "dY"]},
+        attrs={"model": "rotor", "param_eta": 1.2, "preset": "fig8"})
 
 
 def branch_ds():
@@ -88,7 +89,7 @@ def map_ds(vary_range="f=0,0.05"):
                      for r, p, i in zip(R, P, I)] for R, P, I in zip(reg, per, ipp)],
                    dtype=object)
     dims = ("direction", "f", "eta")
-    attrs = {"map_vary": "f", "preset": "fig11"}
+    attrs = {"model": "rotor", "map_vary": "f", "preset": "fig11"}
     if vary_range:
         attrs["vary_range"] = vary_range
     return xr.Dataset({"regime": (dims, reg), "period": (dims, per),

@@ -93,7 +93,7 @@ def every_class_sweep():
             "impacts_per_period": np.full(k, 2.0), "arcs": np.full(k, "1 arc", object),
             "X_m": np.linspace(0.5, 1.0, k), "Y_m": np.linspace(0.5, 1.0, k)}
     return xr.Dataset({n: ("eta", v) for n, v in data.items()}, coords={"eta": eta},
-                      attrs={"sweep_direction": "up", "preset": "fig8"})
+                      attrs={"sweep_direction": "up", "model": "rotor", "preset": "fig8"})
 
 
 @pytest.mark.parametrize("lab1, lab2, expected", [

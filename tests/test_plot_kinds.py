@@ -51,9 +51,10 @@ def _collection(ax, label):
     return found
 
 
-def _section_ds(states, extra=None, regime=(1, 3, 4)):
+def _section_ds(states, extra=None, regime=(1, 3, 4), model="rotor"):
     """A hand-made one-direction sweep of 3 points with 2 samples each, a NaN in the
-    second point's samples; states named ``states``; ``extra``: more variables."""
+    second point's samples; states named ``states``; ``extra``: more variables; the
+    ``model`` attribute (None: none)."""
     px = np.array([[0.1, 0.2], [0.3, np.nan], [5.0, 6.0]])
     py = np.array([[1.1, 1.2], [1.3, 1.4], [7.0, 8.0]])
     ds = xr.Dataset({"regime": ("eta", np.array(regime, dtype="i1")),
@@ -62,6 +63,8 @@ def _section_ds(states, extra=None, regime=(1, 3, 4)):
                     coords={"eta": [1.0, 1.1, 1.2],
                             "state": ("state", np.array(states, dtype=object))},
                     attrs={"sweep_direction": "up"})
+    if model is not None:
+        ds.attrs["model"] = model
     for name, values in (extra or {}).items():
         ds[name] = (("eta", "sample"), values)
     return ds
@@ -73,7 +76,8 @@ def test_poincare_scatter_holds_exactly_the_files_finite_samples(duffing_file, t
     """Hypothesis: each direction's panel holds one scatter whose points are exactly the
     finite (poincare_X, poincare_Y) pairs of that direction in the file (count and
     coordinates, ordered by eta then sample) and whose colour values are their points'
-    eta, on one colour scale over both panels, with a colour bar named eta."""
+    eta, on one colour scale over both panels, with a colour bar named by the model's own
+    forcing frequency (the Duffing oscillator's omega: ω, not the rotor's η)."""
     ds = xr.open_dataset(duffing_file)
     fig = plot_poincare(ds, path=tmp_path / "p.png")
     panels = [a for a in fig.axes if a.get_label() != "<colorbar>"]
@@ -91,20 +95,24 @@ def test_poincare_scatter_holds_exactly_the_files_finite_samples(duffing_file, t
         norms.add((sc.norm.vmin, sc.norm.vmax))
     assert norms == {(1.25, 1.40)}
     (bar,) = [a for a in fig.axes if a.get_label() == "<colorbar>"]
-    assert bar.get_ylabel() == "η"
+    assert bar.get_ylabel() == "ω"
     assert (tmp_path / "p.png").read_bytes()[:8] == PNG
 
 
 def test_poincare_axes_are_the_models_state_names(duffing_file):
     """Hypothesis: the axes are named after the file's model: the Duffing oscillator's x
-    against its velocity dx; the rotor (a file naming no states or model: the rotor's
-    X, Y, dX, dY) X against Y, since its sweep files store no dX samples."""
+    against its velocity dx; the rotor (a file naming no states: its model's X, Y, dX,
+    dY) X against Y, since its sweep files store no dX samples.  A file naming neither
+    its states nor a model is refused in one line, not read as the rotor's."""
     fig = plot_poincare(xr.open_dataset(duffing_file))
     assert fig.axes[0].get_xlabel().split()[0] == "x"
     assert fig.axes[0].get_ylabel().split()[0] == "dx"
     rotor = _section_ds(["X", "Y", "dX", "dY"]).drop_vars("state")
     ax = plot_poincare(rotor).axes[0]
     assert (ax.get_xlabel().split()[0], ax.get_ylabel().split()[0]) == ("X", "Y")
+    nameless = _section_ds(["X", "Y", "dX", "dY"], model=None).drop_vars("state")
+    with pytest.raises(ValueError, match=r"^ds names no model \(no 'model' attribute\)"):
+        plot_poincare(nameless)
 
 
 def test_poincare_draws_a_user_models_velocity_where_the_file_stores_it():
@@ -112,11 +120,12 @@ def test_poincare_draws_a_user_models_velocity_where_the_file_stores_it():
     when the file holds poincare_dq, and q against p (the second stored state) when it
     does not; the vertical coordinates are those of the variable named."""
     dq = np.array([[9.1, 9.2], [9.3, 9.4], [9.5, 9.6]])
-    with_dq = plot_poincare(_section_ds(["q", "p", "dq"], {"poincare_dq": dq})).axes[0]
+    with_dq = plot_poincare(_section_ds(["q", "p", "dq"], {"poincare_dq": dq},
+                                        model="user")).axes[0]
     assert with_dq.get_ylabel().split()[0] == "dq"
     np.testing.assert_array_equal(_collection(with_dq, "sweep up").get_offsets()[:, 1],
                                   [9.1, 9.2, 9.3])
-    without = plot_poincare(_section_ds(["q", "p", "dq"])).axes[0]
+    without = plot_poincare(_section_ds(["q", "p", "dq"], model="user")).axes[0]
     assert (without.get_xlabel().split()[0], without.get_ylabel().split()[0]) == ("q", "p")
     np.testing.assert_array_equal(_collection(without, "sweep up").get_offsets()[:, 1],
                                   [1.1, 1.2, 1.3])

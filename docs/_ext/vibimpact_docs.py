@@ -7,7 +7,7 @@ this extension writes reStructuredText includes into ``docs/_generated/``:
     the table of the presets, from :mod:`vibimpact.models.presets` (every :class:`~vibimpact.Params`
     field of every preset and what the paper shows for it);
 ``defaults.rst``
-    the calibrated defaults ``B`` and ``Ec`` from :mod:`vibimpact.models.params`, with the
+    the calibrated defaults ``B`` and ``Ec`` from :mod:`vibimpact.builtin_models.rotor`, with the
     calibration report (``reports/calibration.md``) and the README's summary quoted;
 
 It also provides :func:`figure_scraper`, a sphinx-gallery image scraper for the
@@ -100,8 +100,9 @@ def _fmt(value):
 def presets_rst():
     """The presets table (a list-table) from :mod:`vibimpact.models.presets`."""
     from vibimpact import presets
+    from vibimpact.builtin_models import rotor
 
-    names = presets.paper_names()
+    names = rotor.paper_names()
     fields = list(presets.get(names[0]).as_dict())
     lines = [".. list-table:: The presets (``vibimpact.models.presets.get(name)``), generated from "
              "``vibimpact.models.presets``",
@@ -148,8 +149,9 @@ def defaults_rst():
     record, paras = _calibration()
     lines = [
         f"The presets use ``B = {_fmt(params.DEFAULT_B)}`` "
-        f"(:data:`vibimpact.models.params.DEFAULT_B`) and ``Ec = {_fmt(params.DEFAULT_EC)}`` "
-        f"(:data:`vibimpact.models.params.DEFAULT_EC`).",
+        f"(:data:`vibimpact.builtin_models.rotor.DEFAULT_B`) and "
+        f"``Ec = {_fmt(params.DEFAULT_EC)}`` "
+        f"(:data:`vibimpact.builtin_models.rotor.DEFAULT_EC`).",
         "",
     ]
     if record:

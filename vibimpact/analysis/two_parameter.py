@@ -336,7 +336,7 @@ def _window2(stop, start):
 
 def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
                          kind: str | BifurcationKind = "fold", *,
-                         pair: tuple = ("eta", "kh"), stop: float | tuple,
+                         pair: tuple, stop: float | tuple,
                          step: float | None = None, min_step: float | None = None,
                          max_points: int = 200, tol: float = 1e-10,
                          max_iter: int = 12, dp1: float | None = None) -> BifurcationCurve:
@@ -357,7 +357,8 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
         ``"fold"``, ``"period doubling"`` (or ``"pd"``) or ``"grazing"``.
     pair : (str, str)
         ``(p1, p2)``: the bifurcation is located in ``p1`` at every ``p2`` (module
-        docstring).
+        docstring); two parameters of the system's model, required (no model's pair is
+        assumed).
     stop : float or (float, float)
         The window of ``p2``: from the start value to ``stop``, or ``(lo, hi)`` around
         the start (followed both ways).

@@ -67,7 +67,7 @@ MODEL = Model.builtin_model(
     "hard_impact", "hard_impact", ("x", "dx"), omega_index=4, param_set=HardImpactParams,
     bound=1e6,
     contact=stop_contact(Restitution("r"), 0, 1, 1, extremum=1),
-    plot=PlotSpec(xy=("x", "dx")),
+    plot=PlotSpec(xy=("x", "dx"), symbols={"eta": "η"}),
     presets={"hard-impact": (dict(zeta=0.05, d=0.5, r=0.7, A=1.0, eta=1.3),
                              "hard-impact oscillator: a stable period-1 orbit with one "
                              "impact per period (Shaw & Holmes 1983)"),

@@ -15,11 +15,13 @@ A large ``Jr`` (or a ring whose bearing holds it) gives eq. (5) back; the preset
 (``Jr = 0.05``, ``cr = 1e-4``, ``Mr = 1e-3``: a small ball bearing's inner ring on the
 paper's rig, inside the ranges the model page justifies).
 """
-from ..models import presets as _presets
+import dataclasses
+
 from ..models.contact import Contact, ContactLaw
-from ..models import Model, PlotSpec
-from ..models.params import Domain, Params, param_set
-from .rotor import angle, normal_speed, penetration  # the same retainer circle
+from ..models import Model
+from ..models.params import Domain, param_set
+from .rotor import Params, describe, paper_values  # the paper's presets, with a ring
+from .rotor import PLOT, angle, normal_speed, penetration  # the same retainer circle
 
 _ROTOR_ROWS = [
     ("B", "linear viscous damping of the magnetic support"),
@@ -56,7 +58,7 @@ RingParams = param_set(
 
 
 def _preset(name):
-    return {**_presets.paper_values(name), "eps": 0.0, **RING_DEFAULTS}
+    return {**paper_values(name), "eps": 0.0, **RING_DEFAULTS}
 
 
 MODEL = Model.builtin_model(
@@ -66,10 +68,10 @@ MODEL = Model.builtin_model(
                     angle=angle, extremum=3, positions=(0, 1),
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
-    plot=PlotSpec(xy=("X", "Y"), circle=1.0),
+    plot=dataclasses.replace(PLOT, preset_columns=(), preset_marked=(), preset_note=""),
     state_text={"Vr": "speed of the retainer ring's inner surface / (clearance omega0), "
                       "positive along e_t = (-Y, X)/R (the ring's angular speed is "
                       "Vr / (Rr + 1) in units of omega0)"},
-    presets={f"{fig}-ring": (_preset(fig), f"{_presets.describe(fig)}; with a light "
+    presets={f"{fig}-ring": (_preset(fig), f"{describe(fig)}; with a light "
                              "turning retainer ring (Jr 0.05)")
              for fig in ("fig8", "fig10", "fig11")})

@@ -32,7 +32,7 @@ MODEL = Model.builtin_model(
     bound=1e6,
     contact=stop_contact(ContactLaw(stiffness="k", exponent=1.0, damping="c"), 0, 1, 3,
                          extremum=1),
-    plot=PlotSpec(xy=("x", "dx")),
+    plot=PlotSpec(xy=("x", "dx"), symbols={"eta": "η"}),
     presets={"soft-impact": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.8),
                              "soft-impact oscillator below grazing (linear response)"),
              "soft-impact-grazing": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.86),

@@ -77,8 +77,9 @@ def build_parser():
     fmt = argparse.RawDescriptionHelpFormatter
     parser = Parser(prog="vibimpact", formatter_class=fmt, epilog=_MAIN_EPILOG,
                      verbose_dest="verbose_before",
-                     description="Bifurcation and chaos analysis of a vibro-impact rotor on "
-                                 "magnetic bearings\n(Pust & Kozanek, eq. 5).")
+                     description="Bifurcation and chaos analysis of vibro-impact models: the "
+                                 "built-in ones\n(Pust & Kozanek's eq. 5 and others; "
+                                 "'vibimpact presets') and the user's.")
     from .. import __version__
 
     parser.add_argument("--version", action=_VersionAction, version=f"vibimpact {__version__}",

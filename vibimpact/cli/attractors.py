@@ -17,9 +17,9 @@ examples:
   vibimpact classify --preset fig11 --eta 1.04:1.08:0.01 -o sweep.nc
   vibimpact attractors --preset fig11 --eta 1.04:1.08:0.01 --sweep sweep.nc -o c.nc
 
-At every eta the same --starts states (random in the model's box, seeded by --seed: the
-rotor's X, Y uniform in the unit disk inside the retainer's clearance, its velocities
-uniform in [-1, 1]) are integrated until it is known which attractor each reaches: as
+At every eta the same --starts states (random in the model's box, seeded by --seed: a
+planar contact's two positions uniform in the unit disk inside the clearance, the
+velocities uniform in [-1, 1]) are integrated until it is known which attractor each reaches: as
 soon as its stroboscopic points enter an attractor already found, or else by the
 settling evidence of a sweep point (period test, contraction and shooting, Lyapunov
 exponent).  Every attractor found gets its label, Floquet multipliers or Lyapunov
@@ -107,8 +107,12 @@ def _same_system(ds, label, system, preset):
 
     from ..sweeps.dataset import sweep_params
     from ..core.system import param_dict
+    from ..io.recorded import model_name
 
-    model = str(ds.attrs.get("model", "rotor"))
+    try:
+        model = str(model_name(ds.attrs, label))
+    except ValueError as exc:
+        raise UsageError(error_text(exc)) from None
     if model != system.model.name:
         raise UsageError(f"{label} is a sweep of the {model} model; the census is of the "
                          f"{system.model.name} model (--preset {preset}): give the "
@@ -248,7 +252,7 @@ def add_parser(sub, fmt):
     a.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
     a.add_argument("--eta", default="1.06", metavar="START:STOP:STEP",
-                   help="rotor speeds: a grid START:STOP:STEP, a list V1,V2,... or one "
+                   help="forcing frequencies: a grid START:STOP:STEP, a list V1,V2,... or one "
                         "value (default: 1.06)")
     a.add_argument("--starts", type=positive_int(1, 1_000_000), default=400, metavar="N",
                    help="starting states per eta (default: 400)")

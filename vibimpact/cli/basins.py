@@ -26,7 +26,7 @@ Every cell of a COLUMNSxROWS grid in the plane of two states (--plane: state nam
 the model, X' standing for dX; the first along the columns, the second along the rows)
 is a starting state, the other states at --base (zero by default: X, Y at rest).  The
 cell centres span --range (LO:HI of each plane variable; default: the census box, -1:1
-for each state of the rotor).  All cells are one attractor census ('vibimpact
+for each state of a model with a planar contact).  All cells are one attractor census ('vibimpact
 attractors'): each start is integrated until it enters an attractor already found, or
 else the settling evidence of a sweep point decides.
 
@@ -188,14 +188,13 @@ def add_parser(sub, fmt):
     b.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
     b.add_argument("--eta", type=number, default=1.06,
-                   help="rotor speed eta (default: 1.06)")
+                   help="forcing frequency eta (default: 1.06)")
     b.add_argument("--grid", default="200x200", metavar="COLUMNSxROWS",
                    help="cells along the first and second plane variable (default: "
                         "200x200)")
     b.add_argument("--plane", default=None, metavar="A,B",
                    help="two state names of the model, e.g. X,Y or X,X' (X' is dX; "
-                        "default: the states the model's XY plots draw, X,Y for the "
-                        "rotor)")
+                        "default: the states the model's XY plots draw)")
     b.add_argument("--range", default=None, metavar="LO:HI,LO:HI",
                    help="the span of the cell centres of each plane variable (default: "
                         "the census box, -1:1 each)")

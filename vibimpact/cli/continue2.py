@@ -11,7 +11,8 @@ import shlex
 import time
 
 from ..base._text import parse_real
-from .common.args import number, parse_sets, positive_int, with_sets
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, number, parse_sets,
+                          positive_int, preset_name, with_sets)
 from .common.errors import UsageError, error_text, reason
 from .common.files import check_output, read_input, write_outputs
 from .common.figures import add_figure_options, figure_options, image_ext_ok
@@ -257,7 +258,9 @@ def add_parser(sub, fmt):
                        description="Locate a bifurcation of a periodic orbit and follow "
                                    "it in a plane of two parameters;\nwrite the curve as "
                                    "NetCDF and print what was found.")
-    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8)")
+    c.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset (repeatable)")
     c.add_argument("--eta", type=number, default=None, help="eta of the start")

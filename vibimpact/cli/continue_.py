@@ -11,7 +11,8 @@ import os
 import shlex
 import time
 
-from .common.args import number, parse_sets, positive_int, with_sets
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, number, parse_sets, positive_int,
+                          preset_name, with_sets)
 from .common.errors import error_text, UsageError
 from .common.files import check_output
 from .common.inputs import check_distinct, check_state0
@@ -31,7 +32,7 @@ examples:
 The start: the motion is integrated --transient forcing periods from rest (or --state0)
 at the start value, or, with --approach ETA0, eta is stepped from ETA0 to --eta in steps
 of 0.02 with --transient periods each, every step starting from the previous one's final
-state, as a sweep does: the rotor then settles on the orbit a sweep from ETA0 follows
+state, as a sweep does: the motion then settles on the orbit a sweep from ETA0 follows
 (fig8 at eta 1.12 from rest: the impactless orbit; approached from 1.1: the impacting
 P1).  The period-N orbit is found there by Newton shooting and followed by
 pseudo-arclength continuation in --param (eta by default) towards --stop, through folds
@@ -274,12 +275,13 @@ def add_parser(sub, fmt):
                                    "unstable parts, with its Floquet multipliers and the "
                                    "bifurcations\nwhere it changes stability; write a "
                                    "NetCDF file and print what was found.")
-    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
-                   "'vibimpact presets'")
+    c.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     c.add_argument("--eta", type=number, default=None,
-                   help="rotor speed eta of the start (default: the preset's, 1.0)")
+                   help="forcing frequency eta of the start (default: the preset's, 1.0)")
     c.add_argument("--param", default="eta", metavar="NAME",
                    help="parameter continued (default: eta); its start value is the "
                         "preset's after --set")

@@ -6,7 +6,8 @@ instant.
 """
 import os
 
-from .common.args import parse_analyses, parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, parse_analyses, parse_sets,
+                          positive_int, preset_name, with_sets, MAX_WORKERS)
 from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                                  run_checkpointed)
 from .common.errors import error_text, UsageError
@@ -250,8 +251,9 @@ def add_parser(sub, fmt):
                    metavar="NAME=START:STOP:STEP",
                    help="the other axis: a parameter and its values, e.g. kh=10:120:10 or "
                         "f=0,0.02,0.05")
-    m.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
-                   "'vibimpact presets'")
+    m.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     m.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     m.add_argument("--direction", choices=("up", "down", "both"), default="up",

@@ -10,7 +10,8 @@ import os
 import sys
 
 from ..base._text import parse_integer
-from .common.args import number, parse_sets, positive_int, MAX_WORKERS
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, number, parse_sets, positive_int,
+                          preset_name, MAX_WORKERS)
 from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options
 from .common.files import read_input
@@ -27,11 +28,11 @@ examples:
 Seeds: the states of --seeds FILE.nc (every variable whose last dimension is 'state': a
 census's representatives, a sweep's final_state, a run's strobe; each is itself a Newton
 start, then the points of its trajectory) and --random states drawn with the generator
-seeded by --seed in a box (the rotor: X, Y uniform in the unit disk, X', Y' in [-1, 1];
-another model: [-1, 1] for every state variable).  From each seed the motion is
-integrated a few forcing periods; for each period N its closest returns after N
-periods start Newton shooting for the period-N orbit (variational equations with
-saltation matrices).  Orbits met at another phase of their cycle, or of a lower period
+seeded by --seed in a box (a planar contact's two positions uniform in the unit disk,
+their velocities in [-1, 1]; another model: [-1, 1] for every state variable).  From
+each seed the motion is integrated a few forcing periods; for each period N its closest
+returns after N periods start Newton shooting for the period-N orbit (variational
+equations with saltation matrices).  Orbits met at another phase of their cycle, or of a lower period
 than shot for, are one orbit.  Each orbit gets its minimal period, impacts per period,
 contact arcs and Floquet multipliers (stable: every |mu| < 1), and is continued in the
 forcing frequency both ways within --window of --eta: where it exists (up to a fold, a
@@ -156,12 +157,13 @@ def add_parser(sub, fmt):
                                    "arcs and Floquet multipliers; continue each in the\n"
                                    "forcing frequency; write a NetCDF file and print a "
                                    "table.")
-    c.add_argument("--preset", default="fig8", help="parameter set (default: fig8); see "
-                   "'vibimpact presets'")
+    c.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     c.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset (repeatable)")
     c.add_argument("--eta", type=number, default=None,
-                   help="rotor speed eta of the hunt (default: the preset's)")
+                   help="forcing frequency eta of the hunt (default: the preset's)")
     c.add_argument("--period", default="1:16", metavar="N|A:B|LIST",
                    help="periods to shoot for (default: 1:16)")
     c.add_argument("--seeds", default=None, metavar="FILE.nc",
@@ -173,7 +175,7 @@ def add_parser(sub, fmt):
     c.add_argument("--transient", type=positive_int(0, 100_000), default=5, metavar="N",
                    help="forcing periods each seed is integrated before Newton's method "
                         "(default: 5; more for a slowly settling state, such as a light "
-                        "retainer ring's speed)")
+                        "turning retainer's speed)")
     c.add_argument("--window", type=number, default=0.05, metavar="W",
                    help="continue each orbit within +-W of --eta (default: 0.05)")
     c.add_argument("--no-continue", action="store_true",

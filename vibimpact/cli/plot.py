@@ -24,12 +24,12 @@ examples:
   vibimpact plot fig8.nc --kind intervals --style paper -o intervals.pdf
   vibimpact plot p1.nc -o p1.png                 # a 'vibimpact continue' branch
   vibimpact plot fig8.nc --kind response --branch p1.nc -o overlay.png
-  vibimpact plot ring.nc --kind bifurcation --state Vr -o vr.png
+  vibimpact plot sweep.nc --kind bifurcation --state Vr -o vr.png
 
 kinds:
   response     X_m and Y_m against eta, up/down sweeps, chaotic points marked (classify)
   bifurcation  Poincare X and Y against eta (classify with poincare, or bifurcation);
-               --state NAME[,NAME...] draws those states instead (a ring's speed Vr)
+               --state NAME[,NAME...] draws those states instead (e.g. Vr)
   intervals    coloured bands per regime along eta, one row per direction (classify)
   xy           the orbit in the (X, Y) clearance plane (a 'vibimpact simulate' file)
   map          regime, period, impacts, exponent over (eta, PARAM) ('vibimpact map';

@@ -1,44 +1,64 @@
-"""``vibimpact presets``: the paper's parameter sets and the other built-in models'."""
-_PRESET_COLUMNS = ("kh", "G", "Bh", "BT", "f", "Rr", "B", "Ec")
+"""``vibimpact presets``: every built-in model's parameter sets, each model's as it declares
+them (:attr:`vibimpact.models.PlotSpec.preset_columns`)."""
 
 _PRESETS_EPILOG = """\
 example:
   vibimpact presets
 
-B (support damping) and Ec (unbalance eccentricity) are not given in the paper; every
-preset uses our documented defaults for them.
+A model's table shows the parameters it declares as columns; columns marked * are
+explained under the table.  The presets of a model that declares no columns are listed
+with all their values.
 """
 
 
-def _cmd_presets(args):
+def _table(model):
+    """The lines of ``model``'s table of presets (its declared columns)."""
     from ..models import presets
 
-    header = ("name",) + tuple(c + "*" if c in ("B", "Ec") else c for c in _PRESET_COLUMNS)
+    spec = model.plot
+    cols = spec.preset_columns
+    header = ("name",) + tuple(c + "*" if c in spec.preset_marked else c for c in cols)
     rows = []
-    for name in presets.paper_names():
+    for name in model.presets:
         p = presets.get(name).as_dict()
-        rows.append((name,) + tuple(f"{p[c]:g}" for c in _PRESET_COLUMNS)
-                    + (presets.describe(name),))
+        mark = " (default)" if name == presets.DEFAULT else ""
+        rows.append((name,) + tuple(f"{p[c]:g}" for c in cols)
+                    + (presets.describe(name) + mark,))
     widths = [max(len(r[i]) for r in rows + [header]) for i in range(len(header))]
-    print("  ".join(h.ljust(w) for h, w in zip(header, widths)) + "  description")
-    for r in rows:
-        print("  ".join(c.ljust(w) for c, w in zip(r, widths)) + "  " + r[-1])
-    print("\n* B and Ec are our defaults, not values from the paper; all the paper's presets have "
-          "k3 = -0.002 and eta is set per run (--eta).")
-    others = [n for n in presets.names() if n not in presets.paper_names()]
+    lines = ["  ".join(h.ljust(w) for h, w in zip(header, widths)) + "  description"]
+    lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) + "  " + r[-1] for r in rows]
+    if spec.preset_note:
+        lines.append(f"\n* {spec.preset_note}")
+    return lines
+
+
+def _cmd_presets(args):
+    from .. import models
+    from ..models import presets
+
+    tabled = [models.get(n) for n in models.names()
+              if models.get(n).plot is not None and models.get(n).plot.preset_columns
+              and models.get(n).presets]
+    for k, model in enumerate(tabled):
+        if k:
+            print(f"\nPresets of the {model.name} model:")
+        print("\n".join(_table(model)))
+    shown = {name for m in tabled for name in m.presets}
+    others = [n for n in presets.names() if n not in shown]
     if others:
         print("\nPresets of the other built-in models:")
         for name in others:
             values = ", ".join(f"{k}={v:g}" for k, v in presets.get(name).as_dict().items())
+            mark = " (default)" if name == presets.DEFAULT else ""
             print(f"  {name}  ({type(presets.get(name)).__name__}: {values})  "
-                  f"{presets.describe(name)}")
+                  f"{presets.describe(name)}{mark}")
     return 0
 
 
 def add_parser(sub, fmt):
     """Add ``presets`` to the subparsers ``sub``."""
-    p = sub.add_parser("presets", help="list the paper's parameter sets",
-                       description="List the presets (one per figure of the paper) with "
-                                   "their parameters.", epilog=_PRESETS_EPILOG,
-                       formatter_class=fmt)
+    p = sub.add_parser("presets", help="list the built-in models' parameter sets",
+                       description="List the presets of the built-in models (the paper's: "
+                                   "one per figure) with their parameters.",
+                       epilog=_PRESETS_EPILOG, formatter_class=fmt)
     p.set_defaults(func=_cmd_presets)

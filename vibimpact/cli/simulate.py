@@ -23,7 +23,7 @@ examples:
 
 --from SWEEP.nc starts the run where the sweep left the motion at that grid value of
 eta and direction (its final_state there), on the attractor the sweep followed: from
-rest the rotor may settle on another one (fig8 at eta 1.25: the sweep up from 1.1 is
+rest the motion may settle on another one (fig8 at eta 1.25: the sweep up from 1.1 is
 chaotic, the run from rest impactless).  --eta must be a grid value of the sweep (the
 error names the nearest ones); --direction is needed when the sweep has both.  The run
 uses the sweep's parameters; --set changes named ones explicitly (the file keeps both);
@@ -64,7 +64,7 @@ def _cmd_simulate(args):
 
     check_distinct(("-o", out), ("--plot", args.plot),
                    inputs=(("--from", args.from_sweep),))
-    attrs, note = {"preset": "fig8" if args.preset is None else args.preset}, ""
+    attrs, note = {"preset": presets.DEFAULT if args.preset is None else args.preset}, ""
     state0 = args.state0
     if args.from_sweep is not None:
         from .common.start import start_of
@@ -123,14 +123,15 @@ def _cmd_simulate(args):
 def add_parser(sub, fmt):
     """Add ``simulate`` to the subparsers ``sub``."""
     s = sub.add_parser("simulate", help="integrate one run and write it as NetCDF",
-                       description="Integrate the rotor model at one speed eta and write "
+                       description="Integrate a preset's model at one forcing frequency "
+                                   "eta and write "
                                    "the run (stroboscopic\nsamples, impacts, parameters) "
                                    "to a NetCDF file.", epilog=_SIMULATE_EPILOG,
                        formatter_class=fmt)
-    s.add_argument("--preset", default=None, help="parameter set (default: fig8); "
-                   "see 'vibimpact presets'")
+    s.add_argument("--preset", default=None, help="parameter set (default: the one "
+                   "'vibimpact presets' marks as the default); see 'vibimpact presets'")
     s.add_argument("--eta", type=number, default=None,
-                   help="forcing (rotor speed) frequency ratio, > 0 (default: the preset's, 1.0)")
+                   help="forcing frequency ratio, > 0 (default: the preset's, 1.0)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     s.add_argument("--from", dest="from_sweep", metavar="SWEEP.nc", default=None,

@@ -110,9 +110,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
         window is cut there: the branch ends on the bound, and its ``status`` says so.
     param : str
-        The parameter continued (``"eta"``: the rotor speed).  Its start value may lie
-        on a bound of its domain (``BT = 0``, as in every preset): the branch then
-        steps into the domain (towards ``stop``).
+        The parameter continued (``"eta"``: the rotor's speed, its forcing frequency).
+        Its start value may lie on a bound of its domain (``BT = 0``, as in every
+        preset): the branch then steps into the domain (towards ``stop``).
     n : int
         Period of the orbit in forcing periods.
     state0 : array_like, optional
@@ -158,9 +158,7 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
 
         approach = _v.positive("approach", approach)
         x = continued_state(system.params, system.omega, eta_start=approach,
-                            transient=transient, state0=x) if omega_name == "eta" else None
-        if x is None:
-            raise ValueError(f"approach: only for the rotor (eta), not {omega_name}")
+                            transient=transient, state0=x)
     else:
         x = system.simulate(periods=1, transient=transient, state0=x).final_state
     _log.info("branch of the P%d orbit in %s from %g towards %g; start state %s after %d "

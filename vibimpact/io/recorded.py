@@ -28,8 +28,6 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from ..models import Model
 
-#: the model a file records when it has no ``model`` attribute (files of the first versions)
-DEFAULT_MODEL = "rotor"
 
 
 def _short(value, width=40):
@@ -70,22 +68,41 @@ def recorded_number(value, what: str) -> float:
     return number
 
 
-@_v.checks_flags
-def recorded_model(attrs: Mapping, name: str = "the file", *,
-                   required: bool = False) -> Model | None:
-    """The model a file records (its ``model`` attribute, :data:`DEFAULT_MODEL` without
-    one): the installed :class:`~vibimpact.models.Model`, or None for a name this
-    installation does not know (a user model's file) unless ``required``.
+def model_name(attrs: Mapping, name: str = "the file") -> str:
+    """The name of the model a file records (its ``model`` attribute), as it is.
 
     Raises
     ------
     ValueError
-        For a ``model`` attribute that is not a name, or (``required``) one that names
+        One line naming ``name``, for a file without a ``model`` attribute: no model is
+        assumed for it.
+    """
+    if "model" not in attrs:
+        from .. import models
+
+        raise ValueError(f"{name} names no model (no 'model' attribute): it cannot be read "
+                         f"as any model's ({', '.join(models.names())})")
+    return attrs["model"]
+
+
+@_v.checks_flags
+def recorded_model(attrs: Mapping, name: str = "the file", *,
+                   required: bool = False) -> Model | None:
+    """The model a file records (its ``model`` attribute; a file without one is refused,
+    never read as one model's): the installed :class:`~vibimpact.models.Model`, or None
+    for a name this installation does not know (a user model's file) unless
+    ``required``.
+
+    Raises
+    ------
+    ValueError
+        For a file without a ``model`` attribute, one that is not a name, or
+        (``required``) one that names
         no model of this installation, or one without a parameter set.
     """
     from .. import models
 
-    value = attrs.get("model", DEFAULT_MODEL)
+    value = model_name(attrs, name)
     if not isinstance(value, str) or not value.strip():
         raise ValueError(f"{name} records model {_short(value)}, not a model's name")
     if value not in models.names():

@@ -43,7 +43,6 @@ from ..base import _limits
 from ..base._text import one_line
 from ..base import _validate as _v
 from .. import models
-from ..models.params import DuffingParams, Params
 from ..core.system import (System, param_dict, to_system, varied_names, with_frequency,
                            with_values)
 from ..sweeps.sweep import check_grid, check_request, snap_grid
@@ -56,6 +55,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ..points.point import SweepSettings
+    from ..models.params import DuffingParams, Params
 
 #: what a map computes by default: the regime, the period, the impacts per period, and
 #: the largest Lyapunov exponent only where no period is found
@@ -68,9 +68,12 @@ DONE = "row_done"
 
 
 def parameter_names(p: Params | DuffingParams | System | None = None) -> list[str]:
-    """Names of the parameters a map can vary: every parameter of ``p``'s model (the
-    rotor's by default) but the forcing frequency."""
-    return varied_names(Params() if p is None else p)
+    """Names of the parameters a map can vary: every parameter of ``p``'s model (by
+    default the model of the default preset, :data:`vibimpact.models.presets.DEFAULT`) but
+    the forcing frequency."""
+    from ..models import presets
+
+    return varied_names(presets.get() if p is None else p)
 
 
 def check_vary(p, vary, label="vary"):
@@ -103,7 +106,7 @@ def check_vary(p, vary, label="vary"):
     """
     if not isinstance(vary, Mapping) or len(vary) != 1:
         raise ValueError(f"{label} must be a dict with one entry {{name: values}}, e.g. "
-                         "{'kh': [10, 20, 40]}, got "
+                         "{'NAME': [v1, v2, ...]}, got "
                          f"{vary!r}"[:200])
     (name, values), = vary.items()
     names = parameter_names(p)
@@ -337,6 +340,19 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     return ds
 
 
+def _recorded_set(values):
+    """The parameter set of the built-in model whose parameters are exactly those a map's
+    request records."""
+    from .. import models
+
+    for mname in models.names():
+        model = models.get(mname)
+        if model.param_set is not None and set(model.param_names) == set(values):
+            return model.param_set(**values)
+    raise ValueError(f"the map checkpoint's parameters ({', '.join(values)}) are no "
+                     "built-in model's")
+
+
 def partial_map(path):
     """The map so far in the checkpoint ``path`` of a running or interrupted map.
 
@@ -360,7 +376,7 @@ def partial_map(path):
     etas, dirs = np.asarray(req["eta"], dtype=float), tuple(req["directions"])
     direction = "both" if len(dirs) == 2 else dirs[0]
     settings = settings_from_attrs(req["settings"])
-    p = Params(**req["params"])
+    p = _recorded_set(req["params"])
     ds, shapes = _template(p, name, values, etas, dirs, direction, settings, "")
     rows = _Rows(ds, p, name, values, etas, dirs, settings, shapes)
     flags = np.zeros(ds["regime"].shape[:-1], dtype=np.int8)

@@ -74,6 +74,9 @@ class Model:
     presets : mapping, optional
         ``{name: (parameter values, description)}``: the model's named parameter sets
         (:func:`vibimpact.models.presets.get`).
+    default_preset : str, optional
+        The preset the commands use when none is named (the first registered model's is
+        :data:`vibimpact.models.presets.DEFAULT`); None: the first of ``presets``.
     state_text : mapping, optional
         ``{state name: what it is, in words}``: written into files next to the state
         (their ``state_<name>`` attribute, the ``long_name`` of its Poincaré samples).
@@ -101,6 +104,7 @@ class Model:
     presets: Mapping = field(default_factory=dict, repr=False)
     state_text: Mapping = field(default_factory=dict, repr=False)
     domains: Mapping = field(default_factory=dict, repr=False)
+    default_preset: str | None = field(default=None, repr=False)
 
     @property
     def builtin(self):
@@ -112,7 +116,8 @@ class Model:
                       omega_index: int, param_set: type, *, bound: float = 1e3,
                       contact: Contact | None = None, plot: PlotSpec | None = None,
                       presets: Mapping | None = None,
-                      state_text: Mapping | None = None) -> Model:
+                      state_text: Mapping | None = None,
+                      default_preset: str | None = None) -> Model:
         """A built-in model: the kernel module ``family`` (its ``KERNEL_MODEL``) and
         what the model declares about itself.
 
@@ -126,7 +131,7 @@ class Model:
             Index of the forcing frequency in the parameter vector.
         param_set : type
             The frozen parameter dataclass (its fields in the kernel's order).
-        bound, contact, plot, presets, state_text
+        bound, contact, plot, presets, state_text, default_preset
             As the attributes.  The initial mode is the kernel's ``init_mode`` with its
             argument check (:func:`vibimpact._kernel.boundary.initial_mode`).
 
@@ -146,13 +151,16 @@ class Model:
                              f"{', '.join(sorted(unknown))}")
         if contact is not None:
             contact.check(km.n_state, km.terminal.size, km.n_mode, names)
+        if default_preset is not None and default_preset not in (presets or {}):
+            raise ValueError(f"model {name!r}: default_preset {default_preset!r} is not "
+                             f"one of its presets")
         return cls(name=name, state_names=tuple(state_names), param_names=names,
                    omega_index=omega_index, n_mode=km.n_mode, terminal=km.terminal,
                    kernel_model=_kb.builtin(family), rhs=km.rhs, jac=km.jac,
                    switches=km.switches, transition=km.transition,
                    init_mode=_kb.initial_mode(family), bound=bound, param_set=param_set,
                    contact=contact, plot=plot, presets=dict(presets or {}),
-                   state_text=dict(state_text or {}))
+                   state_text=dict(state_text or {}), default_preset=default_preset)
 
     def domain(self, index: int) -> Domain:
         """The :class:`~vibimpact.models.params.Domain` of parameter ``index``: the parameter
@@ -355,7 +363,7 @@ def _names(arg, value):
 
 @dataclass(frozen=True)
 class PlotSpec:
-    """What XY plots of a model draw.
+    """What plots and tables of a model show: the model's own names for them.
 
     Parameters
     ----------
@@ -364,10 +372,71 @@ class PlotSpec:
     circle : float, optional
         Radius of a circular obstacle centred at the origin, drawn with the orbit (the
         rotor's retainer: 1); None: none.
+    circle_label : str
+        The circle's entry in the legend of an XY plot.
+    circle_name : str
+        What the circle's radius is, in the legend of a response plot (its line there).
+    y_down : bool
+        The second state points down (along gravity): XY plots invert that axis.
+    y_note : str
+        Added to the second axis's label of an XY plot (``"+Y down, along gravity"``).
+    length_unit : str, optional
+        The unit of the model's lengths, in axis labels (``"clearance"``); None: lengths
+        are dimensionless numbers.
+    symbols : mapping
+        ``{parameter name: symbol}`` for labels and titles (``{"eta": "η"}``); a parameter
+        not in it is shown by its name.
+    title : tuple of str
+        Parameters a figure's title always shows (the forcing frequency besides, in a
+        run's figure).
+    title_nonzero : tuple of str
+        Parameters a title shows where they are not 0.
+    title_hidden : tuple of str
+        Parameters a title never shows.  Those in none of the three are shown after the
+        others (a model with no declaration: all of them).
+    preset_columns : tuple of str
+        The parameters ``vibimpact presets`` tabulates for the model's presets, one column
+        each; empty: its presets are listed with all their values.
+    preset_marked : tuple of str
+        Columns marked ``*`` in that table, explained by ``preset_note``.
+    preset_note : str
+        A note printed under the model's table of presets.
     """
 
     xy: tuple
     circle: float | None = None
+    circle_label: str = "obstacle"
+    circle_name: str = "obstacle"
+    y_down: bool = False
+    y_note: str = ""
+    length_unit: str | None = None
+    symbols: Mapping = field(default_factory=dict)
+    title: tuple = ()
+    title_nonzero: tuple = ()
+    title_hidden: tuple = ()
+    preset_columns: tuple = ()
+    preset_marked: tuple = ()
+    preset_note: str = ""
+
+    def symbol(self, name: str) -> str:
+        """How labels write parameter ``name``."""
+        return self.symbols.get(name, name)
+
+    def title_params(self, names) -> list[str]:
+        """The parameters of ``names`` a title may show, in order: :attr:`title`, then
+        :attr:`title_nonzero`, then the others not hidden (the caller leaves out a
+        ``title_nonzero`` one that is 0)."""
+        shown = [n for n in self.title + self.title_nonzero if n in names]
+        return shown + [n for n in names if n not in shown and n not in self.title_hidden]
+
+
+def spec_of(name) -> PlotSpec | None:
+    """The :class:`PlotSpec` of the built-in model ``name`` (a file's ``model``
+    attribute); None for a name this installation does not know (a user model's) or a
+    model that declares none."""
+    if isinstance(name, str) and name in names():
+        return get(name).plot
+    return None
 
 
 # --- the registry ---------------------------------------------------------------------

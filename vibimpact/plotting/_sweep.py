@@ -173,14 +173,37 @@ def directions(ds):
     return [(str(ds.attrs.get("sweep_direction", ds.attrs.get("direction", "up"))), ds)]
 
 
-#: the rotor's parameters in a title: always, where not 0, never
-_SHOWN, _NONZERO, _HIDDEN = ("kh", "G", "B", "Ec"), ("Bh", "BT", "f", "Rr"), ("k3", "eps")
+def spec(ds):
+    """The :class:`~vibimpact.models.PlotSpec` of the model a dataset names (a user
+    model's, or a model that declares none: the defaults, which show every parameter by
+    its name); ValueError for a dataset that names no model."""
+    from .. import models
+    from ..io.recorded import model_name
+
+    return models.spec_of(model_name(ds.attrs, "ds")) or models.PlotSpec(xy=())
+
+
+def frequency_label(ds):
+    """How the axis of a sweep's forcing frequency is labelled: the symbol the model
+    declares for it, else its name (the ``frequency_name`` attribute, else the name of the
+    dataset's frequency coordinate)."""
+    from .. import models
+    from ..io.recorded import model_name
+
+    name = model_name(ds.attrs, "ds")
+    if name in models.names():
+        model = models.get(name)
+        freq = model.param_names[model.omega_index]
+    else:
+        freq = str(ds.attrs.get("frequency_name", "eta"))
+    return spec(ds).symbol(freq)
 
 
 def title(ds):
-    """``preset, kh = .., G = .., ...`` from the dataset's attributes: the rotor's
-    parameters (kh, G, B, Ec; Bh, BT, f, Rr where not 0), then every other parameter the
-    dataset records (a ring's Jr, cr, Mr; another model's own)."""
+    """``preset, NAME = .., ...`` from the dataset's attributes: the parameters the
+    dataset's model declares a title shows (:class:`~vibimpact.models.PlotSpec`: always,
+    where not 0), then every other parameter the dataset records that it does not
+    hide."""
     from ..io.recorded import check_recorded
 
     a = ds.attrs
@@ -194,12 +217,14 @@ def title(ds):
             params = {}
     if not isinstance(params, dict):
         params = {}
-    for name in _SHOWN + _NONZERO:
+    sp = spec(ds)
+    for name in sp.title + sp.title_nonzero:
         v = a.get(f"param_{name}", params.get(name))
-        if v is not None and (name in _SHOWN or float(v) != 0.0):
+        if v is not None and (name in sp.title or float(v) != 0.0):
             parts.append(f"{name} = {float(v):g}")
     for name, v in params.items():
-        if name not in _SHOWN + _NONZERO + _HIDDEN and isinstance(v, (int, float)):
+        if name not in sp.title + sp.title_nonzero + sp.title_hidden and \
+                isinstance(v, (int, float)):
             parts.append(f"{name} = {float(v):g}")
     return ", ".join(parts)
 

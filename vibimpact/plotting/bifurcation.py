@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..base import _validate as _v
-from ._sweep import DIRECTION_COLORS, axes_of, check_sweep, directions, new_figure, title
+from ._sweep import (DIRECTION_COLORS, axes_of, check_sweep, directions, frequency_label,
+                     new_figure, title)
 from .poincare import poincare_variable, state_names
 from .style import look
 
@@ -132,7 +133,7 @@ def _draw(ds, axes, lk, drawn):
                    alpha=0.7, rasterized=True, label=f"sweep {d}")
     for a, (_, name) in zip(axes, drawn):
         a.set_ylabel(_LABELS.get(name, f"{name}  (Poincaré)"))
-    axes[-1].set_xlabel("η")
+    axes[-1].set_xlabel(frequency_label(ds))
     for a in axes:
         a.grid(True, alpha=0.5)
     leg = lk.legend(axes[0], markerscale=6)

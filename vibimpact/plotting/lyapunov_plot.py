@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import axes_of, check_sweep, directions, new_figure, title
+from ._sweep import axes_of, check_sweep, directions, frequency_label, new_figure, title
 from .style import look, width
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -136,7 +136,7 @@ def plot_lyapunov(ds: xr.Dataset, ax: Axes | None = None,
             used.update(_panel(a, sub, d, lk))
             if len(dirs) > 1:
                 a.set_title(f"sweep {d}", loc="left", fontsize="small")
-        axes[-1].set_xlabel("η")
+        axes[-1].set_xlabel(frequency_label(ds))
         _legend(axes[-1], own, used, lk)
         if own:
             lk.title(fig, title(ds))

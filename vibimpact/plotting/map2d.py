@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..base import _validate as _v
-from ._sweep import title
+from ._sweep import frequency_label, title
 from .map_panels import (MAP_REGIME_COLORS, MISSING, exponent_norm, exponent_panel,
                          impacts_keys, impacts_scale, period_keys, period_scale,
                          regime_panel)
@@ -167,9 +167,10 @@ def plot_map(ds: xr.Dataset, direction: str | None = None,
             ax.set_ylabel(name)
             if listed:
                 ax.set_yticks(np.arange(values.size), [f"{v:g}" for v in values])
+        freq = frequency_label(ds)
         for ax in grid[-1]:
-            ax.set_xlabel("η")
-        lk.title(fig, f"parameter map over η and {name}: {title(ds)}")
+            ax.set_xlabel(freq)
+        lk.title(fig, f"parameter map over {freq} and {name}: {title(ds)}")
         return lk.finish(fig, path)
 
 

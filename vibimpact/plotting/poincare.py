@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sweep import axes_of, check_sweep, directions, title
+from ._sweep import axes_of, check_sweep, directions, frequency_label, title
 from .style import look
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -37,13 +37,15 @@ _DIVERGED = 4
 
 def state_names(ds: xr.Dataset) -> tuple[str, ...]:
     """The names of the states of the model a sweep dataset records: its ``state``
-    coordinate, else the built-in model its ``model`` attribute names (the rotor when it
-    names none, as every file written before models had names)."""
+    coordinate, else the built-in model its ``model`` attribute names (a dataset that
+    names none is refused: ValueError), else the names of the stored samples
+    ``poincare_X``, ``poincare_Y``."""
     from .. import models
+    from ..io.recorded import model_name
 
     if "state" in ds.coords:
         return tuple(str(s) for s in ds["state"].values)
-    name = ds.attrs.get("model", "rotor")
+    name = model_name(ds.attrs, "ds")
     if isinstance(name, str) and name in models.names():
         return tuple(models.get(name).state_names)
     return ("X", "Y")
@@ -238,7 +240,7 @@ def plot_poincare(ds: xr.Dataset, ax: Axes | None = None,
             if len(dirs) > 1:
                 a.set_title(f"sweep {d}", loc="left", fontsize="small")
         axes[0].set_ylabel(f"{vname}  (Poincaré)")
-        fig.colorbar(sc, ax=axes, label="η", shrink=0.9)
+        fig.colorbar(sc, ax=axes, label=frequency_label(ds), shrink=0.9)
         if own:
             lk.title(fig, title(ds))
         return lk.finish(fig, path)

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..base import _validate as _v
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
-                     grid_step, new_figure, title)
+                     frequency_label, grid_step, new_figure, spec, title)
 from .style import (BAND_ALPHA, LONG_PERIOD_COLOR, PERIOD_COLORS, REGIME_COLORS, class_color,
                     look, text_color, width)
 
@@ -31,7 +31,8 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
                   path: str | os.PathLike[str] | None = None, bands: bool = True, *,
                   figsize: tuple[float, float] | None = None, dpi: float | None = None,
                   style: str | None = None) -> Figure:
-    """Response amplitudes X_m and Y_m against eta, chaotic points marked.
+    """Response amplitudes X_m and Y_m against the forcing frequency, chaotic points
+    marked, labelled with the model's own names (:class:`vibimpact.models.PlotSpec`).
 
     Parameters
     ----------
@@ -60,13 +61,16 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
     Raises
     ------
     ValueError
-        Naming ``ax``, ``figsize``, ``dpi`` or ``style``.
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``; for a dataset that names no
+        model; or, in one line, for a sweep whose model records no response maxima (all
+        ``X_m`` and ``Y_m`` missing: a model without a planar contact on two positions).
 
     Notes
     -----
     Up and down sweeps are drawn in two colours; chaotic points carry a black cross and
-    quasi-periodic ones a plus.  Diverged points are left out.  The dashed line at 1 is the
-    retainer clearance.
+    quasi-periodic ones a plus.  Diverged points are left out.  A model with a circular
+    obstacle (:attr:`~vibimpact.models.PlotSpec.circle`) has its radius drawn as a dashed
+    line (the rotor's retainer clearance).
     """
     check_sweep(ds, "X_m", "Y_m", "regime")
     lk = look(figsize, dpi, style, ax)
@@ -75,10 +79,38 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
             fig, axes = new_figure(lk, 2, 6.5, 4.0)
         else:
             fig, axes = axes_of(ax, 2, "for X_m and for Y_m")
+        _check_response(ds)  # after the options' checks, before anything is drawn
         if bands and all(v in ds for v in ("label", "period", "impacts_per_period")):
             _bands(ds, axes, lk, own=ax is None)
         _curves(ds, axes, lk)
         return lk.finish(fig, path)
+
+
+def _check_response(ds):
+    """ValueError, one line, for a sweep whose points hold no response maximum."""
+    if not any(np.isfinite(np.asarray(ds[v].values, dtype=float)).any()
+               for v in ("X_m", "Y_m")):
+        model = ds.attrs.get("model")
+        raise ValueError(f"the sweep of the {model} model records no response maxima "
+                         "(X_m, Y_m all missing: they are those of a planar contact on "
+                         "two positions, or the 'response' analysis was not run); plot "
+                         "another kind")
+
+
+def _response_labels(ds):
+    """``(label of X_m, label of Y_m)``: the maxima of the model's two contact positions
+    (their state names) in its length unit."""
+    from .. import models
+
+    sp = spec(ds)
+    name = ds.attrs.get("model")
+    model = models.get(name) if name in models.names() else None
+    states = ("X", "Y")  # the variables' own letters, for a model this installation lacks
+    if model is not None and model.contact is not None and \
+            len(model.contact.positions) == 2:
+        states = tuple(model.state_names[i] for i in model.contact.positions)
+    unit = f" / {sp.length_unit}" if sp.length_unit else ""
+    return tuple(f"{v}  (max |{s}|{unit})" for v, s in zip(("X_m", "Y_m"), states))
 
 
 def _curves(ds, axes, lk):
@@ -100,13 +132,15 @@ def _curves(ds, axes, lk):
                     marked.add((a, code))
                     a.plot(eta[sel], v[sel], ls="none", marker=marker, ms=ms,
                            mew=width(0.67), color="k", label=lab)
-    for a, name in zip(axes, ("X_m", "Y_m")):
-        a.axhline(1.0, color="0.4", lw=width(0.53), ls="--",
-                  label="retainer clearance" if a is axes[0] else None)
-        a.set_ylabel(f"{name}  (max |{name[0]}| / clearance)")
+    sp = spec(ds)
+    for a, label in zip(axes, _response_labels(ds)):
+        if sp.circle is not None:
+            a.axhline(sp.circle, color="0.4", lw=width(0.53), ls="--",
+                      label=sp.circle_name if a is axes[0] else None)
+        a.set_ylabel(label)
         a.grid(True, alpha=0.5)
     lk.legend(axes[0])
-    axes[-1].set_xlabel("η")
+    axes[-1].set_xlabel(frequency_label(ds))
     lk.title(axes[0], title(ds))
 
 
@@ -254,6 +288,6 @@ def _interval_rows(ds, ax, lk, own):
     ax.set_yticks(range(len(dirs)), [f"sweep {d}" for d, _ in dirs])
     ax.set_ylim(len(dirs) - 0.5, -0.5)
     ax.set_xlim(float(eta.min()) - h / 2, float(eta.max()) + h / 2)
-    ax.set_xlabel("η")
+    ax.set_xlabel(frequency_label(ds))
     band_legend(ax, own, bands, lk)
     lk.title(ax, title(ds))

@@ -1,4 +1,5 @@
-"""Orbit of the rotor centre in the clearance plane, with the retainer and the impacts."""
+"""Orbit of a run in the plane its model declares (:class:`vibimpact.models.PlotSpec`): with
+the circular obstacle and the impacts where the model has one, else a phase portrait."""
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
@@ -15,6 +16,8 @@ if TYPE_CHECKING:  # names of the annotations only
 
 
 def _title(ds):
+    """``preset, <forcing frequency> = .., <the parameters the model's title shows>``."""
+    from .. import models
     from ..io.recorded import check_recorded
 
     a = ds.attrs
@@ -22,10 +25,13 @@ def _title(ds):
     parts = []
     if a.get("preset"):
         parts.append(str(a["preset"]))
-    for name in ("eta", "kh", "G", "B", "Ec", "Bh", "BT", "f", "Rr"):
+    model = models.get(a["model"]) if a["model"] in models.names() else None
+    spec = (model.plot if model is not None else None) or models.PlotSpec(xy=())
+    names = [model.param_names[model.omega_index]] if model is not None else []
+    for name in names + list(spec.title + spec.title_nonzero):
         key = f"param_{name}"
-        if key in a and (name in ("eta", "kh", "G", "B", "Ec") or float(a[key]) != 0.0):
-            parts.append(f"{'η' if name == 'eta' else name} = {float(a[key]):g}")
+        if key in a and (name not in spec.title_nonzero or float(a[key]) != 0.0):
+            parts.append(f"{spec.symbol(name)} = {float(a[key]):g}")
     status = a.get("status", "ok")
     if status != "ok":
         parts.append(str(status).upper())
@@ -40,7 +46,7 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     Parameters
     ----------
     ds : xarray.Dataset or Run
-        The dataset of a run (rotor model), as :meth:`vibimpact.Run.to_dataset` makes it
+        The dataset of a run, as :meth:`vibimpact.Run.to_dataset` makes it
         and ``vibimpact simulate`` writes it, or the Run itself: uses ``trajectory`` if
         present, else ``strobe``, and the impact records (``impact_theta``,
         ``impact_theta_min``, ``impact_theta_max``).
@@ -63,8 +69,8 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     Raises
     ------
     ValueError
-        Naming ``ax``, ``figsize``, ``dpi`` or ``style``, or a dataset without the rotor's
-        states.
+        Naming ``ax``, ``figsize``, ``dpi`` or ``style``, a dataset that names no model,
+        or one without the states its model's plot draws.
 
     Notes
     -----
@@ -106,7 +112,7 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
         if own:
             ax = lk.figure((6, 6.6), 4.2).add_subplot()
         if spec.circle is not None:
-            _orbit(value, ds, ax, lk, own)
+            _orbit(value, ds, ax, lk, own, spec, [states.index(s) for s in spec.xy])
         else:
             _phase(value, ds, ax, lk, own, [states.index(s) for s in spec.xy], spec.xy)
         lk.finish(ax.figure, path)
@@ -115,11 +121,12 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
 
 def _plot_spec(ds, states):
     """What the dataset's model declares its XY plots draw (a dataset that names no model
-    is the rotor's, as every file this package writes without one; a model that is not
-    built in: its first two states, no obstacle)."""
+    is refused: ValueError; a model that is not built in: its first two states, no
+    obstacle)."""
     from .. import models
+    from ..io.recorded import model_name
 
-    name = ds.attrs.get("model", "rotor")
+    name = model_name(ds.attrs, "ds")
     if isinstance(name, str) and name in models.names() and \
             models.get(name).plot is not None:
         return models.get(name).plot
@@ -149,20 +156,25 @@ def _phase(value, ds, ax, lk, own, cols, names):
     ax.grid(True, alpha=0.5)
 
 
-def _orbit(value, ds, ax, lk, own):
-    """The retainer, the orbit, its stroboscopic points, impacts and loaded arcs on
-    ``ax``, with the legend below the axes (``own``: the figure is plot_xy's)."""
+def _orbit(value, ds, ax, lk, own, spec, cols):
+    """The model's circular obstacle (``spec``: its :class:`~vibimpact.models.PlotSpec`),
+    the orbit in the plane of the states ``cols``, its stroboscopic points, impacts and
+    loaded arcs on ``ax``, with the legend below the axes (``own``: the figure is
+    plot_xy's)."""
     from .style import width
     from .xy_dense import trajectory_for
 
+    i, j = cols
+    r = spec.circle
     phi = np.linspace(0.0, 2.0 * np.pi, 721)
-    ax.plot(np.cos(phi), np.sin(phi), color="0.3", lw=width(1.0), label="retainer R = 1")
+    ax.plot(r * np.cos(phi), r * np.sin(phi), color="0.3", lw=width(1.0),
+            label=spec.circle_label)
     if "trajectory" in ds:
-        traj = trajectory_for(value, ds, ax, [0, 1], 2.4, lk.dpi)
-        ax.plot(traj[:, 0], traj[:, 1], color="C0", lw=width(0.47), alpha=0.8,
+        traj = trajectory_for(value, ds, ax, [i, j], 2.4 * r, lk.dpi)
+        ax.plot(traj[:, i], traj[:, j], color="C0", lw=width(0.47), alpha=0.8,
                 label="trajectory")
     strobe = ds["strobe"].values
-    ax.plot(strobe[:, 0], strobe[:, 1], ls="none", marker="o", ms=3.5, color="C1",
+    ax.plot(strobe[:, i], strobe[:, j], ls="none", marker="o", ms=3.5, color="C1",
             mfc="none" if "trajectory" in ds else "C1",
             label=f"stroboscopic points ({len(strobe)})")
     arcs = loaded_arcs(value, ds)
@@ -171,13 +183,13 @@ def _orbit(value, ds, ax, lk, own):
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
         deg = ds["impact_theta"].values
         th = np.radians(deg)
-        ax.plot(np.cos(th), np.sin(th), ls="none", marker="x", ms=7, mew=width(1.0),
+        ax.plot(r * np.cos(th), r * np.sin(th), ls="none", marker="x", ms=7, mew=width(1.0),
                 color="C3",
                 label=f"impacts ({th.size})")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("X")
-    ax.set_ylabel("Y  (+Y down, along gravity)")
-    if not ax.yaxis_inverted():
+    ax.set_xlabel(spec.xy[0])
+    ax.set_ylabel(f"{spec.xy[1]}  ({spec.y_note})" if spec.y_note else spec.xy[1])
+    if spec.y_down and not ax.yaxis_inverted():
         ax.invert_yaxis()
     lk.title(ax, _title(ds))
     lk.legend_below(ax, own, ax.get_legend_handles_labels()[0], ncol=2)

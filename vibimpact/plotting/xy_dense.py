@@ -77,7 +77,7 @@ def _system_and_start(value, ds):
         params, solver = value.params, dict(value.solver or {})
         state0, transient, periods = value.state0, value.transient, value.periods
     else:
-        name = a.get("model", "rotor")
+        name = a.get("model")  # none: the plot refused the dataset already
         if name not in models.names() or "periods" not in a:
             return None
         spec = {k[6:]: a[k] for k in a if k.startswith("param_")}

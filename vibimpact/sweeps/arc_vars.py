@@ -22,7 +22,7 @@ ARC_VARIABLES = {
     "arc_width": (2, "degree", "angular extent of each loaded arc: the angles its contacts "
                                "cover from entry to exit, sliding included"),
     "arc_loaded": (3, "1", "loaded share of each arc: fraction of the recorded time the "
-                           "rotor is in contact on it"),
+                           "body is in contact on it"),
 }
 
 

@@ -376,6 +376,8 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
                        dict(long_name="sweep direction"))},
         attrs=dict(title="vibimpact frequency-interval map", source=ds.attrs.get("source",
                                                                               "")))
+    if "model" in ds.attrs:  # whose forcing frequency the table's columns name
+        out.attrs["model"] = ds.attrs["model"]
     return as_intervals(out)
 
 

@@ -31,9 +31,24 @@ def rows(iv):
              str(iv["label"].values[k])) for k in range(iv.sizes["interval"])]
 
 
+def _frequency(iv, symbol):
+    """The name (``symbol``: the symbol) of the forcing frequency of the model the
+    intervals are of (their ``model`` attribute); ``eta``, the sweeps' coordinate, for a
+    model this installation does not know."""
+    from .. import models
+
+    name = iv.attrs.get("model")
+    if not (isinstance(name, str) and name in models.names()):
+        return "η" if symbol else "eta"
+    model = models.get(name)
+    freq = model.param_names[model.omega_index]
+    return model.plot.symbol(freq) if symbol and model.plot is not None else freq
+
+
 def table(iv):
     """The interval map as an aligned text table (:func:`vibimpact.format_intervals`)."""
-    lines = [f"{'direction':<9} {'eta from':>8} {'eta to':>8} {'points':>6}  label"]
+    f = _frequency(iv, symbol=False)
+    lines = [f"{'direction':<9} {f + ' from':>8} {f + ' to':>8} {'points':>6}  label"]
     for d, a, b, n, label in rows(iv):
         lines.append(f"{d:<9} {a:>8} {b:>8} {n:>6}  {label}")
     return "\n".join(lines)
@@ -41,7 +56,8 @@ def table(iv):
 
 def markdown(iv):
     """The interval map as a Markdown table (``|`` in a label escaped)."""
-    lines = ["| direction | η from | η to | points | label |",
+    f = _frequency(iv, symbol=True)
+    lines = [f"| direction | {f} from | {f} to | points | label |",
              "|:--|--:|--:|--:|:--|"]
     for d, a, b, n, label in rows(iv):
         lines.append(f"| {d} | {a} | {b} | {n} | {label.replace('|', chr(92) + '|')} |")

@@ -34,7 +34,6 @@ from ..base import _limits
 from ..base import _validate as _v
 from ..base._text import count, parse_real
 from .. import models
-from ..models.params import DuffingParams, Params
 from ..core.system import System, param_dict, to_system, with_frequency
 from ..core.simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
@@ -46,6 +45,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
     from numpy.typing import ArrayLike
+    from ..models.params import DuffingParams, Params
 
 DIRECTIONS = ("up", "down", "both")
 

@@ -58,7 +58,7 @@ from ..analysis.continuation import locate_bifurcation
 from ..analysis.period import detect_period
 from ..analysis.shooting import shoot_periodic_orbit
 from .. import models
-from ..models.params import Params
+from ..io.recorded import model_name
 from ..core.run import Status
 from ..base import _json, _validate as _v
 from ..core.simulation import simulate
@@ -72,7 +72,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
-    from ..models.params import DuffingParams
+    from ..models.params import DuffingParams, Params
 
 __all__ = ["transition_types", "format_transitions"]
 
@@ -87,7 +87,7 @@ _SEEDED = {False: "", True: " (a sweep block starts there from a seeded state, n
 
 def _params_of(ds, p):
     if p is not None:
-        swept = ds.attrs.get("model", "rotor")
+        swept = model_name(ds.attrs, "ds")
         model = models.of_params(p)
         if model is None or model.name != swept:
             want = models.get(swept).param_set if swept in models.names() else None

@@ -85,6 +85,24 @@ from ...base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
 MAX_INT = 2**63 - 1
 
 
+#: ``--preset``'s default: the preset the first registered model declares its default
+#: (:data:`vibimpact.models.presets.DEFAULT`), looked up by :func:`preset_name` when the
+#: arguments are parsed (``--help`` loads no model)
+DEFAULT_PRESET = "<the default preset>"
+#: how the help of ``--preset`` says what its default is
+DEFAULT_PRESET_HELP = "the one 'vibimpact presets' marks as the default"
+
+
+def preset_name(text):
+    """``--preset``'s value (its ``type``): the name as given, the default preset's
+    name for :data:`DEFAULT_PRESET`."""
+    if text == DEFAULT_PRESET:
+        from ...models import presets
+
+        return presets.DEFAULT
+    return text
+
+
 def positive_int(minimum, maximum=None):
     """The argparse type of an integer option in ``[minimum, maximum]`` (``maximum``
     defaults to :data:`MAX_INT`): written as a user writes an integer

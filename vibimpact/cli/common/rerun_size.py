@@ -100,7 +100,7 @@ def _n_state(args):
     from ...core.system import to_system
 
     try:
-        return to_system(presets.get(args.preset or "fig8")).n_state
+        return to_system(presets.get(args.preset or presets.DEFAULT)).n_state
     except ValueError:
         return None
 
@@ -133,10 +133,11 @@ def _continue(size, args):
         if eta is None:  # the preset's
             from ...models import presets
 
-            try:
-                eta = presets.get(args.preset).as_dict().get("eta", presets.DEFAULT_ETA)
+            try:  # the preset's forcing frequency
+                name = args.preset or presets.DEFAULT
+                eta = presets.get(name).as_array()[presets.model_of(name).omega_index]
             except ValueError:  # an unknown preset: the command refuses it
-                eta = presets.DEFAULT_ETA
+                eta = args.approach
         distance = abs(float(eta) - float(args.approach))
         if math.isfinite(distance):
             steps += math.ceil(distance / _APPROACH_STEP)

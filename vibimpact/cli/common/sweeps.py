@@ -3,13 +3,13 @@ grid, the preset, ``--set``, direction, workers, blocks), the grid and parameter
 from them, and the command line recorded in the file."""
 import os
 
-from .args import parse_sets, positive_int, with_sets, MAX_WORKERS
+from .args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, parse_sets, positive_int,
+                   preset_name, with_sets, MAX_WORKERS)
 from .errors import error_text, UsageError
 from ...base._limits import MAX_POINTS
 
 #: the main job
 DEFAULT_ETA = "0.9:1.5:0.002"
-DEFAULT_PRESET = "fig8"
 
 
 def default_workers():
@@ -47,8 +47,9 @@ def add_sweep_options(s, direction):
                    help="grid of the forcing frequency ratio: a range (STOP is included "
                         "when it lies on the grid) or a list of increasing values, e.g. "
                         f"1.0,1.1,1.25 (default: {DEFAULT_ETA})")
-    s.add_argument("--preset", default=DEFAULT_PRESET, help="parameter set (default: "
-                   f"{DEFAULT_PRESET}); see 'vibimpact presets'")
+    s.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
+                   help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
+                        "'vibimpact presets'")
     s.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     s.add_argument("--direction", choices=("up", "down", "both"), default=direction,
