@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -39,7 +39,6 @@ from .driver import workspace as _workspace
 from .lyapunov import qr_growth as _qr_growth
 from .lyapunov import two_trajectory as _two_trajectory
 from . import cache_stamp as _cache_stamp
-from . import precompiled as _precompiled
 from .precompiled import routine as _routine
 
 #: the kernel functions called from Python: precompiled at install time where possible,
@@ -284,8 +283,9 @@ class EventLog:
         """All entries: ``{"t", "which", "mode_before", "mode_after", "state"}``."""
         modes = np.concatenate([c[2] for c in self.chunks]) if self.chunks else \
             np.zeros((0, 2 * self.n_mode), dtype=np.int64)
-        cat = (lambda i, empty: np.concatenate([c[i] for c in self.chunks])
-               if self.chunks else empty)
+
+        def cat(i, empty):
+            return np.concatenate([c[i] for c in self.chunks]) if self.chunks else empty
         return {"t": cat(0, np.zeros(0)),
                 "which": cat(1, np.zeros(0, dtype=np.int64)),
                 "mode_before": modes[:, :self.n_mode],

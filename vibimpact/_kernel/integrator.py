@@ -36,11 +36,10 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
 import math
 from collections import namedtuple
 
-import numpy as np
 from numba import njit
 
 from .dispatch import model_rhs
-from .jitopts import INNER, LEAF
+from .jitopts import INNER
 from .tableaux import DOP853, DP5, RK4
 
 # status codes (mirrored in vibimpact.run.Status)

@@ -46,7 +46,8 @@ from .._kernel.boundary import dot, solve
 from .bifurcation import (CONTINUATION_SOLVER, Bifurcation, locate_bifurcation,
                           orbit_signature, grazing_gap)
 from .shooting import critical_multiplier, floquet_multipliers, shoot_periodic_orbit
-from .continuation_steps import STEP_ULPS, Steps, check_steps, smallest_step
+# STEP_ULPS, smallest_step: imported from here by the command line (cli.continue_, continue2)
+from .continuation_steps import STEP_ULPS, Steps, check_steps, smallest_step  # noqa: F401
 from .stability_change import (Grazing, StabilityChange, branch_grazings,
                                impacts_per_period, multiplier_crossing, param_name,
                                refine_grazing, refine_stability_change)

@@ -12,6 +12,11 @@ import argparse
 import importlib
 import sys
 
+from .common.args import Parser, set_verbosity, verbosity
+from .common.errors import UsageError
+from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
+                              StopWorkersOnSignal)
+
 _MAIN_EPILOG = """\
 examples:
   vibimpact presets
@@ -24,11 +29,6 @@ examples:
 
 'vibimpact COMMAND --help' shows the options and an example of each command.
 """
-
-from .common.args import Parser, set_verbosity, verbosity
-from .common.errors import UsageError
-from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
-                              StopWorkersOnSignal)
 
 #: the commands, in the order ``vibimpact --help`` lists them: name -> the module of
 #: this package that adds its parser (``add_parser(sub, fmt)``) and runs it.  A module is

@@ -62,7 +62,7 @@ def _table(ds):
         rows = attractor_table(ds, i)
         lines.append(f"eta = {float(eta):.6g}: {len(rows)} attractor"
                      f"{'' if len(rows) == 1 else 's'}")
-        for a, gid, name, f, se, _, extra in rows:
+        for _a, gid, name, f, se, _, extra in rows:
             lines.append(f"  A{gid:<3d} {f:6.3f} +- {se:.3f}  {name}"
                          + (f"  ({extra})" if extra else ""))
         if "failed" in ds and int(ds.failed.values[i]):

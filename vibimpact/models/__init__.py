@@ -22,7 +22,7 @@ import math
 import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 from numba.extending import is_jitted

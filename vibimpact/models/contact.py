@@ -20,7 +20,8 @@ Systems*. Springer, ch. 2-3 (contact laws, switching functions, saltation).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
+from collections.abc import Callable
 
 import numpy as np
 

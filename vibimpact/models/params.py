@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 
@@ -120,7 +121,7 @@ class _ParamsMixin:
     """`replace`, `as_array`, `as_dict`, `domain` for the frozen parameter dataclasses."""
 
     #: {name: Domain} of the parameters that have one (the others: any finite number)
-    _DOMAINS = {}
+    _DOMAINS: ClassVar[dict[str, Domain]] = {}
 
     @classmethod
     def domain(cls, name: str) -> Domain:

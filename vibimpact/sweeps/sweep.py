@@ -36,7 +36,6 @@ from ..base._text import count, parse_real
 from .. import models
 from ..models.params import DuffingParams, Params
 from ..core.system import System, param_dict, to_system, with_frequency
-from ..core.simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
 from ..engine.execution import Execution, as_execution, refuse_moved
 from ..engine.policy import Continuation, Independent, as_policy
