@@ -225,8 +225,8 @@ class Problem:
     n_mode: int
     p: np.ndarray
     omega: float
-    init_mode: Callable = field(repr=False, default=None)
-    n_state: int = None
+    init_mode: Callable | None = field(repr=False, default=None)
+    n_state: int | None = None
 
     def __post_init__(self):
         _check.problem(self.model, self.terminal, self.p, self.n_mode, self.omega,

@@ -18,6 +18,8 @@ every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
 transition, jac, n_state, n_switch)`` for a user model.  Their switching functions are the base model's (they read the first
 ``n_state`` entries only).
 """
+from typing import Any
+
 from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils
@@ -28,10 +30,11 @@ from . import registry, variational
 from .jitopts import ALLOC, LEAF
 
 #: overloads take numba's options less ``cache`` (they are cached with their callers)
-_LEAF = {k: v for k, v in LEAF.items() if k != "cache"}
-_ALLOC = {k: v for k, v in ALLOC.items() if k != "cache"}
+#: (Any: numba's stubs type jit_options as a TypedDict of the public options, without _nrt)
+_LEAF: Any = {k: v for k, v in LEAF.items() if k != "cache"}
+_ALLOC: Any = {k: v for k, v in ALLOC.items() if k != "cache"}
 
-@njit(error_model="numpy", _nrt=True)
+@njit(error_model="numpy", _nrt=True)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
 def _user_call(f, s, y, p, mode, arg):
     """Call a user model's function with the runtime on, so that it may allocate (it
     would otherwise be compiled with the calling kernel's options)."""
@@ -67,7 +70,7 @@ class BuiltinModel:
         return hash((self.id, self.family))
 
 
-_BUILTIN = {}
+_BUILTIN: dict[tuple[str, bool], BuiltinModel] = {}
 
 
 def builtin(family, variational=False):

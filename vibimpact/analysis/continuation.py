@@ -110,7 +110,7 @@ class Branch:
         the two points around it; at the ends of a grazing's bracket).
     """
 
-    param: object
+    param: str | int
     values: np.ndarray
     states: np.ndarray
     multipliers: np.ndarray
@@ -366,8 +366,8 @@ def _window(stop, lam0):
 
 
 @_v.checks_flags
-def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str = "eta",
-                   stop: float, steps: Steps = Steps(), direction: int = 1,
+def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *,
+                   param: str | int = "eta", stop: float | tuple[float, float], steps: Steps = Steps(), direction: int = 1,
                    amplitude: bool = True, refine: float | None = None) -> Branch:
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 

@@ -122,7 +122,7 @@ def provenance() -> dict[str, str | int]:
     imported dependency, ``python_version``, ``platform`` and ``cpu_model``."""
     from .. import __version__
 
-    out = {"vibimpact_version": __version__}
+    out: dict[str, str | int] = {"vibimpact_version": __version__}
     commit, dirty = git_commit()
     if commit is not None:
         out["vibimpact_git_commit"] = commit

@@ -1,7 +1,7 @@
 """The result of a simulation: :class:`Run`, its :class:`Status`, and the impact log."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import enum
 import numbers
@@ -343,12 +343,12 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     if len(names) != n:
         names = tuple(f"x{i}" for i in range(n))
     state_coord = ("state", list(names), {"long_name": "state variable"})
-    data_vars = {
+    data_vars: dict[str, tuple[Any, ...]] = {
         "strobe": (("sample", "state"), strobe,
                    {"units": "1", "long_name": "stroboscopic (Poincare) samples at "
                     "tau_k = 2 pi k / eta, after the transient"}),
     }
-    coords = {
+    coords: dict[str, tuple[Any, ...]] = {
         "state": state_coord,
         "t_strobe": ("sample", np.asarray(run.t_strobe, dtype=np.float64),
                      {"units": "1", "long_name": _TAU + " of the stroboscopic samples"}),

@@ -15,7 +15,7 @@ The messages name the file (``name``) and the attribute or variable.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal, overload
 
 import math
 
@@ -71,6 +71,10 @@ def recorded_number(value, what: str) -> float:
 
 
 @_v.checks_flags
+@overload
+def recorded_model(attrs: Mapping, name: str = ..., *, required: Literal[True]) -> Model: ...
+@overload
+def recorded_model(attrs: Mapping, name: str = ..., *, required: bool = ...) -> Model | None: ...
 def recorded_model(attrs: Mapping, name: str = "the file", *,
                    required: bool = False) -> Model | None:
     """The model a file records (its ``model`` attribute, :data:`DEFAULT_MODEL` without

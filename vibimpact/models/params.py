@@ -132,7 +132,8 @@ class _ParamsMixin:
         ValueError
             Naming ``name`` when it is not a parameter of this model.
         """
-        names = [f.name for f in fields(cls)]
+        # cls: one of the frozen dataclasses that mix this class in
+        names = [f.name for f in fields(cls)]  # type: ignore[arg-type]
         if name not in names:
             raise ValueError(f"name must be one of {', '.join(names)}, got {name!r}")
         return cls._DOMAINS.get(name, Domain())
