@@ -367,7 +367,8 @@ def _window(stop, lam0):
 
 @_v.checks_flags
 def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *,
-                   param: str | int = "eta", stop: float | tuple[float, float], steps: Steps = Steps(), direction: int = 1,
+                   param: str | int = "eta", stop: float | tuple[float, float],
+                   steps: Steps = Steps(), direction: int = 1,
                    amplitude: bool = True, refine: float | None = None) -> Branch:
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 
@@ -470,9 +471,10 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *,
     check_steps(steps, lam0, *orb.state, names=("steps.ds", "steps.ds_min",
                                                 "steps.ds_max"))
     mdl = system.model
-    planar = mdl.contact is not None and len(mdl.contact.positions) == 2
-    names = (tuple(f"{mdl.state_names[i]}_m" for i in mdl.contact.positions) + ("R_m",)
-             if planar else tuple(f"{s}_m" for s in mdl.state_names[:2]))
+    contact = mdl.contact
+    planar = contact is not None and len(contact.positions) == 2
+    names = (tuple(f"{mdl.state_names[i]}_m" for i in contact.positions) + ("R_m",)
+             if planar and contact is not None else tuple(f"{s}_m" for s in mdl.state_names[:2]))
     window, bounds = _limits(system, param, window, lam0, steps.ds_min)
     arc = _Arclength(system, param, n, window, steps, bounds)
     points = []  # (lambda, x, multipliers)

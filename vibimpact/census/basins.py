@@ -182,7 +182,7 @@ def boundary_measures(image, eps: int = EPS) -> dict:
     _, codes = np.unique(a, return_inverse=True)
     codes = codes.reshape(a.shape)
     k = int(codes.max()) + 1
-    boxes = codes[:nr * eps, :nc * eps].reshape(nr, eps, nc, eps).swapaxes(1, 2)
+    boxes: np.ndarray = codes[:nr * eps, :nc * eps].reshape(nr, eps, nc, eps).swapaxes(1, 2)
     boxes = boxes.reshape(nr * nc, eps * eps)
     counts = np.zeros((boxes.shape[0], k), dtype=np.int64)
     np.add.at(counts, (np.repeat(np.arange(boxes.shape[0]), eps * eps), boxes.ravel()), 1)

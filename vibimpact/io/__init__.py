@@ -183,7 +183,7 @@ def _described(attrs):
 
 @_v.checks_flags
 def for_file(ds: xr.Dataset, call: str, *,
-             netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
+             netcdf: bool | None = None) -> tuple[xr.Dataset, dict[Hashable, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
     copy (the data are shared, ``ds`` is not changed) whose global attributes carry the CF
     and provenance attributes of :func:`vibimpact.base.provenance.file_attrs`, and the encoding

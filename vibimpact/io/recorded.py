@@ -252,6 +252,7 @@ def recorded_params(attrs: Mapping, name: str = "the file", *, key: str | None =
         where = f"{prefix}{missing[0]} attribute" if prefix else f"{key!r} attribute"
         raise ValueError(f"{name} records no {', '.join(missing)} (no {where})")
     check_in_domains(model, values, name, prefix or f"{key!r} entry ")
+    assert model.param_set is not None  # recorded_model(required=True) refuses none
     return model.param_set(**values)
 
 

@@ -39,6 +39,8 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from numpy.typing import ArrayLike
 
+    from .params import _ParamsMixin
+
 
 @dataclass(frozen=True)
 class Model:
@@ -95,9 +97,9 @@ class Model:
     transition: Callable = field(repr=False)
     init_mode: Callable = field(repr=False)
     bound: float = 1e3
-    param_set: type = None
-    contact: Contact = field(default=None, repr=False)
-    plot: PlotSpec = field(default=None, repr=False)
+    param_set: type[_ParamsMixin] | None = None
+    contact: Contact | None = field(default=None, repr=False)
+    plot: PlotSpec | None = field(default=None, repr=False)
     presets: Mapping = field(default_factory=dict, repr=False)
     state_text: Mapping = field(default_factory=dict, repr=False)
     domains: Mapping = field(default_factory=dict, repr=False)
@@ -224,7 +226,7 @@ class Model:
         return np.ascontiguousarray(vec)
 
     @_v.checks_flags
-    def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
+    def problem(self, p: np.ndarray, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
         if not self.builtin and not self.__dict__.get("_probed"):
@@ -390,7 +392,7 @@ def register(model: Model) -> Model:
     return model
 
 
-_LOADING = []
+_LOADING: list[bool] = []
 #: held while the built-in models load: a thread that asks meanwhile waits for all of
 #: them (re-entrant: a model's own import that asks gets the registry so far)
 _LOAD_LOCK = threading.RLock()

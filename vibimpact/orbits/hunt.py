@@ -23,7 +23,7 @@ References
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import time
 from dataclasses import replace
@@ -89,7 +89,7 @@ def same_orbit(a: np.ndarray, b: np.ndarray, tol: float = SAME_TOL) -> bool:
     return bool(np.min(np.abs(b - a[0]).max(axis=1)) <= tol * scale)
 
 
-def _periods(periods):
+def _periods(periods: Any) -> tuple[int, ...]:
     """``periods`` as a sorted tuple of distinct ints in ``[1, MAX_PERIOD]``."""
     if isinstance(periods, (int, np.integer)) and not isinstance(periods, bool):
         periods = [periods]

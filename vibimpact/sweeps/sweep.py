@@ -114,7 +114,7 @@ def snap_grid(arr):
     return out
 
 
-def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
+def continued_state(p: object, eta: float, *,
                     eta_start: float = 1.0, step: float = 0.02, transient: int = 200,
                     state0: ArrayLike | None = None) -> np.ndarray:
     """State on the branch reached by sweeping the forcing frequency from ``eta_start``
@@ -184,10 +184,12 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
     if abs(eta - last) > 1e-9:
         x = with_frequency(system, eta).simulate(periods=1, transient=transient,
                                                  state0=x).final_state
+    assert x is not None  # the loop ran at least once (its range holds eta_start)
     return x
 
 
-def check_request(direction, analyses, settings, state0, n_state=4):
+def check_request(direction, analyses, settings, state0,
+                  n_state=4) -> tuple[SweepSettings, np.ndarray | None]:
     """Validated ``(settings, state0)`` of a sweep or map request.
 
     ``settings`` (default :class:`SweepSettings`) gets ``analyses`` (in canonical order,
