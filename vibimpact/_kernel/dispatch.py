@@ -27,14 +27,14 @@ from numba.extending import (NativeValue, intrinsic, models, overload, register_
                              typeof_impl, unbox)
 
 from . import registry, variational
-from .jitopts import ALLOC, LEAF
+from .jitopts import ALLOC, LEAF, USER_ALLOC
 
 #: overloads take numba's options less ``cache`` (they are cached with their callers)
 #: (Any: numba's stubs type jit_options as a TypedDict of the public options, without _nrt)
 _LEAF: Any = {k: v for k, v in LEAF.items() if k != "cache"}
 _ALLOC: Any = {k: v for k, v in ALLOC.items() if k != "cache"}
 
-@njit(error_model="numpy", _nrt=True)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+@njit(**USER_ALLOC)
 def _user_call(f, s, y, p, mode, arg):
     """Call a user model's function with the runtime on, so that it may allocate (it
     would otherwise be compiled with the calling kernel's options)."""

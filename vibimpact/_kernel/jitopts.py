@@ -34,3 +34,6 @@ ALLOC: dict[str, Any] = dict(cache=True, error_model="numpy", _nrt=True)
 INNER: dict[str, Any] = dict(LEAF, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 #: :data:`ALLOC` functions called only from kernel functions
 INNER_ALLOC: dict[str, Any] = dict(ALLOC, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+#: functions that take a user model's functions as arguments, with the runtime: not
+#: cached (numba compiles them per process for the functions they are given)
+USER_ALLOC: dict[str, Any] = dict(error_model="numpy", _nrt=True)

@@ -24,7 +24,7 @@ Everything here is ``@njit`` over plain arrays.
 import numpy as np
 from numba import njit
 
-from .jitopts import INNER, INNER_ALLOC
+from .jitopts import INNER, INNER_ALLOC, USER_ALLOC
 
 
 @njit(**INNER)
@@ -73,7 +73,7 @@ def fd_step(v):
 
 # --- user models (functions passed in; compiled per process) ----------------------------
 
-@njit(error_model="numpy", _nrt=True)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+@njit(**USER_ALLOC)
 def user_rhs(rhs, jac, n, s, y, p, mode, out):
     """A user model's state and tangent vectors."""
     rhs(s, y, p, mode, out)
@@ -82,7 +82,7 @@ def user_rhs(rhs, jac, n, s, y, p, mode, out):
     tangent_product(J, y, n, out)
 
 
-@njit(error_model="numpy", _nrt=True)  # type: ignore[call-overload]  # _nrt: not in numba's stubs
+@njit(**USER_ALLOC)
 def user_transition(rhs, switches, transition, n, n_switch, s, y, p, mode, which):
     """A user model's mode change plus the saltation map of the tangent vectors."""
     x = y[:n].copy()
