@@ -70,11 +70,11 @@ def recorded_number(value, what: str) -> float:
     return number
 
 
-@_v.checks_flags
 @overload
 def recorded_model(attrs: Mapping, name: str = ..., *, required: Literal[True]) -> Model: ...
 @overload
 def recorded_model(attrs: Mapping, name: str = ..., *, required: bool = ...) -> Model | None: ...
+@_v.checks_flags
 def recorded_model(attrs: Mapping, name: str = "the file", *,
                    required: bool = False) -> Model | None:
     """The model a file records (its ``model`` attribute, :data:`DEFAULT_MODEL` without

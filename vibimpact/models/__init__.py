@@ -15,7 +15,7 @@ runs: it asks the model.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import importlib
 import math
@@ -38,8 +38,6 @@ if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Sequence
 
     from numpy.typing import ArrayLike
-
-    from .params import _ParamsMixin
 
 
 @dataclass(frozen=True)
@@ -97,7 +95,9 @@ class Model:
     transition: Callable = field(repr=False)
     init_mode: Callable = field(repr=False)
     bound: float = 1e3
-    param_set: type[_ParamsMixin] | None = None
+    # a built-in model's parameter-set class (a frozen dataclass with domain()); None
+    # for a user model
+    param_set: type[Any] | None = None
     contact: Contact | None = field(default=None, repr=False)
     plot: PlotSpec | None = field(default=None, repr=False)
     presets: Mapping = field(default_factory=dict, repr=False)
