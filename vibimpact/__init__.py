@@ -67,10 +67,13 @@ _EXPORTS = {
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System", "SolverSettings", "Solver",
            "ROTOR", "DUFFING", "SOFT_IMPACT", "models", "Contact", "ContactLaw",
-           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals", "SweepSettings", "classify_params",
+           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals",
+           "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting", "sweeps", "io", "__version__",
-           "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits", "orbits"]
+           "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting",
+           "sweeps", "io", "__version__",
+           "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits",
+           "orbits"]
 
 
 def _load(name):

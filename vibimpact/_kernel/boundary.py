@@ -493,7 +493,9 @@ def array_routines_compiled():
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_args",
            "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "array_routine_calls", "compile_array_routines", "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "array_routine_calls", "compile_array_routines",
+           "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul",
+           "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
 
 # ---- re-exported for vibimpact.testing.reference (issue 29, point 5): the SciPy reference
 # solver shares only the rotor's model functions (rhs, switches, transition, init_mode and

@@ -7,16 +7,17 @@ type, the Duffing oscillator and its variational equations another.  A family is
 of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry
 at compile time (a rotor run compiles no Duffing code) and branch at run time on the
 model's id within the family, 0 for the model and 1 for its variational equations (a
-classify run integrates the rotor and its variational equations with one compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
+classify run integrates the rotor and its variational equations with one compiled loop).  The
+signatures hold no function objects, so numba caches them on disk.  For a
 user model ``model`` is a tuple ``(USER_TAG, rhs, switches, transition)`` of numba
 functions behind a number (:func:`kernel_model`), called directly (compiled per process:
 numba cannot cache functions passed as arguments).
 
 The *variational* versions of the models (state followed by tangent vectors, saltation at
 every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
-:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple ``(USER_TAG, rhs, switches,
-transition, jac, n_state, n_switch)`` for a user model.  Their switching functions are the base model's (they read the first
-``n_state`` entries only).
+:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple
+``(USER_TAG, rhs, switches, transition, jac, n_state, n_switch)`` for a user model.  Their
+switching functions are the base model's (they read the first ``n_state`` entries only).
 """
 from typing import Any
 

@@ -5,7 +5,8 @@ jitted functions with a common signature (see :mod:`vibimpact._kernel.rotor`)::
 
     model_rhs(model, s, y, p, mode, out)          # writes dy/ds into out
     model_switches(model, s, y, p, mode, g)       # writes the switching functions into g
-    model_transition(model, s, y, p, mode, which) # updates mode at an event of terminal switch `which`
+    model_transition(model, s, y, p, mode, which) # updates mode at an event of
+                                                  # terminal switch `which`
     (+ an int64 array `terminal`: 1 for a mode-changing switch, 0 for an observer)
 
 Time is kept as ``(k, s)``: the forcing period index ``k`` and the local time

@@ -237,7 +237,8 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         start reaches, -1 where its integration failed (the solver could not go on:
         such a cell is on no attractor, and the boundary measures take it for a label
         of its own); ``failed``, ``failed_fraction`` and ``failure`` (the count and
-        share of those cells, the solver's first reason); the plane variables as coordinates (``<plane[0]> (column)``,
+        share of those cells, the solver's first reason); the plane variables as coordinates
+        (``<plane[0]> (column)``,
         ``<plane[1]> (row)``); ``boundary (row, column)`` (:func:`boundary_cells`),
         ``periods (row, column)`` and ``decided_by (row, column)`` of the census; the
         census' attractor table (``fraction``, ``fraction_se``, ``name``, ``period``,

@@ -36,8 +36,8 @@ def _same_value(a, b):
     x, y = np.ravel(np.asarray(a)), np.ravel(np.asarray(b))
     if x.shape != y.shape or (x.dtype.kind in "biu") != (y.dtype.kind in "biu") or \
             x.dtype.kind in TEXT_KINDS or y.dtype.kind in TEXT_KINDS:
-        return x.shape == y.shape and x.dtype.kind in TEXT_KINDS and y.dtype.kind in TEXT_KINDS and \
-            bool(np.array_equal(_as_text(x), _as_text(y)))
+        return x.shape == y.shape and x.dtype.kind in TEXT_KINDS and \
+            y.dtype.kind in TEXT_KINDS and bool(np.array_equal(_as_text(x), _as_text(y)))
     return bool(np.array_equal(x, y, equal_nan=x.dtype.kind in "fc"))
 
 

@@ -1,7 +1,8 @@
 """Validated, immutable model parameters.
 
 :class:`Params` holds the ten dimensionless parameters of eq. (5) of Pust & Kozanek
-("Vibrations of rotor supported in magnetic bearings with impacts"), with the conventions the paper leaves open fixed below.
+("Vibrations of rotor supported in magnetic bearings with impacts"), with the conventions the paper
+leaves open fixed below.
 :class:`DuffingParams` holds the forced Duffing oscillator, the kernel's second model.
 The values each parameter may take are stated once, as a :class:`Domain` per parameter
 (``Params.domain(name)``): the sets validate against them, and the continuation reads

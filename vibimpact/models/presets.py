@@ -2,7 +2,8 @@
 models (each model declares its own: :attr:`vibimpact.models.Model.presets`).
 
 All presets have ``k3 = -0.002``.  ``B`` and ``Ec`` are **not given in the paper**; every
-preset uses :data:`vibimpact.models.params.DEFAULT_B` and :data:`vibimpact.models.params.DEFAULT_EC`,
+preset uses :data:`vibimpact.models.params.DEFAULT_B` and
+:data:`vibimpact.models.params.DEFAULT_EC`,
 **calibrated** by ``analyses/paper/calibrate.py`` against the paper's interval claims
 (``vibimpact.paper.claims``); they are not values from the paper, and the fit is partial: no
 pair reproduces every claim (``reports/calibration.md``, ``reports/paper.md``).

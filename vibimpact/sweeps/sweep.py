@@ -239,7 +239,8 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
         "floquet")``; only these are computed ("period" always runs, it ends the
-        transients: an empty sequence asks for the period analysis alone).  ``period``: the period in forcing periods and the regime;
+        transients: an empty sequence asks for the period analysis alone).  ``period``: the period
+        in forcing periods and the regime;
         ``impacts``: contacts per period and contact statistics; ``response``: the
         amplitudes ``X_m``, ``Y_m`` from dense samples; ``poincare``: stroboscopic
         samples for bifurcation diagrams; ``lyapunov``: the largest Lyapunov exponent;

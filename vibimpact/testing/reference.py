@@ -215,5 +215,6 @@ def solve_reference(p, t_end, state0, rtol=1e-12, atol=1e-12, method="DOP853",
 
 
 def strobe_times(eta, periods):
-    """Stroboscopic times ``2 pi k / eta``, ``k = 0..periods`` (the forcing's phase is zero at ``tau = 0``)."""
+    """Stroboscopic times ``2 pi k / eta``, ``k = 0..periods`` (the forcing's phase is zero
+    at ``tau = 0``)."""
     return 2.0 * math.pi * np.arange(periods + 1) / float(eta)
