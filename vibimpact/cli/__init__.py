@@ -145,8 +145,7 @@ def _exit_after_interrupt(status):
     """End the process at once with ``status`` after an interrupt, once its output is
     flushed (the command has removed its temporaries and kept its checkpoint; its worker
     processes die with it, PR_SET_PDEATHSIG).  The interpreter's own shutdown would join the process
-    pool's
-    manager thread, which blocks for good reading a result that a worker killed by the
+    pool's manager thread, which blocks for good reading a result that a worker killed by the
     interrupt left half-written (its pipe never reaches end of file while this process
     holds the other end): SIGTERM printed its line and then hung."""
     import os

@@ -26,8 +26,7 @@ exponent).  Every attractor found gets its label, Floquet multipliers or Lyapuno
 exponent and its basin fraction with a standard error; attractors are matched from one
 eta to the next (global_id); --sweep says on which of them a sweep's points lie (a
 sweep's label then belongs to a named attractor); --plot stacks the basin fractions against eta
-above
-each attractor's own bifurcation diagram.
+above each attractor's own bifurcation diagram.
 
 The census is checkpointed in OUT.partial as it goes; after Ctrl-C or a kill, run the
 same command with --resume.  Serial, parallel (--workers) and resumed runs give the same

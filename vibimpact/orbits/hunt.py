@@ -268,8 +268,7 @@ def hunt_orbits(system: System | Params | DuffingParams,
         representatives, :func:`vibimpact.orbits.seeds_from_dataset`).
     random : int
         Random seeds (default 48, at most 1,000,000), drawn by ``numpy.random.default_rng(seed)`` in
-        the box
-        of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
+        the box of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
         variable, except the two positions of a planar contact (the rotor's ``X, Y``),
         uniform in the unit disk (the clearance circle).
     seed : int
