@@ -65,10 +65,13 @@ _EXPORTS = {
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
            "System", "SolverSettings", "Solver",
            "models", "Contact", "ContactLaw", "Restitution",
-           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals", "SweepSettings", "classify_params",
+           "BifurcationKind", "METHODS", "Regime", "analysis", "sweep", "grid", "intervals",
+           "SweepSettings", "classify_params",
            "transition_types",
-           "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting", "sweeps", "io", "__version__",
-           "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits", "orbits"]
+           "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting",
+           "sweeps", "io", "__version__",
+           "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits",
+           "orbits"]
 
 
 def _load(name):
@@ -89,7 +92,7 @@ def _model_constants():
 
 #: the built-in models by their constant names (vi.ROTOR, vi.SOFT_IMPACT, ...), taken from
 #: the registry (:mod:`vibimpact.models`) on first use
-__all__ += _model_constants()
+__all__ += _model_constants()  # noqa: PLE0605 (a list of str, built from the registry)
 
 
 def __getattr__(name):

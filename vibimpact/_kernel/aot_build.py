@@ -114,7 +114,7 @@ def build(force=False):
     write_stamp(directory, {
         **key, "seconds": round(seconds, 1), "functions": functions,
         "exported": sorted(_exported_names()),
-        "filled_at": datetime.datetime.now(datetime.timezone.utc).isoformat(
+        "filled_at": datetime.datetime.now(datetime.UTC).isoformat(
             timespec="seconds")})
     return {"compiled": True, "seconds": seconds, "cache_dir": str(directory),
             "key": key["key"], "functions": functions}

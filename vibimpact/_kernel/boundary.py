@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -39,7 +39,6 @@ from .driver import workspace as _workspace
 from .lyapunov import qr_growth as _qr_growth
 from .lyapunov import two_trajectory as _two_trajectory
 from . import cache_stamp as _cache_stamp
-from . import precompiled as _precompiled
 from .precompiled import routine as _routine
 
 #: the kernel functions called from Python: precompiled at install time where possible,
@@ -226,8 +225,8 @@ class Problem:
     n_mode: int
     p: np.ndarray
     omega: float
-    init_mode: Callable = field(repr=False, default=None)
-    n_state: int = None
+    init_mode: Callable | None = field(repr=False, default=None)
+    n_state: int | None = None
 
     def __post_init__(self):
         _check.problem(self.model, self.terminal, self.p, self.n_mode, self.omega,
@@ -284,8 +283,9 @@ class EventLog:
         """All entries: ``{"t", "which", "mode_before", "mode_after", "state"}``."""
         modes = np.concatenate([c[2] for c in self.chunks]) if self.chunks else \
             np.zeros((0, 2 * self.n_mode), dtype=np.int64)
-        cat = (lambda i, empty: np.concatenate([c[i] for c in self.chunks])
-               if self.chunks else empty)
+
+        def cat(i, empty):
+            return np.concatenate([c[i] for c in self.chunks]) if self.chunks else empty
         return {"t": cat(0, np.zeros(0)),
                 "which": cat(1, np.zeros(0, dtype=np.int64)),
                 "mode_before": modes[:, :self.n_mode],
@@ -493,7 +493,9 @@ def array_routines_compiled():
 __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_args",
            "benettin",
            "two_trajectory", "qr_growth", "suffix_lag_residuals", "new_clock",
-           "counters", "log_capacity", "array_routine_calls", "compile_array_routines", "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul", "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
+           "counters", "log_capacity", "array_routine_calls", "compile_array_routines",
+           "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul",
+           "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
 
 # ---- re-exported for vibimpact.testing.reference (issue 29, point 5): the SciPy reference
 # solver shares only the rotor's model functions (rhs, switches, transition, init_mode and

@@ -7,17 +7,20 @@ type, the Duffing oscillator and its variational equations another.  A family is
 of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry
 at compile time (a rotor run compiles no Duffing code) and branch at run time on the
 model's id within the family, 0 for the model and 1 for its variational equations (a
-classify run integrates the rotor and its variational equations with one compiled loop).  The signatures hold no function objects, so numba caches them on disk.  For a
+classify run integrates the rotor and its variational equations with one compiled loop).  The
+signatures hold no function objects, so numba caches them on disk.  For a
 user model ``model`` is a tuple ``(USER_TAG, rhs, switches, transition)`` of numba
 functions behind a number (:func:`kernel_model`), called directly (compiled per process:
 numba cannot cache functions passed as arguments).
 
 The *variational* versions of the models (state followed by tangent vectors, saltation at
 every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
-:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple ``(USER_TAG, rhs, switches,
-transition, jac, n_state, n_switch)`` for a user model.  Their switching functions are the base model's (they read the first
-``n_state`` entries only).
+:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple
+``(USER_TAG, rhs, switches, transition, jac, n_state, n_switch)`` for a user model.  Their
+switching functions are the base model's (they read the first ``n_state`` entries only).
 """
+from typing import Any
+
 from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils
@@ -25,13 +28,14 @@ from numba.extending import (NativeValue, intrinsic, models, overload, register_
                              typeof_impl, unbox)
 
 from . import registry, variational
-from .jitopts import ALLOC, LEAF
+from .jitopts import ALLOC, LEAF, USER_ALLOC
 
 #: overloads take numba's options less ``cache`` (they are cached with their callers)
-_LEAF = {k: v for k, v in LEAF.items() if k != "cache"}
-_ALLOC = {k: v for k, v in ALLOC.items() if k != "cache"}
+#: (Any: numba's stubs type jit_options as a TypedDict of the public options, without _nrt)
+_LEAF: Any = {k: v for k, v in LEAF.items() if k != "cache"}
+_ALLOC: Any = {k: v for k, v in ALLOC.items() if k != "cache"}
 
-@njit(error_model="numpy", _nrt=True)
+@njit(**USER_ALLOC)
 def _user_call(f, s, y, p, mode, arg):
     """Call a user model's function with the runtime on, so that it may allocate (it
     would otherwise be compiled with the calling kernel's options)."""
@@ -67,7 +71,7 @@ class BuiltinModel:
         return hash((self.id, self.family))
 
 
-_BUILTIN = {}
+_BUILTIN: dict[tuple[str, bool], BuiltinModel] = {}
 
 
 def builtin(family, variational=False):

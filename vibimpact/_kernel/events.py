@@ -8,7 +8,7 @@ from numba import njit
 
 from .dispatch import model_switches
 from .integrator import hermite, interpolate, rk_step
-from .jitopts import INNER, LEAF
+from .jitopts import INNER
 
 NO_EVENT = 0
 BRACKETED = 1

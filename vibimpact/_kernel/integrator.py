@@ -5,7 +5,8 @@ jitted functions with a common signature (see :mod:`vibimpact._kernel.rotor`)::
 
     model_rhs(model, s, y, p, mode, out)          # writes dy/ds into out
     model_switches(model, s, y, p, mode, g)       # writes the switching functions into g
-    model_transition(model, s, y, p, mode, which) # updates mode at an event of terminal switch `which`
+    model_transition(model, s, y, p, mode, which) # updates mode at an event of
+                                                  # terminal switch `which`
     (+ an int64 array `terminal`: 1 for a mode-changing switch, 0 for an observer)
 
 Time is kept as ``(k, s)``: the forcing period index ``k`` and the local time
@@ -36,11 +37,10 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
 import math
 from collections import namedtuple
 
-import numpy as np
 from numba import njit
 
 from .dispatch import model_rhs
-from .jitopts import INNER, LEAF
+from .jitopts import INNER
 from .tableaux import DOP853, DP5, RK4
 
 # status codes (mirrored in vibimpact.core.run.Status)

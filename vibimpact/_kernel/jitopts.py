@@ -14,18 +14,26 @@ Functions called only from other kernel functions (:data:`INNER`, :data:`INNER_A
 get no CPython or C wrapper: numba would otherwise generate, optimise and cache an
 argument-unboxing wrapper for each of them that nothing calls (a share of a cold
 ``classify``'s compilation).  They cannot be called from Python.
+
+The options are typed ``dict[str, Any]``: numba's stubs list the public options of
+``njit`` only, not ``_nrt``, ``no_cpython_wrapper`` or ``no_cfunc_wrapper``.
 """
 
+from typing import Any
+
 #: functions that allocate nothing (models, Runge--Kutta steps, event location)
-LEAF = dict(cache=True, error_model="numpy", _nrt=False)
+LEAF: dict[str, Any] = dict(cache=True, error_model="numpy", _nrt=False)
 #: pieces of a LEAF function, inlined into it by numba before typing (numba compiles a
 #: function called from another as a library of its own, then links and optimises every
 #: callee again inside each caller: one more level of calls costs a compilation of
 #: everything below it)
-PIECE = dict(LEAF, inline="always")
+PIECE: dict[str, Any] = dict(LEAF, inline="always")
 #: functions that allocate, called from LEAF functions
-ALLOC = dict(cache=True, error_model="numpy", _nrt=True)
+ALLOC: dict[str, Any] = dict(cache=True, error_model="numpy", _nrt=True)
 #: :data:`LEAF` functions called only from kernel functions (no wrapper for Python)
-INNER = dict(LEAF, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+INNER: dict[str, Any] = dict(LEAF, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 #: :data:`ALLOC` functions called only from kernel functions
-INNER_ALLOC = dict(ALLOC, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+INNER_ALLOC: dict[str, Any] = dict(ALLOC, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+#: functions that take a user model's functions as arguments, with the runtime: not
+#: cached (numba compiles them per process for the functions they are given)
+USER_ALLOC: dict[str, Any] = dict(error_model="numpy", _nrt=True)

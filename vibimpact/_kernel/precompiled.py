@@ -1,7 +1,8 @@
 """The kernel compiled ahead of the first run, and what a run is told about it.
 
 Compiling the integration loop with numba takes most of a first run (timed in
-``reports/performance.md``, section first_run).  Every kernel function is cached by numba on disk (``cache=True``,
+``reports/performance.md``, section first_run).  Every kernel function is cached by numba on disk
+(``cache=True``,
 :mod:`.jitopts`), so the install fills that cache (:mod:`.aot_build`, run by ``setup.py``
 for an editable install, or by hand: ``python -m vibimpact._kernel.aot_build``), and the
 first run loads the machine code instead of compiling it.  This is numba's own cache and
@@ -11,7 +12,8 @@ numba compiles on first use and caches the result, as it would without the fill;
 never runs code compiled for anything else (numba keys its cache on the function's
 bytecode, its own version and the processor).
 
-Whether the filled cache is in use is :mod:`.cache_stamp`'s to say.  :func:`routine` wraps a kernel function called from
+Whether the filled cache is in use is :mod:`.cache_stamp`'s to say.  :func:`routine` wraps a kernel
+function called from
 Python with its argument check: numba's compiled code checks no array sizes or indices,
 so every call is checked first by :mod:`.argcheck` (the array routines by the
 :class:`Routine` itself, the integration loop where :mod:`.boundary` builds its

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import importlib
 import re
-from typing import Callable, NamedTuple
+from typing import NamedTuple
+from collections.abc import Callable
 
 import numpy as np
 

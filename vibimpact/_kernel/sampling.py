@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .integrator import C_RHS, LOG_FULL, interpolate, prepare_dense
+from .integrator import C_RHS, interpolate, prepare_dense
 from .jitopts import PIECE
 
 @njit(**PIECE)

@@ -32,7 +32,7 @@ Everything here that runs is ``@njit`` over plain arrays.
 import numpy as np
 from numba import njit
 
-from .jitopts import INNER, INNER_ALLOC
+from .jitopts import INNER, INNER_ALLOC, USER_ALLOC
 
 
 @njit(**INNER)
@@ -175,7 +175,7 @@ def _saltation_body(rhs, switches, transition, options):
 
 # --- user models (functions passed in; compiled per process) ----------------------------
 
-@njit(error_model="numpy", _nrt=True)
+@njit(**USER_ALLOC)
 def user_rhs(rhs, jac, n, s, y, p, mode, out):
     """A user model's state and tangent vectors."""
     rhs(s, y, p, mode, out)
@@ -184,7 +184,7 @@ def user_rhs(rhs, jac, n, s, y, p, mode, out):
     tangent_product(J, y, n, out)
 
 
-_USER = {}
+_USER: dict = {}
 
 
 def user_transition(rhs, switches, transition):
@@ -196,7 +196,7 @@ def user_transition(rhs, switches, transition):
     body = _USER.get(key)
     if body is None:
         body = _USER[key] = _saltation_body(rhs, switches, transition,
-                                            dict(error_model="numpy", _nrt=True))
+                                            USER_ALLOC)
     return body
 
 

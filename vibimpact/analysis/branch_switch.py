@@ -25,7 +25,7 @@ References
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import dataclasses
 
@@ -92,6 +92,7 @@ def period_doubling_point(system: System, branch: Branch, index: int | None = No
                          f"{branch.bifurcations[index][1].value}, not a period doubling")
     i = branch.bifurcations[index][0]
     vals, states = np.asarray(branch.values), np.asarray(branch.states)
+    xs: tuple | np.ndarray  # the bracket's two states: a pair, then refined ones
     lo, hi, xs = float(vals[i - 1]), float(vals[i]), (states[i - 1], states[i])
     try:
         ch = refine_stability_change(system, branch.param, branch.n, (lo, hi), xs,
@@ -177,8 +178,9 @@ def switch_branch(system: System, branch: Branch, index: int | None = None, *,
                          f"{type(steps).__name__}")
     scale = max(1.0, float(np.abs(x).max()))
     h = 1e-2 * scale if h is None else _v.positive("h", h)
-    lo, hi = (min(lam, stop), max(lam, stop)) if np.ndim(stop) == 0 else \
-        tuple(sorted(float(s) for s in stop))
+    # np.ndim tells a number from a (lo, hi) pair, which mypy cannot follow: the casts
+    lo, hi = (min(lam, cast(float, stop)), max(lam, cast(float, stop))) \
+        if np.ndim(stop) == 0 else tuple(sorted(float(s) for s in cast(tuple, stop)))
     start = None
     tries = (h, 0.1 * h, 0.01 * h, 3.0 * h)
     for hh in tries:

@@ -199,4 +199,4 @@ def test01(series: ArrayLike, c: ArrayLike | None = None, n_c: int = 100,
 
 # not a pytest test, although its name (fixed by the public API) starts with "test": tell
 # pytest so, for test modules that import it by name
-test01.__test__ = False
+test01.__test__ = False  # type: ignore[attr-defined]  # an attribute of a function

@@ -46,7 +46,8 @@ from .._kernel.boundary import dot, solve
 from .bifurcation import (CONTINUATION_SOLVER, Bifurcation, locate_bifurcation,
                           orbit_signature, grazing_gap)
 from .shooting import critical_multiplier, floquet_multipliers, shoot_periodic_orbit
-from .continuation_steps import STEP_ULPS, Steps, check_steps, smallest_step
+# STEP_ULPS, smallest_step: imported from here by the command line (cli.continue_, continue2)
+from .continuation_steps import STEP_ULPS, Steps, check_steps, smallest_step  # noqa: F401
 from .stability_change import (Grazing, StabilityChange, branch_grazings,
                                impacts_per_period, multiplier_crossing, param_name,
                                refine_grazing, refine_stability_change)
@@ -109,7 +110,7 @@ class Branch:
         the two points around it; at the ends of a grazing's bracket).
     """
 
-    param: object
+    param: str | int
     values: np.ndarray
     states: np.ndarray
     multipliers: np.ndarray
@@ -365,8 +366,9 @@ def _window(stop, lam0):
 
 
 @_v.checks_flags
-def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str = "eta",
-                   stop: float, steps: Steps = Steps(), direction: int = 1,
+def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *,
+                   param: str | int = "eta", stop: float | tuple[float, float],
+                   steps: Steps = Steps(), direction: int = 1,
                    amplitude: bool = True, refine: float | None = None) -> Branch:
     """Pseudo-arclength continuation of a period-``n`` orbit in one parameter.
 
@@ -469,9 +471,10 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *, param: str 
     check_steps(steps, lam0, *orb.state, names=("steps.ds", "steps.ds_min",
                                                 "steps.ds_max"))
     mdl = system.model
-    planar = mdl.contact is not None and len(mdl.contact.positions) == 2
-    names = (tuple(f"{mdl.state_names[i]}_m" for i in mdl.contact.positions) + ("R_m",)
-             if planar else tuple(f"{s}_m" for s in mdl.state_names[:2]))
+    contact = mdl.contact
+    planar = contact is not None and len(contact.positions) == 2
+    names = (tuple(f"{mdl.state_names[i]}_m" for i in contact.positions) + ("R_m",)
+             if planar and contact is not None else tuple(f"{s}_m" for s in mdl.state_names[:2]))
     window, bounds = _limits(system, param, window, lam0, steps.ds_min)
     arc = _Arclength(system, param, n, window, steps, bounds)
     points = []  # (lambda, x, multipliers)

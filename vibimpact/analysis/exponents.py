@@ -142,7 +142,7 @@ class Averaging:
     block: int = 50
     target_stderr: float = 2e-3
     align: int = 50
-    decisive: tuple = None
+    decisive: tuple | None = None
 
     def __post_init__(self):
         fix = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731

@@ -89,6 +89,7 @@ def floquet_lyapunov(system: System, state0: ArrayLike, n: int = 1, *,
                               "floquet", kind, st, orb.reason or "shooting failed",
                               qr_exponents=np.full(k, np.nan))
     lam = orb.exponents[:m]
+    assert system.rtol is not None and system.atol is not None  # resolved() above
     loose = system.with_solver(rtol=100 * system.rtol, atol=100 * system.atol).monodromy(
         orb.state, orb.n)
     err = np.full(m, np.inf)

@@ -264,6 +264,7 @@ def lyapunov_spectrum(system: System, state0: ArrayLike | None = None, *,
                               "variational", kind, st, "transient: " + reason)
     states = np.full((avg.max_periods + avg.align, n), np.nan)
     newton = system.resolved(**SPECTRUM_SOLVER)
+    assert newton.rtol is not None  # resolved()
     tol = max(1e-9, 10.0 * newton.rtol)
     watch = None
     if floquet:

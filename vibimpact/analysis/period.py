@@ -237,7 +237,7 @@ def poincare_section(run: Run) -> np.ndarray:
     ndarray, shape (periods + 1, n)
         A copy of ``run.strobe`` (``(0, 4)`` when the run has no samples).
     """
-    strobe = np.array(getattr(run, "strobe"), dtype=np.float64, copy=True)
+    strobe = np.array(run.strobe, dtype=np.float64, copy=True)
     if strobe.size == 0:
         width = strobe.shape[1] if strobe.ndim == 2 else 4
         return np.zeros((0, width))

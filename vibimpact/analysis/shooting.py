@@ -126,7 +126,7 @@ class PeriodicOrbit:
         return critical_multiplier(self.multipliers)
 
 
-def floquet_multipliers(M: ArrayLike) -> np.ndarray:
+def floquet_multipliers(M: ArrayLike | Monodromy | PeriodicOrbit) -> np.ndarray:
     """Eigenvalues of a monodromy matrix, by decreasing modulus.
 
     Parameters

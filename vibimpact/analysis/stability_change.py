@@ -73,7 +73,7 @@ def multiplier_crossing(lo, hi, mu_lo, mu_hi):
     return float(lo + w * (hi - lo))
 
 
-def refine_stability_change(system: System, param: str, n: int, values: tuple,
+def refine_stability_change(system: System, param: str | int, n: int, values: tuple,
                             states: tuple, *, tol: float = 1e-6,
                             newton_tol: float = 1e-9) -> StabilityChange:
     """Narrow the parameter interval in which a period-``n`` orbit changes stability.
@@ -130,7 +130,7 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
         raise ValueError(f"values: no change of stability between {param} = {lo} and "
                          f"{hi} (orbits found {[m.converged for m in mus]}, stable "
                          f"{stable})")
-    mus = [m.multipliers for m in mus]
+    mults = [m.multipliers for m in mus]
     while abs(hi - lo) > tol:
         mid = 0.5 * (lo + hi)
         if mid in (lo, hi):  # a tol below the float resolution: as narrow as it gets
@@ -143,11 +143,11 @@ def refine_stability_change(system: System, param: str, n: int, values: tuple,
             break
         side = 0 if bool(orb.abs_max < 1.0) == stable[0] else 1
         (lo, hi) = (mid, hi) if side == 0 else (lo, mid)
-        xs[side], mus[side] = orb.state, orb.multipliers
-    unstable = mus[1] if stable[0] else mus[0]
+        xs[side], mults[side] = orb.state, orb.multipliers
+    unstable = mults[1] if stable[0] else mults[0]
     kind = BifurcationKind.by_multiplier(critical_multiplier(unstable))
-    return StabilityChange(multiplier_crossing(lo, hi, mus[0], mus[1]), kind, (lo, hi),
-                           np.array(xs), np.array(mus))
+    return StabilityChange(multiplier_crossing(lo, hi, mults[0], mults[1]), kind, (lo, hi),
+                           np.array(xs), np.array(mults))
 
 
 def impacts_per_period(system: System, state: ArrayLike, n: int) -> int:

@@ -15,8 +15,13 @@ import inspect
 import math
 import numbers
 import os
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
 
 import numpy as np
+
+#: a function type, kept by a decorator
+_F = TypeVar("_F", bound=Callable[..., Any])
 
 
 class WrongType(TypeError, ValueError):
@@ -215,7 +220,7 @@ def flag_annotation(annotation):
         return None
 
 
-def checks_flags(fn):
+def checks_flags(fn: _F) -> _F:
     """Decorate ``fn`` so that every argument annotated ``bool`` or ``bool | None`` is
     checked by :func:`flag` before ``fn`` runs: ``adaptive='no'``, ``1`` or a one-element
     array is :class:`WrongType` naming the argument, whatever else ``fn`` is given (a call
@@ -236,11 +241,11 @@ def checks_flags(fn):
                 flag(name, given[name])
         return fn(*args, **kwargs)
 
-    checked.checked_flags = names
-    return checked
+    checked.checked_flags = names  # type: ignore[attr-defined]  # an attribute of a function
+    return cast(_F, checked)  # the same signature: a wrapper that checks, then calls fn
 
 
-def path(name, value, allow_empty=False):
+def path(name: str, value: object, allow_empty: bool = False) -> str:
     """``value`` as a ``str`` path: a ``str``, ``bytes`` (decoded as the file system
     does) or an ``os.PathLike``, anything else :class:`WrongType`; an empty path a
     ``ValueError`` unless ``allow_empty``."""

@@ -24,13 +24,14 @@ import contextlib
 import os
 import re
 import signal
+from collections.abc import Callable
 import threading
 
 __all__ = ["temp_prefix", "temporary_pid", "remove_dead_temporaries", "held_signals",
            "running", "before_write", "on_before_write"]
 
 #: checks run before any output is written (see :func:`on_before_write`)
-_BEFORE_WRITE = []
+_BEFORE_WRITE: list[Callable[[], None]] = []
 
 
 def on_before_write(check) -> None:

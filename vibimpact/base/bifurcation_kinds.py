@@ -63,6 +63,11 @@ class BifurcationKind(enum.StrEnum):
     True
     """
 
+    code: int
+    flag: str
+    words: str
+    signature: str | None
+
     def __new__(cls, name: str, code: int, flag: str, words: str,
                 signature: str | None) -> BifurcationKind:
         member = str.__new__(cls, name)
@@ -145,7 +150,8 @@ def kinds_in(text: str) -> list[BifurcationKind]:
     out = []
     for part in str(text).split(" + "):
         try:
-            out.append(BifurcationKind(part))
+            # a lookup by value (EnumMeta.__call__), not a call of __new__
+            out.append(BifurcationKind(part))  # type: ignore[call-arg]
         except ValueError:
             raise ValueError(f"text: {part!r} is no bifurcation kind") from None
     return out

@@ -58,11 +58,11 @@ NOT_COMPARED = (*VOLATILE, *ENVIRONMENT, "command")
 
 def utc_now() -> str:
     """The current UTC time as ISO-8601 text, to the second: ``2025-01-31T12:00:00Z``."""
-    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    now = datetime.datetime.now(datetime.UTC).replace(microsecond=0)
     return now.isoformat().replace("+00:00", "Z")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def git_commit() -> tuple[str | None, int | None]:
     """``(commit, dirty)`` of the package's git checkout, or ``(None, None)``.
 
@@ -90,7 +90,7 @@ def git_commit() -> tuple[str | None, int | None]:
     return commit, dirty
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cpu_model() -> str:
     """The CPU model: ``model name`` of ``/proc/cpuinfo`` on Linux, otherwise
     :func:`platform.processor`, otherwise the machine type (``"unknown"`` if none)."""
@@ -122,7 +122,7 @@ def provenance() -> dict[str, str | int]:
     imported dependency, ``python_version``, ``platform`` and ``cpu_model``."""
     from .. import __version__
 
-    out = {"vibimpact_version": __version__}
+    out: dict[str, str | int] = {"vibimpact_version": __version__}
     commit, dirty = git_commit()
     if commit is not None:
         out["vibimpact_git_commit"] = commit

@@ -191,7 +191,7 @@ def boundary_measures(image, eps: int = EPS) -> dict:
     _, codes = np.unique(a, return_inverse=True)
     codes = codes.reshape(a.shape)
     k = int(codes.max()) + 1
-    boxes = codes[:nr * eps, :nc * eps].reshape(nr, eps, nc, eps).swapaxes(1, 2)
+    boxes: np.ndarray = codes[:nr * eps, :nc * eps].reshape(nr, eps, nc, eps).swapaxes(1, 2)
     boxes = boxes.reshape(nr * nc, eps * eps)
     counts = np.zeros((boxes.shape[0], k), dtype=np.int64)
     np.add.at(counts, (np.repeat(np.arange(boxes.shape[0]), eps * eps), boxes.ravel()), 1)
@@ -247,7 +247,8 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         start reaches, -1 where its integration failed (the solver could not go on:
         such a cell is on no attractor, and the boundary measures take it for a label
         of its own); ``failed``, ``failed_fraction`` and ``failure`` (the count and
-        share of those cells, the solver's first reason); the plane variables as coordinates (``<plane[0]> (column)``,
+        share of those cells, the solver's first reason); the plane variables as coordinates
+        (``<plane[0]> (column)``,
         ``<plane[1]> (row)``); ``boundary (row, column)`` (:func:`boundary_cells`),
         ``periods (row, column)`` and ``decided_by (row, column)`` of the census; the
         census' attractor table (``fraction``, ``fraction_se``, ``name``, ``period``,

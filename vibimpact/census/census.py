@@ -218,7 +218,7 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
                    settings={k: v for k, v in settings.as_attrs().items()}, box=box.describe())
     store, done = execution.open_checkpoint("census", request, dict(
         rows=int(etas.size), directions=[STATES], points=int(n)))
-    libraries = [[] for _ in etas]
+    libraries: list[list] = [[] for _ in etas]
     labels = [np.full(n, -2, dtype=np.int64) for _ in etas]
     results = [[None] * n for _ in etas]
     todo = sum(1 for r in range(etas.size) for i in range(n)

@@ -198,13 +198,15 @@ def reach(system, x0, library, cs: CensusSettings) -> dict:
                 return _stopped(seg.status, f"entering an attractor: {seg.status.value}, "
                                 f"{seg.reason}", periods + step)
             periods += step
+            assert seg.strobe is not None  # step >= 1 periods
             hit = entered(seg.strobe[1:], library, (counts, first))
             if hit >= 0:
                 return dict(decided_by=ENTERED, entered=int(hit), periods=periods)
         x = solver.y[:x.size].copy()
     res, cloud, used = _settled(system, x, cs, periods)
     if res is None:
-        return _stopped(*cloud, used)
+        status, reason = cloud
+        return _stopped(status, reason, used)
     res.update(decided_by=ANALYSED, entered=-1, periods=used, cloud=cloud)
     return res
 

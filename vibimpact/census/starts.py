@@ -140,8 +140,9 @@ def grid_starts(base, axes, ranges, shape) -> np.ndarray:
     base = np.asarray(base, dtype=np.float64)
     rows, cols = (int(v) for v in shape)
     _limits.check_points(rows * cols, name="grid")
-    xi = np.linspace(*ranges[0], cols)
-    yj = np.linspace(*ranges[1], rows)
+    (x_lo, x_hi), (y_lo, y_hi) = ranges[0], ranges[1]
+    xi = np.linspace(x_lo, x_hi, cols)
+    yj = np.linspace(y_lo, y_hi, rows)
     out = np.tile(base, (rows * cols, 1))
     out[:, axes[0]] = np.tile(xi, rows)
     out[:, axes[1]] = np.repeat(yj, cols)

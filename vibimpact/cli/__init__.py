@@ -12,6 +12,11 @@ import argparse
 import importlib
 import sys
 
+from .common.args import Parser, set_verbosity, verbosity
+from .common.errors import UsageError
+from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
+                              StopWorkersOnSignal)
+
 _MAIN_EPILOG = """\
 examples:
   vibimpact presets
@@ -24,11 +29,6 @@ examples:
 
 'vibimpact COMMAND --help' shows the options and an example of each command.
 """
-
-from .common.args import Parser, set_verbosity, verbosity
-from .common.errors import UsageError
-from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
-                              StopWorkersOnSignal)
 
 #: the commands, in the order ``vibimpact --help`` lists them: name -> the module of
 #: this package that adds its parser (``add_parser(sub, fmt)``) and runs it.  A module is
@@ -145,8 +145,8 @@ def main(argv=None):
 def _exit_after_interrupt(status):
     """End the process at once with ``status`` after an interrupt, once its output is
     flushed (the command has removed its temporaries and kept its checkpoint; its worker
-    processes die with it, PR_SET_PDEATHSIG).  The interpreter's own shutdown would join the process pool's
-    manager thread, which blocks for good reading a result that a worker killed by the
+    processes die with it, PR_SET_PDEATHSIG).  The interpreter's own shutdown would join the process
+    pool's manager thread, which blocks for good reading a result that a worker killed by the
     interrupt left half-written (its pipe never reaches end of file while this process
     holds the other end): SIGTERM printed its line and then hung."""
     import os

@@ -25,8 +25,8 @@ settling evidence of a sweep point (period test, contraction and shooting, Lyapu
 exponent).  Every attractor found gets its label, Floquet multipliers or Lyapunov
 exponent and its basin fraction with a standard error; attractors are matched from one
 eta to the next (global_id); --sweep says on which of them a sweep's points lie (a
-sweep's label then belongs to a named attractor); --plot stacks the basin fractions against eta above
-each attractor's own bifurcation diagram.
+sweep's label then belongs to a named attractor); --plot stacks the basin fractions against eta
+above each attractor's own bifurcation diagram.
 
 The census is checkpointed in OUT.partial as it goes; after Ctrl-C or a kill, run the
 same command with --resume.  Serial, parallel (--workers) and resumed runs give the same
@@ -62,7 +62,7 @@ def _table(ds):
         rows = attractor_table(ds, i)
         lines.append(f"eta = {float(eta):.6g}: {len(rows)} attractor"
                      f"{'' if len(rows) == 1 else 's'}")
-        for a, gid, name, f, se, _, extra in rows:
+        for _a, gid, name, f, se, _, extra in rows:
             lines.append(f"  A{gid:<3d} {f:6.3f} +- {se:.3f}  {name}"
                          + (f"  ({extra})" if extra else ""))
         if "failed" in ds and int(ds.failed.values[i]):

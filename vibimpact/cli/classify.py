@@ -91,7 +91,8 @@ def add_parser(sub, fmt):
                        "intervals", formatter_class=fmt, epilog=_CLASSIFY_EPILOG,
                        description="Sweep the forcing frequency eta with continuation, "
                                    "classify the motion at every point\n(period, impacts, "
-                                   "Lyapunov exponent, 0-1 test, Floquet multipliers), write a NetCDF file and "
+                                   "Lyapunov exponent, 0-1 test, Floquet multipliers), "
+                                   "write a NetCDF file and "
                                    "print the\nlabelled frequency intervals.")
     add_sweep_options(c, "up")
     c.add_argument("--analyses", default="all", metavar="A,B,...",

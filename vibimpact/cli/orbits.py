@@ -32,8 +32,8 @@ seeded by --seed in a box (a planar contact's two positions uniform in the unit 
 their velocities in [-1, 1]; another model: [-1, 1] for every state variable).  From
 each seed the motion is integrated a few forcing periods; for each period N its closest
 returns after N periods start Newton shooting for the period-N orbit (variational
-equations with saltation matrices).  Orbits met at another phase of their cycle, or of a lower period
-than shot for, are one orbit.  Each orbit gets its minimal period, impacts per period,
+equations with saltation matrices).  Orbits met at another phase of their cycle, or of a
+lower period than shot for, are one orbit.  Each orbit gets its minimal period, impacts per period,
 contact arcs and Floquet multipliers (stable: every |mu| < 1), and is continued in the
 forcing frequency both ways within --window of --eta: where it exists (up to a fold, a
 period doubling onto the orbit it doubled, or where the continuation stops, with the

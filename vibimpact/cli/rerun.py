@@ -9,8 +9,8 @@ variables as text), and their attributes (:func:`vibimpact.io.attribute_differen
 every global attribute but the time stamps, versions, platform and command line
 (:data:`vibimpact.base.provenance.NOT_COMPARED`), and every attribute of every variable and
 coordinate, so that a file whose attributes contradict its data or its command (units,
-flag meanings, parameters, counters changed after the run) is reported.  Only the standard library is imported at
-module level.
+flag meanings, parameters, counters changed after the run) is reported.  Only the standard library
+is imported at module level.
 """
 import contextlib
 import io as _stdio

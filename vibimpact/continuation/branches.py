@@ -281,7 +281,8 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
         :attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.code`),
         ``bifurcation_value``, ``bifurcation_lower``, ``bifurcation_upper``,
         ``bifurcation_point``, ``bifurcation_impacts_before``,
-        ``bifurcation_impacts_after`` on ``bifurcation``.  Global attributes: ``continuation_param``, ``period``,
+        ``bifurcation_impacts_after`` on ``bifurcation``.  Global attributes:
+        ``continuation_param``, ``period``,
         ``status``, ``param_<name>``, ``solver_<key>``, ``command``.
 
     Raises

@@ -1,7 +1,7 @@
 """The result of a simulation: :class:`Run`, its :class:`Status`, and the impact log."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import enum
 import numbers
@@ -344,22 +344,22 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     if len(names) != n:
         names = tuple(f"x{i}" for i in range(n))
     state_coord = ("state", list(names), {"long_name": "state variable"})
-    data_vars = {
+    data_vars: dict[str, tuple[Any, ...]] = {
         "strobe": (("sample", "state"), strobe,
                    {"units": "1", "long_name": "stroboscopic (Poincare) samples at "
                     "tau_k = 2 pi k / eta, after the transient"}),
     }
-    coords = {
+    coords: dict[str, tuple[Any, ...]] = {
         "state": state_coord,
         "t_strobe": ("sample", np.asarray(run.t_strobe, dtype=np.float64),
                      {"units": "1", "long_name": _TAU + " of the stroboscopic samples"}),
     }
-    for field in run.impacts.dtype.names:
-        units, long_name = _IMPACT_ATTRS.get(field, ("1", field))
-        values = np.asarray(run.impacts[field])
+    for var in run.impacts.dtype.names or ():
+        units, long_name = _IMPACT_ATTRS.get(var, ("1", var))
+        values = np.asarray(run.impacts[var])
         if values.dtype == np.int64:  # as written: CF-1.8 has no 64-bit integers
             values = values.astype(np.int32)
-        data_vars[f"impact_{field}"] = ("impact", values,
+        data_vars[f"impact_{var}"] = ("impact", values,
                                         {"units": units, "long_name": long_name})
     if run.dense is not None:
         data_vars["trajectory"] = (("time", "state"), np.asarray(run.dense, np.float64),

@@ -95,5 +95,6 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
             raise ValueError("model must be None with a System (it carries its model)")
         system = p
     else:
-        system = System(p, model=model)
+        # a Model, a model's name or None: System.__post_init__ resolves it
+        system = System(p, model=model)  # type: ignore[arg-type]
     return system.simulate(periods, transient, state0, dense=dense, solver=solver)

@@ -44,10 +44,21 @@ class SystemLike(Protocol):
     its model, parameters (the set and its vector), solver settings, forcing period and
     state size.  The solver stands below System and does not import it."""
 
-    model: Model
-    params: object
-    p: np.ndarray
-    solver: SolverSettings
+    @property
+    def model(self) -> Model:
+        """The model."""
+
+    @property
+    def params(self) -> object:
+        """The parameter set."""
+
+    @property
+    def p(self) -> np.ndarray:
+        """The parameter vector."""
+
+    @property
+    def solver(self) -> SolverSettings:
+        """The solver settings."""
 
     @property
     def period(self) -> float:
@@ -191,6 +202,10 @@ class SolverSettings:
             As :class:`vibimpact._kernel.boundary.Options` (the variational runs).
         """
         s = self.filled()
+        # filled() leaves only max_step and bound None
+        assert (s.rtol is not None and s.atol is not None and s.steps_per_period is not None
+                and s.event_tol is not None and s.max_steps_per_period is not None
+                and s.adaptive is not None)
         T = period
         return _kb.Options(rtol=s.rtol, atol=s.atol, h_fixed=T / s.steps_per_period,
                            max_step=T / 4.0 if s.max_step is None else s.max_step,
@@ -259,8 +274,8 @@ class Segment:
     code: int
     status: Status
     reason: str
-    strobe: np.ndarray = None
-    dense: np.ndarray = None
+    strobe: np.ndarray | None = None
+    dense: np.ndarray | None = None
     log: object = None
 
     @property
@@ -361,7 +376,7 @@ class Solver:
             out.append(self)
         out[0].clock = _kb.new_clock(out[0].problem, options, h0=first_step, steps=False)
         out[1].clock = out[0].clock.copy()
-        return tuple(out)
+        return out[0], out[1]
 
     @staticmethod
     def check_tangents(settings: SolverSettings, tangent_tol: float | None = None) -> None:
@@ -438,6 +453,7 @@ class Solver:
             reason = self.stopped(reason)
         if not periods:
             return Segment(code, status, reason)
+        assert strobe is not None  # allocated for periods > 0
         rows = periods + 1
         if status is not Status.OK:
             k_done = int(self.clock[0]) - k0
@@ -497,12 +513,14 @@ def run_system(system: SystemLike, periods: int, transient: int, state0: ArrayLi
     run = Solver(system, y0, settings, check=False)  # it advances run.y, a copy of y0
     seg = run.advance(periods, skip=transient, dense=dense)
     st, reason, strobe = seg.status, seg.reason, seg.strobe
+    assert strobe is not None  # periods >= 1
     T = run.period
     rows = strobe.shape[0]
     events = seg.events
     impacts = impacts_of(mdl.contact, system.p, events, transient * T, T)
     if dense:
         dense_out = seg.dense
+        assert dense_out is not None  # dense > 0
         t_dense = transient * T + np.arange(dense_out.shape[0]) * (T / dense)
     else:
         dense_out = None

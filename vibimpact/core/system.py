@@ -105,13 +105,14 @@ class System:
     """
 
     params: object
-    model: Model = None
-    method: str = None
-    rtol: float = None
-    atol: float = None
-    max_step: float = None
-    event_tol: float = None
-    solver: SolverSettings = None
+    # model and solver: None in the constructor only; __post_init__ resolves both
+    model: Model = None  # type: ignore[assignment]
+    method: str | None = None
+    rtol: float | None = None
+    atol: float | None = None
+    max_step: float | None = None
+    event_tol: float | None = None
+    solver: SolverSettings = None  # type: ignore[assignment]
     p: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -261,15 +262,15 @@ class System:
         return run_system(self, periods, transient, state0, dense, solver)
 
     def strobe(self, periods: int, state0: ArrayLike,
-               **defaults) -> tuple[Status, str, np.ndarray]:
+               **defaults) -> tuple[Status, str, np.ndarray | None]:
         """Stroboscopic points only, unvalidated (the loops of sweeps).
 
         Returns
         -------
         status : Status
         reason : str
-        strobe : ndarray, shape (rows, n)
-            Rows 0..periods, fewer when the run stopped early.
+        strobe : ndarray, shape (rows, n), or None
+            Rows 0..periods, fewer when the run stopped early; None for ``periods`` 0.
         """
         seg = Solver(self, state0, self.settings(**defaults), check=False).advance(
             periods, events=False)
@@ -333,7 +334,7 @@ def as_system(system, name="system"):
                        f"got {type(system).__name__}")
 
 
-def to_system(p, name="p"):
+def to_system(p: object, name: str = "p") -> System:
     """``p`` as a :class:`System` (a parameter set of a built-in model becomes one with
     the default solver settings); a ``TypeError`` (also a ``ValueError``) naming ``name``,
     the caller's argument, for anything else."""

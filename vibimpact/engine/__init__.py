@@ -34,7 +34,8 @@ _EXPORTS = {
     "plan_states": "plan", "Interrupted": "signals", "StopWorkersOnSignal": "signals",
 }
 
-__all__ = sorted(_EXPORTS)
+# a list at run time: ruff reads only a literal or a tuple/list expression
+__all__ = sorted(_EXPORTS)  # noqa: PLE0605
 
 
 def __getattr__(name):

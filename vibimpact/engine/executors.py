@@ -50,7 +50,7 @@ from typing import Protocol, runtime_checkable
 
 from . import plan
 from .children import worker_setup
-from .watch import Watch, WorkerLost  # noqa: F401 -- WorkerLost: this module's name too
+from .watch import Watch, WorkerLost  # WorkerLost: this module's name too
 
 
 #: what :class:`WorkerLost` says of a pool worker that died

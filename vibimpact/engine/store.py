@@ -40,7 +40,8 @@ Damaged checkpoints
   raises ``ValueError`` naming it; nothing is guessed.
 * An entry that cannot be read back completely (truncated, garbage, a foreign ``.npz``,
   a point result without the fields of its kind: *damaged*; a FIFO, a directory or a
-  link named like an entry: *not a file*), that carries another request's fingerprint (*foreign*: copied from another
+  link named like an entry: *not a file*), that carries another request's fingerprint (*foreign*:
+  copied from another
   sweep or map), or whose own indices (row, direction, positions, grid indices) are not
   those of its name or lie outside the request (*misplaced*) can only come from a damaged
   disk or a hand edit: it is renamed ``<name>.corrupt`` (kept as evidence), its points

@@ -14,7 +14,8 @@ none, whatever the points cost), it tells a stop that nobody will undo from the 
 stops of a throttle such as ``cpulimit``, which stops and continues a process many times
 a second.  A heavily throttled child (running a tenth of the time, say) may be caught
 stopped at every check of a whole grace; its CPU time still advances between the
-checks, and that keeps it counted as running.  A stop of the whole process group (Ctrl-Z in a terminal) stops this process
+checks, and that keeps it counted as running.  A stop of the whole process group (Ctrl-Z in a
+terminal) stops this process
 as well, so it never waits out the grace; after ``fg`` every child runs again.
 
 The process states come from ``psutil`` (installed with Dask distributed).

@@ -20,6 +20,7 @@ from ..base import _validate as _v
 _log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Hashable
     from typing import Any
 
     import xarray as xr
@@ -181,8 +182,8 @@ def _described(attrs):
 
 
 @_v.checks_flags
-def for_file(ds: xr.Dataset, call: str | None, *,
-             netcdf: bool | None = None) -> tuple[xr.Dataset, dict[str, Any]]:
+def for_file(ds: xr.Dataset, call: str, *,
+             netcdf: bool | None = None) -> tuple[xr.Dataset, dict[Hashable, Any]]:
     """``(dataset, encoding)`` to write ``ds`` as a file that follows CF-1.8: a shallow
     copy (the data are shared, ``ds`` is not changed) whose global attributes carry the CF
     and provenance attributes of :func:`vibimpact.base.provenance.file_attrs`, and the encoding
@@ -233,7 +234,8 @@ def for_file(ds: xr.Dataset, call: str | None, *,
     out.attrs = file_attrs(ds.attrs, call)
     _log.info("file of %s: %s; %d variables, sizes %s", out.attrs.get("title", "?"),
               _described(out.attrs), len(out.variables), dict(out.sizes))
-    encoding = {name: {"_FillValue": None} for name in out.coords}
+    encoding: dict[Hashable, dict[str, Any]] = {name: {"_FillValue": None}
+                                                for name in out.coords}
     for name in out.indexes if netcdf else ():
         if name in out.dims and out[name].dtype.kind in TEXT_KINDS:
             encoding[name]["dtype"] = "S1"

@@ -36,8 +36,8 @@ def _same_value(a, b):
     x, y = np.ravel(np.asarray(a)), np.ravel(np.asarray(b))
     if x.shape != y.shape or (x.dtype.kind in "biu") != (y.dtype.kind in "biu") or \
             x.dtype.kind in TEXT_KINDS or y.dtype.kind in TEXT_KINDS:
-        return x.shape == y.shape and x.dtype.kind in TEXT_KINDS and y.dtype.kind in TEXT_KINDS and \
-            bool(np.array_equal(_as_text(x), _as_text(y)))
+        return x.shape == y.shape and x.dtype.kind in TEXT_KINDS and \
+            y.dtype.kind in TEXT_KINDS and bool(np.array_equal(_as_text(x), _as_text(y)))
     return bool(np.array_equal(x, y, equal_nan=x.dtype.kind in "fc"))
 
 
@@ -121,16 +121,17 @@ def differences(a: xr.Dataset, b: xr.Dataset, *,
         how many variable names were compared.
     """
 
-    names_a = set(a.data_vars) | set(a.coords)
-    names_b = set(b.data_vars) | set(b.coords)
+    # the names as str (a NetCDF or Zarr name is one): sorted, and reported as text
+    names_a = set(map(str, a.data_vars)) | set(map(str, a.coords))
+    names_b = set(map(str, b.data_vars)) | set(map(str, b.coords))
     out = [(n, "only in the original") for n in sorted(names_a - names_b)]
     out += [(n, "only in the rerun") for n in sorted(names_b - names_a)]
     for name in sorted(names_a & names_b):
-        x, y = a[name], b[name]
-        if x.dims != y.dims or x.shape != y.shape:
-            out.append((name, f"shape {dict(x.sizes)} vs {dict(y.sizes)}"))
+        da, db = a[name], b[name]
+        if da.dims != db.dims or da.shape != db.shape:
+            out.append((name, f"shape {dict(da.sizes)} vs {dict(db.sizes)}"))
             continue
-        x, y = x.values, y.values
+        x, y = da.values, db.values
         if x.dtype.kind in TEXT_KINDS or y.dtype.kind in TEXT_KINDS:
             xs, ys = _as_text(x), _as_text(y)
             if x.dtype.kind not in TEXT_KINDS or y.dtype.kind not in TEXT_KINDS:

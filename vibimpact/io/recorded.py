@@ -15,7 +15,7 @@ The messages name the file (``name``) and the attribute or variable.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal, overload
 
 import math
 
@@ -85,6 +85,10 @@ def model_name(attrs: Mapping, name: str = "the file") -> str:
     return attrs["model"]
 
 
+@overload
+def recorded_model(attrs: Mapping, name: str = ..., *, required: Literal[True]) -> Model: ...
+@overload
+def recorded_model(attrs: Mapping, name: str = ..., *, required: bool = ...) -> Model | None: ...
 @_v.checks_flags
 def recorded_model(attrs: Mapping, name: str = "the file", *,
                    required: bool = False) -> Model | None:
@@ -265,6 +269,7 @@ def recorded_params(attrs: Mapping, name: str = "the file", *, key: str | None =
         where = f"{prefix}{missing[0]} attribute" if prefix else f"{key!r} attribute"
         raise ValueError(f"{name} records no {', '.join(missing)} (no {where})")
     check_in_domains(model, values, name, prefix or f"{key!r} entry ")
+    assert model.param_set is not None  # recorded_model(required=True) refuses none
     return model.param_set(**values)
 
 

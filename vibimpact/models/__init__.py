@@ -15,14 +15,14 @@ runs: it asks the model.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import importlib
 import math
 import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 from numba.extending import is_jitted
@@ -30,7 +30,7 @@ from numba.extending import is_jitted
 from .._kernel import boundary as _kb
 from .._kernel.boundary import Problem
 from ..base import _validate as _v
-from .contact import Contact
+from .contact import Contact, Restitution
 from .model_probe import check_model
 from .params import Domain
 
@@ -98,9 +98,11 @@ class Model:
     transition: Callable = field(repr=False)
     init_mode: Callable = field(repr=False)
     bound: float = 1e3
-    param_set: type = None
-    contact: Contact = field(default=None, repr=False)
-    plot: PlotSpec = field(default=None, repr=False)
+    # a built-in model's parameter-set class (a frozen dataclass with domain()); None
+    # for a user model
+    param_set: type[Any] | None = None
+    contact: Contact | None = field(default=None, repr=False)
+    plot: PlotSpec | None = field(default=None, repr=False)
     presets: Mapping = field(default_factory=dict, repr=False)
     state_text: Mapping = field(default_factory=dict, repr=False)
     domains: Mapping = field(default_factory=dict, repr=False)
@@ -232,7 +234,7 @@ class Model:
         return np.ascontiguousarray(vec)
 
     @_v.checks_flags
-    def problem(self, p: ArrayLike, variational: bool = False) -> Problem:
+    def problem(self, p: np.ndarray, variational: bool = False) -> Problem:
         """The kernel's :class:`~vibimpact._kernel.boundary.Problem` for parameter vector
         ``p`` (of the variational equations with ``variational``)."""
         if not self.builtin and not self.__dict__.get("_probed"):
@@ -317,7 +319,7 @@ class Model:
                                    f"{type(contact).__name__}")
             contact.check(len(states), term.size, n_mode, params)
         domains = _domains(domains, params)
-        if contact is not None and contact.law.impulsive:  # r in [0, 1] unless declared
+        if contact is not None and isinstance(contact.law, Restitution):  # r in [0, 1]
             domains = {contact.law.coefficient: Domain(0.0, 1.0, True, True), **domains}
         return cls(name=name, state_names=states, param_names=params,
                    omega_index=omega_index, n_mode=n_mode,
@@ -461,7 +463,7 @@ def register(model: Model) -> Model:
     return model
 
 
-_LOADING = []
+_LOADING: list[bool] = []
 #: held while the built-in models load: a thread that asks meanwhile waits for all of
 #: them (re-entrant: a model's own import that asks gets the registry so far)
 _LOAD_LOCK = threading.RLock()

@@ -20,7 +20,8 @@ Systems*. Springer, ch. 2-3 (contact laws, switching functions, saltation).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, ClassVar
+from typing import TYPE_CHECKING, ClassVar
+from collections.abc import Callable
 
 import numpy as np
 
@@ -181,7 +182,7 @@ class Contact:
     penetration: Callable
     normal_speed: Callable
     angle: Callable
-    law: ContactLaw
+    law: ContactLaw | Restitution
     extremum: int | None = None
     positions: tuple = (0, 1)
 

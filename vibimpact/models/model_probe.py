@@ -141,7 +141,8 @@ def _run(model, spec, p, y0, fills):
                 writes.append((fn_name, role, off))
 
     mode = guarded("mode", (spec.n_mode,), 0, integer=True)
-    results.append(("init_mode", _call("init_mode", model.init_mode, (0.0, y.view, pv.view, mode.view)),
+    results.append(("init_mode", _call("init_mode", model.init_mode,
+                                       (0.0, y.view, pv.view, mode.view)),
                     mode.view.copy()))
     check("init_mode", {"mode": mode, "y": y, "p": pv})
     modes = [mode]

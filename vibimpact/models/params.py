@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 
@@ -105,7 +106,7 @@ class ParamsMixin:
     """`replace`, `as_array`, `as_dict`, `domain` for the frozen parameter dataclasses."""
 
     #: {name: Domain} of the parameters that have one (the others: any finite number)
-    _DOMAINS = {}
+    _DOMAINS: ClassVar[dict[str, Domain]] = {}
 
     @classmethod
     def domain(cls, name: str) -> Domain:
@@ -116,7 +117,7 @@ class ParamsMixin:
         ValueError
             Naming ``name`` when it is not a parameter of this model.
         """
-        names = [f.name for f in fields(cls)]
+        names = [f.name for f in fields(cls)]  # type: ignore[arg-type]
         if name not in names:
             raise ValueError(f"name must be one of {', '.join(names)}, got {name!r}")
         return cls._DOMAINS.get(name, Domain())

@@ -77,6 +77,7 @@ def get(name: str = _DEFAULT) -> object:
     if name == _DEFAULT:
         name = __getattr__("DEFAULT")
     model = model_of(name)
+    assert model.param_set is not None  # a built-in model's presets come with its set
     return model.param_set(**model.presets[name][0])
 
 

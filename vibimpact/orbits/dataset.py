@@ -172,7 +172,8 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
     -------
     xarray.Dataset
         Per orbit: ``period``, ``impacts_per_period``, ``n_arcs``, ``arcs``, ``stable``
-        (flag), ``permanent_contact`` (flag), ``label``, ``orbit_point`` (orbit, phase, state), ``floquet_real``,
+        (flag), ``permanent_contact`` (flag), ``label``, ``orbit_point`` (orbit, phase, state),
+        ``floquet_real``,
         ``floquet_imag`` (orbit, multiplier), ``floquet_abs_max``, ``residual``,
         ``found_as``, ``seed_index``; the intervals ``exists_lo``, ``exists_hi``,
         ``exists_lo_reason``, ``exists_hi_reason``, ``stable_lo``, ``stable_hi``

@@ -23,7 +23,7 @@ References
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import time
 from dataclasses import replace
@@ -89,7 +89,7 @@ def same_orbit(a: np.ndarray, b: np.ndarray, tol: float = SAME_TOL) -> bool:
     return bool(np.min(np.abs(b - a[0]).max(axis=1)) <= tol * scale)
 
 
-def _periods(periods):
+def _periods(periods: Any) -> tuple[int, ...]:
     """``periods`` as a sorted tuple of distinct ints in ``[1, MAX_PERIOD]``."""
     if isinstance(periods, (int, np.integer)) and not isinstance(periods, bool):
         periods = [periods]
@@ -267,8 +267,8 @@ def hunt_orbits(system: System | Params | DuffingParams,
         The user's seed states at the start of a forcing period (e.g. a census's
         representatives, :func:`vibimpact.orbits.seeds_from_dataset`).
     random : int
-        Random seeds (default 48, at most 1,000,000), drawn by ``numpy.random.default_rng(seed)`` in the box
-        of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
+        Random seeds (default 48, at most 1,000,000), drawn by ``numpy.random.default_rng(seed)`` in
+        the box of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
         variable, except the two positions of a planar contact (the rotor's ``X, Y``),
         uniform in the unit disk (the clearance circle).
     seed : int

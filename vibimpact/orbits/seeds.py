@@ -187,7 +187,7 @@ def close_returns(points: np.ndarray, n: int, starts: int, max_return: float) ->
     scale = np.maximum(1.0, np.abs(points[:m]).max(axis=1))
     rel = dist / scale
     order = np.lexsort((np.arange(m), rel))
-    out = []
+    out: list[int] = []
     for k in order:
         if rel[k] > max_return or len(out) >= starts:
             break

@@ -3,7 +3,8 @@
 Every function takes an ``xarray.Dataset`` (:func:`plot_xy` also a
 :class:`~vibimpact.Run`, drawn from :meth:`~vibimpact.Run.to_dataset`) and draws with
 matplotlib's object API (a :class:`matplotlib.figure.Figure` rendered by Agg), so the
-global pyplot state and the interactive backend are never touched.  Each takes ``figsize``, ``dpi`` and ``style``
+global pyplot state and the interactive backend are never touched.  Each takes ``figsize``, ``dpi``
+and ``style``
 (``"paper"``: a journal's look), checked and applied by :mod:`vibimpact.plotting.style`.
 """
 from .bifurcation import plot_bifurcation

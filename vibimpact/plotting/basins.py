@@ -142,7 +142,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     extent = (xs[0] - hx / 2, xs[-1] + hx / 2, ys[0] - hy / 2, ys[-1] + hy / 2)
     with lk.context():
         own = ax is None
-        if own:
+        if ax is None:
             fig = lk.figure((6.5, 6.5), 4.2)
             ax = fig.add_subplot()
         else:

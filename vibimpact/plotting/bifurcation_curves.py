@@ -40,7 +40,8 @@ def _curves(curves):
         raise ValueError("curves must hold at least one curve dataset")
     for ds in items:
         if not isinstance(ds, xr.Dataset) or not is_curve_dataset(ds):
-            raise ValueError("curves must be datasets of vibimpact.continuation.curves.curve_to_dataset "
+            raise ValueError("curves must be datasets of "
+                             "vibimpact.continuation.curves.curve_to_dataset "
                              "('vibimpact continue2' files)")
     return items
 

@@ -316,11 +316,11 @@ def overlay_branches(axes: Sequence[Axes], branches: Sequence[xr.Dataset],
     axes = list(axes)
     if len(axes) != 2:
         raise ValueError("axes must be the two Axes of a response figure (X_m, Y_m)")
-    names = list(names) if names is not None else [None] * len(branches)
-    if len(names) != len(branches):
+    labels: list[str | None] = list(names) if names is not None else [None] * len(branches)
+    if len(labels) != len(branches):
         raise ValueError("names must give one name per branch")
     artists = []
-    for k, (ds, name) in enumerate(zip(branches, names)):
+    for k, (ds, name) in enumerate(zip(branches, labels)):
         br = _as_branch(ds)
         if br.param != "eta" or not {"X_m", "Y_m"} <= set(br.amplitude):
             raise ValueError(f"branches[{k}] must be continued in eta with the "

@@ -261,7 +261,7 @@ def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
     n = len(directions(ds))
     with lk.context():
         own = ax is None
-        if own:
+        if ax is None:
             ax = lk.figure((9, 1.6 + 0.7 * n), 1.4 + 0.35 * n).add_subplot()
         _interval_rows(ds, ax, lk, own)
         return lk.finish(ax.figure, path)

@@ -373,8 +373,9 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: float | None = N
 
     out_dpi = fig.dpi if dpi is None else check_dpi(dpi)
     try:
-        check_pixels(*fig.get_size_inches(), out_dpi)
-        check_drawable(*fig.get_size_inches(), out_dpi, smallest_pt=smallest_text_pt())
+        w_in, h_in = fig.get_size_inches()
+        check_pixels(w_in, h_in, out_dpi)
+        check_drawable(w_in, h_in, out_dpi, smallest_pt=smallest_text_pt())
     except ValueError as exc:
         raise ValueError(f"dpi: {exc}") from None
     before_write()

@@ -109,7 +109,7 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
                          f"{ds.attrs.get('model', 'model')}; the dataset has {states}")
     with lk.context():
         own = ax is None
-        if own:
+        if ax is None:
             ax = lk.figure((6, 6.6), 4.2).add_subplot()
         if spec.circle is not None:
             _orbit(value, ds, ax, lk, own, spec, [states.index(s) for s in spec.xy])

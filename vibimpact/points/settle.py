@@ -13,8 +13,8 @@ labelling the motion by default), a sweep point
    solves ``P^n(x) = x`` by Newton shooting from the extrapolated limit of the points
    (:func:`vibimpact.analysis.shoot_periodic_orbit`);
 3. accepts the orbit as the attractor only on evidence: Newton converged, every
-   ``|mu| < 1`` (of its minimal period, a divisor of ``n``), the trajectory approaches it at least half
-   as fast as its leading multiplier predicts and lies within the geometric tail of its
+   ``|mu| < 1`` (of its minimal period, a divisor of ``n``), the trajectory approaches it at least
+   half as fast as its leading multiplier predicts and lies within the geometric tail of its
    own steps from it;
 4. confirms it by integrating from the orbit: the record starts there, and the period
    test must find ``n`` on it.

@@ -59,12 +59,12 @@ class Settled:
 
     run: object = None
     n: int = 0
-    x_start: np.ndarray = None
+    x_start: np.ndarray | None = None
     rec: int = 0
     transient: int = 0
     evidence: object = None
     con: object = None
-    failure: tuple = None
+    failure: tuple | None = None
 
 
 def windows(rule):

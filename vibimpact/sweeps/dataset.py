@@ -7,7 +7,7 @@ and any NetCDF tool.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import json
 import sys
@@ -31,7 +31,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from ..models.params import DuffingParams, Params
     from .interval_table import Intervals
-    from ..points.point import PointResult, SweepSettings
+    from ..points.point import SweepSettings
     from ..core.system import System
 
 #: what a function that takes a sweep's dataset asks for, in its TypeError
@@ -152,7 +152,8 @@ def label_text(code, n, ipp, arcs, contact=-1):
 
 @_v.checks_flags
 def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Sequence[str],
-               results: Mapping[str, Sequence[PointResult | None]], settings: SweepSettings,
+               results: Mapping[str, Sequence[Mapping[str, Any] | None]],
+               settings: SweepSettings,
                *, direction: str, continuation: bool, blocks: int,
                command: str | None = None) -> xr.Dataset:
     """Assemble per-point results into a Dataset (dims ``eta`` [, ``direction``])."""
@@ -292,6 +293,7 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
     _v.dataset(name, ds, SWEEP_DATASET)
     if eta is None:  # the records leave the forcing frequency out: the set's default
         model = recorded_model(ds.attrs, name, required=True)
+        assert model.param_set is not None  # recorded_model(required=True) refuses none
         eta = getattr(model.param_set(), model.param_names[model.omega_index])
     return recorded_params(ds.attrs, name, omega=eta)
 
@@ -338,8 +340,8 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
     order = np.arange(eta.size)
     if ds.attrs.get("sweep_direction", ds.attrs.get("direction")) == "down":
         order = order[::-1]
-    cols = {k: [] for k in ("start", "end", "label", "regime", "period", "impacts", "arcs",
-                            "points")}
+    cols: dict[str, list] = {k: [] for k in ("start", "end", "label", "regime", "period",
+                                             "impacts", "arcs", "points")}
     i = 0
     while i < order.size:
         j = i

@@ -68,7 +68,7 @@ def _is_table(ds):
     return "interval" in ds.dims and all(name in ds.variables for name in COLUMNS)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def intervals_class():
     """The :class:`Intervals` class (made on first use, when xarray is imported)."""
     import xarray as xr

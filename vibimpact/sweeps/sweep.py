@@ -35,7 +35,6 @@ from ..base import _validate as _v
 from ..base._text import count, parse_real
 from .. import models
 from ..core.system import System, param_dict, to_system, with_frequency
-from ..core.simulation import simulate
 from ..points.point import ANALYSES, SweepSettings
 from ..engine.execution import Execution, as_execution, refuse_moved
 from ..engine.policy import Continuation, Independent, as_policy
@@ -115,7 +114,7 @@ def snap_grid(arr):
     return out
 
 
-def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
+def continued_state(p: object, eta: float, *,
                     eta_start: float = 1.0, step: float = 0.02, transient: int = 200,
                     state0: ArrayLike | None = None) -> np.ndarray:
     """State on the branch reached by sweeping the forcing frequency from ``eta_start``
@@ -185,10 +184,12 @@ def continued_state(p: Params | DuffingParams | System | str, eta: float, *,
     if abs(eta - last) > 1e-9:
         x = with_frequency(system, eta).simulate(periods=1, transient=transient,
                                                  state0=x).final_state
+    assert x is not None  # the loop ran at least once (its range holds eta_start)
     return x
 
 
-def check_request(direction, analyses, settings, state0, n_state=4):
+def check_request(direction, analyses, settings, state0,
+                  n_state=4) -> tuple[SweepSettings, np.ndarray | None]:
     """Validated ``(settings, state0)`` of a sweep or map request.
 
     ``settings`` (default :class:`SweepSettings`) gets ``analyses`` (in canonical order,
@@ -238,7 +239,8 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
     analyses : sequence of str
         Subset of ``("period", "impacts", "response", "poincare", "lyapunov", "test01",
         "floquet")``; only these are computed ("period" always runs, it ends the
-        transients: an empty sequence asks for the period analysis alone).  ``period``: the period in forcing periods and the regime;
+        transients: an empty sequence asks for the period analysis alone).  ``period``: the period
+        in forcing periods and the regime;
         ``impacts``: contacts per period and contact statistics; ``response``: the
         amplitudes ``X_m``, ``Y_m`` from dense samples; ``poincare``: stroboscopic
         samples for bifurcation diagrams; ``lyapunov``: the largest Lyapunov exponent;

@@ -500,7 +500,7 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
     from ..engine.progress import callback
 
     rows = []
-    cache = {}
+    cache: dict = {}
     with callback(progress, len(jobs), "transitions", unit="boundary") as report:
         for d, a, b in jobs:
             r = _classify(p, a, b, settings, tol, refine, cache)

@@ -6,9 +6,10 @@ time, and restarts at every switch.  It shares only the model functions of the m
 kernel module (right-hand side, switching functions, mode transitions, initial mode:
 :mod:`vibimpact._kernel.rotor` for the rotor) with the production integrator
 :func:`vibimpact.simulate`; the Runge--Kutta steps, the step-size control and the event
-location are SciPy's.  It is the *cross-check* of the kernel and the fair SciPy baseline of the benchmarks (compiled right-hand side,
-restarted at switches), **not** the production integrator: it is one to two orders of
-magnitude slower and keeps no impact log.
+location are SciPy's.  It is the *cross-check* of the kernel and the fair SciPy
+baseline of the benchmarks (compiled right-hand side, restarted at switches), **not** the
+production integrator: it is one to two orders of magnitude slower and keeps no impact
+log.
 """
 from __future__ import annotations
 
@@ -235,5 +236,6 @@ def solve_reference(p, t_end, state0, rtol=1e-12, atol=1e-12, method="DOP853",
 
 
 def strobe_times(eta, periods):
-    """Stroboscopic times ``2 pi k / eta``, ``k = 0..periods`` (the forcing's phase is zero at ``tau = 0``)."""
+    """Stroboscopic times ``2 pi k / eta``, ``k = 0..periods`` (the forcing's phase is zero
+    at ``tau = 0``)."""
     return 2.0 * math.pi * np.arange(periods + 1) / float(eta)

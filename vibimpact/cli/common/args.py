@@ -80,7 +80,8 @@ def set_verbosity(count):
 
 
 #: the most processes a ``--workers`` option takes (the API's limit too)
-from ...base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402
+# MAX_WORKERS: imported from here by the commands that take --workers
+from ...base._limits import ETA_RANGE, MAX_WORKERS  # noqa: E402, F401
 #: the largest integer any option takes (a 64-bit signed integer: counts, seeds)
 MAX_INT = 2**63 - 1
 
