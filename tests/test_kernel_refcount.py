@@ -37,7 +37,7 @@ def _stage_args(model, n):
             np.empty(n)), (method, E, E3)
 
 
-@pytest.mark.parametrize("model, n", [(dispatch.ROTOR, 4), (dispatch.ROTOR_VAR, 8)],
+@pytest.mark.parametrize("model, n", [(dispatch.builtin("rotor"), 4), (dispatch.builtin("rotor", True), 8)],
                          ids=["rotor", "rotor_variational"])
 def test_stage_step_and_event_functions_do_no_reference_counting(model, n):
     """A Runge--Kutta step (with the model dispatch and the rotor's right-hand side, plain

@@ -13,17 +13,6 @@ from vibimpact import models
 
 PKG = pathlib.Path(vi.__file__).resolve().parent
 
-#: hits in modules another branch owns (``vibimpact/_kernel/`` is branch ``impact``'s while
-#: issue 42 is worked on): each is listed, and the test fails when one is gone too, so the
-#: list only shrinks.  ``vibimpact/__init__.py`` exports the built-in models by their
-#: constant names (``vi.ROTOR``, ...): the export table is generated from the registry on
-#: branch ``impact``.
-PENDING = {
-    "_kernel/dispatch.py": {"ROTOR", "DUFFING", "ROTOR_VAR", "DUFFING_VAR", "'rotor'",
-                            "'duffing'"},
-    "_kernel/argcheck.py": {"'rotor'"},
-    "_kernel/boundary.py": {"rotor", "'rotor'"},
-}
 #: what stays, and why: the CF ``references`` every file carries is the citation of the
 #: paper the package is built on, whose title names its rotor
 ALLOWED = {"base/provenance.py": {"'rotor'"}}
@@ -123,16 +112,16 @@ def test_no_generic_module_names_a_builtin_model():
     one of the parameter names that belong to one model (:func:`_scanned_params`).
 
     Prose in docstrings and comments may still use the paper's rotor as an example; what
-    is checked is code, which is where a model name becomes a branch or a default.  Hits
-    in modules another branch owns are listed in :data:`PENDING`, exactly; a citation
-    stays (:data:`ALLOWED`)."""
+    is checked is code, which is where a model name becomes a branch or a default.  The
+    one exception is a citation (:data:`ALLOWED`), listed exactly: the test fails when it
+    is gone too."""
     found = _scan()
-    known = {f: PENDING.get(f, set()) | ALLOWED.get(f, set()) for f in found}
-    unexpected = {f: sorted(h - known[f]) for f, h in found.items() if h - known[f]}
+    unexpected = {f: sorted(h - ALLOWED.get(f, set())) for f, h in found.items()
+                  if h - ALLOWED.get(f, set())}
     assert not unexpected, unexpected
-    gone = {f: sorted(h - found.get(f, set())) for f, h in PENDING.items()
+    gone = {f: sorted(h - found.get(f, set())) for f, h in ALLOWED.items()
             if h - found.get(f, set())}
-    assert not gone, f"no longer found, take them off PENDING: {gone}"
+    assert not gone, f"no longer found, take them off ALLOWED: {gone}"
 
 
 def test_the_scan_finds_model_knowledge():

@@ -242,3 +242,18 @@ def test_routine_pickles_to_the_same_routine():
     assert r.name == "dot" and r(v, v) == kb.dot(v, v) == 5.0
     init = pickle.loads(pickle.dumps(vi.ROTOR.init_mode))
     assert init.name == "rotor_init_mode"
+
+
+@pytest.mark.parametrize("family", ["rotor", "duffing", "hard_impact"])
+def test_an_init_mode_routine_made_anywhere_checks_its_arguments(family):
+    """Hypothesis: a family's ``init_mode`` routine is checked however it was made -- by
+    the boundary, or by name alone as when a worker process unpickles it -- so that a
+    state vector of the wrong size is refused before the kernel reads past it."""
+    from vibimpact._kernel.precompiled import routine
+    from vibimpact._kernel.registry import family as kernel_family
+
+    entry = kernel_family(family)
+    n, n_p, n_m, _ = entry.sizes
+    r = routine(f"{family}_init_mode", entry.init_mode)
+    with pytest.raises(ValueError, match="must have"):
+        r(0.0, np.zeros(n + 1), np.zeros(n_p), np.zeros(n_m, dtype=np.int64))

@@ -254,5 +254,21 @@ ROUTINES = {
     "eigvals": lambda a: _square("a", a),
     "suffix_lag_residuals": _suffix_lag_residuals,
     "qr_growth": _qr_growth,
-    "rotor_init_mode": init_mode_check("rotor"),
 }
+
+_INIT_MODE = "_init_mode"
+
+
+def check_of(name):
+    """The argument check of the kernel routine ``name``: an array routine's from
+    :data:`ROUTINES`; ``<family>_init_mode`` of every built-in family (made from its sizes
+    on first use, so that a routine unpickled in a worker process is checked as in its
+    parent); None for a name without one."""
+    check = ROUTINES.get(name)
+    if check is None and name.endswith(_INIT_MODE):
+        family = name[:-len(_INIT_MODE)]
+        try:
+            check = ROUTINES[name] = init_mode_check(family)
+        except ValueError:  # not a built-in family: no check of that name
+            return None
+    return check

@@ -497,12 +497,6 @@ __all__ = ["Method", "Options", "Problem", "EventLog", "integrate", "integrate_a
            "array_routines_compiled", "precompiled_status", "dot", "eigvals", "lstsq", "matmul",
            "solve", "METHODS", "OK", "LOG_FULL", "N_COUNTERS"]
 
-# ---- re-exported for vibimpact.testing.reference (issue 29, point 5): the SciPy reference
-# solver shares only the rotor's model functions (rhs, switches, transition, init_mode and
-# its sizes) with the kernel, and reaches them through this boundary.
-from . import rotor as rotor  # noqa: E402
-__all__ += ["rotor"]
-
 # ---- the built-in models (issue 29, point 1): the model registry above the kernel reads
 # each family's functions and sizes (:mod:`.registry`) and names built-in models
 # (:func:`.dispatch.builtin`) through this boundary.
@@ -518,10 +512,7 @@ def initial_mode(family):
     """The ``init_mode`` of the built-in family ``family`` as a checked
     :class:`~.precompiled.Routine` (its argument sizes from :mod:`.registry`), for a
     model's :attr:`Problem.init_mode`."""
-    name = f"{family}_init_mode"
-    if name not in _check.ROUTINES:
-        _check.ROUTINES[name] = _check.init_mode_check(family)
-    return _routine(name, kernel_family(family).init_mode)
+    return _routine(f"{family}_init_mode", kernel_family(family).init_mode)
 
 
 __all__ += ["initial_mode"]

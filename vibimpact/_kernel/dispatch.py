@@ -1,8 +1,8 @@
 """Calls from the generic kernel into a model's functions (resolved at compile time).
 
 The kernel's functions take a ``model`` argument.  For a built-in model it is a
-:class:`BuiltinModel` (:func:`builtin` of a family name, :data:`ROTOR`, :data:`DUFFING`,
-...), which numba types by its *family*: the rotor and its variational equations are one
+:class:`BuiltinModel` (:func:`builtin` of a family name), which numba types by its
+*family*: the rotor and its variational equations are one
 type, the Duffing oscillator and its variational equations another.  A family is a module
 of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry
 at compile time (a rotor run compiles no Duffing code) and branch at run time on the
@@ -14,8 +14,8 @@ functions behind a number (:func:`kernel_model`), called directly (compiled per 
 numba cannot cache functions passed as arguments).
 
 The *variational* versions of the models (state followed by tangent vectors, saltation at
-every switch; :mod:`.variational`) are models too: :data:`ROTOR_VAR`,
-:data:`DUFFING_VAR` (``builtin(family, variational=True)``), or the tuple
+every switch; :mod:`.variational`) are models too: ``builtin(family, variational=True)``,
+or the tuple
 ``(USER_TAG, rhs, switches, transition, jac, n_state, n_switch)`` for a user model.  Their
 switching functions are the base model's (they read the first ``n_state`` entries only).
 """
@@ -90,13 +90,6 @@ def builtin(family, variational=False):
         model = _BUILTIN[key] = BuiltinModel(int(bool(variational)), family)
     return model
 
-
-#: the built-in models of the rotor of eq. (5) and of the Duffing oscillator, and their
-#: variational equations
-ROTOR = builtin("rotor")
-DUFFING = builtin("duffing")
-ROTOR_VAR = builtin("rotor", True)
-DUFFING_VAR = builtin("duffing", True)
 
 
 #: the first entry of a user model's tuple as the kernel receives it.  numba tries to

@@ -21,7 +21,7 @@ arguments), and a wrong shape, dtype or memory order is a ``ValueError``.
 """
 from __future__ import annotations
 
-from .argcheck import ROUTINES
+from .argcheck import check_of
 
 
 class Routine:
@@ -37,7 +37,7 @@ class Routine:
         self.name = name
         self.jit = jit
         # the shapes and sizes its loops use (the compiled code checks no index)
-        self.check = ROUTINES.get(name)
+        self.check = check_of(name)
 
     def __call__(self, *args):
         if self.check is not None:
