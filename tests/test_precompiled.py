@@ -257,3 +257,20 @@ def test_an_init_mode_routine_made_anywhere_checks_its_arguments(family):
     r = routine(f"{family}_init_mode", entry.init_mode)
     with pytest.raises(ValueError, match="must have"):
         r(0.0, np.zeros(n + 1), np.zeros(n_p), np.zeros(n_m, dtype=np.int64))
+
+
+def test_the_filled_cache_holds_every_exported_function_by_numbas_own_names():
+    """Hypothesis: after the kernel is built, every function the stamp checks has its
+    cache index under the name numba gives it -- including functions a model's factory
+    makes inside another (``stop_model.<locals>.rhs``, whose index numba writes without
+    the angle brackets) -- so ``--version`` reports the filled cache as in use instead of
+    'gone', and a second build compiles nothing."""
+    from vibimpact._kernel import aot_build
+    from vibimpact._kernel.cache_stamp import cache_state, cached_functions
+
+    aot_build.build()
+    names = aot_build._exported_names()
+    assert any("locals" in n for n in names), "no factory-made function exported"
+    assert names <= set(cached_functions()), sorted(names - set(cached_functions()))
+    assert cache_state()[0], cache_state()[1]
+    assert aot_build.build()["compiled"] is False

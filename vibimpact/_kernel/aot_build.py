@@ -76,8 +76,12 @@ def exports():
 
 
 def _exported_names():
-    """The cache index names of :func:`exports` (``module.function``)."""
-    return {f"{fn.py_func.__module__.rsplit('.', 1)[-1]}.{fn.py_func.__qualname__}"
+    """The cache index names of :func:`exports` (``module.function``), spelled as numba
+    names the index files: a function made inside another (a model's functions built by a
+    factory, ``stop_model.<locals>.rhs``) without the angle brackets
+    (``stop_model.locals.rhs``)."""
+    return {f"{fn.py_func.__module__.rsplit('.', 1)[-1]}."
+            f"{fn.py_func.__qualname__.replace('<', '').replace('>', '')}"
             for fn, _, _ in exports().values()}
 
 
