@@ -23,6 +23,12 @@ from vibimpact._kernel.impulsive import (CHATTER, HELD, N_MODE, STICK, SW_CHATTE
                                          TERMINAL, chatter_remainder, stop_model)
 from vibimpact.models.contact import Contact, ContactLaw, Restitution
 
+# every test here integrates a model declared in this file, whose kernel numba compiles in
+# the test process (the longest compile of the fast suite): the slow line runs them
+# (pyproject.toml's marker); the fast suite keeps the impulsive law through the built-in
+# hard-impact oscillator, whose kernel is in the install's cache (tests/test_hard_impact.py)
+pytestmark = pytest.mark.slow
+
 
 @njit
 def _accel(s, y, p):
@@ -152,7 +158,6 @@ def test_a_restitution_is_declared_and_checked_like_a_force_law():
         stop_model(*args, 0, 1, 1, 2, chatter_time=0.0)
 
 
-@pytest.mark.slow  # compiles the user model's variational kernel
 def test_the_saltation_of_an_impact_matches_the_flow_maps_differences():
     """Hypothesis: through an impact (the state jumps by ``R(x, v) = (d, -r v)``, the
     field too) the monodromy matrix of the variational equations, with the saltation
@@ -186,7 +191,6 @@ def _free_rhs_mirror(s, y, p, out):
     out[1] = _accel_mirror(s, y, p)
 
 
-@pytest.mark.slow  # compiles a second user model's kernel
 def test_a_stop_below_the_coordinate_is_the_mirror_image():
     """Hypothesis: the oscillator mirrored (``z = -x``: the force ``-A cos t``, the stop
     at ``z = -d`` below the coordinate, ``side = -1``) chatters, sticks and is released
