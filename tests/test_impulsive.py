@@ -24,7 +24,7 @@ from vibimpact._kernel.impulsive import (CHATTER, HELD, N_MODE, STICK, SW_CHATTE
 from vibimpact.models.contact import Contact, ContactLaw, Restitution
 
 # every test here integrates a model declared in this file, whose kernel numba compiles in
-# the test process (the longest compile of the fast suite): the slow line runs them
+# the test process (it would be the fast suite's longest step): the slow line runs them
 # (pyproject.toml's marker); the fast suite keeps the impulsive law through the built-in
 # hard-impact oscillator, whose kernel is in the install's cache (tests/test_hard_impact.py)
 pytestmark = pytest.mark.slow
