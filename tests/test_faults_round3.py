@@ -364,13 +364,19 @@ STOP_CASES = {
 }
 
 
-def _stop_a_child(args, which, tmp_path):
-    """Start ``args``, SIGSTOP its child ``which`` (an index into its children: the pool's
-    workers are the newest, the queue's process the oldest) once its pool runs (three
-    children: the queue's and two workers, or the warm-up helper's and two workers; two
-    for a run without a queue); the process."""
+#: the watch's grace for a stopped child made 600 s: a signal the test sends after the
+#: stop always lands first, however loaded the machine
+PATIENT_WATCH = ("import vibimpact.engine.watch as w\n"
+                 "w.Watch.__init__.__defaults__ = (600.0,)")
+
+
+def _stop_a_child(args, which, tmp_path, prelude=None):
+    """Start ``args`` (after ``prelude``), SIGSTOP its child ``which`` (an index into its
+    children: the pool's workers are the newest, the queue's process the oldest) once its
+    pool runs (three children: the queue's and two workers, or the warm-up helper's and
+    two workers; two for a run without a queue); the process."""
     least = 2 if args[0] == "attractors" else 3  # attractors: no queue of points
-    proc = start(args, tmp_path)
+    proc = start(args, tmp_path, prelude=prelude)
     try:
         wait_for(lambda: len(children(proc.pid)) >= least, proc, "pool workers")
         os.kill(children(proc.pid)[which], signal.SIGSTOP)
@@ -411,9 +417,11 @@ def test_a_stopped_child_ends_the_command_with_one_line(case, tmp_path):
 def test_sigterm_ends_a_command_whose_child_is_stopped(which, tmp_path):
     """Hypothesis: SIGTERM to classify whose worker or queue process is stopped ends it
     (exit 143, the interrupted line with the saved points): the stopped child is killed,
-    never asked to shut down, so nothing waits on it."""
+    never asked to shut down, so nothing waits on it.  The watch's grace is made long so
+    that the SIGTERM comes first (a stop the watch reports first is the test above; a
+    signal while its line is said, test_faults_signals)."""
     proc = _stop_a_child(["classify", *SWEEP, "--workers", "2", "-o", "c.nc"], which,
-                         tmp_path)
+                         tmp_path, prelude=PATIENT_WATCH)
     assert_one_interrupted_line(tmp_path, signal_and_finish(proc, signal.SIGTERM))
 
 

@@ -63,13 +63,16 @@ STALL_IMAGE = STALL.replace(
     "import matplotlib.figure as mf\nmf.Figure.savefig = stall(mf.Figure.savefig)\n")
 
 
-def start(args, cwd, stall=False, env=None, module="vibimpact.cli", ignoring=()):
+def start(args, cwd, stall=False, env=None, module="vibimpact.cli", ignoring=(),
+          prelude=None):
     """Start ``vibimpact ARGS`` (stderr to ``cwd/err.txt``, ``env`` added to the
     environment) in its own session, as ``python -m module`` (``"vibimpact"``: through
     the script's entry point) with the signals ``ignoring`` ignored from its start;
-    ``stall``: True stalls the dataset writes, ``"image"`` the figure's."""
+    ``stall``: True stalls the dataset writes, ``"image"`` the figure's; ``prelude``:
+    Python run first, then the command line's ``main()`` as the process's program."""
     code = (["-c", STALL_IMAGE] if stall == "image" else ["-c", STALL] if stall
-            else ["-m", module])
+            else ["-c", f"{prelude}\nimport sys\nfrom vibimpact.cli import main\n"
+                        "sys.exit(main())"] if prelude else ["-m", module])
 
     def ignore():
         for sig in ignoring:
@@ -466,6 +469,54 @@ def test_sigterm_while_simulating_leaves_nothing(tmp_path):
     assert status == 143, status
     assert messages(tmp_path) == ["vibimpact: interrupted"]
     assert files(tmp_path) == []
+
+
+#: stderr made to send the process the signal SECOND_SIGNAL as the first line that
+#: begins with "vibimpact:" is written: a signal that lands while the command says how
+#: it ended
+SECOND_SIGNAL = """
+import os, sys
+class Said:
+    def __init__(self, stream):
+        self.stream, self.sent = stream, False
+    def write(self, text):
+        if not self.sent and text.startswith("vibimpact:"):
+            self.sent = True
+            os.kill(os.getpid(), int(os.environ["SECOND_SIGNAL"]))
+        return self.stream.write(text)
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+sys.stderr = Said(sys.stderr)
+"""
+
+
+@pytest.mark.parametrize("second", [signal.SIGTERM, signal.SIGINT], ids=["TERM", "INT"])
+@pytest.mark.parametrize("ending", ["error", "interrupted"])
+def test_a_signal_while_the_last_line_is_said_adds_no_line(ending, second, tmp_path):
+    """Hypothesis: a SIGTERM or SIGINT that arrives while the command says how it ended
+    (its error line, exit 2; or its interrupted line after a first SIGTERM, exit 143)
+    neither adds a second line nor changes the status: the line said decides (what
+    the slow line found when a stopped worker's error and the test's SIGTERM met)."""
+    env = {"SECOND_SIGNAL": str(int(second))}
+    if ending == "error":
+        proc = start(["simulate", "--from", "missing.nc", "-o", "r.nc"], tmp_path,
+                     env=env, prelude=SECOND_SIGNAL)
+        status = finish(proc)
+        lines = messages(tmp_path)
+        assert status == 2 and len(lines) == 1, (status, lines)
+        assert lines[0].startswith("vibimpact: error:") and "missing.nc" in lines[0]
+    else:
+        proc = start(["simulate", "--preset", "fig8", "--eta", "1.0", "--periods",
+                      "100000", "--transient", "0", "-o", "r.nc"], tmp_path, env=env,
+                     prelude=SECOND_SIGNAL)
+        try:
+            time.sleep(2.5)
+            assert proc.poll() is None, messages(tmp_path)
+        except BaseException:
+            os.killpg(proc.pid, signal.SIGKILL)
+            raise
+        assert_one_interrupted_line(tmp_path, signal_and_finish(proc, signal.SIGTERM))
+    assert files(tmp_path) == []  # no output, no temporary
 
 
 @pytest.mark.parametrize("moment", ["computing", "writing"])
