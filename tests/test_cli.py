@@ -110,6 +110,7 @@ def test_plot_writes_png(simulated):
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_existing_output_needs_overwrite(simulated):
     """An existing output is refused (exit 2, file untouched) and replaced with --overwrite."""
     d, _ = simulated
@@ -157,6 +158,7 @@ def test_bad_input_is_one_line_exit_2(case, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_diverged_run_is_written_with_a_warning(tmp_path):
     """A run that blows up (no contact stiffness, strong softening) still writes its file
     with status 'diverged' and the reason, warns on one stderr line and exits 0."""

@@ -148,6 +148,7 @@ def test_classify_file_is_the_api_sweep_lossless(classified):
     assert list(back["label"].values) == list(mem["label"].values)
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_eta_list_sweeps_exactly_the_listed_values(tmp_path):
     """--eta V1,V2 (as --vary takes lists) sweeps exactly those values: the file's eta
     coordinate is the list and its labels equal the API sweep over the same list."""
@@ -199,6 +200,7 @@ def test_classify_bad_input_is_one_line_exit_2(case, tmp_path):
     assert_usage_error(r, needle, tmp_path)
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_existing_output_needs_overwrite(tmp_path):
     """An existing output is refused before computing (exit 2, file untouched, no
     checkpoint made) and replaced with --overwrite."""
@@ -221,6 +223,7 @@ def test_existing_checkpoint_needs_resume(tmp_path):
     assert_usage_error(r, "--resume", tmp_path, ["c.nc.partial"])
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_resume_refuses_a_checkpoint_of_another_sweep(tmp_path):
     """--resume with a checkpoint made for a different grid is refused (exit 2, one line)
     instead of mixing two sweeps; --keep-checkpoint keeps the checkpoint after writing."""
@@ -334,6 +337,7 @@ def test_interrupted_sweep_resumes_bit_identical(sig, workers, tmp_path, referen
 
 # --- bifurcation and plot -------------------------------------------------------------
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_bifurcation_writes_png_and_its_data(tmp_path):
     """bifurcation writes the PNG and the data next to it (same stem, .nc) with up and
     down sweeps and only the period and Poincaré analyses; 'plot --kind bifurcation'
@@ -384,6 +388,7 @@ def test_plot_each_kind_from_classify_output(kind, classified):
     assert data[:8] == PNG and len(data) > 10_000
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_plot_xy_of_a_simulate_file(tmp_path):
     """plot --kind xy (also the default) draws a simulate file; a sweep kind is refused."""
     r = cli("simulate", "--eta", "1.25", "--periods", "5", "--transient", "5", "-o",
@@ -396,6 +401,7 @@ def test_plot_xy_of_a_simulate_file(tmp_path):
     assert_usage_error(r, "simulate")
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_plot_bad_input(classified, tmp_path):
     """plot: a missing file, a file that is not NetCDF, an unknown kind, xy of a sweep,
     an unknown image extension and an existing image: exit 2 with one line."""

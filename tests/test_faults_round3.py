@@ -364,8 +364,8 @@ STOP_CASES = {
 }
 
 
-#: the watch's grace for a stopped child made 600 s: a signal the test sends after the
-#: stop always lands first, however loaded the machine
+#: the watch's grace for a stopped child made longer than the test can last: a signal
+#: the test sends after the stop always lands first, however loaded the machine
 PATIENT_WATCH = ("import vibimpact.engine.watch as w\n"
                  "w.Watch.__init__.__defaults__ = (600.0,)")
 

@@ -177,6 +177,7 @@ def test_map_period_colours_do_not_depend_on_the_other_sweep():
             np.testing.assert_allclose(one[0], p1)
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_listed_values_get_a_categorical_axis():
     """Hypothesis: values listed on the command line (vary_range "f=0,0.05") are rows
     0, 1 labelled with the values themselves; a range (":") keeps a numeric axis; for a

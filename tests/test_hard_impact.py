@@ -176,6 +176,7 @@ def _cli(argv):
         return exc.code
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_every_command_runs_on_the_preset(tmp_path, capsys):
     """Hypothesis: simulate, classify, bifurcation, attractors, basins, orbits, continue
     and plot each run on ``--preset hard-impact`` with tiny problems (exit status 0), the

@@ -39,6 +39,7 @@ def _stage_args(model, n):
 
 @pytest.mark.parametrize("model, n", [(dispatch.builtin("rotor"), 4), (dispatch.builtin("rotor", True), 8)],
                          ids=["rotor", "rotor_variational"])
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_stage_step_and_event_functions_do_no_reference_counting(model, n):
     """A Runge--Kutta step (with the model dispatch and the rotor's right-hand side, plain
     or variational, inside), its error norm, the event detection over a step and the

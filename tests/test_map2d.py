@@ -99,6 +99,7 @@ def test_map_rows_are_the_one_dimensional_sweeps(serial):
     assert iv.sizes["interval"] >= 3
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_cluster_survives_a_killed_worker_and_equals_serial(serial, cluster):
     """Hypothesis: rows run as Dask tasks on a cluster give the serial map bit for bit,
     even when a worker process is SIGKILLed while it holds tasks: the scheduler hands its
@@ -162,6 +163,7 @@ def test_a_sweep_on_the_cluster_equals_the_serial_sweep(cluster, tmp_path):
     assert Checkpoint(tmp_path / "ck").saved() == (2 * 7, 2)
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_local_processes_equal_serial(serial):
     """Hypothesis: the default local execution (workers=2: a LocalCluster of two
     processes started for the run) gives the serial map bit for bit."""
@@ -176,6 +178,7 @@ def _entries(store, at):
     return sorted(store.glob(f"{d}_{row:06d}_*.npz"))
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_interrupted_map_resumes_without_recomputing_saved_rows(serial, tmp_path,
                                                                  monkeypatch):
     """Hypothesis: a map interrupted after two rows has exactly those rows in its
@@ -416,6 +419,7 @@ def test_boundaries_lie_exactly_between_different_labels():
                            ((2.5, 15.0), (3.5, 15.0))])   # eta 3: b / c
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_plot_map_draws_every_panel(serial, tmp_path):
     """Hypothesis: plot_map draws, per sweep direction, the four panels (regime, period,
     impacts, exponent) with the boundary lines of that direction's labels, and saves a

@@ -108,6 +108,7 @@ def test_rerun_of_a_command_with_verbose_before_its_name(flag, tmp_path, monkeyp
     assert listing(tmp_path) == ["r.nc"]
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 @pytest.mark.parametrize("out", ["m.zarr", "m.nc"])
 def test_rerun_map_store_and_netcdf(out, tmp_path, monkeypatch, capfd):
     """A map, as a Zarr store or a NetCDF file, reruns identical (exit 0) with no image

@@ -111,6 +111,7 @@ def test_set_changes_a_ring_parameter_and_refuses_values_outside_its_domain(tmp_
         assert not (tmp_path / "bad.nc").exists()
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_classify_file_stores_vr_and_draws_every_sweep_kind(files, capfd):
     """Hypothesis: a ring sweep file holds the Poincaré samples of Vr with units and a
     long name, and the final state of every point with the five states; every kind of

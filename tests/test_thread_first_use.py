@@ -55,6 +55,7 @@ SCRIPT = textwrap.dedent('''
 ''')
 
 
+@pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 @pytest.mark.parametrize("call", CALLS)
 def test_first_calls_from_several_threads_all_see_every_built_in_model(call):
     """Hypothesis: when the first calls of a process come from several threads at once,
