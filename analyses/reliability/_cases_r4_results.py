@@ -98,8 +98,8 @@ API = {
         "vi.basins(vi.System(vi.presets.get('fig8').replace(eta=1e-9)), grid=(2, 2), "
         "eps=1)", "system"),
     "follow_branch stop=1e7": (
-        "__import__('vibimpact.continuation.branches').branches.follow_branch(vi.presets.get('fig8'), "
-        "stop=1e7)", "stop"),
+        "__import__('vibimpact.continuation.branches').continuation.branches.follow_branch("
+        "vi.presets.get('fig8'), stop=1e7)", "stop"),
     "CensusSettings max_periods=10**12": ("vi.CensusSettings(max_periods=10**12)",
                                           "max_periods"),
     "user model terminal longer than its switches": (
