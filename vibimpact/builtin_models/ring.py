@@ -74,4 +74,10 @@ MODEL = Model.builtin_model(
                       "Vr / (Rr + 1) in units of omega0)"},
     presets={f"{fig}-ring": (_preset(fig), f"{describe(fig)}; with a light "
                              "turning retainer ring (Jr 0.05)")
-             for fig in ("fig8", "fig10", "fig11")})
+             for fig in ("fig8", "fig10", "fig11")},
+    references="L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
+               "with impacts (the rotor model, eq. 5), with the retainer as a turning ring",
+    # the rotor's frequency range and census point, with the ring turning
+    defaults={"frequencies": "0.9:1.5:0.002", "map_frequencies": "0.9:1.5:0.005",
+              "census_preset": "fig11-ring",
+              "census_frequency": 1.06})

@@ -245,6 +245,7 @@ PLOT = PlotSpec(
     symbols={"eta": "η"}, title=("kh", "G", "B", "Ec"),
     title_nonzero=("Bh", "BT", "f", "Rr"), title_hidden=("k3", "eps"),
     preset_columns=("kh", "G", "Bh", "BT", "f", "Rr", "B", "Ec"), preset_marked=("B", "Ec"),
+    frequency_text="forcing frequency ratio eta = omega sqrt(m/k)",
     preset_note="B and Ec are our defaults, not values from the paper; all the paper's "
                 "presets have k3 = -0.002 and eta is set per run (--eta).")
 
@@ -257,4 +258,11 @@ MODEL = Model.builtin_model(
                                    tangential_damping="BT")),
     plot=PLOT,
     presets={name: (paper_values(name), describe(name)) for name in paper_names()},
-    default_preset="fig8")
+    default_preset="fig8",
+    # the paper's frequency range; a census where attractors coexist: fig11 at 1.06
+    # holds period-8 and period-14 orbits and two period-1 ones with small basins
+    references="L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
+               "with impacts (the rotor model, eq. 5)",
+    defaults={"frequencies": "0.9:1.5:0.002", "map_frequencies": "0.9:1.5:0.005",
+              "census_preset": "fig11",
+              "census_frequency": 1.06})

@@ -333,7 +333,7 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
     out[xname].attrs.update(long_name=f"start {xname}")
     out[yname].attrs.update(long_name=f"start {yname}")
     out.attrs = dict(census.attrs)
-    out.attrs.update(kind="basins", frequency_name=model.param_names[model.omega_index],
+    out.attrs.update(kind="basins", frequency_name=model.frequency_name,
                      plane=f"{xname},{yname}", plane_x=xname,
                      plane_y=yname, grid_columns=int(cols), grid_rows=int(rows),
                      range_x=list(rng[0]), range_y=list(rng[1]),

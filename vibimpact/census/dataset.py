@@ -244,8 +244,7 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                   failed_fraction=failed / float(n), failure=failure.astype(str))
     ds = xr.Dataset(
         {k: (_VARIABLES[k][0], v, _var_attrs(k, v)) for k, v in values.items()},
-        coords=dict(eta=("eta", etas, dict(long_name="forcing frequency ratio eta",
-                                           units="1")),
+        coords=dict(eta=("eta", etas, model.frequency_attrs()),
                     start=("start", np.arange(n, dtype=np.int32), dict(
                         long_name="starting state index", units="1")),
                     attractor=("attractor", np.arange(A, dtype=np.int32), dict(
@@ -257,11 +256,12 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                         long_name="stroboscopic sample index", units="1")),
                     multiplier=("multiplier", np.arange(d, dtype=np.int32), dict(
                         long_name="Floquet multiplier index", units="1"))),
-        attrs=dict(kind="census", model=model.name, seed=int(seed), box=box.describe(),
+        attrs=dict(kind="census", model=model.name, frequency_name=model.frequency_name,
+                   seed=int(seed), box=box.describe(),
                    box_lo=box.lo, box_hi=box.hi, box_scale=box.scale,
                    n_starts=int(n),
                    **{f"param_{k}": v for k, v in param_dict(system).items()
-                      if k != model.param_names[model.omega_index]},
+                      if k != model.frequency_name},
                    **{f"census_{k}": v for k, v in settings.as_attrs().items()}))
     return ds
 

@@ -140,6 +140,18 @@ def _cf_encoding(var, values, name):
     return enc
 
 
+def _model_references(attrs):
+    """The literature the built-in model a dataset records (its ``model`` attribute)
+    declares (:attr:`vibimpact.models.Model.references`); None for a user's model, an
+    unknown name or a dataset of no model."""
+    from .. import models
+
+    name = attrs.get("model")
+    if not isinstance(name, str) or name not in models.names():
+        return None
+    return models.get(name).references or None
+
+
 def _cf_types(out):
     """``out`` with every integer variable of a type CF-1.8 does not know (int64, the
     unsigned types) as int32 (or float64 when its values do not fit), in memory and in
@@ -231,7 +243,7 @@ def for_file(ds: xr.Dataset, call: str, *,
         netcdf = call != "vibimpact.maps.write_map"
 
     out = _cf_types(ds.copy(deep=False))
-    out.attrs = file_attrs(ds.attrs, call)
+    out.attrs = file_attrs(ds.attrs, call, _model_references(ds.attrs))
     _log.info("file of %s: %s; %d variables, sizes %s", out.attrs.get("title", "?"),
               _described(out.attrs), len(out.variables), dict(out.sizes))
     encoding: dict[Hashable, dict[str, Any]] = {name: {"_FillValue": None}

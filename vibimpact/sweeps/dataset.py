@@ -199,8 +199,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     dims = ("direction", "eta")
     ds = xr.Dataset(
         {k: (dims, v, attrs) for k, (v, attrs) in data.items()},
-        coords={"eta": ("eta", etas, dict(units="1", long_name="forcing frequency ratio "
-                                          "eta = omega sqrt(m/k)")),
+        coords={"eta": ("eta", etas, to_system(p).model.frequency_attrs()),
                 "direction": ("direction", np.array(dirs, dtype=object),
                               dict(long_name="sweep direction"))})
     for name in FLAGS:
@@ -246,12 +245,12 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction
     params = param_dict(p)
-    params.pop(model.param_names[model.omega_index], None)
+    params.pop(model.frequency_name, None)
     ds.attrs.update(
         title="vibimpact frequency sweep",
         Conventions="CF-1.8",
         source=f"vibimpact {__version__}",
-        model=model.name,
+        model=model.name, frequency_name=model.frequency_name,
         params=json.dumps(params, sort_keys=True),
         settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
         sweep_direction=direction, continuation=int(bool(continuation)),
