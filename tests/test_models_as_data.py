@@ -267,3 +267,36 @@ def json_params(ds):
     import json
 
     return json.loads(ds.attrs["params"])
+
+
+#: words of the rotor's files: a file of another model that says one of them describes
+#: that model in the rotor's terms
+ROTOR_WORDS = ("retainer", "clearance", "tau", "dR/dtau", "atan2", "R - 1")
+
+
+@pytest.mark.parametrize("preset", ["hard-impact", "soft-impact"])
+def test_no_file_of_another_model_speaks_of_the_rotor(preset, tmp_path):
+    """Hypothesis: the texts of a run's, a sweep's and a census' files of a model that
+    is not the rotor (every long_name, every state's words, the interval map's) use that
+    model's words (its states, its frequency's name, its obstacle), none of the rotor's:
+    nothing falls back to the rotor's descriptions."""
+    p = vi.presets.get(preset)
+    texts = []
+
+    def collect(ds):
+        texts.extend(str(v) for v in ds.attrs.values() if isinstance(v, str)
+                     and not str(v).startswith(("vibimpact ", "[")))
+        for var in ds.variables.values():
+            texts.extend(str(v) for v in var.attrs.values() if isinstance(v, str))
+
+    run = vi.simulate(p, periods=3, transient=2)
+    collect(run.to_dataset())
+    sweep = vi.sweep(p, [p.eta, p.eta * 1.01], continuation=False)
+    collect(sweep)
+    collect(vi.sweeps.intervals(sweep).dataset)
+    census = vi.attractors(vi.System(p), starts=3, seed=0)
+    collect(census)
+    said = [t for t in texts if any(w in t for w in ROTOR_WORDS)
+            and "params" not in t and "command" not in t]
+    assert said == [], said
+    assert len(texts) > 50  # the scan read the files' texts

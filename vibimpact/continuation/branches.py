@@ -23,6 +23,7 @@ import logging
 
 import numpy as np
 
+from ..models.words import file_words
 from ..base import _validate as _v
 from ..base._fill import complex_parts
 from ..base.bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
@@ -179,8 +180,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     return branch, np.asarray(x, dtype=np.float64)
 
 
-def _point_vars(branch, names):
-    """The data variables on ``point`` (and ``state``, ``multiplier``)."""
+def _point_vars(branch, names, unit=""):
+    """The data variables on ``point`` (and ``state``, ``multiplier``); ``unit``: the
+    model's length unit as a suffix (``" / clearance"``), or ``""``."""
     mu = np.asarray(branch.multipliers, dtype=complex)
     real, imag = complex_parts(mu)
     out = {
@@ -206,8 +208,9 @@ def _point_vars(branch, names):
             dict(units="1", long_name="impacts (contact entries) per period of the orbit "
                                       "(-1: not counted)", **_COUNTED))
     for key, values in branch.amplitude.items():
-        long_name = (f"response amplitude max |{key[:-2]}| of the orbit" if key != "R_m"
-                     else "largest radial displacement max R of the orbit / clearance")
+        long_name = (f"response amplitude max |{key[:-2]}| of the orbit{unit}"
+                     if key != "R_m" else
+                     f"largest radial displacement max R of the orbit{unit}")
         out[key] = ("point", np.asarray(values, dtype=np.float64),
                     dict(units="1", long_name=long_name))
     return out
@@ -302,7 +305,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     system = to_system(system, "system")
     names = list(system.model.state_names)
     param = branch.param if isinstance(branch.param, str) else f"p{int(branch.param)}"
-    data = _point_vars(branch, names)
+    data = _point_vars(branch, names, file_words(system.model)["unit"])
     data.update(_event_vars(branch))
     if start_state is not None:
         data["start_state"] = ("state", np.asarray(start_state, np.float64).reshape(-1),

@@ -468,7 +468,7 @@ class Solver:
     def stopped(self, reason: str) -> str:
         """``reason`` with the time the run stopped at."""
         k_done = int(self.clock[0])
-        return f"{reason} at tau = {k_done * self.period + self.clock[1]:.6g} " \
+        return f"{reason} at t = {k_done * self.period + self.clock[1]:.6g} " \
                f"(forcing period {k_done})"
 
     def benettin(self, n_periods: int, logs: np.ndarray,

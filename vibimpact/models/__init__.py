@@ -444,6 +444,14 @@ class PlotSpec:
     frequency_text : str
         What the forcing frequency is, in words: the ``long_name`` of a file's frequency
         coordinate; empty: ``"forcing frequency NAME"``.
+    obstacle : str
+        What the contact meets, in files' words (``"retainer"``; "loaded arcs of the
+        retainer").
+    angle_text : str
+        What the contact angle is and how it runs, in files' words; empty: "the
+        contact angle".
+    time_name : str
+        The name of the model's time in files' words (``"tau"``: "per unit tau").
     """
 
     xy: tuple
@@ -461,6 +469,9 @@ class PlotSpec:
     preset_marked: tuple = ()
     preset_note: str = ""
     frequency_text: str = ""
+    obstacle: str = "obstacle"
+    angle_text: str = ""
+    time_name: str = "time"
 
     def symbol(self, name: str) -> str:
         """How labels write parameter ``name``."""
