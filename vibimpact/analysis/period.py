@@ -1,4 +1,4 @@
-"""Period of a stroboscopic (Poincare) sequence, and the two sections of a rotor run.
+"""Period of a stroboscopic (Poincare) sequence, and the two sections of a run.
 
 :func:`detect_period` works on plain arrays of Poincare points from any system: it
 returns the smallest ``n`` with ``x[k + n] = x[k]`` for *every* ``k`` of the
@@ -8,8 +8,9 @@ converging transient, a quasi-periodic orbit (whose near-returns are never exact
 chaotic orbit from being called periodic.
 
 :func:`poincare_section` and :func:`impact_map` extract the two usual sections of a
-:class:`vibimpact.Run`: the stroboscopic map at ``tau_k = 2 pi k / eta`` and the impact map
-(the state at each contact entry ``R = 1``), cf. Nordmark (1991) and di Bernardo et al. (2008).
+:class:`vibimpact.Run`: the stroboscopic map at ``tau_k = 2 pi k / omega`` (``omega`` the
+forcing frequency) and the impact map (the state at each contact entry; for the built-in
+rotor, at ``R = 1``), cf. Nordmark (1991) and di Bernardo et al. (2008).
 
 References
 ----------
@@ -225,7 +226,7 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
 
 
 def poincare_section(run: Run) -> np.ndarray:
-    """Stroboscopic Poincare samples of a run, ``x(tau_k)`` at ``tau_k = 2 pi k / eta``.
+    """Stroboscopic Poincare samples of a run, ``x(tau_k)`` at ``tau_k = 2 pi k / omega``.
 
     Parameters
     ----------
@@ -245,24 +246,30 @@ def poincare_section(run: Run) -> np.ndarray:
 
 
 def impact_map(run: Run) -> np.ndarray:
-    """States at every contact entry: the impact (Poincare) map of the rotor.
+    """States at every contact entry: the impact (Poincare) map of a run.
 
-    Rows are the events of ``run.events`` with ``which == 0`` (switch 0: the contact
-    surface ``R = 1``) that go from free flight into contact, ``mode_before[:, 0] == 0``
-    and ``mode_after[:, 0] == 1``; contact exits are dropped.
+    Rows are the events of ``run.events`` with ``which == 0`` that go from free flight
+    into contact, ``mode_before[:, 0] == 0`` and ``mode_after[:, 0] == 1``; contact exits
+    are dropped.  Switch 0 and mode entry 0 are taken to be the contact, as every built-in
+    model declares it (:attr:`vibimpact.Contact.switch`, :attr:`vibimpact.Contact.mode`;
+    for the built-in rotor, the contact surface ``R = 1``); a user model whose contact
+    is another switch or mode entry still gets the rows of switch 0 and mode entry 0.
 
     Parameters
     ----------
     run : vibimpact.Run
-        Rotor run; ``run.events`` is a dict with ``t`` (k,), ``which`` (k,),
-        ``mode_before`` (k, 2), ``mode_after`` (k, 2) and ``state`` (k, 4).  A run without
-        events (or a model without contacts) gives no rows.
+        A run; ``run.events`` is a dict with ``t`` (k,), ``which`` (k,), ``mode_before``
+        (k, n_mode), ``mode_after`` (k, n_mode) and ``state`` (k, n_state) (the built-in
+        rotor's n_mode is 2, its n_state 4).  A run without events (or a model without
+        contacts) gives no rows.
 
     Returns
     -------
-    ndarray, shape (n_impacts, 4)
-        ``(X, Y, X', Y')`` at each entry in time order; ``theta = atan2(Y, X)`` of these
-        rows is :attr:`vibimpact.Run.impacts` ``["theta"]``.
+    ndarray, shape (n_impacts, n_state)
+        The state at each entry in time order (the built-in rotor's ``(X, Y, X', Y')``);
+        the contact's angle of these rows (:attr:`vibimpact.Contact.angle`; for the
+        built-in rotor ``theta = atan2(Y, X)``) is :attr:`vibimpact.Run.impacts`
+        ``["theta"]``.
     """
     events = getattr(run, "events", None) or {}
     width = 4

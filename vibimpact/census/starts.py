@@ -2,9 +2,10 @@
 
 The default box (:func:`default_box`) is documented per model:
 
-* a model whose contact is planar on two position states (the rotor of eq. (5)): those
-  two positions uniform in the disk of radius 1 inside the retainer's clearance (the
-  contact circle ``R = 1``), every other state uniform in ``[-1, 1]``;
+* a model whose contact declares two position states (a planar contact): those two
+  positions uniform in the disk of radius 1 centred at 0, whatever the contact's geometry
+  (for the built-in rotor of eq. (5): inside its retainer's clearance, the contact circle
+  ``R = 1``), every other state uniform in ``[-1, 1]``;
 * any other model: every state uniform in ``[-1, 1]``.
 
 Random starts are drawn from :func:`numpy.random.default_rng` seeded with ``seed``, so

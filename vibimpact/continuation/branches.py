@@ -2,8 +2,8 @@
 continue``).
 
 :func:`follow_branch` is what the command runs: it reaches the starting orbit (integrating
-from rest or a given state, optionally stepping the rotor speed towards the start as a
-sweep does, so that the orbit is the one a sweep follows) and continues it with
+from rest or a given state, optionally stepping the forcing frequency towards the start
+as a sweep does, so that the orbit is the one a sweep follows) and continues it with
 :func:`vibimpact.analysis.continue_orbit`.  :func:`branch_to_dataset` turns the
 :class:`~vibimpact.analysis.Branch` into an ``xarray.Dataset`` with CF attributes (units,
 declared flags) and every number needed to redo it; :func:`branch_from_dataset` gives the
@@ -111,9 +111,10 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
         window is cut there: the branch ends on the bound, and its ``status`` says so.
     param : str
-        The parameter continued (``"eta"``: the rotor's speed, its forcing frequency).
-        Its start value may lie on a bound of its domain (``BT = 0``, as in every
-        preset): the branch then steps into the domain (towards ``stop``).
+        The parameter continued, by name (the default ``"eta"`` is the forcing frequency
+        of the built-in rotor, its speed).  Its start value may lie on a bound of its
+        domain (e.g. the built-in rotor's ``BT = 0``, as in its presets): the branch then
+        steps into the domain (towards ``stop``).
     n : int
         Period of the orbit in forcing periods.
     state0 : array_like, optional
@@ -124,7 +125,8 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         Step the forcing frequency from this value to the system's in steps of 0.02,
         ``transient`` periods each, every step from the previous one's final state
         (:func:`vibimpact.sweeps.continued_state`): the orbit a sweep from there follows.
-        Every step lies between two positive values, inside ``eta``'s domain.
+        Every step lies between two positive values, inside the forcing frequency's
+        domain.
     steps : Steps, optional
         Step controls of :func:`~vibimpact.analysis.continue_orbit`.
     refine : float or None
@@ -279,8 +281,9 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     xarray.Dataset
         Coordinates: the parameter (named after it) and ``state``; variables
         ``orbit_state``, ``floquet_real``, ``floquet_imag``, ``floquet_abs_max``,
-        ``stable`` (flag), ``impacts_per_period``, the amplitudes (``X_m``, ``Y_m``,
-        ``R_m`` for the rotor) on ``point``; ``bifurcation_kind`` (flag: the
+        ``stable`` (flag), ``impacts_per_period``, the amplitudes
+        (:attr:`~vibimpact.analysis.Branch.amplitude`: ``X_m``, ``Y_m``, ``R_m`` for the
+        built-in rotor) on ``point``; ``bifurcation_kind`` (flag: the
         :attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.code`),
         ``bifurcation_value``, ``bifurcation_lower``, ``bifurcation_upper``,
         ``bifurcation_point``, ``bifurcation_impacts_before``,

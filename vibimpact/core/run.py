@@ -61,16 +61,17 @@ class Run:
     params : Params or DuffingParams or ndarray
     model : str
     strobe : ndarray, shape (periods + 1, n)
-        Stroboscopic (Poincare) samples at ``tau_k = 2 pi k / eta`` for
+        Stroboscopic (Poincare) samples at ``tau_k = 2 pi k / omega`` for
         ``k = transient, ..., transient + periods``.  Fewer rows when the run stopped early
         (see :attr:`status`): rows are never padded with NaN.
     t_strobe : ndarray, shape (len(strobe),)
     impacts : ndarray of :data:`IMPACT_DTYPE`
-        One record per contact entered after the transient (rotor model only).
+        One record per contact entered after the transient (empty for a model without
+        a contact).
     events : dict of ndarray
         Raw event log: ``t``, ``which`` (switch index), ``mode_before``, ``mode_after``,
-        ``state``.  For the rotor, switch 0 is contact entry/exit, 1 a friction switch,
-        2 an extremum of ``R`` (observer).
+        ``state``.  The model's switches (for the built-in rotor, switch 0 is contact
+        entry/exit, 1 a friction switch, 2 an extremum of ``R``, an observer).
     dense : ndarray, shape (periods * dense + 1, n) or None
         Evenly spaced samples, only when asked for.
     t_dense : ndarray or None

@@ -104,7 +104,7 @@ class SolverSettings:
         Largest step; a quarter period by default.
     bound : float, optional
         A state component beyond this ends the run as DIVERGED (the model's own by
-        default: 1e3 clearances for the rotor).
+        default: e.g. 1e3 clearances for the built-in rotor).
     event_tol : float, optional
         Switching functions are zero to this at every located event.
     max_steps_per_period : int, optional

@@ -2,8 +2,9 @@
 
 The dataset holds every number needed to redo the run (all parameters, the solver settings
 and the command line as global attributes) next to the data, with CF-style ``units`` and
-``long_name`` attributes.  All lengths are in units of the radial clearance and all times in
-the dimensionless time ``tau``; their units are therefore ``"1"``.
+``long_name`` attributes.  All lengths and times are the model's dimensionless ones (for
+the built-in rotor, lengths in units of the radial clearance and times in ``tau``); their
+units are therefore ``"1"``.
 """
 from __future__ import annotations
 
@@ -185,7 +186,8 @@ def _cf_types(out):
 
 
 def _described(attrs):
-    """The model and parameters a file records, for the log: ``rotor, kh = 120, ...``."""
+    """The model and parameters a file records, for the log (e.g. ``rotor, kh = 120,
+    ...`` for the built-in rotor)."""
     params = {k[6:]: v for k, v in attrs.items() if k.startswith("param_")}
     words = [str(attrs["model"])] if attrs.get("model") else []
     words += [f"{k} = {v:g}" if isinstance(v, (int, float)) else f"{k} = {v}"

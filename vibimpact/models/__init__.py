@@ -304,7 +304,9 @@ class Model:
         Parameters
         ----------
         rhs, jac, switches, transition, init_mode : numba ``@njit`` functions
-            With the signatures of :mod:`vibimpact._kernel.rotor`.
+            With the signatures of a kernel module's
+            (:class:`vibimpact._kernel.registry.KernelModel`; e.g. the built-in rotor's,
+            :mod:`vibimpact._kernel.rotor`).
         terminal : sequence of int
             One entry per switching function: 1 terminal, 0 observer.  A smooth model
             gives one observer (e.g. a velocity) so that the array is never empty.
@@ -408,10 +410,10 @@ class PlotSpec:
     Parameters
     ----------
     xy : tuple of str
-        The two states drawn against each other (``("X", "Y")`` for the rotor).
+        The two states drawn against each other (``("X", "Y")`` for the built-in rotor).
     circle : float, optional
         Radius of a circular obstacle centred at the origin, drawn with the orbit (the
-        rotor's retainer: 1); None: none.
+        built-in rotor's retainer: 1); None: none.
     circle_label : str
         The circle's entry in the legend of an XY plot.
     circle_name : str
@@ -421,8 +423,8 @@ class PlotSpec:
     y_note : str
         Added to the second axis's label of an XY plot (``"+Y down, along gravity"``).
     length_unit : str, optional
-        The unit of the model's lengths, in axis labels (``"clearance"``); None: lengths
-        are dimensionless numbers.
+        The unit of the model's lengths, in axis labels (the built-in rotor's
+        ``"clearance"``); None: lengths are dimensionless numbers.
     symbols : mapping
         ``{parameter name: symbol}`` for labels and titles (``{"eta": "η"}``); a parameter
         not in it is shown by its name.

@@ -109,7 +109,7 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
     branch : vibimpact.analysis.Branch or xarray.Dataset
         Computed with ``amplitude=True``, or read from a ``vibimpact continue`` file.
     var : str
-        A key of ``branch.amplitude`` (``"X_m"``, ``"Y_m"``, ``"R_m"`` for the rotor;
+        A key of ``branch.amplitude`` (``"X_m"``, ``"Y_m"``, ``"R_m"`` for the built-in rotor;
         ``"x_m"`` for the Duffing oscillator), or ``"floquet_abs_max"`` for the largest
         modulus of the Floquet multipliers.
     color : colour
@@ -226,9 +226,10 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
                        dpi: float | None = None, style: str | None = None) -> Figure:
     """The figure of ``vibimpact plot BRANCH.nc --kind branch``.
 
-    One panel per response amplitude of the orbit (``X_m`` and ``Y_m`` for the rotor)
-    and one with the largest modulus of the Floquet multipliers, ``|mu|max``, against
-    the continuation parameter, with the stability boundary ``|mu| = 1`` drawn.
+    One panel per response amplitude of the orbit (the first two, ``R_m`` left out:
+    ``X_m`` and ``Y_m`` for the built-in rotor) and one with the largest modulus of the
+    Floquet multipliers, ``|mu|max``, against the continuation parameter, with the
+    stability boundary ``|mu| = 1`` drawn.
 
     Parameters
     ----------

@@ -41,7 +41,7 @@ def _title(ds):
 def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
             ax: Axes | None = None, *, figsize: tuple[float, float] | None = None,
             dpi: float | None = None, style: str | None = None) -> Axes:
-    """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
+    """Draw the orbit in the plane of the model's XY states with its obstacle and impacts.
 
     Parameters
     ----------
@@ -74,13 +74,19 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
 
     Notes
     -----
-    Lengths are in clearances: the retainer is the circle ``R = 1`` of the centre.  Gravity
-    acts along +Y, so the Y axis is inverted: the bottom of the retainer
-    (``theta = +90`` degrees) is drawn at the bottom.  Impact markers sit at the contact
-    entry point ``(cos theta, sin theta)``; the loaded arcs of
+    What is drawn is what the dataset's model declares (:class:`~vibimpact.models.PlotSpec`;
+    a model that is not built in: its first two states, no obstacle).  A model with a
+    circular obstacle (``circle``: its radius, centred at the origin) gets that circle, the
+    orbit in the plane of its ``xy`` states, the impacts and the loaded arcs, the second
+    axis inverted where ``y_down``; any other model, the orbit and its stroboscopic points
+    in the plane of its ``xy`` states.  Impact markers sit at the contact entry point
+    ``circle * (cos theta, sin theta)``; the loaded arcs of
     :func:`vibimpact.analysis.contact_arcs` (each contact from entry to exit, sliding
-    included) are drawn as thick bands on the retainer from their start to their end
-    (the paper's figs 8a, 10a-c and 11b-d mark the same).
+    included) are drawn as thick bands on the unit circle from their start to their end.
+    For the built-in rotor: the plane is (X, Y), lengths are in clearances and the
+    retainer is the circle ``R = 1`` of the centre; gravity acts along +Y, so the Y axis
+    is inverted: the bottom of the retainer (``theta = +90`` degrees) is drawn at the
+    bottom (the paper's figs 8a, 10a-c and 11b-d mark the same arcs).
 
     The trajectory is drawn as straight segments between samples, none longer than
     :data:`vibimpact.plotting.xy_dense.MAX_SEGMENT_PX` pixels of the figure: where the
@@ -224,7 +230,8 @@ def arc_points(start, width, radius=1.0):
 
 
 def draw_arcs(ax, arcs, lw):
-    """The loaded arcs as thick bands on the retainer circle from start to end, labelled
+    """The loaded arcs as thick bands on the unit circle (the obstacle of a circular
+    contact of radius 1, e.g. the built-in rotor's retainer) from start to end, labelled
     with their words and their extent in degrees."""
     for k, (s, w) in enumerate(zip(arcs.start, arcs.width)):
         x, y = arc_points(float(s), float(w))

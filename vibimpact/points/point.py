@@ -43,7 +43,8 @@ __all__ = ["ANALYSES", "SweepSettings", "PointResult", "SCALARS", "analyse_point
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
 
-#: Floquet multipliers stored per point of the rotor (one per state variable)
+#: Floquet multipliers of a bare PointResult (the built-in rotor's state size;
+#: :meth:`PointResult.empty` makes them one per state variable of the model)
 N_MULTIPLIERS = 4
 
 
@@ -146,7 +147,7 @@ class PointResult:
 
     The scalar fields are what datasets store per point (:data:`SCALARS` gives their
     fill values); ``arcs`` and ``reason`` are text; the arrays have the model's state
-    size ``d`` (4 for the rotor).
+    size ``d`` (:meth:`empty`; a bare ``PointResult()`` has the built-in rotor's 4).
 
     Attributes
     ----------
@@ -160,7 +161,8 @@ class PointResult:
     settle_periods, shoot_residual, orbit_distance
         See the dataset variables of :func:`vibimpact.sweep`.
     arcs : str
-        Loaded arcs of the retainer, e.g. "2 small arcs".
+        Loaded arcs of the contact (where on the obstacle the contacts fall), e.g. "2
+        small arcs".
     reason : str
         Why the label (or why the run stopped).
     arc_table : ndarray, shape (n_arcs, 4)

@@ -1,9 +1,9 @@
 """Sweep results as a CF-style ``xarray.Dataset``, and the labelled interval map.
 
-All lengths are in units of the radial clearance and times in the dimensionless ``tau``
-(units "1").  ``regime`` is an integer flag variable (CF ``flag_values`` /
-``flag_meanings``) and ``label`` its readable form, so the file opens with plain xarray
-and any NetCDF tool.
+All lengths and times are the model's dimensionless ones (units "1"; for the built-in
+rotor, lengths in units of the radial clearance and times in ``tau``).  ``regime`` is an
+integer flag variable (CF ``flag_values`` / ``flag_meanings``) and ``label`` its readable
+form, so the file opens with plain xarray and any NetCDF tool.
 """
 from __future__ import annotations
 
@@ -215,7 +215,7 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     model = to_system(p).model
     for j in range(samples.shape[-1]):  # every state: poincare_X and poincare_Y hold the
         # first two, whatever the model calls them; the others under their own names (a
-        # Poincare section X against X' needs them)
+        # Poincare section of a state against its velocity needs them)
         text = state_text(model, names[j])
         var = ("poincare_X", "poincare_Y")[j] if j < 2 else f"poincare_{names[j]}"
         ds[var] = (dims + ("sample",), samples[..., j], dict(
@@ -264,22 +264,26 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
 
 
 def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") -> Params:
-    """The rotor parameters a sweep dataset records (its ``params`` attribute).
+    """The parameters a sweep dataset records (its ``params`` attribute), as its model's
+    parameter set.
 
     Parameters
     ----------
     ds : xarray.Dataset
         From :func:`vibimpact.sweep` or ``vibimpact classify``.
     eta : float, optional
-        The rotor speed to set (the attribute leaves it out); the default of
-        :class:`~vibimpact.Params` otherwise.
+        The forcing frequency to set (the attribute leaves it out); the default of the
+        model's parameter set otherwise (e.g. :class:`~vibimpact.Params`'s ``eta`` for the
+        built-in rotor).
     name : str
         How the messages name ``ds`` (an interface that reads it from a file: "the
         file").
 
     Returns
     -------
-    Params
+    parameter set
+        Of the model the dataset records (:class:`~vibimpact.Params` for the built-in
+        rotor).
 
     Raises
     ------

@@ -436,8 +436,10 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
         period doubling", :func:`~vibimpact.base.bifurcation_kinds.kinds_in` splits it; the
         evidence gives each event's eta), ``mu_real``, ``mu_imag`` (the
         largest Floquet multiplier of the followed orbit at the bracket's persisting
-        end; NaN when no orbit was followed), ``gap`` (its smallest ``|R - 1|`` at an
-        extremum of R: 0 at grazing), ``method``, ``evidence`` and ``hysteresis`` (text).
+        end; NaN when no orbit was followed), ``gap`` (its smallest ``|penetration|`` at
+        an extremum of the penetration, :func:`vibimpact.analysis.bifurcation.grazing_gap`;
+        ``|R - 1|`` for the built-in rotor: 0 at grazing), ``method``, ``evidence`` and
+        ``hysteresis`` (text).
 
     Raises
     ------
