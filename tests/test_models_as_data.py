@@ -6,6 +6,7 @@ import ast
 import pathlib
 import re
 
+import numpy as np
 import pytest
 
 import vibimpact as vi
@@ -300,3 +301,26 @@ def test_no_file_of_another_model_speaks_of_the_rotor(preset, tmp_path):
             and "params" not in t and "command" not in t]
     assert said == [], said
     assert len(texts) > 50  # the scan read the files' texts
+
+
+def test_a_branch_continues_the_models_own_frequency_by_default():
+    """Hypothesis: follow_branch without ``param`` continues the model's forcing
+    frequency (the Duffing oscillator's ``omega``), not a parameter named after the
+    rotor's; the branch says so and ends at ``stop``."""
+    from vibimpact.continuation.branches import follow_branch
+
+    p = vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2, omega=1.3)
+    branch, _ = follow_branch(p, stop=1.35, transient=50)
+    assert branch.param == "omega"
+    assert np.isclose(branch.values[0], 1.3) and np.isclose(branch.values[-1], 1.35)
+
+
+def test_a_bare_point_result_assumes_no_models_size():
+    """Hypothesis: a PointResult made without a model has arrays of no state (not the
+    rotor's four), and ``empty(d, m)`` has the model's ``d``."""
+    from vibimpact.points.point import PointResult
+
+    bare = PointResult()
+    assert bare.final_state.size == bare.multipliers.size == bare.samples.size == 0
+    sized = PointResult.empty(2, 8)
+    assert sized.samples.shape == (8, 2) and sized.multipliers.shape == (2,)

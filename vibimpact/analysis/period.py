@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ..core.run import Run
+    from ..models.contact import Contact
 
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]
@@ -245,15 +246,16 @@ def poincare_section(run: Run) -> np.ndarray:
     return strobe
 
 
-def impact_map(run: Run) -> np.ndarray:
+def impact_map(run: Run, contact: Contact | None = None) -> np.ndarray:
     """States at every contact entry: the impact (Poincare) map of a run.
 
-    Rows are the events of ``run.events`` with ``which == 0`` that go from free flight
-    into contact, ``mode_before[:, 0] == 0`` and ``mode_after[:, 0] == 1``; contact exits
-    are dropped.  Switch 0 and mode entry 0 are taken to be the contact, as every built-in
-    model declares it (:attr:`vibimpact.Contact.switch`, :attr:`vibimpact.Contact.mode`;
-    for the built-in rotor, the contact surface ``R = 1``); a user model whose contact
-    is another switch or mode entry still gets the rows of switch 0 and mode entry 0.
+    Rows are the events of ``run.events`` of the contact's switching function
+    (``which == contact.switch``) that go from free flight into contact (its mode entry
+    ``contact.mode`` from 0 to 1); contact exits and other switches are dropped.  The
+    contact is ``contact``, else the one the run's registered model declares
+    (:attr:`vibimpact.Contact.switch`, :attr:`vibimpact.Contact.mode`; a model without
+    one: no rows); a run that names no registered model (a user's, unregistered: pass
+    ``contact``) is read with switch 0 and mode entry 0, the kernel's first.
 
     Parameters
     ----------
@@ -262,6 +264,8 @@ def impact_map(run: Run) -> np.ndarray:
         (k, n_mode), ``mode_after`` (k, n_mode) and ``state`` (k, n_state) (the built-in
         rotor's n_mode is 2, its n_state 4).  A run without events (or a model without
         contacts) gives no rows.
+    contact : vibimpact.models.contact.Contact, optional
+        The model's contact (default: the run's registered model's).
 
     Returns
     -------
@@ -283,5 +287,23 @@ def impact_map(run: Run) -> np.ndarray:
     before = np.asarray(events["mode_before"]).reshape(which.size, -1)
     after = np.asarray(events["mode_after"]).reshape(which.size, -1)
     state = np.asarray(events["state"], dtype=np.float64).reshape(which.size, -1)
-    entry = (which == 0) & (before[:, 0] == 0) & (after[:, 0] == 1)
+    switch, mode = _contact_indices(run, contact)
+    if switch is None:
+        return np.zeros((0, width))
+    entry = (which == switch) & (before[:, mode] == 0) & (after[:, mode] == 1)
     return state[entry].copy()
+
+
+def _contact_indices(run, contact):
+    """``(switch, mode)`` of ``contact``, else of the run's registered model's contact
+    (``(None, None)``: the model has none), else ``(0, 0)``."""
+    if contact is None:
+        from .. import models
+
+        name = getattr(run, "model", None)
+        if not (isinstance(name, str) and name in models.names()):
+            return 0, 0
+        contact = models.get(name).contact
+        if contact is None:
+            return None, None
+    return int(contact.switch), int(contact.mode)

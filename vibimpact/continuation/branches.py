@@ -96,7 +96,8 @@ def _kind_code(kind):
 
 
 def follow_branch(system: System | Params | DuffingParams, *, stop: float,
-                  param: str = "eta", n: int = 1, state0: ArrayLike | None = None,
+                  param: str | None = None, n: int = 1,
+                  state0: ArrayLike | None = None,
                   transient: int = 500, approach: float | None = None,
                   steps: Steps | None = None,
                   refine: float | None = 1e-6) -> tuple[Branch, np.ndarray]:
@@ -110,9 +111,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         The other end of the parameter window.  Past a bound of the parameter's domain
         (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
         window is cut there: the branch ends on the bound, and its ``status`` says so.
-    param : str
-        The parameter continued, by name (the default ``"eta"`` is the forcing frequency
-        of the built-in rotor, its speed).  Its start value may lie on a bound of its
+    param : str, optional
+        The parameter continued, by name (default: the model's forcing frequency,
+        :attr:`vibimpact.models.Model.frequency_name`).  Its start value may lie on a bound of its
         domain (e.g. the built-in rotor's ``BT = 0``, as in its presets): the branch then
         steps into the domain (towards ``stop``).
     n : int
@@ -149,7 +150,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     stop = _v.finite("stop", stop)
     transient = _v.count("transient", transient, 0)
     mdl = system.model
-    omega_name = mdl.param_names[mdl.omega_index]
+    omega_name = mdl.frequency_name
+    if param is None:
+        param = omega_name
     if param == omega_name:  # a forcing frequency the solver can resolve, at both ends
         from ..sweeps.sweep import check_frequency
 

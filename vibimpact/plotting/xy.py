@@ -185,7 +185,7 @@ def _orbit(value, ds, ax, lk, own, spec, cols):
             label=f"stroboscopic points ({len(strobe)})")
     arcs = loaded_arcs(value, ds)
     if arcs is not None and arcs.n_arcs:
-        draw_arcs(ax, arcs, width(3.3))
+        draw_arcs(ax, arcs, width(3.3), r)
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
         deg = ds["impact_theta"].values
         th = np.radians(deg)
@@ -229,12 +229,12 @@ def arc_points(start, width, radius=1.0):
     return radius * np.cos(phi), radius * np.sin(phi)
 
 
-def draw_arcs(ax, arcs, lw):
-    """The loaded arcs as thick bands on the unit circle (the obstacle of a circular
-    contact of radius 1, e.g. the built-in rotor's retainer) from start to end, labelled
-    with their words and their extent in degrees."""
+def draw_arcs(ax, arcs, lw, radius=1.0):
+    """The loaded arcs as thick bands on the circle of ``radius`` (the model's circular
+    obstacle, :attr:`vibimpact.models.PlotSpec.circle`; the built-in rotor's retainer: 1)
+    from start to end, labelled with their words and their extent in degrees."""
     for k, (s, w) in enumerate(zip(arcs.start, arcs.width)):
-        x, y = arc_points(float(s), float(w))
+        x, y = arc_points(float(s), float(w), radius)
         ax.plot(x, y, color="C3", lw=lw, alpha=0.45, solid_capstyle="butt",
                 label=f"loaded arcs: {arcs if arcs.n_arcs <= 4 else arcs.summary}"
                 if k == 0 else None)

@@ -38,14 +38,10 @@ if TYPE_CHECKING:  # names of the annotations only
 
 __all__ = ["ANALYSES", "SweepSettings", "PointResult", "SCALARS", "analyse_point",
            "point_system", "REGIME_CODES", "REGIME_FLAGS", "CONTACT_FLAGS",
-           "CONTACT_NONE", "CONTACT_IMPACTING", "CONTACT_PERMANENT", "N_MULTIPLIERS"]
+           "CONTACT_NONE", "CONTACT_IMPACTING", "CONTACT_PERMANENT"]
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
-
-#: Floquet multipliers of a bare PointResult (the built-in rotor's state size;
-#: :meth:`PointResult.empty` makes them one per state variable of the model)
-N_MULTIPLIERS = 4
 
 
 @dataclass(frozen=True)
@@ -147,7 +143,8 @@ class PointResult:
 
     The scalar fields are what datasets store per point (:data:`SCALARS` gives their
     fill values); ``arcs`` and ``reason`` are text; the arrays have the model's state
-    size ``d`` (:meth:`empty`; a bare ``PointResult()`` has the built-in rotor's 4).
+    size ``d`` (:meth:`empty`; a bare ``PointResult()`` has arrays of no state, as it
+    knows no model).
 
     Attributes
     ----------
@@ -207,11 +204,10 @@ class PointResult:
     arcs: str = ""
     reason: str = ""
     arc_table: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
-    samples: np.ndarray = field(default_factory=lambda: not_computed((64, 4)))
-    final_state: np.ndarray = field(default_factory=lambda: _nan(4))
-    orbit_point: np.ndarray = field(default_factory=lambda: _nan(4))
-    multipliers: np.ndarray = field(
-        default_factory=lambda: not_computed(N_MULTIPLIERS, complex))
+    samples: np.ndarray = field(default_factory=lambda: not_computed((0, 0)))
+    final_state: np.ndarray = field(default_factory=lambda: _nan(0))
+    orbit_point: np.ndarray = field(default_factory=lambda: _nan(0))
+    multipliers: np.ndarray = field(default_factory=lambda: not_computed(0, complex))
 
     @classmethod
     def empty(cls, n_state: int, n_samples: int) -> PointResult:

@@ -250,8 +250,9 @@ def _follow(p, orb, start, stop, width, max_events=4):
     events = []
     x, n, lo = orb.state, orb.n, start
     while len(events) < max_events:
-        bif = locate_bifurcation(System(p), x, n, param="eta", start=lo, stop=stop,
-                                 tol=width, shoot_kw=_SHOOT)
+        system = System(p)
+        bif = locate_bifurcation(system, x, n, param=system.model.frequency_name, start=lo,
+                                 stop=stop, tol=width, shoot_kw=_SHOOT)
         events.append(bif)
         nxt = bif.beyond
         if bif.kind not in (BifurcationKind.GRAZING, BifurcationKind.STICK_SLIP) or \
