@@ -5,6 +5,7 @@ import pytest
 
 from vibimpact import models
 from vibimpact.cli import build_parser, main
+from vibimpact.cli.common.errors import UsageError
 from vibimpact.models import presets
 from vibimpact.models.presets import DEFAULT_KEYS, check_defaults, command_default
 
@@ -135,3 +136,27 @@ def test_command_default_refuses_an_unknown_key():
     with pytest.raises(ValueError, match="key must be one of"):
         command_default("colour")
     assert set(DEFAULT_KEYS) >= {"frequencies", "census_preset", "census_frequency"}
+
+
+
+def test_the_continued_parameter_defaults_to_the_models_frequency():
+    """Hypothesis: 'continue' without --param and 'continue2' without --param1 take the
+    forcing frequency of the preset's model (what --eta sets), looked up from the model,
+    not a name written into the command."""
+    from vibimpact.cli import continue_, continue2
+
+    for name in models.names():
+        model = models.get(name)
+        for preset in list(model.presets)[:1]:
+            args = _parsed("continue", "--preset", preset, "--stop", "1.2")
+            assert args.param is None
+            continue_._inputs(args)
+            assert args.param == model.frequency_name
+            args = _parsed("continue2", "--preset", preset, "--kind", "fold", "--param2",
+                           model.param_names[0], "--range2", "0:1")
+            assert args.param1 is None
+            try:
+                continue2._inputs(args)
+            except UsageError:  # a later check may refuse this request; the default is set
+                pass
+            assert args.param1 == model.frequency_name

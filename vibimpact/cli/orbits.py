@@ -81,11 +81,7 @@ def _system(args):
         base = presets.get(args.preset)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
-    sets = parse_sets(args.set)
-    if args.eta is not None and "eta" not in base.as_dict():
-        raise UsageError(f"--eta: preset {args.preset!r} has no eta; set its forcing "
-                         "frequency with --set NAME=VALUE")
-    return System(with_sets(base, sets, args.eta))
+    return System(with_sets(base, parse_sets(args.set), args.eta))
 
 
 def _seeds(args, system):

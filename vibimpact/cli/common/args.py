@@ -212,21 +212,28 @@ def positive_number(text):
 
 
 def with_sets(base, sets, eta=None):
-    """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``)
-    replaced; UsageError naming the option whose value lies outside its parameter's
-    domain (:meth:`vibimpact.Params.domain`), or saying what else is wrong."""
-    given = ([("--eta", "eta", eta)] if eta is not None else []) + \
+    """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``, the
+    model's forcing frequency whatever its name) replaced; UsageError naming the option
+    whose value lies outside its parameter's domain (:meth:`vibimpact.Params.domain`),
+    or saying what else is wrong."""
+    from ... import models
+
+    model = models.of_params(base)
+    freq = model.frequency_name if model is not None else "eta"
+    if freq in sets:
+        raise UsageError(f"set {freq} with --eta, not --set")
+    given = ([("--eta", freq, eta)] if eta is not None else []) + \
         [(f"--set {k}", k, v) for k, v in sets.items()]
     known = base.as_dict()
     for option, name, value in given:
         if name in known and math.isfinite(value) and value not in base.domain(name):
             raise UsageError(f"{option}: {base.domain(name).rule(name)}, got {value!r}")
-        if name == "eta" and not ETA_RANGE[0] <= value <= ETA_RANGE[1]:
-            raise UsageError(f"{option}: eta must lie in [{ETA_RANGE[0]:g}, "
+        if name == freq and not ETA_RANGE[0] <= value <= ETA_RANGE[1]:
+            raise UsageError(f"{option}: {freq} must lie in [{ETA_RANGE[0]:g}, "
                              f"{ETA_RANGE[1]:g}] (a forcing period the solver can "
                              f"resolve), got {value!r}")
     try:
-        return base.replace(**({} if eta is None else {"eta": eta}), **sets)
+        return base.replace(**({} if eta is None else {freq: eta}), **sets)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
 
@@ -239,8 +246,6 @@ def parse_sets(items):
         key = key.strip()
         if not sep or not key:
             raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
-        if key == "eta":
-            raise UsageError("set eta with --eta, not --set")
         if key in out:
             raise UsageError(f"--set {key} given twice ({key}={out[key]:g} and "
                              f"{item.strip()}); give each parameter once")
