@@ -226,3 +226,28 @@ def test_period_of_trailing_windows_in_one_pass_equals_one_call_per_window():
             assert a == _windows_by_calls(x, windows, tol, mp)
             found += a > 0
     assert found >= 20
+
+
+def test_impact_map_reads_the_models_own_contact_switch_and_mode():
+    """Hypothesis: the impact map keeps the entries of the contact the model declares
+    (its switch and mode entry), not of switch 0 and mode entry 0: a contact on switch 1
+    and mode entry 1 gets exactly the entries into mode 1 on switch 1; a registered
+    model without a contact (Duffing) gets no rows."""
+    import dataclasses
+
+    import vibimpact as vi
+
+    state = np.arange(24.0).reshape(6, 4)
+    events = dict(t=np.arange(6.0), which=np.array([0, 1, 1, 0, 1, 1]),
+                  mode_before=np.array([[0, 0], [0, 0], [0, 1], [0, 0], [1, 0], [0, 0]]),
+                  mode_after=np.array([[1, 0], [0, 1], [0, 0], [1, 0], [1, 1], [1, 0]]),
+                  state=state)
+    run = _FakeRun(np.ones((3, 4)), events)
+    rotor = vi.models.get("rotor").contact
+    np.testing.assert_array_equal(impact_map(run, rotor), state[[0, 3]])
+    other = dataclasses.replace(rotor, switch=1, mode=1)
+    np.testing.assert_array_equal(impact_map(run, other), state[[1, 4]])
+    run.model = "duffing"
+    assert impact_map(run).shape == (0, 4)
+    run.model = "rotor"
+    np.testing.assert_array_equal(impact_map(run), state[[0, 3]])

@@ -136,7 +136,7 @@ def test_rerun_output_passes_cf18(files, kind, tmp_path):
 def test_every_file_names_the_paper_and_the_package_and_declares_period_zero(files,
                                                                              tmp_path):
     """Hypothesis: beyond what the checker requires, every file carries the CF
-    ``references`` (the paper), ``source`` (vibimpact and its version) and a ``title``;
+    ``references`` (its model's literature: the paper, for these rotor files), ``source`` (vibimpact and its version) and a ``title``;
     every ``period`` variable that can be 0 declares that value (no period) by
     flag_values = [0] and a flag meaning instead of only in words; every variable on a ``state`` dimension has a
     described ``state`` label.  An orbit's period, never 0, says so by valid_min = 1."""
@@ -145,6 +145,7 @@ def test_every_file_names_the_paper_and_the_package_and_declares_period_zero(fil
     for kind, path in files.items():
         with netCDF4.Dataset(as_netcdf(path, tmp_path)) as f:
             glob = {a: f.getncattr(a) for a in f.ncattrs()}
+            assert glob["references"] == vi.models.get(glob["model"]).references, kind
             assert "Půst" in glob["references"] and "magnetic bearings" in glob[
                 "references"], kind
             assert glob["source"] == f"vibimpact {vi.__version__}", kind
@@ -206,18 +207,52 @@ def test_checker_finds_what_the_writer_fixes(tmp_path):
 
 
 def test_file_attrs_add_references_source_and_title():
-    """Hypothesis: the global attributes of any file name the paper (references), the
-    package (source) and say what the file holds (title: the dataset's kind or the
-    command), keeping what the dataset already says."""
+    """Hypothesis: the global attributes of any file name the literature the writer
+    passes, else the package (references), the package (source) and say what the file
+    holds (title: the dataset's kind or the command), keeping what the dataset already
+    says."""
     from vibimpact.base import provenance
 
     a = provenance.file_attrs({"command": "vibimpact simulate --eta 1.2"}, "test")
-    assert a["references"] == provenance.REFERENCES and "Kozánek" in a["references"]
+    assert a["references"] == provenance.REFERENCES and "vibimpact" in a["references"]
+    assert provenance.file_attrs({}, "t", "Shaw 1983")["references"] == "Shaw 1983"
     assert a["source"] == f"vibimpact {vi.__version__}"
     assert a["title"] == "vibimpact simulate output"
     assert provenance.file_attrs({"kind": "census"}, "t")["title"] == "vibimpact census"
     kept = provenance.file_attrs({"title": "mine", "references": "r", "source": "s"}, "t")
     assert (kept["title"], kept["references"], kept["source"]) == ("mine", "r", "s")
+
+
+@pytest.mark.parametrize("preset", ["fig8", "hard-impact", "soft-impact", "fig11-ring"])
+def test_a_file_names_the_literature_of_its_own_model(preset, tmp_path):
+    """Hypothesis: a file's CF references is what its model declares (the paper for the
+    rotor, Shaw & Holmes for the hard-impact oscillator, ...), each model's own and
+    none another's; a model that declares none gets the package's line."""
+    p = vi.presets.get(preset)
+    model = vi.models.of_params(p)
+    run = vi.simulate(p, periods=2, transient=0)
+    vi.io.write_netcdf(run.to_dataset(), tmp_path / "r.nc")
+    with vi.io.read_netcdf(tmp_path / "r.nc") as ds:
+        assert ds.attrs["model"] == model.name
+        assert ds.attrs["references"] == model.references != ""
+    others = {vi.models.get(n).references for n in vi.models.names()} - {model.references}
+    assert model.references not in others
+
+
+def test_a_file_of_an_unregistered_model_names_the_package():
+    """Hypothesis: a file whose model is not registered (a user's) or that names no
+    model gets the package's line as its references, never a built-in model's; a user
+    model's references must be text."""
+    from vibimpact.base import provenance
+    from vibimpact.io import _model_references
+
+    for attrs in ({"model": "nobody's"}, {}, {"model": 3}):
+        assert _model_references(attrs) is None
+        assert provenance.file_attrs(attrs, "t", _model_references(attrs))[
+            "references"] == provenance.REFERENCES
+    with pytest.raises(TypeError, match="references must be a str"):
+        vi.models.Model.from_functions("m", None, None, None, None, None, [1], ("x",),
+                                       ("w",), 0, references=3)
 
 
 def test_a_dataset_read_from_an_int64_file_is_written_cf18_clean(tmp_path):

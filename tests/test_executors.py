@@ -94,7 +94,7 @@ def test_many_starting_states_at_one_point_are_tasks_of_the_same_engine():
     for executor in (executors.Serial(), Reverse()):
         out = {}
         executor.run(lambda slots: [[t] for t in tasks], None,
-                     lambda task, res: out.update(dict(res)))
+                     lambda task, res, out=out: out.update(dict(res)))
         got[type(executor).__name__] = out
     alone = [analyse_point(FIG8.replace(eta=1.18), s, settings).as_dict() for s in states]
     for out in got.values():

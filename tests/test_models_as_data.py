@@ -6,6 +6,7 @@ import ast
 import pathlib
 import re
 
+import numpy as np
 import pytest
 
 import vibimpact as vi
@@ -13,9 +14,6 @@ from vibimpact import models
 
 PKG = pathlib.Path(vi.__file__).resolve().parent
 
-#: what stays, and why: the CF ``references`` every file carries is the citation of the
-#: paper the package is built on, whose title names its rotor
-ALLOWED = {"base/provenance.py": {"'rotor'"}}
 
 def _families():
     """The kernel families of the registered built-in models."""
@@ -112,16 +110,10 @@ def test_no_generic_module_names_a_builtin_model():
     one of the parameter names that belong to one model (:func:`_scanned_params`).
 
     Prose in docstrings and comments may still use the paper's rotor as an example; what
-    is checked is code, which is where a model name becomes a branch or a default.  The
-    one exception is a citation (:data:`ALLOWED`), listed exactly: the test fails when it
-    is gone too."""
+    is checked is code, which is where a model name becomes a branch or a default.  No
+    exception: a model's citation is its own (``Model.references``)."""
     found = _scan()
-    unexpected = {f: sorted(h - ALLOWED.get(f, set())) for f, h in found.items()
-                  if h - ALLOWED.get(f, set())}
-    assert not unexpected, unexpected
-    gone = {f: sorted(h - found.get(f, set())) for f, h in ALLOWED.items()
-            if h - found.get(f, set())}
-    assert not gone, f"no longer found, take them off ALLOWED: {gone}"
+    assert not found, found
 
 
 def test_the_scan_finds_model_knowledge():
@@ -248,3 +240,87 @@ def test_interval_tables_name_the_models_forcing_frequency(model, text, markdown
     iv = intervals(ds)
     assert format_intervals(iv).splitlines()[0].split()[1:3] == text.split()
     assert markdown in iv.to_markdown().splitlines()[0]
+
+
+@pytest.mark.parametrize("p", [vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2,
+                                                omega=1.3),
+                               vi.presets.get("hard-impact"), vi.presets.get("fig8")],
+                         ids=["duffing", "hard_impact", "rotor"])
+def test_a_sweep_file_records_its_models_frequency_by_name(p, tmp_path):
+    """Hypothesis: a sweep's file records the name of its model's forcing frequency
+    (``frequency_name``: the parameter at omega_index, ``omega`` for the Duffing
+    oscillator) and describes its coordinate in the model's words (the declared
+    ``frequency_text``, else "forcing frequency NAME"), through a write and a read."""
+    model = models.of_params(p)
+    freq = model.param_names[model.omega_index]
+    ds = vi.sweep(p, [1.0, 1.05], analyses=("period",), continuation=False)
+    vi.io.write_netcdf(ds, tmp_path / "s.nc")
+    with vi.io.read_netcdf(tmp_path / "s.nc") as back:
+        assert back.attrs["frequency_name"] == freq == model.frequency_name
+        want = (model.plot.frequency_text if model.plot is not None else "") or \
+            f"forcing frequency {freq}"
+        assert back["eta"].attrs["long_name"] == want
+        assert freq not in json_params(back)
+
+
+def json_params(ds):
+    """The parameters a sweep file records (its ``params`` attribute)."""
+    import json
+
+    return json.loads(ds.attrs["params"])
+
+
+#: words of the rotor's files: a file of another model that says one of them describes
+#: that model in the rotor's terms
+ROTOR_WORDS = ("retainer", "clearance", "tau", "dR/dtau", "atan2", "R - 1")
+
+
+@pytest.mark.parametrize("preset", ["hard-impact", "soft-impact"])
+def test_no_file_of_another_model_speaks_of_the_rotor(preset, tmp_path):
+    """Hypothesis: the texts of a run's, a sweep's and a census' files of a model that
+    is not the rotor (every long_name, every state's words, the interval map's) use that
+    model's words (its states, its frequency's name, its obstacle), none of the rotor's:
+    nothing falls back to the rotor's descriptions."""
+    p = vi.presets.get(preset)
+    texts = []
+
+    def collect(ds):
+        texts.extend(str(v) for v in ds.attrs.values() if isinstance(v, str)
+                     and not str(v).startswith(("vibimpact ", "[")))
+        for var in ds.variables.values():
+            texts.extend(str(v) for v in var.attrs.values() if isinstance(v, str))
+
+    run = vi.simulate(p, periods=3, transient=2)
+    collect(run.to_dataset())
+    sweep = vi.sweep(p, [p.eta, p.eta * 1.01], continuation=False)
+    collect(sweep)
+    collect(vi.sweeps.intervals(sweep).dataset)
+    census = vi.attractors(vi.System(p), starts=3, seed=0)
+    collect(census)
+    said = [t for t in texts if any(w in t for w in ROTOR_WORDS)
+            and "params" not in t and "command" not in t]
+    assert said == [], said
+    assert len(texts) > 50  # the scan read the files' texts
+
+
+def test_a_branch_continues_the_models_own_frequency_by_default():
+    """Hypothesis: follow_branch without ``param`` continues the model's forcing
+    frequency (the Duffing oscillator's ``omega``), not a parameter named after the
+    rotor's; the branch says so and ends at ``stop``."""
+    from vibimpact.continuation.branches import follow_branch
+
+    p = vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2, omega=1.3)
+    branch, _ = follow_branch(p, stop=1.35, transient=50)
+    assert branch.param == "omega"
+    assert np.isclose(branch.values[0], 1.3) and np.isclose(branch.values[-1], 1.35)
+
+
+def test_a_bare_point_result_assumes_no_models_size():
+    """Hypothesis: a PointResult made without a model has arrays of no state (not the
+    rotor's four), and ``empty(d, m)`` has the model's ``d``."""
+    from vibimpact.points.point import PointResult
+
+    bare = PointResult()
+    assert bare.final_state.size == bare.multipliers.size == bare.samples.size == 0
+    sized = PointResult.empty(2, 8)
+    assert sized.samples.shape == (8, 2) and sized.multipliers.shape == (2,)

@@ -140,7 +140,7 @@ def test_a_run_that_stops_returns_only_the_rows_it_computed():
     with the time it stopped, and only the stroboscopic rows computed."""
     seg = Solver(SYSTEM, X0, SolverSettings(bound=0.5)).advance(50)
     assert seg.status is vi.Status.DIVERGED
-    assert "at tau =" in seg.reason
+    assert "at t =" in seg.reason
     assert 1 <= len(seg.strobe) < 51
 
 

@@ -63,7 +63,8 @@ def test_the_kernels_user_model_tuple_types_without_the_warning():
     plain = (rhs, switches, transition)
     var = (rhs, switches, transition, jac, 2, 1)
     for model in (plain, var):
-        _, got = experimental_warnings(lambda: typeof(dispatch.kernel_model(model)))
+        _, got = experimental_warnings(lambda model=model: typeof(
+            dispatch.kernel_model(model)))
         assert got == []
     _, old = experimental_warnings(lambda: typeof(plain))
     assert old and "First-class function type" in old[0]

@@ -322,7 +322,7 @@ def test_map_plot_failure_removes_the_map_and_resume_loses_nothing(
 
 
 def test_output_larger_than_the_free_space_is_refused_before_computing(
-        tmp_path, monkeypatch, capfd, integrations):
+        tmp_path, monkeypatch, capfd, integrations):  # noqa: F811 -- the fixture imported
     """Where the size of the file is known from the request (a run's dense samples, a
     sweep's or map's grid), a file system with less free space than that is refused
     before any work: exit 2, one line with both sizes, no integration started, no

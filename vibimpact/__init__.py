@@ -1,9 +1,10 @@
-"""vibimpact: bifurcation and chaos analysis of vibro-impact rotors.
+"""vibimpact: bifurcation and chaos analysis of vibro-impact models.
 
-The model is the rigid rotor on passive magnetic bearings hitting its retainer bearing of
-Pust & Kozanek, "Vibrations of rotor supported in magnetic bearings with impacts", eq. (5);
-every analysis serves any vibro-impact model declared as data (``vi.models``: the rotor,
-the Duffing oscillator, the soft-impact oscillator, or a user's own).
+Every analysis serves any vibro-impact model declared as data (``vi.models``): a built-in
+one or a user's own.  The built-in models are the rigid rotor on passive magnetic bearings
+hitting its retainer bearing of Pust & Kozanek, "Vibrations of rotor supported in magnetic
+bearings with impacts", eq. (5) (registered first; ``fig8`` below is one of its presets),
+the Duffing oscillator, the soft-impact oscillator and others.
 
 >>> import vibimpact as vi
 >>> p = vi.presets.get("fig8").replace(eta=1.25)

@@ -113,7 +113,7 @@ def throughput(p, s0):
     settings = {"rk4": dict(steps_per_period=400), "dp5": dict(rtol=1e-9, atol=1e-12),
                 "dop853": dict(rtol=1e-9, atol=1e-12)}
     for method, kw in settings.items():
-        def call():
+        def call(method=method, kw=kw):
             return vi.simulate(p, periods=THROUGHPUT_PERIODS, state0=s0,
                                solver=vi.SolverSettings(method=method, **kw))
         call()  # warm-up (JIT load)
@@ -149,15 +149,15 @@ def work_precision(p, s0):
     cross = float(np.max(np.abs(sp13.y - truth)))
     series = {"ours dop853": [], "ours dp5": [], "SciPy DOP853 (restarted)": []}
     for tol in TOLS:
-        for name, fn in (("ours dop853", lambda: ours(tol)),
-                         ("ours dp5", lambda: ours(tol, "dp5"))):
+        for name, fn in (("ours dop853", lambda tol=tol: ours(tol)),
+                         ("ours dp5", lambda tol=tol: ours(tol, "dp5"))):
             fn()
             t, run = best_time(fn)
             assert run.ok, run.reason
             series[name].append((tol, float(np.max(np.abs(run.strobe - truth))), t,
                                  run.counters["rhs_evals"]))
-        t, ref = best_time(lambda: solve_reference(p, tt[-1], s0, rtol=tol, atol=tol,
-                                                   t_eval=tt))
+        t, ref = best_time(lambda tol=tol: solve_reference(p, tt[-1], s0, rtol=tol,
+                                                           atol=tol, t_eval=tt))
         series["SciPy DOP853 (restarted)"].append(
             (tol, float(np.max(np.abs(ref.y - truth))), t, ref.nfev))
     return cross, series

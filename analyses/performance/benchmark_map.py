@@ -129,11 +129,12 @@ def _rows_by_point(p, etas, name, values):
     """Seconds per point by regime, and the points that needed no transient, from rows
     swept as a map sweeps them (continuation with the predictor), each point timed."""
     import contextlib
-    import sys as _sys
 
-    import vibimpact.engine.policy
+    import importlib
 
-    sweep_module = _sys.modules["vibimpact.engine.policy"]  # where the tasks call it
+    # where the tasks call it (imported by name: an 'import vibimpact...' here would make
+    # the package's name local to this function)
+    sweep_module = importlib.import_module("vibimpact.engine.policy")
     inner = sweep_module.analyse_point
     cost, no_transient = {}, [0]
 

@@ -118,8 +118,8 @@ def jacobian_errors(preset, eta, n_states=40):
         ref = monodromy(vi.System(p, **REF), x, 1).matrix
         scale = np.linalg.norm(ref)
         for mode in rows:
-            t, m = _timed(lambda: monodromy(vi.System(p, **TOL), x, 1,
-                                            tangent_tol=mode).matrix)
+            t, m = _timed(lambda x=x, mode=mode: monodromy(vi.System(p, **TOL), x, 1,
+                                                           tangent_tol=mode).matrix)
             times[mode] += t
             rows[mode].append(np.linalg.norm(m - ref) / scale)
     return {k: np.array(v) for k, v in rows.items()}, times
@@ -136,7 +136,7 @@ def periodic_exponents(preset, eta, n):
     avg = Averaging(transient=0, min_periods=PERIODIC_PERIODS, max_periods=PERIODIC_PERIODS,
                     align=20)
     for mode in MODES:
-        t, ly = _timed(lambda: lyapunov_spectrum(
+        t, ly = _timed(lambda mode=mode: lyapunov_spectrum(
             s, state0=orb.state, n_exponents=1, averaging=avg, tangent_tol=mode,
             floquet=False))
         out[mode] = (float(ly.exponents[0]), float(ly.stderr[0]), t)
@@ -152,7 +152,7 @@ def chaotic_exponents(preset, eta):
     avg = Averaging(transient=0, min_periods=min(100, CHAOTIC_PERIODS),
                     max_periods=CHAOTIC_PERIODS, target_stderr=1e-9, align=20)
     for mode in MODES:
-        t, ly = _timed(lambda: lyapunov_spectrum(
+        t, ly = _timed(lambda mode=mode: lyapunov_spectrum(
             vi.System(p, **TOL), state0=x, n_exponents=1, averaging=avg, tangent_tol=mode,
             floquet=False))
         out[mode] = (float(ly.exponents[0]), float(ly.stderr[0]), ly.periods, t)

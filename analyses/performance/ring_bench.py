@@ -96,8 +96,8 @@ def run_b():
         system.strobe(5, x)  # warm
         vi.analysis.monodromy(system, x, 1)
         _, _, pts = system.strobe(PERIODS_B, x)
-        t_plain = _best(lambda: system.strobe(PERIODS_B, x), REPEATS_B)
-        t_mono = _best(lambda: [vi.analysis.monodromy(system, x, 1)
+        t_plain = _best(lambda system=system, x=x: system.strobe(PERIODS_B, x), REPEATS_B)
+        t_mono = _best(lambda system=system, x=x: [vi.analysis.monodromy(system, x, 1)
                                 for _ in range(MONODROMIES_B)], REPEATS_B)
         out[key] = dict(plain=t_plain, mono=t_mono, strobe=np.asarray(pts)[:, :4])
         print(f"(b) {key}: {t_plain:.3f} s plain, {t_mono:.3f} s monodromies", flush=True)

@@ -242,8 +242,9 @@ def overhead(p, s0):
         fn()
         t, run = best_time(fn, 3)
         n = run.counters["rhs_evals"]
-        tb, _ = best_time(lambda: _bare_rhs_loop(ts, ys, modes, pa, n), 3)
-        tc, _ = best_time(lambda: _bare_rhs_loop(ts[inc], ys[inc], modes[inc], pa, n), 3)
+        tb, _ = best_time(lambda n=n: _bare_rhs_loop(ts, ys, modes, pa, n), 3)
+        tc, _ = best_time(lambda n=n: _bare_rhs_loop(ts[inc], ys[inc], modes[inc], pa, n),
+                          3)
         desc = ", ".join(f"{k}={v:g}" for k, v in kw.items())
         c = run.counters
         rows.append((method, desc, n, t, 1e9 * t / n, 1e9 * tb / n, t / tb, c["steps"],

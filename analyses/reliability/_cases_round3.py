@@ -304,12 +304,13 @@ def stopped_cases(kit, base, timeout):
             t0 = time.perf_counter()
             proc = _start(argv, d)
             if which == "dask":
-                ok = _wait(lambda: [c for c in _children(kit, proc.pid) if _spawned(c)],
-                           proc)
+                ok = _wait(lambda proc=proc: [c for c in _children(kit, proc.pid)
+                                              if _spawned(c)], proc)
                 victims = [c for c in _children(kit, proc.pid) if _spawned(c)]
             else:  # the pool's workers are the newest children; the queue's the oldest
                 least = 3 if argv[0] in ("classify", "bifurcation") else 2
-                ok = _wait(lambda: len(_children(kit, proc.pid)) >= least, proc)
+                ok = _wait(lambda proc=proc, least=least: len(_children(kit, proc.pid))
+                           >= least, proc)
                 victims = _children(kit, proc.pid)
             if ok and victims:
                 os.kill(victims[which if which != "dask" else -1], signal.SIGSTOP)
@@ -333,7 +334,7 @@ def write_cases(kit, base, timeout):
             kit.run(first, d, timeout)
         t0 = time.perf_counter()
         proc = _start(argv, d)
-        ok = _wait(lambda: _writing(d), proc, limit=timeout)
+        ok = _wait(lambda d=d: _writing(d), proc, limit=timeout)
         if ok:
             proc.send_signal(sig)
         rc, _, err = _end(proc, timeout)
@@ -351,7 +352,7 @@ def killed_write_cases(kit, base, timeout):
         d = kit._fresh(base, "killed")
         t0 = time.perf_counter()
         proc = _start(argv, d)
-        ok = _wait(lambda: _writing(d), proc, limit=timeout)
+        ok = _wait(lambda d=d: _writing(d), proc, limit=timeout)
         if ok:
             os.killpg(proc.pid, signal.SIGKILL)
         _end(proc, timeout)

@@ -9,10 +9,10 @@ it with arguments of the types the package calls it with compiles it and writes 
 machine code to numba's cache directory; a later process loads it from there instead of
 compiling (numba's public caching, nothing else: no private API, no C compiler, and the
 code is the JIT's own, so the numbers are the same bits).  What is called is
-:func:`exports`: the rotor's integration loop (plain runs and the variational rotor of
-the Lyapunov analyses have the same argument types), the rotor's initial mode and the
-analyses' small array routines, each with an example call built by the code that builds
-the real calls (:mod:`.boundary`).
+:func:`exports`: the integration loop of every built-in family (plain runs and the
+variational model of the Lyapunov analyses have the same argument types), every family's
+initial mode and the analyses' small array routines, each with an example call built by
+the code that builds the real calls (:mod:`.boundary`).
 
 The cache is *keyed*: a stamp file, :data:`STAMP`, in the cache directory records
 :func:`cache_key` -- a SHA-256 of the kernel sources, the numba, llvmlite, NumPy and

@@ -2,13 +2,13 @@
 
 The kernel's functions take a ``model`` argument.  For a built-in model it is a
 :class:`BuiltinModel` (:func:`builtin` of a family name), which numba types by its
-*family*: the rotor and its variational equations are one
-type, the Duffing oscillator and its variational equations another.  A family is a module
-of this package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry
-at compile time (a rotor run compiles no Duffing code) and branch at run time on the
-model's id within the family, 0 for the model and 1 for its variational equations (a
-classify run integrates the rotor and its variational equations with one compiled loop).  The
-signatures hold no function objects, so numba caches them on disk.  For a
+*family*: a model and its variational equations are one type (e.g. the built-in rotor
+and its variational equations), each family another.  A family is a module of this
+package with a ``KERNEL_MODEL`` (:mod:`.registry`): the calls below read its entry at
+compile time (a run of one family compiles no other family's code) and branch at run time
+on the model's id within the family, 0 for the model and 1 for its variational equations
+(a classify run integrates a model and its variational equations with one compiled
+loop).  The signatures hold no function objects, so numba caches them on disk.  For a
 user model ``model`` is a tuple ``(USER_TAG, rhs, switches, transition)`` of numba
 functions behind a number (:func:`kernel_model`), called directly (compiled per process:
 numba cannot cache functions passed as arguments).
@@ -163,8 +163,10 @@ def model_transition(model, s, y, p, mode, which):
 
 
 def model_step_cap(model, y, p, mode, f0, at_event, rtol, atol, n_norm, g_in, g_out):
-    """Largest step the model's non-smooth force allows from ``y`` (``1e300``: none);
-    the rotor's Hertz contact (:func:`.rotor.step_cap`), none for other models."""
+    """Largest step the model's non-smooth force allows from ``y`` (``1e300``: none):
+    its family's ``step_cap`` (:class:`.registry.KernelModel`; e.g. the built-in rotor's
+    Hertz contact, :func:`.rotor.step_cap`), none for a family without one or a user
+    model."""
 
 
 def _entry(model):

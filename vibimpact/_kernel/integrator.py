@@ -1,7 +1,8 @@
 """Explicit Runge--Kutta integration of a piecewise-smooth model with event location.
 
 Everything here is ``@njit``; plain float64/int64 arrays in and out.  A *model* is four
-jitted functions with a common signature (see :mod:`vibimpact._kernel.rotor`)::
+jitted functions with a common signature (see a kernel family's, e.g. the built-in
+rotor's :mod:`vibimpact._kernel.rotor`)::
 
     model_rhs(model, s, y, p, mode, out)          # writes dy/ds into out
     model_switches(model, s, y, p, mode, g)       # writes the switching functions into g
@@ -21,9 +22,10 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
    the cubic Hermite interpolant and at the step's end.  The first sample where a function is
    negative brackets its crossing, so a contact that begins and ends inside one step is
    found when it lasts longer than a quarter step; a shorter (grazing) one shows at the
-   located extremum of an observer (the peak of R lies beyond the surface), and the
-   entry is located before it; a step that starts on a surface and sees the switch
-   negative at its first sample is retried shorter instead of flipping the mode;
+   located extremum of an observer (the peak of the penetration lies beyond the
+   surface), and the entry is located before it; a step that starts on a surface and
+   sees the switch negative at its first sample is retried shorter instead of flipping
+   the mode;
 3. the crossing is refined on the method's own continuous extension (Illinois method),
    then the step is *retaken* from its start to the event time and the time corrected by
    Newton iterations on the retaken step until ``|g| <= event_tol``: the state at the event

@@ -105,10 +105,11 @@ def hertz_error_constants(B, C):
     """Local error constants of a method's steps at the ends of a Hertz contact.
 
     Next to a contact entry or exit the acceleration has a singular part ``c |t|^{3/2}``
-    (the force ``kh (R-1)^{3/2}`` with ``R - 1`` linear in time), so a step of size ``h``
-    that touches the surface has a velocity error ``gamma c h^{5/2}``, whatever the
-    method's order: the step is a quadrature of that part with the weights ``B`` at the
-    nodes ``C``.  Returns ``(gamma_in, gamma_out)``:
+    (the force ``k d^{3/2}`` with the penetration ``d`` linear in time; for the built-in
+    rotor ``kh (R-1)^{3/2}``), so a step of size ``h`` that touches the surface has a
+    velocity error ``gamma c h^{5/2}``, whatever the method's order: the step is a
+    quadrature of that part with the weights ``B`` at the nodes ``C``.  Returns
+    ``(gamma_in, gamma_out)``:
 
     * ``gamma_in``: the step starts on the surface (the first step of a contact),
       ``|sum_i b_i c_i^{3/2} - 2/5|``;
@@ -117,9 +118,9 @@ def hertz_error_constants(B, C):
 
     The embedded error estimate of such a step is no guide (for DOP853 it reports 0.29 of
     the true error at an entry, and as little as 0.006 of it at an exit inside a step),
-    so the kernel sizes these steps from these constants instead
-    (:func:`vibimpact._kernel.rotor.step_cap`).  Values: DOP853 1.1e-4 and 1.5e-2, DP5
-    4.5e-4 and 5.6e-3.
+    so the kernel sizes these steps from these constants instead, in a family's step cap
+    (e.g. the built-in rotor's :func:`vibimpact._kernel.rotor.step_cap`).  Values: DOP853
+    1.1e-4 and 1.5e-2, DP5 4.5e-4 and 5.6e-3.
     """
     b = np.asarray(B, dtype=np.float64)
     c = np.asarray(C, dtype=np.float64)[:b.size]

@@ -5,7 +5,7 @@
 :func:`impact_map`               the state at each contact entry, shape (k, n)
 :func:`detect_period`            smallest ``n`` with ``x[k+n] = x[k]``; 0 if none
 :func:`impact_count`             contacts per forcing period and per motion period
-:func:`contact_arcs`             contact angles grouped into arcs on the retainer circle
+:func:`contact_arcs`             contact angles grouped into arcs on the obstacle
 :func:`impact_statistics`        impact speeds, penetrations, contact durations
 :func:`lyapunov_spectrum`        variational equations + saltation matrices (Benettin/QR)
 :class:`Averaging`               how long the Lyapunov estimates integrate and average

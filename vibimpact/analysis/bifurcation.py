@@ -58,9 +58,9 @@ def orbit_signature(system, state, n):
     ``(counts, modes)``: the number of mode-changing events of each terminal switch over
     ``n`` periods, and the sorted distinct modes the orbit visits.  Both are independent
     of where on the orbit ``state`` lies (an event crossing the strobe instant changes
-    nothing).  For the rotor, ``counts = (contact entries + exits, slip/stick switches)``
-    and ``modes`` tells free flight, contact and the friction state apart, so permanent
-    contact and impactless motion differ.  Two orbits of one branch have the same
+    nothing).  For the built-in rotor, ``counts = (contact entries + exits, slip/stick
+    switches)`` and ``modes`` tells free flight, contact and the friction state apart, so
+    permanent contact and impactless motion differ.  Two orbits of one branch have the same
     signature until a grazing (a contact appears or disappears, or a permanent contact
     lifts off) or a stick-slip change.
 
@@ -87,14 +87,15 @@ def orbit_signature(system, state, n):
 
 
 def grazing_gap(system, state, n):
-    """Smallest distance to the contact surface (``|R - 1|`` for the rotor) over the
-    extrema of the penetration along an orbit (0 at grazing).
+    """Smallest distance to the contact surface, ``|penetration|`` of the model's contact
+    (``|R - 1|`` for the built-in rotor), over the extrema of the penetration along an
+    orbit (0 at grazing).
 
     The extrema are the located events of the model's contact extremum observer
-    (``dR/dtau`` for the rotor): the closest approaches in free flight and the deepest
-    points of contacts.  NaN for a model without a contact (or without an extremum
-    observer) or an orbit without extrema.  Solver defaults as
-    :func:`orbit_signature`'s.
+    (:attr:`vibimpact.Contact.extremum`; ``dR/dtau`` for the built-in rotor): the closest
+    approaches in free flight and the deepest points of contacts.  NaN for a model
+    without a contact (or without an extremum observer) or an orbit without extrema.
+    Solver defaults as :func:`orbit_signature`'s.
     """
     system = as_system(system)
     contact = system.model.contact
@@ -137,11 +138,13 @@ class Bifurcation:
     signature, signature_beyond : tuple
         :func:`orbit_signature` at both ends.
     gap : float
-        :func:`grazing_gap` of ``orbit`` (rotor only).
+        :func:`grazing_gap` of ``orbit`` (NaN for a model without a contact or without
+        an extremum observer).
     at_grazing : bool
         The event is a grazing, or a fold within ``10 tol`` of grazing in gap (a
-        grazing-induced fold: with the stiff Hertz contact the multipliers move fast just
-        past grazing and the orbit vanishes a few 1e-5 in eta later).
+        grazing-induced fold: with a stiff Hertz contact, such as the built-in rotor's,
+        the multipliers move fast just past grazing and the orbit vanishes a few 1e-5 in
+        the parameter later).
     """
 
     param: object

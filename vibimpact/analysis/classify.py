@@ -108,7 +108,8 @@ class Regime:
         Period in forcing periods (``T_motion = n 2 pi / eta``) for PERIODIC; 0 when
         unknown or not periodic.
     impacting : bool or None
-        Whether the motion has contacts with the retainer (None: not known).
+        Whether the motion has contacts with the model's obstacle (None: not known, or
+        a model without a contact).
     impacts_per_period : float
         Contacts per motion period (per forcing period when ``n = 0``); NaN if unknown.
     confidence : float

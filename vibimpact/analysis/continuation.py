@@ -76,8 +76,11 @@ class Branch:
     multipliers : ndarray of complex, shape (k, d)
     stable : ndarray of bool, shape (k,)
     amplitude : dict of str -> ndarray, shape (k,)
-        Response measures of each orbit (rotor: ``X_m``, ``Y_m``, ``R_m``; any model:
-        ``<state>_m`` for the first two states), from densely sampled motion.
+        Response measures of each orbit, from densely sampled motion: for a model with a
+        planar contact (two :attr:`~vibimpact.Contact.positions`), ``<position>_m``, the
+        largest ``|position|``, of each and ``R_m``, the largest distance from the origin
+        in their plane (the built-in rotor's ``X_m``, ``Y_m``, ``R_m``); for any other
+        model, ``<state>_m`` of its first two states.
     n : int
     bifurcations : tuple of (int, BifurcationKind, float)
         ``(index, kind, value)``: between point ``index - 1`` and ``index`` the stability
@@ -402,8 +405,8 @@ def continue_orbit(system: System, state0: ArrayLike, n: int = 1, *,
         A guess of the orbit at the start (shot first).
     n : int
     param : str or int
-        ``"eta"`` for the rotor's frequency; any parameter name, or an index of a user
-        model's vector.
+        Any parameter name (e.g. ``"eta"``, the built-in rotor's forcing frequency), or
+        an index of a user model's vector.
     stop : (float, float) or float
         The parameter window ``(lo, hi)`` (a single float: from the start value to it);
         the continuation ends when it leaves the window.  A window past a bound of the

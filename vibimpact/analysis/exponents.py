@@ -93,9 +93,9 @@ class LyapunovResult:
 #: the tangent vectors' local errors are tested at this many times the tolerances
 TANGENT_TOL = 1e3
 
-KIND_FLOW = ("flow of the non-autonomous state equations, per unit tau, without the "
+KIND_FLOW = ("flow of the non-autonomous state equations, per unit time, without the "
              "forcing phase's zero exponent")
-KIND_FLOW_PHASE = ("flow of the autonomous extension (state, forcing phase), per unit tau, "
+KIND_FLOW_PHASE = ("flow of the autonomous extension (state, forcing phase), per unit time, "
                    "with the phase's zero exponent")
 
 

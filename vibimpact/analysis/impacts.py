@@ -1,12 +1,15 @@
-"""Impacts of the rotor on its retainer: counts per period, loaded arcs, wear statistics.
+"""Impacts of a model on its obstacle: counts per period, loaded arcs, wear statistics.
 
-The paper [1] describes its regimes by impacts per period ("period 3 with 8 impacts") and
-where they fall ("bottom half", "two small loaded arcs", "whole circle"); :func:`impact_count`
-and :func:`contact_arcs` turn a run's contacts into those words (the loaded arcs are the
-angles each contact covers from entry to exit, sliding included), and
-:func:`impact_statistics` gives the speeds and penetrations that govern retainer wear.
-Angles are ``theta = atan2(Y, X)`` in degrees in (-180, 180]; gravity acts along +Y, so the
-bottom of the retainer is theta = +90 deg and the top -90 deg (gravity acts along +Y).
+The paper [1] describes the rotor's regimes by impacts per period ("period 3 with 8
+impacts") and where they fall ("bottom half", "two small loaded arcs", "whole circle");
+:func:`impact_count` and :func:`contact_arcs` turn the contacts of a run of any model that
+declares one (:class:`vibimpact.Contact`) into those words (the loaded arcs are the angles
+each contact covers from entry to exit, sliding included), and :func:`impact_statistics`
+gives the speeds and penetrations that govern the wear of the contact surfaces.  Angles
+are the contact's angle (:attr:`vibimpact.Contact.angle`) in degrees in (-180, 180]: 0 or
+180 for a one-dimensional stop; for the built-in rotor ``theta = atan2(Y, X)``, and as
+gravity acts along +Y the bottom of its retainer is theta = +90 deg and the top -90 deg
+(the "bottom half" of :func:`summarize_arcs` is the angles [0, 180] for any model).
 
 References
 ----------
@@ -134,7 +137,7 @@ def impact_count(impact_period: ArrayLike, n_periods: int, period: int = 1) -> I
 
 @dataclass(frozen=True, eq=False)
 class ContactArcs:
-    """Arcs of the retainer circle where the rotor is in contact with it (loaded).
+    """Arcs of the obstacle, by the contact's angle, where the model is in contact (loaded).
 
     Attributes
     ----------
@@ -341,7 +344,7 @@ def _dataset_intervals(ds):
 
 def contact_arcs(angles: Run | xr.Dataset | ArrayLike,
                  gap: float = 10.0) -> ContactArcs:
-    """The loaded arcs of the retainer: where the contacts are, entry to exit.
+    """The loaded arcs of the obstacle: where the contacts are, entry to exit.
 
     Each contact covers the angles from its entry to its exit with the sliding in between
     (:func:`vibimpact.models.contact.contact_spans`); the arcs are the union of those intervals
@@ -411,11 +414,13 @@ class ImpactStatistics:
     ----------
     count : int
     mean_speed, max_speed : float
-        Mean and largest normal impact speed ``dR/dtau`` at entry.
+        Mean and largest normal impact speed at entry (the contact's ``normal_speed``;
+        ``dR/dtau`` for the built-in rotor).
     max_penetration : float
-        Largest ``R - 1`` reached, in clearances.
+        Largest penetration reached (``R - 1``, in clearances, for the built-in rotor).
     mean_duration : float
-        Mean contact duration in ``tau``; contacts still open at the end (NaN) left out.
+        Mean contact duration in the model's time (``tau`` for the built-in rotor);
+        contacts still open at the end (NaN) left out.
     """
 
     count: int

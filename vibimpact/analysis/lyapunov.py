@@ -12,27 +12,30 @@ Three independent routes, so each checks the others:
   :func:`lyapunov_from_series`, a time-series estimate through nolds (Rosenstein et al.
   1993), a cross-check only.
 
-Which spectrum?  The rotor and the Duffing oscillator are *non-autonomous*: as autonomous
-flows on (state, forcing phase) they have one more exponent, exactly 0, along the phase.
+Which spectrum?  The models are periodically forced, *non-autonomous* (e.g. the built-in
+rotor and the Duffing oscillator): as autonomous flows on (state, forcing phase) they have
+one more exponent, exactly 0, along the phase.
 The exponents returned here are those of the ``n``-dimensional state, per unit of
 dimensionless time ``tau``, **without** that trivial zero (ask ``include_phase=True`` to
 append it).  The stroboscopic (Poincaré) map's exponents are the same numbers times the
-forcing period ``T = 2 pi / eta``: :attr:`LyapunovResult.map_exponents`.  A periodic orbit
-therefore has all returned exponents negative; a quasi-periodic one has a largest exponent
-0; a chaotic one a positive largest exponent.
+forcing period ``T = 2 pi / omega`` (``omega`` the model's forcing frequency, the built-in
+rotor's ``eta``): :attr:`LyapunovResult.map_exponents`.  A periodic orbit therefore has
+all returned exponents negative; a quasi-periodic one has a largest exponent 0; a chaotic
+one a positive largest exponent.
 
 Periodic orbits.  There the exponents are the Floquet exponents ``ln|mu_i| / (n T)`` of
 the monodromy matrix (Parker & Chua 1989, *Practical Numerical Algorithms for Chaotic
 Systems*, ch. 4).  The QR average (Eckmann & Ruelle 1985, Rev. Mod. Phys. 57, 617, sec.
 III.B) tends to them only like ``1/N`` when multipliers share a modulus: a complex pair
-(every underdamped mode of the rotor) rotates its tangent plane, so ``R_11`` and ``R_22``
-split the pair's growth unevenly, by an amount that oscillates without decaying (only the
-plane's area growth is free of it).  After 400 periods at B = 0.01 (impacting period-1
-orbits of fig8, eta = 1.05, and fig10, eta = 1.075), ``lambda_1`` came out up to 17 %
-above ``ln|mu|/T``, ``lambda_2`` below, with batch-means errors up to 8 times smaller than
-the actual ones.  :func:`lyapunov_spectrum` thus
-returns the Floquet exponents, exact, once the stroboscopic points repeat and shooting
-confirms a stable orbit; :func:`floquet_lyapunov` gives them for a point of an orbit.
+(every underdamped mode, e.g. of the built-in rotor) rotates its tangent plane, so
+``R_11`` and ``R_22`` split the pair's growth unevenly, by an amount that oscillates
+without decaying (only the plane's area growth is free of it).  For the built-in rotor,
+after 400 periods at B = 0.01 (impacting period-1 orbits of fig8, eta = 1.05, and fig10,
+eta = 1.075), ``lambda_1`` came out up to 17 % above ``ln|mu|/T``, ``lambda_2`` below,
+with batch-means errors up to 8 times smaller than the actual ones.
+:func:`lyapunov_spectrum` thus returns the Floquet exponents, exact, once the stroboscopic
+points repeat and shooting confirms a stable orbit; :func:`floquet_lyapunov` gives them for
+a point of an orbit.
 """
 from __future__ import annotations
 

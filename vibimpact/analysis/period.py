@@ -1,4 +1,4 @@
-"""Period of a stroboscopic (Poincare) sequence, and the two sections of a rotor run.
+"""Period of a stroboscopic (Poincare) sequence, and the two sections of a run.
 
 :func:`detect_period` works on plain arrays of Poincare points from any system: it
 returns the smallest ``n`` with ``x[k + n] = x[k]`` for *every* ``k`` of the
@@ -8,8 +8,9 @@ converging transient, a quasi-periodic orbit (whose near-returns are never exact
 chaotic orbit from being called periodic.
 
 :func:`poincare_section` and :func:`impact_map` extract the two usual sections of a
-:class:`vibimpact.Run`: the stroboscopic map at ``tau_k = 2 pi k / eta`` and the impact map
-(the state at each contact entry ``R = 1``), cf. Nordmark (1991) and di Bernardo et al. (2008).
+:class:`vibimpact.Run`: the stroboscopic map at ``tau_k = 2 pi k / omega`` (``omega`` the
+forcing frequency) and the impact map (the state at each contact entry; for the built-in
+rotor, at ``R = 1``), cf. Nordmark (1991) and di Bernardo et al. (2008).
 
 References
 ----------
@@ -33,6 +34,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from numpy.typing import ArrayLike
 
     from ..core.run import Run
+    from ..models.contact import Contact
 
 __all__ = ["detect_period", "detect_period_windows", "poincare_section", "impact_map",
            "SCALE_FLOOR"]
@@ -225,7 +227,7 @@ def detect_period_windows(points, windows, tol=1e-6, max_period=64, min_repeats=
 
 
 def poincare_section(run: Run) -> np.ndarray:
-    """Stroboscopic Poincare samples of a run, ``x(tau_k)`` at ``tau_k = 2 pi k / eta``.
+    """Stroboscopic Poincare samples of a run, ``x(tau_k)`` at ``tau_k = 2 pi k / omega``.
 
     Parameters
     ----------
@@ -244,25 +246,34 @@ def poincare_section(run: Run) -> np.ndarray:
     return strobe
 
 
-def impact_map(run: Run) -> np.ndarray:
-    """States at every contact entry: the impact (Poincare) map of the rotor.
+def impact_map(run: Run, contact: Contact | None = None) -> np.ndarray:
+    """States at every contact entry: the impact (Poincare) map of a run.
 
-    Rows are the events of ``run.events`` with ``which == 0`` (switch 0: the contact
-    surface ``R = 1``) that go from free flight into contact, ``mode_before[:, 0] == 0``
-    and ``mode_after[:, 0] == 1``; contact exits are dropped.
+    Rows are the events of ``run.events`` of the contact's switching function
+    (``which == contact.switch``) that go from free flight into contact (its mode entry
+    ``contact.mode`` from 0 to 1); contact exits and other switches are dropped.  The
+    contact is ``contact``, else the one the run's registered model declares
+    (:attr:`vibimpact.Contact.switch`, :attr:`vibimpact.Contact.mode`; a model without
+    one: no rows); a run that names no registered model (a user's, unregistered: pass
+    ``contact``) is read with switch 0 and mode entry 0, the kernel's first.
 
     Parameters
     ----------
     run : vibimpact.Run
-        Rotor run; ``run.events`` is a dict with ``t`` (k,), ``which`` (k,),
-        ``mode_before`` (k, 2), ``mode_after`` (k, 2) and ``state`` (k, 4).  A run without
-        events (or a model without contacts) gives no rows.
+        A run; ``run.events`` is a dict with ``t`` (k,), ``which`` (k,), ``mode_before``
+        (k, n_mode), ``mode_after`` (k, n_mode) and ``state`` (k, n_state) (the built-in
+        rotor's n_mode is 2, its n_state 4).  A run without events (or a model without
+        contacts) gives no rows.
+    contact : vibimpact.models.contact.Contact, optional
+        The model's contact (default: the run's registered model's).
 
     Returns
     -------
-    ndarray, shape (n_impacts, 4)
-        ``(X, Y, X', Y')`` at each entry in time order; ``theta = atan2(Y, X)`` of these
-        rows is :attr:`vibimpact.Run.impacts` ``["theta"]``.
+    ndarray, shape (n_impacts, n_state)
+        The state at each entry in time order (the built-in rotor's ``(X, Y, X', Y')``);
+        the contact's angle of these rows (:attr:`vibimpact.Contact.angle`; for the
+        built-in rotor ``theta = atan2(Y, X)``) is :attr:`vibimpact.Run.impacts`
+        ``["theta"]``.
     """
     events = getattr(run, "events", None) or {}
     width = 4
@@ -276,5 +287,23 @@ def impact_map(run: Run) -> np.ndarray:
     before = np.asarray(events["mode_before"]).reshape(which.size, -1)
     after = np.asarray(events["mode_after"]).reshape(which.size, -1)
     state = np.asarray(events["state"], dtype=np.float64).reshape(which.size, -1)
-    entry = (which == 0) & (before[:, 0] == 0) & (after[:, 0] == 1)
+    switch, mode = _contact_indices(run, contact)
+    if switch is None:
+        return np.zeros((0, width))
+    entry = (which == switch) & (before[:, mode] == 0) & (after[:, mode] == 1)
     return state[entry].copy()
+
+
+def _contact_indices(run, contact):
+    """``(switch, mode)`` of ``contact``, else of the run's registered model's contact
+    (``(None, None)``: the model has none), else ``(0, 0)``."""
+    if contact is None:
+        from .. import models
+
+        name = getattr(run, "model", None)
+        if not (isinstance(name, str) and name in models.names()):
+            return 0, 0
+        contact = models.get(name).contact
+        if contact is None:
+            return None, None
+    return int(contact.switch), int(contact.mode)

@@ -7,8 +7,9 @@ the dataset's global attributes through :func:`file_attrs`, which adds
   write: the ISO-8601 UTC time and the command line or call that wrote the file, appended
   to an existing history), ``date_created`` (ISO-8601 UTC; kept when the dataset
   already has one, e.g. a file read and written again), ``title`` (kept when the dataset
-  has one), ``source`` (the package and its version) and ``references``
-  (:data:`REFERENCES`, the paper);
+  has one), ``source`` (the package and its version) and ``references`` (what the
+  writer passes: the literature the file's model declares; kept when the dataset has
+  its own; else :data:`REFERENCES`, the package);
 * the provenance the bit-identity promise depends on (:func:`provenance`): the package
   version and, when the package runs from a git checkout, its commit; the versions of the
   numerical and I/O dependencies imported by this process; the Python version, the
@@ -38,9 +39,9 @@ from typing import Any
 
 #: the CF version the files follow
 CONVENTIONS = "CF-1.8"
-#: the CF ``references`` of every file: the paper whose model (eq. 5) the package is built on
-REFERENCES = ("L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
-              "with impacts (the rotor model, eq. 5)")
+#: the CF ``references`` of a file whose model declares no literature (a user's model, a
+#: file of no model): the package that computed it
+REFERENCES = "vibimpact: bifurcation and chaos analysis of vibro-impact models"
 #: distributions whose version is recorded, when this process has imported them
 DEPENDENCIES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "zarr", "dask")
 #: global attributes that change from one write of the same data to the next
@@ -149,7 +150,8 @@ def _title(command: str) -> str:
     return "vibimpact output"
 
 
-def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
+def file_attrs(attrs: Mapping[str, Any], call: str,
+               references: str | None = None) -> dict[str, Any]:
     """The global attributes of a file about to be written: ``attrs`` plus the CF and
     provenance attributes (a new dict; ``attrs`` is not changed).
 
@@ -160,6 +162,10 @@ def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     call : str
         The writing function, e.g. ``"vibimpact.io.write_netcdf"``: named in ``history``
         when the dataset records no ``command`` (an API call rather than the CLI).
+    references : str, optional
+        The CF ``references`` when ``attrs`` has none: the literature of the file's
+        model (:attr:`vibimpact.models.Model.references`); None or empty:
+        :data:`REFERENCES`.
     """
     from .. import __version__
 
@@ -175,7 +181,7 @@ def file_attrs(attrs: Mapping[str, Any], call: str) -> dict[str, Any]:
     out["history"] = f"{old}\n{line}" if old else line
     out.setdefault("date_created", stamp)
     out.setdefault("source", f"vibimpact {__version__}")
-    out.setdefault("references", REFERENCES)
+    out.setdefault("references", references or REFERENCES)
     if not str(out.get("title") or "").strip():  # CF 2.6.2: a file says what it holds
         kind = str(out.get("kind") or "").strip()
         out["title"] = f"vibimpact {kind}".strip() if kind else _title(command)

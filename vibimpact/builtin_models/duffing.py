@@ -46,4 +46,7 @@ class DuffingParams(ParamsMixin):
 
 MODEL = Model.builtin_model("duffing", "duffing", ("x", "dx"), omega_index=4,
                             param_set=DuffingParams, bound=1e6,
-                            plot=PlotSpec(xy=("x", "dx"), symbols={"omega": "ω"}))
+                            plot=PlotSpec(xy=("x", "dx"), symbols={"omega": "ω"}),
+                            references="J. Guckenheimer, P. Holmes (1983): Nonlinear "
+                                       "Oscillations, Dynamical Systems, and Bifurcations "
+                                       "of Vector Fields, Springer, sec. 2.2")

@@ -73,4 +73,10 @@ MODEL = Model.builtin_model(
                              "impact per period (Shaw & Holmes 1983)"),
              "hard-impact-chatter": (dict(zeta=0.05, d=0.0, r=0.5, A=1.0, eta=0.5),
                                      "hard-impact oscillator with the stop at the rest "
-                                     "position: chattering and sticking every period")})
+                                     "position: chattering and sticking every period")},
+    references="S. W. Shaw, P. J. Holmes (1983): A periodically forced impact oscillator "
+               "with large dissipation, J. Appl. Mech. 50, 849-857; A. B. Nordmark (1991): "
+               "Non-periodic motion caused by grazing incidence in an impact oscillator, "
+               "J. Sound Vib. 145, 279-297; C. Budd, F. Dux (1994): Chattering and "
+               "related behaviour in impact oscillators, Phil. Trans. R. Soc. A 347, "
+               "365-389")

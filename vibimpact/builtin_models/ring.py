@@ -21,7 +21,7 @@ from ..models.contact import Contact, ContactLaw
 from ..models import Model
 from ..models.params import Domain, param_set
 from .rotor import Params, describe, paper_values  # the paper's presets, with a ring
-from .rotor import PLOT, angle, normal_speed, penetration  # the same retainer circle
+from .rotor import PLOT, STATE_TEXT, angle, normal_speed, penetration  # the same circle
 
 _ROTOR_ROWS = [
     ("B", "linear viscous damping of the magnetic support"),
@@ -69,9 +69,16 @@ MODEL = Model.builtin_model(
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
     plot=dataclasses.replace(PLOT, preset_columns=(), preset_marked=(), preset_note=""),
-    state_text={"Vr": "speed of the retainer ring's inner surface / (clearance omega0), "
+    state_text={**STATE_TEXT,
+                "Vr": "speed of the retainer ring's inner surface / (clearance omega0), "
                       "positive along e_t = (-Y, X)/R (the ring's angular speed is "
                       "Vr / (Rr + 1) in units of omega0)"},
     presets={f"{fig}-ring": (_preset(fig), f"{describe(fig)}; with a light "
                              "turning retainer ring (Jr 0.05)")
-             for fig in ("fig8", "fig10", "fig11")})
+             for fig in ("fig8", "fig10", "fig11")},
+    references="L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
+               "with impacts (the rotor model, eq. 5), with the retainer as a turning ring",
+    # the rotor's frequency range and census point, with the ring turning
+    defaults={"frequencies": "0.9:1.5:0.002", "map_frequencies": "0.9:1.5:0.005",
+              "census_preset": "fig11-ring",
+              "census_frequency": 1.06})

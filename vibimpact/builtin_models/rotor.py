@@ -237,6 +237,11 @@ def angle(states, p):
     return np.degrees(np.arctan2(states[:, 1], states[:, 0]))
 
 
+#: what the rotor's states are, in its files' words
+STATE_TEXT = {"X": "horizontal displacement / clearance",
+              "Y": "vertical displacement / clearance (+Y down, along gravity)",
+              "dX": "horizontal velocity dX/dtau", "dY": "vertical velocity dY/dtau"}
+
 #: what the rotor's plots and tables show
 PLOT = PlotSpec(
     xy=("X", "Y"), circle=1.0, circle_label="retainer R = 1",
@@ -245,6 +250,9 @@ PLOT = PlotSpec(
     symbols={"eta": "η"}, title=("kh", "G", "B", "Ec"),
     title_nonzero=("Bh", "BT", "f", "Rr"), title_hidden=("k3", "eps"),
     preset_columns=("kh", "G", "Bh", "BT", "f", "Rr", "B", "Ec"), preset_marked=("B", "Ec"),
+    frequency_text="forcing frequency ratio eta = omega sqrt(m/k)",
+    obstacle="retainer", time_name="tau",
+    angle_text="theta = atan2(Y, X) of the retainer circle, +90 = bottom",
     preset_note="B and Ec are our defaults, not values from the paper; all the paper's "
                 "presets have k3 = -0.002 and eta is set per run (--eta).")
 
@@ -255,6 +263,13 @@ MODEL = Model.builtin_model(
                     angle=angle, extremum=2, positions=(0, 1),
                     law=ContactLaw(stiffness="kh", exponent=1.5, damping="Bh", friction="f",
                                    tangential_damping="BT")),
-    plot=PLOT,
+    plot=PLOT, state_text=STATE_TEXT,
     presets={name: (paper_values(name), describe(name)) for name in paper_names()},
-    default_preset="fig8")
+    default_preset="fig8",
+    # the paper's frequency range; a census where attractors coexist: fig11 at 1.06
+    # holds period-8 and period-14 orbits and two period-1 ones with small basins
+    references="L. Půst, J. Kozánek: Vibrations of rotor supported in magnetic bearings "
+               "with impacts (the rotor model, eq. 5)",
+    defaults={"frequencies": "0.9:1.5:0.002", "map_frequencies": "0.9:1.5:0.005",
+              "census_preset": "fig11",
+              "census_frequency": 1.06})

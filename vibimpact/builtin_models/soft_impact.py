@@ -36,4 +36,9 @@ MODEL = Model.builtin_model(
     presets={"soft-impact": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.8),
                              "soft-impact oscillator below grazing (linear response)"),
              "soft-impact-grazing": (dict(zeta=0.05, k=29.0, c=0.0, d=1.0, A=0.3, eta=0.86),
-                                     "soft-impact oscillator just past grazing")})
+                                     "soft-impact oscillator just past grazing")},
+    references="M. di Bernardo, C. J. Budd, A. R. Champneys (2001): Normal form maps for "
+               "grazing bifurcations in n-dimensional piecewise-smooth dynamical systems, "
+               "Physica D 160, 222-254; J. Ing, E. Pavlovskaia, M. Wiercigroch, S. "
+               "Banerjee (2008): Experimental study of impact oscillator with one-sided "
+               "elastic constraint, Phil. Trans. R. Soc. A 366, 679-705")

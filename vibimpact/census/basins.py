@@ -2,9 +2,9 @@
 
 :func:`basins` runs an attractor census (:func:`vibimpact.census.attractors`) whose
 starts are a regular grid of cells in a plane of two state components (the others held
-at ``base``, zero by default: "X, Y at rest"), and returns the image of the attractor
-each cell reaches with the census' attractor table and the boundary measures of
-:func:`boundary_measures`:
+at ``base``, zero by default: in the built-in rotor's X, Y plane, starts at rest), and
+returns the image of the attractor each cell reaches with the census' attractor table
+and the boundary measures of :func:`boundary_measures`:
 
 * the *boundary fraction*: the share of cells with a 4-neighbour (up, down, left,
   right) of another label;
@@ -232,8 +232,8 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         by default the census' box (:func:`vibimpact.census.starts.default_box`: ``[-1,
         1]`` for each state of a built-in model).
     base : array_like, shape (d,), optional
-        The other state components (zero by default: the rotor at rest in the plane
-        X, Y); its values in the plane's components are ignored.
+        The other state components (zero by default: for the built-in rotor's plane
+        X, Y, at rest); its values in the plane's components are ignored.
     eps : int
         Box side of the basin entropy, in cells (:func:`boundary_measures`).
     settings : CensusSettings, optional
@@ -333,7 +333,7 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
     out[xname].attrs.update(long_name=f"start {xname}")
     out[yname].attrs.update(long_name=f"start {yname}")
     out.attrs = dict(census.attrs)
-    out.attrs.update(kind="basins", frequency_name=model.param_names[model.omega_index],
+    out.attrs.update(kind="basins", frequency_name=model.frequency_name,
                      plane=f"{xname},{yname}", plane_x=xname,
                      plane_y=yname, grid_columns=int(cols), grid_rows=int(rows),
                      range_x=list(rng[0]), range_y=list(rng[1]),

@@ -158,8 +158,8 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     seed : int
     box : Box, optional
         Where random starts are drawn (:func:`vibimpact.census.starts.default_box`
-        by default: the rotor's positions in the unit disk, everything else in
-        ``[-1, 1]``); its scale is the unit of the census' distances.
+        by default: the two positions of a planar contact in the unit disk, everything
+        else in ``[-1, 1]``); its scale is the unit of the census' distances.
     settings : CensusSettings, optional
     execution : Execution, optional
         Workers, Dask, checkpoint and resume (none of which changes a number).

@@ -33,6 +33,7 @@ import xarray as xr
 from ..points.point import REGIME_CODES, REGIME_FLAGS
 from ..analysis.classify import Label
 from ..core.system import param_dict
+from ..models.words import file_words
 from ..sweeps.dataset import label_text, period_attrs
 from .reach import DECIDED_FLAGS, ESCAPED_LABEL, FAILED_LABEL
 from .library import nearest_distances
@@ -129,10 +130,10 @@ _VARIABLES = {
     "fraction": (_ATT, "basin fraction", "1"),
     "fraction_se": (_ATT, "standard error of the basin fraction", "1"),
     "regime": (_ATT, "kind of motion (flag)", None),
-    "period": (_ATT, "period n (T = n 2 pi / eta); 0: not periodic", "1"),
+    "period": (_ATT, "period n (T = n 2 pi / {freq}); 0: not periodic", "1"),
     "impacts_per_period": (_ATT, "contacts per motion period (per forcing period when "
                                  "period = 0)", "1"),
-    "n_arcs": (_ATT, "number of loaded arcs of the retainer (-1: not measured)", "1"),
+    "n_arcs": (_ATT, "number of loaded arcs of the {obstacle} (-1: not measured)", "1"),
     "lyapunov": (_ATT, "largest Lyapunov exponent (non-periodic attractors)", "1"),
     "floquet_abs_max": (_ATT, "largest |Floquet multiplier| (periodic attractors)", "1"),
     "multiplier_re": (_ATT + ("multiplier",), "Floquet multipliers, real part", "1"),
@@ -148,10 +149,11 @@ _VARIABLES = {
 }
 
 
-def _var_attrs(name, values):
-    """The CF attributes of census variable ``name`` holding ``values``."""
+def _var_attrs(name, values, words):
+    """The CF attributes of census variable ``name`` holding ``values`` (``words``: the
+    model's, :func:`vibimpact.models.words.file_words`)."""
     _, long_name, units = _VARIABLES[name]
-    out = dict(long_name=long_name)
+    out = dict(long_name=long_name.format(**words))
     if units is not None:
         out["units"] = units
     if name == "decided_by":
@@ -243,13 +245,14 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                   found_by=first, global_id=gid, failed=failed,
                   failed_fraction=failed / float(n), failure=failure.astype(str))
     ds = xr.Dataset(
-        {k: (_VARIABLES[k][0], v, _var_attrs(k, v)) for k, v in values.items()},
-        coords=dict(eta=("eta", etas, dict(long_name="forcing frequency ratio eta",
-                                           units="1")),
+        {k: (_VARIABLES[k][0], v, _var_attrs(k, v, file_words(model)))
+         for k, v in values.items()},
+        coords=dict(eta=("eta", etas, model.frequency_attrs()),
                     start=("start", np.arange(n, dtype=np.int32), dict(
                         long_name="starting state index", units="1")),
                     attractor=("attractor", np.arange(A, dtype=np.int32), dict(
-                        long_name="attractor index at each eta", units="1")),
+                        long_name=f"attractor index at each {model.frequency_name}",
+                        units="1")),
                     state=("state", states_names, dict(
                         long_name="state variable of the model ("
                                   + ", ".join(states_names) + ")")),
@@ -257,11 +260,12 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                         long_name="stroboscopic sample index", units="1")),
                     multiplier=("multiplier", np.arange(d, dtype=np.int32), dict(
                         long_name="Floquet multiplier index", units="1"))),
-        attrs=dict(kind="census", model=model.name, seed=int(seed), box=box.describe(),
+        attrs=dict(kind="census", model=model.name, frequency_name=model.frequency_name,
+                   seed=int(seed), box=box.describe(),
                    box_lo=box.lo, box_hi=box.hi, box_scale=box.scale,
                    n_starts=int(n),
                    **{f"param_{k}": v for k, v in param_dict(system).items()
-                      if k != model.param_names[model.omega_index]},
+                      if k != model.frequency_name},
                    **{f"census_{k}": v for k, v in settings.as_attrs().items()}))
     return ds
 

@@ -130,7 +130,7 @@ class CensusSettings:
 
 #: the end of a stop's reason when the run's very first step stopped it (the state
 #: was inside the bound at the start: one step cannot be an escape of the motion)
-FIRST_STEP = "at tau = 0 (forcing period 0)"
+FIRST_STEP = "at t = 0 (forcing period 0)"
 
 
 def failed_integration(status, reason) -> bool:

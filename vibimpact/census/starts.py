@@ -2,9 +2,11 @@
 
 The default box (:func:`default_box`) is documented per model:
 
-* a model whose contact is planar on two position states (the rotor of eq. (5)): those
-  two positions uniform in the disk of radius 1 inside the retainer's clearance (the
-  contact circle ``R = 1``), every other state uniform in ``[-1, 1]``;
+* a model whose contact declares two position states (a planar contact): those two
+  positions uniform in the disk centred at 0 of the radius of the model's circular
+  obstacle (:attr:`vibimpact.models.PlotSpec.circle`; radius 1 for a model that declares
+  none; for the built-in rotor of eq. (5): inside its retainer's clearance, the contact
+  circle ``R = 1``), every other state uniform in ``[-1, 1]``;
 * any other model: every state uniform in ``[-1, 1]``.
 
 Random starts are drawn from :func:`numpy.random.default_rng` seeded with ``seed``, so
@@ -95,7 +97,9 @@ def default_box(model) -> Box:
     contact = getattr(model, "contact", None)
     positions = tuple(getattr(contact, "positions", ())) if contact is not None else ()
     disk = positions if len(positions) == 2 else None
-    return Box(-np.ones(d), np.ones(d), disk=disk, radius=1.0)
+    circle = getattr(getattr(model, "plot", None), "circle", None)
+    return Box(-np.ones(d), np.ones(d), disk=disk,
+               radius=float(circle) if circle is not None else 1.0)
 
 
 def random_starts(box: Box, n: int, seed: int = 0) -> np.ndarray:

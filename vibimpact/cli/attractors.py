@@ -4,7 +4,8 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 """
 import os
 
-from .common.args import parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.args import (CENSUS_FREQUENCY, CENSUS_PRESET, parse_sets, positive_int,
+                          with_sets, MAX_WORKERS)
 from .common.checkpoints import checkpoint_of
 from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options
@@ -47,7 +48,7 @@ def _inputs(args):
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     try:
-        etas = parse_range(args.eta)
+        etas = parse_range(str(args.eta))
     except ValueError as exc:
         raise UsageError(f"--eta: {error_text(exc)}") from None
     system = System(with_sets(base, parse_sets(args.set), float(etas[0])))
@@ -247,13 +248,13 @@ def add_parser(sub, fmt):
                                    "each is known to reach an attractor;\nlist every "
                                    "attractor with its basin fraction and write a NetCDF "
                                    "file.")
-    a.add_argument("--preset", default="fig11", help="parameter set (default: fig11); see "
-                   "'vibimpact presets'")
+    a.add_argument("--preset", default=CENSUS_PRESET,
+                   help=f"parameter set (default: {CENSUS_PRESET}); see 'vibimpact presets'")
     a.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
-    a.add_argument("--eta", default="1.06", metavar="START:STOP:STEP",
+    a.add_argument("--eta", default=CENSUS_FREQUENCY, metavar="START:STOP:STEP",
                    help="forcing frequencies: a grid START:STOP:STEP, a list V1,V2,... or one "
-                        "value (default: 1.06)")
+                        f"value (default: {CENSUS_FREQUENCY})")
     a.add_argument("--starts", type=positive_int(1, 1_000_000), default=400, metavar="N",
                    help="starting states per eta (default: 400)")
     a.add_argument("--seed", type=positive_int(0, 2**63 - 1), default=0,

@@ -9,7 +9,8 @@ import os
 import re
 
 from ..base._text import parse_integer, parse_real
-from .common.args import number, parse_sets, positive_int, with_sets, MAX_WORKERS
+from .common.args import (CENSUS_FREQUENCY, CENSUS_PRESET, number, parse_sets,
+                          positive_int, with_sets, MAX_WORKERS)
 from .common.checkpoints import checkpoint_of
 from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options
@@ -183,12 +184,12 @@ def add_parser(sub, fmt):
     # -1:1,-1:1 and --base -0.1,0,0,0 as the examples write them (argparse takes only
     # plain negative numbers so)
     b._negative_number_matcher = re.compile(r"^-\.?\d")
-    b.add_argument("--preset", default="fig11", help="parameter set (default: fig11); see "
-                   "'vibimpact presets'")
+    b.add_argument("--preset", default=CENSUS_PRESET,
+                   help=f"parameter set (default: {CENSUS_PRESET}); see 'vibimpact presets'")
     b.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
-    b.add_argument("--eta", type=number, default=1.06,
-                   help="forcing frequency eta (default: 1.06)")
+    b.add_argument("--eta", type=number, default=CENSUS_FREQUENCY,
+                   help=f"forcing frequency (default: {CENSUS_FREQUENCY})")
     b.add_argument("--grid", default="200x200", metavar="COLUMNSxROWS",
                    help="cells along the first and second plane variable (default: "
                         "200x200)")

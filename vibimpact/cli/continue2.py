@@ -78,6 +78,8 @@ def _inputs(args):
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     system = System(with_sets(base, parse_sets(args.set), args.eta))
+    if args.param1 is None:  # the model's forcing frequency, what --eta sets
+        args.param1 = system.model.frequency_name
     for flag, name in (("--param1", args.param1), ("--param2", args.param2)):
         try:
             system.param(name)
@@ -266,8 +268,9 @@ def add_parser(sub, fmt):
     c.add_argument("--eta", type=number, default=None, help="eta of the start")
     c.add_argument("--kind", required=True, help="fold, 'period doubling' (or pd) or "
                    "grazing")
-    c.add_argument("--param1", default="eta", metavar="NAME",
-                   help="parameter the bifurcation is located in (default: eta)")
+    c.add_argument("--param1", default=None, metavar="NAME",
+                   help="parameter the bifurcation is located in (default: the model's "
+                        "forcing frequency, what --eta sets)")
     c.add_argument("--param2", required=True, metavar="NAME",
                    help="parameter stepped along the curve")
     c.add_argument("--range2", required=True, metavar="LO:HI",

@@ -85,6 +85,8 @@ def _inputs(args):
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     system = System(with_sets(base, parse_sets(args.set), args.eta))
+    if args.param is None:  # the model's forcing frequency, what --eta sets
+        args.param = system.model.frequency_name
     try:
         start = system.param(args.param)
     except ValueError:
@@ -282,9 +284,9 @@ def add_parser(sub, fmt):
                    help="change a parameter of the preset, e.g. BT=0.05 (repeatable)")
     c.add_argument("--eta", type=number, default=None,
                    help="forcing frequency eta of the start (default: the preset's, 1.0)")
-    c.add_argument("--param", default="eta", metavar="NAME",
-                   help="parameter continued (default: eta); its start value is the "
-                        "preset's after --set")
+    c.add_argument("--param", default=None, metavar="NAME",
+                   help="parameter continued (default: the model's forcing frequency, "
+                        "what --eta sets); its start value is the preset's after --set")
     c.add_argument("--stop", type=number, required=True, metavar="VALUE",
                    help="other end of the parameter window (above or below the start)")
     c.add_argument("--period", type=positive_int(1), default=1, metavar="N",

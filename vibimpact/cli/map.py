@@ -6,7 +6,8 @@ instant.
 """
 import os
 
-from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, parse_analyses, parse_sets,
+from .common.args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, MAP_FREQUENCIES, swept,
+                          parse_analyses, parse_sets,
                           positive_int, preset_name, with_sets, MAX_WORKERS)
 from .common.checkpoints import (check_checkpoint, checkpoint_of, finish_checkpointed,
                                  run_checkpointed)
@@ -15,8 +16,6 @@ from .common.figures import add_figure_options, figure_options, image_ext_ok
 from .common.files import check_output, sweep_file_bytes
 from ..engine.leftovers import output_of
 from ..base._text import count
-
-DEFAULT_ETA = "0.9:1.5:0.005"
 
 _MAP_EPILOG = """\
 examples:
@@ -114,7 +113,7 @@ def _inputs(args):
     from ..sweeps import parse_range
 
     try:
-        etas = parse_range(args.eta)
+        etas = parse_range(swept(args))
     except ValueError as exc:
         raise UsageError(f"--eta: {exc}") from None
     sets = parse_sets(args.set)
@@ -244,9 +243,9 @@ def add_parser(sub, fmt):
                        description="Sweep eta with continuation for every value of one "
                                    "other parameter and classify\nevery point; rows run "
                                    "as tasks on local processes or a Dask cluster.")
-    m.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP|V1,V2,...",
-                   help="grid of the forcing frequency ratio: a range or a list of "
-                        f"increasing values (default: {DEFAULT_ETA})")
+    m.add_argument("--eta", default=MAP_FREQUENCIES, metavar="START:STOP:STEP|V1,V2,...",
+                   help="grid of the forcing frequency: a range or a list of "
+                        f"increasing values (default: {MAP_FREQUENCIES})")
     m.add_argument("--vary", action="append", default=[], required=True,
                    metavar="NAME=START:STOP:STEP",
                    help="the other axis: a parameter and its values, e.g. kh=10:120:10 or "

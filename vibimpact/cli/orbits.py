@@ -81,11 +81,7 @@ def _system(args):
         base = presets.get(args.preset)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
-    sets = parse_sets(args.set)
-    if args.eta is not None and "eta" not in base.as_dict():
-        raise UsageError(f"--eta: preset {args.preset!r} has no eta; set its forcing "
-                         "frequency with --set NAME=VALUE")
-    return System(with_sets(base, sets, args.eta))
+    return System(with_sets(base, parse_sets(args.set), args.eta))
 
 
 def _seeds(args, system):
@@ -174,8 +170,7 @@ def add_parser(sub, fmt):
                    help="seed of the random generator (default: 0)")
     c.add_argument("--transient", type=positive_int(0, 100_000), default=5, metavar="N",
                    help="forcing periods each seed is integrated before Newton's method "
-                        "(default: 5; more for a slowly settling state, such as a light "
-                        "turning retainer's speed)")
+                        "(default: 5; more for a slowly settling state)")
     c.add_argument("--window", type=number, default=0.05, metavar="W",
                    help="continue each orbit within +-W of --eta (default: 0.05)")
     c.add_argument("--no-continue", action="store_true",

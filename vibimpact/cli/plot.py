@@ -309,9 +309,20 @@ def _plot_branch(args, ds):
     return _draw_file(args, ds, "a branch", plot_branch_figure)
 
 
+def _frequency_of(ds):
+    """The name of the forcing frequency of the model a file names (its registered
+    model's; else the file's ``frequency_name``; else ``eta``, the coordinate's)."""
+    from .. import models
+
+    name = ds.attrs.get("model")
+    if isinstance(name, str) and name in models.names():
+        return models.get(name).frequency_name
+    return str(ds.attrs.get("frequency_name", "eta"))
+
+
 def _read_branches(paths):
     """The datasets of ``--branch`` files; UsageError unless each is a ``vibimpact
-    continue`` file continued in eta."""
+    continue`` file continued in its model's forcing frequency (the axis of a sweep)."""
     from ..continuation.branches import is_branch_dataset
 
     out = []
@@ -319,9 +330,11 @@ def _read_branches(paths):
         ds = read_input(path, "--branch")
         if not is_branch_dataset(ds):
             raise UsageError(f"--branch {path!r} is not a 'vibimpact continue' file")
-        if ds.attrs.get("continuation_param") != "eta":
+        freq = _frequency_of(ds)
+        if ds.attrs.get("continuation_param") != freq:
             raise UsageError(f"--branch {path!r} is continued in "
-                             f"{ds.attrs.get('continuation_param')}, not eta")
+                             f"{ds.attrs.get('continuation_param')}, not its model's "
+                             f"forcing frequency {freq}")
         out.append(ds)
     return out
 

@@ -7,7 +7,8 @@ example:
 
 A model's table shows the parameters it declares as columns; columns marked * are
 explained under the table.  The presets of a model that declares no columns are listed
-with all their values.
+with all their values.  The last lines say what the commands do with each model when
+not told: the frequencies a sweep and a map cover, where a census and a basin image look.
 """
 
 
@@ -52,7 +53,25 @@ def _cmd_presets(args):
             mark = " (default)" if name == presets.DEFAULT else ""
             print(f"  {name}  ({type(presets.get(name)).__name__}: {values})  "
                   f"{presets.describe(name)}{mark}")
+    print("\nWithout --eta (and --preset for attractors and basins), each model's:")
+    for name in models.names():
+        if models.get(name).presets:
+            print("  " + _defaults_line(models.get(name)))
     return 0
+
+
+def _defaults_line(model):
+    """One line of what the commands do with ``model`` when not told
+    (:func:`vibimpact.models.presets.command_default` of its first preset)."""
+    from ..models.presets import command_default
+
+    first = next(iter(model.presets))
+    sweep = command_default("frequencies", first)
+    where = command_default("census_preset", first)
+    freq = command_default("census_frequency", where)
+    sweeps = (f"sweeps {sweep}, maps {command_default('map_frequencies', first)}"
+              if sweep is not None else "sweeps and maps need --eta")
+    return f"{model.name}: {sweeps}; attractors and basins {where} at {freq:g}"
 
 
 def add_parser(sub, fmt):

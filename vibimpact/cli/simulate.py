@@ -145,7 +145,7 @@ def add_parser(sub, fmt):
     s.add_argument("--transient", type=positive_int(0), default=500,
                    help="forcing periods integrated first and discarded (default: 500)")
     s.add_argument("--state0", type=number, nargs="+", metavar="X",
-                   help="initial state at tau = 0, one value per state of the model "
+                   help="initial state at t = 0, one value per state of the model "
                         "(default: rest, 0 0 0 0)")
     s.add_argument("--method", choices=("dop853", "dp5", "rk4"), default="dop853",
                    help="integrator (default: dop853)")
@@ -158,8 +158,8 @@ def add_parser(sub, fmt):
                         "--plot)")
     s.add_argument("-o", "--output", required=True, metavar="FILE.nc",
                    help="NetCDF file to write")
-    s.add_argument("--plot", metavar="FILE.png", help="also draw the orbit in the (X, Y) "
-                   "plane with the retainer and the impacts")
+    s.add_argument("--plot", metavar="FILE.png", help="also draw the orbit in the plane "
+                   "of the model's XY plot, with its obstacle and the impacts")
     add_figure_options(s, "the --plot image")
     s.add_argument("--overwrite", action="store_true",
                    help="replace existing output files")

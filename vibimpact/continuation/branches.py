@@ -2,8 +2,8 @@
 continue``).
 
 :func:`follow_branch` is what the command runs: it reaches the starting orbit (integrating
-from rest or a given state, optionally stepping the rotor speed towards the start as a
-sweep does, so that the orbit is the one a sweep follows) and continues it with
+from rest or a given state, optionally stepping the forcing frequency towards the start
+as a sweep does, so that the orbit is the one a sweep follows) and continues it with
 :func:`vibimpact.analysis.continue_orbit`.  :func:`branch_to_dataset` turns the
 :class:`~vibimpact.analysis.Branch` into an ``xarray.Dataset`` with CF attributes (units,
 declared flags) and every number needed to redo it; :func:`branch_from_dataset` gives the
@@ -23,6 +23,7 @@ import logging
 
 import numpy as np
 
+from ..models.words import file_words
 from ..base import _validate as _v
 from ..base._fill import complex_parts
 from ..base.bifurcation_kinds import BRANCH_KINDS, BifurcationKind, branch_flags
@@ -95,7 +96,8 @@ def _kind_code(kind):
 
 
 def follow_branch(system: System | Params | DuffingParams, *, stop: float,
-                  param: str = "eta", n: int = 1, state0: ArrayLike | None = None,
+                  param: str | None = None, n: int = 1,
+                  state0: ArrayLike | None = None,
                   transient: int = 500, approach: float | None = None,
                   steps: Steps | None = None,
                   refine: float | None = 1e-6) -> tuple[Branch, np.ndarray]:
@@ -109,10 +111,11 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         The other end of the parameter window.  Past a bound of the parameter's domain
         (:meth:`vibimpact.System.param_domain`, e.g. ``stop=-0.01`` for ``B >= 0``) the
         window is cut there: the branch ends on the bound, and its ``status`` says so.
-    param : str
-        The parameter continued (``"eta"``: the rotor's speed, its forcing frequency).
-        Its start value may lie on a bound of its domain (``BT = 0``, as in every
-        preset): the branch then steps into the domain (towards ``stop``).
+    param : str, optional
+        The parameter continued, by name (default: the model's forcing frequency,
+        :attr:`vibimpact.models.Model.frequency_name`).  Its start value may lie on a bound of its
+        domain (e.g. the built-in rotor's ``BT = 0``, as in its presets): the branch then
+        steps into the domain (towards ``stop``).
     n : int
         Period of the orbit in forcing periods.
     state0 : array_like, optional
@@ -123,7 +126,8 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
         Step the forcing frequency from this value to the system's in steps of 0.02,
         ``transient`` periods each, every step from the previous one's final state
         (:func:`vibimpact.sweeps.continued_state`): the orbit a sweep from there follows.
-        Every step lies between two positive values, inside ``eta``'s domain.
+        Every step lies between two positive values, inside the forcing frequency's
+        domain.
     steps : Steps, optional
         Step controls of :func:`~vibimpact.analysis.continue_orbit`.
     refine : float or None
@@ -146,7 +150,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     stop = _v.finite("stop", stop)
     transient = _v.count("transient", transient, 0)
     mdl = system.model
-    omega_name = mdl.param_names[mdl.omega_index]
+    omega_name = mdl.frequency_name
+    if param is None:
+        param = omega_name
     if param == omega_name:  # a forcing frequency the solver can resolve, at both ends
         from ..sweeps.sweep import check_frequency
 
@@ -179,8 +185,9 @@ def follow_branch(system: System | Params | DuffingParams, *, stop: float,
     return branch, np.asarray(x, dtype=np.float64)
 
 
-def _point_vars(branch, names):
-    """The data variables on ``point`` (and ``state``, ``multiplier``)."""
+def _point_vars(branch, names, unit=""):
+    """The data variables on ``point`` (and ``state``, ``multiplier``); ``unit``: the
+    model's length unit as a suffix (``" / clearance"``), or ``""``."""
     mu = np.asarray(branch.multipliers, dtype=complex)
     real, imag = complex_parts(mu)
     out = {
@@ -206,8 +213,9 @@ def _point_vars(branch, names):
             dict(units="1", long_name="impacts (contact entries) per period of the orbit "
                                       "(-1: not counted)", **_COUNTED))
     for key, values in branch.amplitude.items():
-        long_name = (f"response amplitude max |{key[:-2]}| of the orbit" if key != "R_m"
-                     else "largest radial displacement max R of the orbit / clearance")
+        long_name = (f"response amplitude max |{key[:-2]}| of the orbit{unit}"
+                     if key != "R_m" else
+                     f"largest radial displacement max R of the orbit{unit}")
         out[key] = ("point", np.asarray(values, dtype=np.float64),
                     dict(units="1", long_name=long_name))
     return out
@@ -276,8 +284,9 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     xarray.Dataset
         Coordinates: the parameter (named after it) and ``state``; variables
         ``orbit_state``, ``floquet_real``, ``floquet_imag``, ``floquet_abs_max``,
-        ``stable`` (flag), ``impacts_per_period``, the amplitudes (``X_m``, ``Y_m``,
-        ``R_m`` for the rotor) on ``point``; ``bifurcation_kind`` (flag: the
+        ``stable`` (flag), ``impacts_per_period``, the amplitudes
+        (:attr:`~vibimpact.analysis.Branch.amplitude`: ``X_m``, ``Y_m``, ``R_m`` for the
+        built-in rotor) on ``point``; ``bifurcation_kind`` (flag: the
         :attr:`~vibimpact.base.bifurcation_kinds.BifurcationKind.code`),
         ``bifurcation_value``, ``bifurcation_lower``, ``bifurcation_upper``,
         ``bifurcation_point``, ``bifurcation_impacts_before``,
@@ -302,7 +311,7 @@ def branch_to_dataset(branch: Branch, system: System | Params | DuffingParams, *
     system = to_system(system, "system")
     names = list(system.model.state_names)
     param = branch.param if isinstance(branch.param, str) else f"p{int(branch.param)}"
-    data = _point_vars(branch, names)
+    data = _point_vars(branch, names, file_words(system.model)["unit"])
     data.update(_event_vars(branch))
     if start_state is not None:
         data["start_state"] = ("state", np.asarray(start_state, np.float64).reshape(-1),

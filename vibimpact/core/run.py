@@ -61,16 +61,17 @@ class Run:
     params : Params or DuffingParams or ndarray
     model : str
     strobe : ndarray, shape (periods + 1, n)
-        Stroboscopic (Poincare) samples at ``tau_k = 2 pi k / eta`` for
+        Stroboscopic (Poincare) samples at ``tau_k = 2 pi k / omega`` for
         ``k = transient, ..., transient + periods``.  Fewer rows when the run stopped early
         (see :attr:`status`): rows are never padded with NaN.
     t_strobe : ndarray, shape (len(strobe),)
     impacts : ndarray of :data:`IMPACT_DTYPE`
-        One record per contact entered after the transient (rotor model only).
+        One record per contact entered after the transient (empty for a model without
+        a contact).
     events : dict of ndarray
         Raw event log: ``t``, ``which`` (switch index), ``mode_before``, ``mode_after``,
-        ``state``.  For the rotor, switch 0 is contact entry/exit, 1 a friction switch,
-        2 an extremum of ``R`` (observer).
+        ``state``.  The model's switches (for the built-in rotor, switch 0 is contact
+        entry/exit, 1 a friction switch, 2 an extremum of ``R``, an observer).
     dense : ndarray, shape (periods * dense + 1, n) or None
         Evenly spaced samples, only when asked for.
     t_dense : ndarray or None
@@ -234,28 +235,25 @@ def _state_names(model, n):
 def state_text(model, name):
     """What the state ``name`` of ``model`` (a :class:`~vibimpact.models.Model`, or the
     name of a registered one) is, in words: the model's own words
-    (:attr:`vibimpact.models.Model.state_text`), else the rotor's for its state names;
-    None when neither has any."""
+    (:attr:`vibimpact.models.Model.state_text`); None when it has none (never another
+    model's words)."""
     from .. import models
 
     own = getattr(model, "state_text", None)
     if own is None:
         own = models.get(model).state_text if model in models.names() else {}
-    return own.get(name, _STATE_LONG.get(name))
+    return own.get(name)
 
 
-_STATE_LONG = {"X": "horizontal displacement / clearance",
-               "Y": "vertical displacement / clearance (+Y down, along gravity)",
-               "dX": "horizontal velocity dX/dtau", "dY": "vertical velocity dY/dtau"}
-
-#: impact record field -> (units, long_name)
+#: impact record field -> (units, long_name with the model's words,
+#: :func:`vibimpact.models.words.file_words`)
 _IMPACT_ATTRS = {
-    "t_entry": ("1", "dimensionless time tau of contact entry (R = 1)"),
-    "theta": ("degree", "contact angle atan2(Y, X) at entry; +90 = bottom of the retainer"),
-    "v_impact": ("1", "normal impact speed dR/dtau at entry"),
-    "penetration": ("1", "maximum penetration R - 1 during the contact / clearance"),
-    "duration": ("1", "contact duration in tau (NaN: still in contact at the end)"),
-    "t_exit": ("1", "dimensionless time tau of contact exit (NaN: still in contact)"),
+    "t_entry": ("1", "time {time} of contact entry"),
+    "theta": ("degree", "contact angle at entry ({angle})"),
+    "v_impact": ("1", "normal impact speed at entry"),
+    "penetration": ("1", "maximum penetration during the contact{unit}"),
+    "duration": ("1", "contact duration in {time} (NaN: still in contact at the end)"),
+    "t_exit": ("1", "time {time} of contact exit (NaN: still in contact)"),
     "period": ("1", "forcing period of the entry, counted from the end of the transient"),
     "theta_exit": ("degree", "contact angle at exit on the branch of theta (theta + angle "
                    "travelled in contact); NaN: still in contact"),
@@ -265,7 +263,11 @@ _IMPACT_ATTRS = {
                   "branch of theta"),
 }
 
-_TAU = "dimensionless time tau = omega_0 t"
+
+def _time(words):
+    """The time coordinate's words: ``"time"``, or ``"time NAME"`` for a model that names
+    its time (``"time tau"``)."""
+    return "time" if words["time"] == "time" else f"time {words['time']}"
 
 
 def _vector(params):
@@ -343,19 +345,25 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
     names = _state_names(run.model, n)
     if len(names) != n:
         names = tuple(f"x{i}" for i in range(n))
+    from .. import models
+    from ..models.words import file_words
+
+    words = file_words(models.get(run.model) if run.model in models.names() else None)
     state_coord = ("state", list(names), {"long_name": "state variable"})
     data_vars: dict[str, tuple[Any, ...]] = {
         "strobe": (("sample", "state"), strobe,
                    {"units": "1", "long_name": "stroboscopic (Poincare) samples at "
-                    "tau_k = 2 pi k / eta, after the transient"}),
+                    "{time}_k = 2 pi k / {freq}, after the transient".format(**words)}),
     }
     coords: dict[str, tuple[Any, ...]] = {
         "state": state_coord,
         "t_strobe": ("sample", np.asarray(run.t_strobe, dtype=np.float64),
-                     {"units": "1", "long_name": _TAU + " of the stroboscopic samples"}),
+                     {"units": "1", "long_name": f"{_time(words)} of the stroboscopic "
+                                                 "samples"}),
     }
     for var in run.impacts.dtype.names or ():
         units, long_name = _IMPACT_ATTRS.get(var, ("1", var))
+        long_name = long_name.format(**words)
         values = np.asarray(run.impacts[var])
         if values.dtype == np.int64:  # as written: CF-1.8 has no 64-bit integers
             values = values.astype(np.int32)
@@ -365,11 +373,11 @@ def run_to_dataset(run: Run, command: str | None = None, *, state0: ArrayLike | 
         data_vars["trajectory"] = (("time", "state"), np.asarray(run.dense, np.float64),
                                    {"units": "1", "long_name": "evenly sampled trajectory"})
         coords["time"] = ("time", np.asarray(run.t_dense, dtype=np.float64),
-                          {"units": "1", "long_name": _TAU})
+                          {"units": "1", "long_name": _time(words)})
     state0 = run.state0 if state0 is None else state0
     if state0 is not None:
         data_vars["state0"] = ("state", np.asarray(state0, dtype=np.float64).reshape(n),
-                               {"units": "1", "long_name": "initial state at tau = 0"})
+                               {"units": "1", "long_name": f"initial state at {_time(words)} = 0"})
     ds = xr.Dataset(data_vars, coords=coords)
     for name in names:
         text = state_text(run.model, name)

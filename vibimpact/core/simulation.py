@@ -54,8 +54,9 @@ def simulate(p: System | Params | DuffingParams | ArrayLike, periods: int = 100,
     solver : SolverSettings, optional
         Solver settings (method, tolerances, steps, bound, ...); those not None replace
         the System's; the rest default to DOP853, ``rtol = 1e-9``, ``atol = 1e-12``,
-        ``max_step`` a quarter period, the model's ``bound`` (1e3 clearances for the
-        rotor), ``event_tol = 1e-12`` (:data:`vibimpact.core.solver.SIMULATE_DEFAULTS`).
+        ``max_step`` a quarter period, the model's ``bound`` (e.g. 1e3 clearances for
+        the built-in rotor), ``event_tol = 1e-12``
+        (:data:`vibimpact.core.solver.SIMULATE_DEFAULTS`).
     model : Model, optional
         A user model; ``p`` is then its parameter vector (not with a System).
     **moved

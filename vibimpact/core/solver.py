@@ -104,7 +104,7 @@ class SolverSettings:
         Largest step; a quarter period by default.
     bound : float, optional
         A state component beyond this ends the run as DIVERGED (the model's own by
-        default: 1e3 clearances for the rotor).
+        default: e.g. 1e3 clearances for the built-in rotor).
     event_tol : float, optional
         Switching functions are zero to this at every located event.
     max_steps_per_period : int, optional
@@ -468,7 +468,7 @@ class Solver:
     def stopped(self, reason: str) -> str:
         """``reason`` with the time the run stopped at."""
         k_done = int(self.clock[0])
-        return f"{reason} at tau = {k_done * self.period + self.clock[1]:.6g} " \
+        return f"{reason} at t = {k_done * self.period + self.clock[1]:.6g} " \
                f"(forcing period {k_done})"
 
     def benettin(self, n_periods: int, logs: np.ndarray,

@@ -133,7 +133,8 @@ class System:
     # --- what the system is ---------------------------------------------------------
     @property
     def omega(self):
-        """The forcing frequency (``eta`` for the rotor)."""
+        """The forcing frequency (the model's frequency parameter: ``eta`` for the
+        built-in rotor)."""
         return float(self.p[self.model.omega_index])
 
     @property
@@ -350,7 +351,8 @@ def to_system(p: object, name: str = "p") -> System:
 
 def with_frequency(p, value):
     """``p`` (a parameter set or a System) with its forcing frequency set to ``value``
-    (``eta`` of the rotor, ``omega`` of the Duffing oscillator), of the same type."""
+    (the model's frequency parameter: e.g. ``eta`` of the built-in rotor, ``omega`` of the
+    Duffing oscillator), of the same type."""
     mdl = p.model if isinstance(p, System) else resolve(p)[0]
     name = mdl.param_names[mdl.omega_index]
     if isinstance(p, System):

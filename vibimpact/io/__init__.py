@@ -2,8 +2,9 @@
 
 The dataset holds every number needed to redo the run (all parameters, the solver settings
 and the command line as global attributes) next to the data, with CF-style ``units`` and
-``long_name`` attributes.  All lengths are in units of the radial clearance and all times in
-the dimensionless time ``tau``; their units are therefore ``"1"``.
+``long_name`` attributes.  All lengths and times are the model's dimensionless ones (for
+the built-in rotor, lengths in units of the radial clearance and times in ``tau``); their
+units are therefore ``"1"``.
 """
 from __future__ import annotations
 
@@ -140,6 +141,18 @@ def _cf_encoding(var, values, name):
     return enc
 
 
+def _model_references(attrs):
+    """The literature the built-in model a dataset records (its ``model`` attribute)
+    declares (:attr:`vibimpact.models.Model.references`); None for a user's model, an
+    unknown name or a dataset of no model."""
+    from .. import models
+
+    name = attrs.get("model")
+    if not isinstance(name, str) or name not in models.names():
+        return None
+    return models.get(name).references or None
+
+
 def _cf_types(out):
     """``out`` with every integer variable of a type CF-1.8 does not know (int64, the
     unsigned types) as int32 (or float64 when its values do not fit), in memory and in
@@ -173,7 +186,8 @@ def _cf_types(out):
 
 
 def _described(attrs):
-    """The model and parameters a file records, for the log: ``rotor, kh = 120, ...``."""
+    """The model and parameters a file records, for the log (e.g. ``rotor, kh = 120,
+    ...`` for the built-in rotor)."""
     params = {k[6:]: v for k, v in attrs.items() if k.startswith("param_")}
     words = [str(attrs["model"])] if attrs.get("model") else []
     words += [f"{k} = {v:g}" if isinstance(v, (int, float)) else f"{k} = {v}"
@@ -231,7 +245,7 @@ def for_file(ds: xr.Dataset, call: str, *,
         netcdf = call != "vibimpact.maps.write_map"
 
     out = _cf_types(ds.copy(deep=False))
-    out.attrs = file_attrs(ds.attrs, call)
+    out.attrs = file_attrs(ds.attrs, call, _model_references(ds.attrs))
     _log.info("file of %s: %s; %d variables, sizes %s", out.attrs.get("title", "?"),
               _described(out.attrs), len(out.variables), dict(out.sizes))
     encoding: dict[Hashable, dict[str, Any]] = {name: {"_FillValue": None}

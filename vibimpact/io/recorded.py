@@ -240,7 +240,8 @@ def recorded_params(attrs: Mapping, name: str = "the file", *, key: str | None =
     Returns
     -------
     parameter set
-        Of the model the file records (:class:`~vibimpact.Params` for the rotor).
+        Of the model the file records (:class:`~vibimpact.Params` for the built-in
+        rotor).
 
     Raises
     ------

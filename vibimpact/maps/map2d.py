@@ -252,7 +252,7 @@ def map2d(p: Params | DuffingParams | System, eta: ArrayLike, vary: Mapping[str,
     vary : dict
         One entry ``{name: values}``: a parameter of the model other than its forcing
         frequency (:attr:`vibimpact.Model.param_names`) and its strictly increasing,
-        finite values, e.g. ``{"kh": np.arange(10, 121, 10)}`` for the rotor; snapped
+        finite values, e.g. ``{"kh": np.arange(10, 121, 10)}`` for the built-in rotor; snapped
         to their 12-decimal rounding as eta is, so ``np.arange`` gives the command
         line's ``--vary`` values.
     direction : {"up", "down", "both"}

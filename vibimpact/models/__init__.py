@@ -83,6 +83,17 @@ class Model:
     domains : mapping, optional
         ``{parameter name: Domain}``: a user model's declared parameter ranges (a
         built-in model's are its ``param_set``'s).
+    references : str, optional
+        The literature of the model, written as the CF ``references`` of every file of
+        it (empty: the package's own, :data:`vibimpact.base.provenance.REFERENCES`).
+    defaults : mapping, optional
+        What the commands do with this model when not told
+        (:data:`vibimpact.models.presets.DEFAULT_KEYS`): ``"frequencies"``, the range
+        ``START:STOP:STEP`` a sweep covers without ``--eta`` (``"map_frequencies"``, a
+        two-parameter map's coarser grid); ``"census_preset"`` and
+        ``"census_frequency"``, the preset and forcing frequency a census or a basin
+        image looks at (where the model's attractors coexist).  Each one left out has
+        the fallback :func:`vibimpact.models.presets.command_default` states.
     """
 
     name: str
@@ -107,6 +118,22 @@ class Model:
     state_text: Mapping = field(default_factory=dict, repr=False)
     domains: Mapping = field(default_factory=dict, repr=False)
     default_preset: str | None = field(default=None, repr=False)
+    defaults: Mapping = field(default_factory=dict, repr=False)
+    references: str = field(default="", repr=False)
+
+    @property
+    def frequency_name(self) -> str:
+        """The name of the model's forcing frequency (its parameter at
+        :attr:`omega_index`): what a sweep's frequency coordinate holds, recorded in
+        its files as ``frequency_name``."""
+        return self.param_names[self.omega_index]
+
+    def frequency_attrs(self) -> dict:
+        """The attributes of a file's frequency coordinate: ``units`` and the
+        ``long_name`` the model's :class:`PlotSpec` declares (``frequency_text``), else
+        ``"forcing frequency NAME"``."""
+        text = self.plot.frequency_text if self.plot is not None else ""
+        return dict(units="1", long_name=text or f"forcing frequency {self.frequency_name}")
 
     @property
     def builtin(self):
@@ -119,7 +146,8 @@ class Model:
                       contact: Contact | None = None, plot: PlotSpec | None = None,
                       presets: Mapping | None = None,
                       state_text: Mapping | None = None,
-                      default_preset: str | None = None) -> Model:
+                      default_preset: str | None = None,
+                      defaults: Mapping | None = None, references: str = "") -> Model:
         """A built-in model: the kernel module ``family`` (its ``KERNEL_MODEL``) and
         what the model declares about itself.
 
@@ -133,7 +161,7 @@ class Model:
             Index of the forcing frequency in the parameter vector.
         param_set : type
             The frozen parameter dataclass (its fields in the kernel's order).
-        bound, contact, plot, presets, state_text, default_preset
+        bound, contact, plot, presets, state_text, default_preset, defaults, references
             As the attributes.  The initial mode is the kernel's ``init_mode`` with its
             argument check (:func:`vibimpact._kernel.boundary.initial_mode`).
 
@@ -156,13 +184,17 @@ class Model:
         if default_preset is not None and default_preset not in (presets or {}):
             raise ValueError(f"model {name!r}: default_preset {default_preset!r} is not "
                              f"one of its presets")
+        from .presets import check_defaults
+
+        check_defaults(name, dict(defaults or {}), presets or {})
         return cls(name=name, state_names=tuple(state_names), param_names=names,
                    omega_index=omega_index, n_mode=km.n_mode, terminal=km.terminal,
                    kernel_model=_kb.builtin(family), rhs=km.rhs, jac=km.jac,
                    switches=km.switches, transition=km.transition,
                    init_mode=_kb.initial_mode(family), bound=bound, param_set=param_set,
                    contact=contact, plot=plot, presets=dict(presets or {}),
-                   state_text=dict(state_text or {}), default_preset=default_preset)
+                   state_text=dict(state_text or {}), default_preset=default_preset,
+                   defaults=dict(defaults or {}), references=str(references))
 
     def domain(self, index: int) -> Domain:
         """The :class:`~vibimpact.models.params.Domain` of parameter ``index``: the parameter
@@ -265,13 +297,16 @@ class Model:
                        state_names: Sequence[str], param_names: Sequence[str],
                        omega_index: int, n_mode: int = 1, bound: float = 1e3,
                        contact: Contact | None = None,
-                       domains: Mapping[str, Domain] | None = None) -> Model:
+                       domains: Mapping[str, Domain] | None = None,
+                       references: str = "") -> Model:
         """A user model from numba functions (compiled on first use, not cached on disk).
 
         Parameters
         ----------
         rhs, jac, switches, transition, init_mode : numba ``@njit`` functions
-            With the signatures of :mod:`vibimpact._kernel.rotor`.
+            With the signatures of a kernel module's
+            (:class:`vibimpact._kernel.registry.KernelModel`; e.g. the built-in rotor's,
+            :mod:`vibimpact._kernel.rotor`).
         terminal : sequence of int
             One entry per switching function: 1 terminal, 0 observer.  A smooth model
             gives one observer (e.g. a velocity) so that the array is never empty.
@@ -292,7 +327,12 @@ class Model:
             the model is checked against them, and the continuation steps up to a bound
             but never past it.  Undeclared: any finite number (the forcing frequency
             ``> 0``).
+        references : str, optional
+            The model's literature: the CF ``references`` of its files once the model is
+            registered (:func:`register`).
         """
+        if not isinstance(references, str):
+            raise _v.WrongType(f"references must be a str, got {type(references).__name__}")
         if not isinstance(name, str) or not name:
             raise _v.WrongType(f"name must be a non-empty str, got {name!r}"[:200])
         for arg, fn in (("rhs", rhs), ("jac", jac), ("switches", switches),
@@ -326,7 +366,7 @@ class Model:
                    terminal=term.astype(np.int64), kernel_model=(rhs, switches, transition),
                    rhs=rhs, jac=jac, switches=switches, transition=transition,
                    init_mode=init_mode, bound=_v.positive("bound", bound), contact=contact,
-                   domains=domains)
+                   domains=domains, references=references)
 
 
 def _domains(value, params):
@@ -370,10 +410,10 @@ class PlotSpec:
     Parameters
     ----------
     xy : tuple of str
-        The two states drawn against each other (``("X", "Y")`` for the rotor).
+        The two states drawn against each other (``("X", "Y")`` for the built-in rotor).
     circle : float, optional
         Radius of a circular obstacle centred at the origin, drawn with the orbit (the
-        rotor's retainer: 1); None: none.
+        built-in rotor's retainer: 1); None: none.
     circle_label : str
         The circle's entry in the legend of an XY plot.
     circle_name : str
@@ -383,8 +423,8 @@ class PlotSpec:
     y_note : str
         Added to the second axis's label of an XY plot (``"+Y down, along gravity"``).
     length_unit : str, optional
-        The unit of the model's lengths, in axis labels (``"clearance"``); None: lengths
-        are dimensionless numbers.
+        The unit of the model's lengths, in axis labels (the built-in rotor's
+        ``"clearance"``); None: lengths are dimensionless numbers.
     symbols : mapping
         ``{parameter name: symbol}`` for labels and titles (``{"eta": "η"}``); a parameter
         not in it is shown by its name.
@@ -403,6 +443,17 @@ class PlotSpec:
         Columns marked ``*`` in that table, explained by ``preset_note``.
     preset_note : str
         A note printed under the model's table of presets.
+    frequency_text : str
+        What the forcing frequency is, in words: the ``long_name`` of a file's frequency
+        coordinate; empty: ``"forcing frequency NAME"``.
+    obstacle : str
+        What the contact meets, in files' words (``"retainer"``; "loaded arcs of the
+        retainer").
+    angle_text : str
+        What the contact angle is and how it runs, in files' words; empty: "the
+        contact angle".
+    time_name : str
+        The name of the model's time in files' words (``"tau"``: "per unit tau").
     """
 
     xy: tuple
@@ -419,6 +470,10 @@ class PlotSpec:
     preset_columns: tuple = ()
     preset_marked: tuple = ()
     preset_note: str = ""
+    frequency_text: str = ""
+    obstacle: str = "obstacle"
+    angle_text: str = ""
+    time_name: str = "time"
 
     def symbol(self, name: str) -> str:
         """How labels write parameter ``name``."""

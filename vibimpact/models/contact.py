@@ -30,7 +30,8 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from numpy.typing import ArrayLike
 
-#: fields of an impact record, one per contact entered (the rotor's words in brackets)
+#: fields of an impact record, one per contact entered (in brackets, for example, the
+#: built-in rotor's terms: its radius R, positions X, Y and time tau)
 IMPACT_DTYPE = np.dtype([
     ("t_entry", "f8"),      # dimensionless time of contact entry (R = 1)
     ("theta", "f8"),        # contact angle at entry, degrees (atan2(Y, X); +90 = bottom)
@@ -360,8 +361,9 @@ def contact_spans(contact, p, t, which, mode_before, state, window, samples=None
     ``samples``: stroboscopic and dense samples) are joined into one continuous angle,
     each step taken the short way round; the span's extent is the least and largest of
     them.  That assumes the contact point moves less than 180 degrees between two known
-    states of one contact: a run that rolls round the retainer needs samples at least
-    three times per turn (dense output) for its extent to be whole.
+    states of one contact: a run whose contact point goes round its obstacle (the
+    built-in rotor rolling round its retainer) needs samples at least three times per
+    turn (dense output) for its extent to be whole.
 
     Parameters
     ----------

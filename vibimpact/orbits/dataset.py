@@ -17,6 +17,7 @@ import logging
 
 import numpy as np
 
+from ..models.words import file_words
 from ..base import _validate as _v
 from ..base._fill import complex_parts
 
@@ -47,8 +48,9 @@ def _padded(rows, width, fill=np.nan, dtype=np.float64):
     return out
 
 
-def _orbit_vars(orbits, d):
-    """Variables on ``orbit`` (with ``phase``, ``state``, ``multiplier``)."""
+def _orbit_vars(orbits, d, obstacle="obstacle"):
+    """Variables on ``orbit`` (with ``phase``, ``state``, ``multiplier``); ``obstacle``:
+    what the model's contact meets, in words."""
     k = len(orbits)
     width = max([o.period for o in orbits], default=1)
     pts = np.full((k, width, d), np.nan)
@@ -76,7 +78,7 @@ def _orbit_vars(orbits, d):
                    dict(long_name="orbit stable (every |mu| < 1)", **_FLAG)),
         "permanent_contact": ("orbit", np.array([o.permanent for o in orbits], dtype="i1"),
                               dict(long_name="no impact, in contact throughout (rolling "
-                                             "or whirling on the retainer)",
+                                             f"or whirling on the {obstacle})",
                                    flag_values=np.array([0, 1], dtype="i1"),
                                    flag_meanings="not_permanent permanent_contact")),
         "label": ("orbit", np.array([o.label for o in orbits], dtype=object),
@@ -201,7 +203,7 @@ def hunt_to_dataset(hunt: OrbitHunt, system: System, *, command: str | None = No
     system = to_system(system, "system")
     names = list(system.model.state_names)
     orbits = list(hunt.orbits)
-    data = _orbit_vars(orbits, len(names))
+    data = _orbit_vars(orbits, len(names), file_words(system.model)["obstacle"])
     data.update(_extent_vars(orbits, hunt.param))
     data["seed_state"] = (("seed", "state"), np.asarray(hunt.seeds, dtype=np.float64),
                           dict(units="1", long_name="seed states (the user's first, then "

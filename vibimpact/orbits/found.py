@@ -103,8 +103,8 @@ class FoundOrbit:
     contact : bool
         The model has a contact (without one, the label leaves the impacts out).
     permanent : bool
-        No impact, and in contact throughout (the rotor rolling or whirling on the
-        retainer): labelled "permanent contact", as a sweep labels it.
+        No impact, and in contact throughout (e.g. the built-in rotor rolling or
+        whirling on its retainer): labelled "permanent contact", as a sweep labels it.
     """
 
     period: int
@@ -147,7 +147,7 @@ class OrbitHunt:
     orbits : tuple of FoundOrbit
         By period, then impacts per period, then canonical first state variable.
     param : str
-        The forcing frequency's name (``"eta"`` for the rotor).
+        The forcing frequency's name (``"eta"`` for the built-in rotor).
     value : float
         Its value, where the orbits were hunted.
     periods : tuple of int

@@ -269,8 +269,9 @@ def hunt_orbits(system: System | Params | DuffingParams,
     random : int
         Random seeds (default 48, at most 1,000,000), drawn by ``numpy.random.default_rng(seed)`` in
         the box of :func:`vibimpact.orbits.seeds.seed_box`: uniform in ``[-1, 1]`` for each state
-        variable, except the two positions of a planar contact (the rotor's ``X, Y``),
-        uniform in the unit disk (the clearance circle).
+        variable, except the two positions of a planar contact (the built-in rotor's
+        ``X, Y``), uniform in the unit disk (for the built-in rotor, the clearance
+        circle).
     seed : int
         Seed of the random generator, ``>= 0``: the same seed, the same result.
     box : array_like, shape (d, 2), optional

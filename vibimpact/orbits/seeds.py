@@ -41,7 +41,8 @@ def seed_box(model: Model) -> tuple[np.ndarray, tuple[int, int] | None]:
 
     Every state variable is uniform in ``[-1, 1]``, except that for a model with a
     planar contact (two position coordinates, :attr:`vibimpact.Contact.positions`: the
-    rotor's ``X, Y``) those two are uniform in the unit disk (the clearance).
+    built-in rotor's ``X, Y``) those two are uniform in the unit disk (for the built-in
+    rotor, the clearance).
 
     Parameters
     ----------

@@ -44,7 +44,7 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
         The states drawn, one panel each, by their names in the model (``"Vr"``,
         ``("X", "Vr")``; ``"X'"`` stands for ``"dX"``,
         :func:`vibimpact.plotting.poincare.poincare_variable`).  Default: the model's
-        first two states (the rotor's X and Y).
+        first two states (the built-in rotor's X and Y).
     path : str or os.PathLike, optional
         Save the figure there (atomically, format from the extension).
     figsize : (float, float), optional

@@ -156,6 +156,7 @@ def plot_bifurcation_curves(curves: xr.Dataset | Sequence[xr.Dataset],
         Naming ``curves`` (no curve dataset, or one in another plane than the map's) or
         a figure option.
     """
+    from ._sweep import spec
     from .style import look
 
     items = _curves(curves)
@@ -174,8 +175,9 @@ def plot_bifurcation_curves(curves: xr.Dataset | Sequence[xr.Dataset],
             (line,) = ax.plot(ds[x].values, ds[y].values, color=color, ls=ls, lw=2.0,
                               label=label, zorder=4)
             handles.append(line)
-        ax.set_xlabel("η" if x == "eta" else x)
-        ax.set_ylabel(y)
+        symbols = spec(items[0])  # the model's symbols for its parameters
+        ax.set_xlabel(symbols.symbol(x))
+        ax.set_ylabel(symbols.symbol(y))
         if over is None:
             ax.grid(True, alpha=0.3)
         regimes = ax.get_legend()  # regime_panel's, upper right beside the axes

@@ -109,7 +109,7 @@ def plot_branch(ax: Axes, branch: Branch | xr.Dataset, var: str = "X_m", *,
     branch : vibimpact.analysis.Branch or xarray.Dataset
         Computed with ``amplitude=True``, or read from a ``vibimpact continue`` file.
     var : str
-        A key of ``branch.amplitude`` (``"X_m"``, ``"Y_m"``, ``"R_m"`` for the rotor;
+        A key of ``branch.amplitude`` (``"X_m"``, ``"Y_m"``, ``"R_m"`` for the built-in rotor;
         ``"x_m"`` for the Duffing oscillator), or ``"floquet_abs_max"`` for the largest
         modulus of the Floquet multipliers.
     color : colour
@@ -226,9 +226,10 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
                        dpi: float | None = None, style: str | None = None) -> Figure:
     """The figure of ``vibimpact plot BRANCH.nc --kind branch``.
 
-    One panel per response amplitude of the orbit (``X_m`` and ``Y_m`` for the rotor)
-    and one with the largest modulus of the Floquet multipliers, ``|mu|max``, against
-    the continuation parameter, with the stability boundary ``|mu| = 1`` drawn.
+    One panel per response amplitude of the orbit (the first two, ``R_m`` left out:
+    ``X_m`` and ``Y_m`` for the built-in rotor) and one with the largest modulus of the
+    Floquet multipliers, ``|mu|max``, against the continuation parameter, with the
+    stability boundary ``|mu| = 1`` drawn.
 
     Parameters
     ----------
@@ -255,10 +256,12 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
         Naming ``ds``, ``figsize``, ``dpi`` or ``style``.
     """
     from ..base._text import count
-    from ._sweep import title
+    from ._sweep import spec, title
     from .style import look, width
 
     branch = _as_branch(ds)
+    unit = spec(ds).length_unit
+    per = f" / {unit}" if unit else ""
     lk = look(figsize, dpi, style)
     names = [k for k in branch.amplitude if k != "R_m"][:2]
     with lk.context():
@@ -267,12 +270,12 @@ def plot_branch_figure(ds: xr.Dataset, path: str | os.PathLike[str] | None = Non
         label = _branch_label(ds)
         for a, name in zip(axes, names + ["floquet_abs_max"]):
             plot_branch(a, branch, name, label=label, lw=width(0.8))
-            a.set_ylabel(f"{name}  (max |{name[:-2]}| / clearance)" if name in names
+            a.set_ylabel(f"{name}  (max |{name[:-2]}|{per})" if name in names
                          else "|μ|max")
             a.grid(True, alpha=0.5)
         axes[-1].axhline(1.0, color="tab:red", lw=width(0.53), ls=":",
                          label="|μ| = 1 (stability boundary)")
-        axes[-1].set_xlabel("η" if branch.param == "eta" else str(branch.param))
+        axes[-1].set_xlabel(spec(ds).symbol(str(branch.param)))
         _legend(lk, axes)
         x = np.asarray(branch.values, dtype=float)
         head = title(_without_param(ds, branch.param))

@@ -48,7 +48,8 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     path : str or os.PathLike, optional
         Save the figure there.
     component : int
-        The state component of the bifurcation diagram (0: X for the rotor).
+        The state component of the bifurcation diagram (0: the model's first state, X
+        for the built-in rotor).
     figsize, dpi, style
         As every plotting function of the package.
 

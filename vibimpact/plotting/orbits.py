@@ -88,7 +88,7 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     _v.dataset("ds", ds, "the xarray.Dataset of an orbit hunt (hunt_to_dataset)")
     if not is_orbit_dataset(ds):
         raise ValueError("ds is not an orbit hunt's dataset (hunt_to_dataset)")
-    from ._sweep import check_contents
+    from ._sweep import check_contents, spec
 
     check_contents(ds, grids=(), codes=(), increasing=())
     lk = look(figsize, dpi, style)
@@ -112,7 +112,7 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
         ax.set_yticklabels([f"{lab} ({arcs})" if arcs else str(lab) for lab, arcs in
                             zip(ds["label"].values, ds["arcs"].values)])
         ax.set_ylim(max(k, 1) - 0.5, -0.5)  # no orbit found: an empty row
-        ax.set_xlabel("η" if param == "eta" else param)
+        ax.set_xlabel(spec(ds).symbol(str(param)))
         ax.grid(True, axis="x", alpha=0.5)
         handles = [Line2D([], [], color="k", lw=width(2.0), label="stable"),
                    Line2D([], [], color="k", lw=width(1.2), ls="--", label="unstable"),

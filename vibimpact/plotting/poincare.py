@@ -6,11 +6,11 @@ A sweep stores, per point, ``n_samples`` stroboscopic (Poincaré) samples ``x(ta
 (``poincare_X``, ``poincare_Y``) and of every further state ``s`` as ``poincare_s``
 (files written before that hold the first two only; :func:`poincare_variable` finds a
 state's samples by its name).  :func:`plot_poincare` draws the first state against its
-velocity when the file stores that velocity (the rotor: ``X`` against ``dX``; the Duffing
-and soft-impact models: ``x`` against ``dx``), else against the second stored state
-(``X`` against ``Y``, the section's projection on the clearance plane).  A periodic
-orbit of period n shows n dots, quasi-periodic motion a closed curve, chaos a fractal
-cloud (Moon 1987, ch. 2).
+velocity when the file stores that velocity (the built-in rotor: ``X`` against ``dX``; the
+Duffing and soft-impact models: ``x`` against ``dx``), else against the second stored
+state (for the built-in rotor: ``X`` against ``Y``, the section's projection on its
+clearance plane).  A periodic orbit of period n shows n dots, quasi-periodic motion a
+closed curve, chaos a fractal cloud (Moon 1987, ch. 2).
 """
 from __future__ import annotations
 

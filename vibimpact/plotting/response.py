@@ -70,7 +70,7 @@ def plot_response(ds: xr.Dataset, ax: Axes | None = None,
     Up and down sweeps are drawn in two colours; chaotic points carry a black cross and
     quasi-periodic ones a plus.  Diverged points are left out.  A model with a circular
     obstacle (:attr:`~vibimpact.models.PlotSpec.circle`) has its radius drawn as a dashed
-    line (the rotor's retainer clearance).
+    line (e.g. the built-in rotor's retainer clearance).
     """
     check_sweep(ds, "X_m", "Y_m", "regime")
     lk = look(figsize, dpi, style, ax)

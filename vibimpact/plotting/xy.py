@@ -41,7 +41,7 @@ def _title(ds):
 def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
             ax: Axes | None = None, *, figsize: tuple[float, float] | None = None,
             dpi: float | None = None, style: str | None = None) -> Axes:
-    """Draw the orbit in the (X, Y) clearance plane with the retainer and the impacts.
+    """Draw the orbit in the plane of the model's XY states with its obstacle and impacts.
 
     Parameters
     ----------
@@ -74,13 +74,19 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
 
     Notes
     -----
-    Lengths are in clearances: the retainer is the circle ``R = 1`` of the centre.  Gravity
-    acts along +Y, so the Y axis is inverted: the bottom of the retainer
-    (``theta = +90`` degrees) is drawn at the bottom.  Impact markers sit at the contact
-    entry point ``(cos theta, sin theta)``; the loaded arcs of
+    What is drawn is what the dataset's model declares (:class:`~vibimpact.models.PlotSpec`;
+    a model that is not built in: its first two states, no obstacle).  A model with a
+    circular obstacle (``circle``: its radius, centred at the origin) gets that circle, the
+    orbit in the plane of its ``xy`` states, the impacts and the loaded arcs, the second
+    axis inverted where ``y_down``; any other model, the orbit and its stroboscopic points
+    in the plane of its ``xy`` states.  Impact markers sit at the contact entry point
+    ``circle * (cos theta, sin theta)``; the loaded arcs of
     :func:`vibimpact.analysis.contact_arcs` (each contact from entry to exit, sliding
-    included) are drawn as thick bands on the retainer from their start to their end
-    (the paper's figs 8a, 10a-c and 11b-d mark the same).
+    included) are drawn as thick bands on the unit circle from their start to their end.
+    For the built-in rotor: the plane is (X, Y), lengths are in clearances and the
+    retainer is the circle ``R = 1`` of the centre; gravity acts along +Y, so the Y axis
+    is inverted: the bottom of the retainer (``theta = +90`` degrees) is drawn at the
+    bottom (the paper's figs 8a, 10a-c and 11b-d mark the same arcs).
 
     The trajectory is drawn as straight segments between samples, none longer than
     :data:`vibimpact.plotting.xy_dense.MAX_SEGMENT_PX` pixels of the figure: where the
@@ -179,7 +185,7 @@ def _orbit(value, ds, ax, lk, own, spec, cols):
             label=f"stroboscopic points ({len(strobe)})")
     arcs = loaded_arcs(value, ds)
     if arcs is not None and arcs.n_arcs:
-        draw_arcs(ax, arcs, width(3.3))
+        draw_arcs(ax, arcs, width(3.3), r)
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
         deg = ds["impact_theta"].values
         th = np.radians(deg)
@@ -223,11 +229,12 @@ def arc_points(start, width, radius=1.0):
     return radius * np.cos(phi), radius * np.sin(phi)
 
 
-def draw_arcs(ax, arcs, lw):
-    """The loaded arcs as thick bands on the retainer circle from start to end, labelled
-    with their words and their extent in degrees."""
+def draw_arcs(ax, arcs, lw, radius=1.0):
+    """The loaded arcs as thick bands on the circle of ``radius`` (the model's circular
+    obstacle, :attr:`vibimpact.models.PlotSpec.circle`; the built-in rotor's retainer: 1)
+    from start to end, labelled with their words and their extent in degrees."""
     for k, (s, w) in enumerate(zip(arcs.start, arcs.width)):
-        x, y = arc_points(float(s), float(w))
+        x, y = arc_points(float(s), float(w), radius)
         ax.plot(x, y, color="C3", lw=lw, alpha=0.45, solid_capstyle="butt",
                 label=f"loaded arcs: {arcs if arcs.n_arcs <= 4 else arcs.summary}"
                 if k == 0 else None)

@@ -7,6 +7,7 @@ REGIME_CODES = {Label.PERIODIC: 1, Label.QUASIPERIODIC: 2, Label.CHAOTIC: 3,
 REGIME_FLAGS = "periodic quasi_periodic chaotic diverged unsettled"
 
 #: contact codes: free flight throughout, impacts (contact entries), or permanent contact
-#: (the rotor rolls or whirls on the retainer, R > 1 throughout, with no new impact)
+#: (in contact throughout, with no new impact: e.g. the built-in rotor rolling or whirling
+#: on its retainer, R > 1 throughout)
 CONTACT_NONE, CONTACT_IMPACTING, CONTACT_PERMANENT = 0, 1, 2
 CONTACT_FLAGS = "none impacting permanent_contact"

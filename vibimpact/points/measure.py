@@ -47,12 +47,14 @@ def orbit_point(strobe):
     return xs
 
 
-def maxima(dense):
-    """Largest |X|, |Y| and R of densely sampled motion, refined by a parabola through the
+def maxima(dense, positions=(0, 1)):
+    """Largest ``|x_i|``, ``|x_j|`` and ``R = hypot(x_i, x_j)`` of densely sampled
+    motion, ``(i, j)`` the contact's two ``positions``, refined by a parabola through the
     sample at the maximum and its neighbours (error O(h^3) instead of O(h^2))."""
     out = []
-    R = np.hypot(dense[:, 0], dense[:, 1])
-    for v in (np.abs(dense[:, 0]), np.abs(dense[:, 1]), R):
+    i0, i1 = positions
+    R = np.hypot(dense[:, i0], dense[:, i1])
+    for v in (np.abs(dense[:, i0]), np.abs(dense[:, i1]), R):
         i = int(np.argmax(v))
         best = v[i]
         if 0 < i < v.size - 1:
@@ -100,10 +102,26 @@ def _impacts(res, run, n, rec, start_inside, contact):
         res.v_impact_max = res.v_impact_mean = res.penetration_max = 0.0
 
 
-def describe(res, run, n, rec, start_inside, settings, contact=None):
+def _circle(model):
+    """The radius of the model's circular obstacle centred at the origin
+    (:attr:`vibimpact.models.PlotSpec.circle`), or None."""
+    spec = getattr(model, "plot", None)
+    return getattr(spec, "circle", None)
+
+
+def run_params(run):
+    """The parameter vector a run was integrated with."""
+    p = run.params
+    return p.as_array() if hasattr(p, "as_array") else np.asarray(p, dtype=np.float64)
+
+
+def describe(res, run, n, rec, start_inside, settings, contact=None, circle=None):
     """Fill the record's results: impacts and arcs (a model with a contact), response
-    maxima (a model with a planar contact: the largest displacements and radius), Poincaré
-    samples.  ``start_inside``: whether the record started in contact."""
+    maxima (a model with a planar contact: the largest displacements and radius in the
+    plane of its positions, and the smallest gap: ``circle`` minus that radius where the
+    model's obstacle is a circle of radius ``circle``, else minus the contact's largest
+    penetration), Poincaré samples.  ``start_inside``: whether the record started in
+    contact."""
     st = settings
     want = st.analyses
     pts = run.strobe[1:]
@@ -111,12 +129,17 @@ def describe(res, run, n, rec, start_inside, settings, contact=None):
         _impacts(res, run, n, rec, start_inside, contact)
     if contact is not None and len(contact.positions) == 2 and "response" in want and \
             run.dense is not None and run.dense.size:
-        Xm, Ym, Rm = maxima(run.dense)
+        cols = tuple(contact.positions)
+        Xm, Ym, Rm = maxima(run.dense, cols)
         ext = run.events["which"] == contact.extremum  # exact extrema of R from the log
         if np.any(ext):
-            Rm = max(Rm, float(np.hypot(*run.events["state"][ext, :2].T).max()))
+            Rm = max(Rm, float(np.hypot(*run.events["state"][ext][:, cols].T).max()))
         res.X_m, res.Y_m, res.R_m = Xm, Ym, Rm
-        res.min_gap = 1.0 - Rm
+        if circle is not None:  # the obstacle is the circle of this radius
+            res.min_gap = float(circle) - Rm
+        else:  # the contact's own measure, at the samples and the logged extrema
+            states = np.concatenate([run.dense, run.events["state"][ext]])
+            res.min_gap = -float(np.max(contact.penetration(states, run_params(run))))
     if "poincare" in want:
         res.samples = np.full((st.n_samples, pts.shape[1]), np.nan)
         if n:  # the cycle, repeated
@@ -238,7 +261,7 @@ def measure(system, settled, settings, res):
     res.period = n
     if n == 1:
         res.orbit_point = orbit_point(run.strobe)
-    describe(res, run, n, rec, start_inside, st, contact)
+    describe(res, run, n, rec, start_inside, st, contact, _circle(system.model))
     _settling(res, system, settled, x, n, st)
     tests = _chaos_tests(res, system, pts, x, n, st)
     if tests is None:
@@ -258,7 +281,8 @@ def measure(system, settled, settings, res):
             res.transient += 3 * LONG_SEARCH * rule.max_period + 1
             res.recorded = rec = long_run.strobe.shape[0] - 1
             res.final_state = long_run.final_state.copy()
-            describe(res, long_run, long_n, rec, start_inside, st, contact)
+            describe(res, long_run, long_n, rec, start_inside, st, contact,
+                     _circle(system.model))
             label, n_out, conf = Label.PERIODIC, long_n, 1.0
             reason = f"recurrence found by a search up to {LONG_SEARCH * rule.max_period}"
     if ev is not None:

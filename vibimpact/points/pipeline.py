@@ -89,8 +89,9 @@ def classify_params(system: System, state0: ArrayLike | None = None, *,
     Returns
     -------
     regime : Regime
-        ``impacting`` and ``impacts_per_period`` are None and NaN for a model other than
-        the rotor (no retainer).
+        ``impacting`` and ``impacts_per_period`` are None and NaN for a model without a
+        contact (:attr:`vibimpact.models.Model.contact` None) or where the impacts were not
+        counted.
     result : PointResult
         The point's full result, as a sweep stores it
         (:class:`~vibimpact.points.point.PointResult`: ``period``, ``final_state``,

@@ -38,13 +38,10 @@ if TYPE_CHECKING:  # names of the annotations only
 
 __all__ = ["ANALYSES", "SweepSettings", "PointResult", "SCALARS", "analyse_point",
            "point_system", "REGIME_CODES", "REGIME_FLAGS", "CONTACT_FLAGS",
-           "CONTACT_NONE", "CONTACT_IMPACTING", "CONTACT_PERMANENT", "N_MULTIPLIERS"]
+           "CONTACT_NONE", "CONTACT_IMPACTING", "CONTACT_PERMANENT"]
 
 #: analyses a sweep can compute ("period" always runs: it ends the transient)
 ANALYSES = ("period", "impacts", "response", "poincare", "lyapunov", "test01", "floquet")
-
-#: Floquet multipliers stored per point of the rotor (one per state variable)
-N_MULTIPLIERS = 4
 
 
 @dataclass(frozen=True)
@@ -146,7 +143,8 @@ class PointResult:
 
     The scalar fields are what datasets store per point (:data:`SCALARS` gives their
     fill values); ``arcs`` and ``reason`` are text; the arrays have the model's state
-    size ``d`` (4 for the rotor).
+    size ``d`` (:meth:`empty`; a bare ``PointResult()`` has arrays of no state, as it
+    knows no model).
 
     Attributes
     ----------
@@ -160,7 +158,8 @@ class PointResult:
     settle_periods, shoot_residual, orbit_distance
         See the dataset variables of :func:`vibimpact.sweep`.
     arcs : str
-        Loaded arcs of the retainer, e.g. "2 small arcs".
+        Loaded arcs of the contact (where on the obstacle the contacts fall), e.g. "2
+        small arcs".
     reason : str
         Why the label (or why the run stopped).
     arc_table : ndarray, shape (n_arcs, 4)
@@ -205,11 +204,10 @@ class PointResult:
     arcs: str = ""
     reason: str = ""
     arc_table: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
-    samples: np.ndarray = field(default_factory=lambda: not_computed((64, 4)))
-    final_state: np.ndarray = field(default_factory=lambda: _nan(4))
-    orbit_point: np.ndarray = field(default_factory=lambda: _nan(4))
-    multipliers: np.ndarray = field(
-        default_factory=lambda: not_computed(N_MULTIPLIERS, complex))
+    samples: np.ndarray = field(default_factory=lambda: not_computed((0, 0)))
+    final_state: np.ndarray = field(default_factory=lambda: _nan(0))
+    orbit_point: np.ndarray = field(default_factory=lambda: _nan(0))
+    multipliers: np.ndarray = field(default_factory=lambda: not_computed(0, complex))
 
     @classmethod
     def empty(cls, n_state: int, n_samples: int) -> PointResult:

@@ -13,12 +13,12 @@ import numpy as np
 #: arcs stored per point; a point with more keeps the most loaded ones (in order of start)
 MAX_STORED_ARCS = 8
 
-_WHERE = ("theta = atan2(Y, X) of the retainer circle, +90 = bottom; each arc runs towards "
-          "increasing theta from its start to its end")
-#: ``name: (column of arc_table, units, long_name)``
+_WHERE = "{angle}; each arc runs towards increasing angle from its start to its end"
+#: ``name: (column of arc_table, units, long_name with the model's words in its
+#: ``{fields}``, :func:`vibimpact.models.words.file_words`)``
 ARC_VARIABLES = {
-    "arc_start": (0, "degree", f"start of each loaded arc of the retainer ({_WHERE})"),
-    "arc_end": (1, "degree", f"end of each loaded arc of the retainer ({_WHERE})"),
+    "arc_start": (0, "degree", f"start of each loaded arc of the {{obstacle}} ({_WHERE})"),
+    "arc_end": (1, "degree", f"end of each loaded arc of the {{obstacle}} ({_WHERE})"),
     "arc_width": (2, "degree", "angular extent of each loaded arc: the angles its contacts "
                                "cover from entry to exit, sliding included"),
     "arc_loaded": (3, "1", "loaded share of each arc: fraction of the recorded time the "
@@ -37,14 +37,14 @@ def kept(table):
     return table[top]
 
 
-def add_arc_variables(ds, results, dirs, n, dims):
+def add_arc_variables(ds, results, dirs, n, dims, words):
     """Add ``arc_start``, ``arc_end``, ``arc_width`` and ``arc_loaded`` on ``dims +
     ("arc",)`` to the sweep dataset ``ds`` of a model with a contact
     (``results[direction]``: result dicts in sweep order, None where not computed).  A
     point whose result carries no arc table (not computed, or a result saved before arcs
     were stored) has NaN in every slot, as every not-computed value; so a map's template
-    and its filled rows, and a sweep and a map, have the same variables.  Returns
-    ``ds``."""
+    and its filled rows, and a sweep and a map, have the same variables.  ``words``: the
+    model's (:func:`vibimpact.models.words.file_words`).  Returns ``ds``."""
     table = np.full((len(dirs), n, MAX_STORED_ARCS, 4), np.nan)
     for a, d in enumerate(dirs):
         order = np.arange(n) if d == "up" else np.arange(n)[::-1]
@@ -55,5 +55,5 @@ def add_arc_variables(ds, results, dirs, n, dims):
             table[a, order[i], :rows.shape[0]] = rows
     for name, (col, units, long_name) in ARC_VARIABLES.items():
         ds[name] = (tuple(dims) + ("arc",), table[..., col],
-                    dict(units=units, long_name=long_name))
+                    dict(units=units, long_name=long_name.format(**words)))
     return ds

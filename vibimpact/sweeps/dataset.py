@@ -1,9 +1,9 @@
 """Sweep results as a CF-style ``xarray.Dataset``, and the labelled interval map.
 
-All lengths are in units of the radial clearance and times in the dimensionless ``tau``
-(units "1").  ``regime`` is an integer flag variable (CF ``flag_values`` /
-``flag_meanings``) and ``label`` its readable form, so the file opens with plain xarray
-and any NetCDF tool.
+All lengths and times are the model's dimensionless ones (units "1"; for the built-in
+rotor, lengths in units of the radial clearance and times in ``tau``).  ``regime`` is an
+integer flag variable (CF ``flag_values`` / ``flag_meanings``) and ``label`` its readable
+form, so the file opens with plain xarray and any NetCDF tool.
 """
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from ..base._text import count
 from ..analysis.classify import Label
 from ..core.run import state_text
 from ..core.system import param_dict, to_system
+from ..models.words import file_words
 from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
                             CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
 
@@ -37,28 +38,29 @@ if TYPE_CHECKING:  # names of the annotations only
 #: what a function that takes a sweep's dataset asks for, in its TypeError
 SWEEP_DATASET = "the xarray.Dataset of a sweep (vibimpact.sweep)"
 
-#: variable -> (dtype, units, long_name)
+#: variable -> (dtype, units, long_name with the model's words in its ``{fields}``,
+#: :func:`vibimpact.models.words.file_words`)
 VARIABLES = {
     "regime": ("i1", "1", "kind of motion (flag)"),
-    "period": ("i4", "1", "period n of the motion in forcing periods, T = n 2 pi / eta "
+    "period": ("i4", "1", "period n of the motion in forcing periods, T = n 2 pi / {freq} "
                "(0: none or not resolved)"),
     "confidence": ("f8", "1", "agreement of the classifier's tests, 0..1"),
     "impacts_per_period": ("f8", "1", "contacts per motion period (per forcing period "
                            "when period = 0)"),
     "impacts_constant": ("i1", "1", "1 when every motion period has the same number of "
                          "contacts"),
-    "contact": ("i1", "1", "contact with the retainer (flag; -1: not computed)"),
-    "lyapunov": ("f8", "1", "largest Lyapunov exponent per unit tau (NaN: not computed)"),
+    "contact": ("i1", "1", "contact with the {obstacle} (flag; -1: not computed)"),
+    "lyapunov": ("f8", "1", "largest Lyapunov exponent per unit {time} (NaN: not computed)"),
     "lyapunov_err": ("f8", "1", "standard error of the largest Lyapunov exponent"),
     "k01": ("f8", "1", "Gottwald-Melbourne 0-1 test K (NaN: not computed)"),
-    "X_m": ("f8", "1", "response amplitude max |X| / clearance"),
-    "Y_m": ("f8", "1", "response amplitude max |Y| / clearance"),
-    "R_m": ("f8", "1", "largest radial displacement max R / clearance"),
-    "min_gap": ("f8", "1", "smallest gap to the retainer 1 - R_m (negative: penetration)"),
-    "n_arcs": ("i4", "1", "number of loaded arcs of the retainer"),
-    "v_impact_max": ("f8", "1", "largest normal impact speed dR/dtau"),
-    "v_impact_mean": ("f8", "1", "mean normal impact speed dR/dtau"),
-    "penetration_max": ("f8", "1", "largest penetration (R - 1) / clearance"),
+    "X_m": ("f8", "1", "response amplitude max |{x}|{unit}"),
+    "Y_m": ("f8", "1", "response amplitude max |{y}|{unit}"),
+    "R_m": ("f8", "1", "largest radial displacement max R{unit}"),
+    "min_gap": ("f8", "1", "smallest gap to the {obstacle} (negative: penetration)"),
+    "n_arcs": ("i4", "1", "number of loaded arcs of the {obstacle}"),
+    "v_impact_max": ("f8", "1", "largest normal impact speed"),
+    "v_impact_mean": ("f8", "1", "mean normal impact speed"),
+    "penetration_max": ("f8", "1", "largest penetration{unit}"),
     "transient": ("i4", "1", "forcing periods of transient integrated"),
     "recorded": ("i4", "1", "forcing periods recorded after the transient"),
     # --- issue 8: Floquet multipliers ("floquet" analysis) ---
@@ -67,7 +69,7 @@ VARIABLES = {
     "stable": ("i1", "1", "periodic orbit stable, all |multipliers| < 1 (1 yes, 0 no, "
                "-1 not computed)"),
     "floquet_exponent": ("f8", "1", "largest Floquet exponent ln|mu|max / (n T) of the "
-                         "periodic orbit per unit tau (exact; NaN: not computed)"),
+                         "periodic orbit per unit {time} (exact; NaN: not computed)"),
     "contraction": ("f8", "1", "contraction rate ln|mu| / n of the stroboscopic points "
                     "per forcing period, measured on the record (NaN: not measured)"),
     "settle_periods": ("f8", "1", "forcing periods an unsettled motion would still need "
@@ -171,10 +173,11 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
                     arr[a, order[i]] = r.get(key, fill)
         return arr
 
+    words = file_words(to_system(p).model)
     data = {}
     for key, (dt, units, long) in VARIABLES.items():
         fill = SCALARS[key]
-        data[key] = (stack(key, fill, dt), dict(units=units, long_name=long))
+        data[key] = (stack(key, fill, dt), dict(units=units, long_name=long.format(**words)))
     names = to_system(p).model.state_names
     d_state = len(names)
     samples = not_computed((len(dirs), n, ns, d_state))
@@ -199,25 +202,23 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     dims = ("direction", "eta")
     ds = xr.Dataset(
         {k: (dims, v, attrs) for k, (v, attrs) in data.items()},
-        coords={"eta": ("eta", etas, dict(units="1", long_name="forcing frequency ratio "
-                                          "eta = omega sqrt(m/k)")),
+        coords={"eta": ("eta", etas, to_system(p).model.frequency_attrs()),
                 "direction": ("direction", np.array(dirs, dtype=object),
                               dict(long_name="sweep direction"))})
     for name in FLAGS:
         ds[name].attrs.update(flag_attrs(name, ds[name].dtype))
     ds["period"].attrs.update(period_attrs(ds["period"].dtype))
     ds["label"] = (dims, labels, dict(long_name="regime in words"))
-    ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the retainer, in words"))
+    ds["arcs"] = (dims, arcs, dict(long_name="loaded arcs of the {obstacle}, in "
+                                             "words".format(**words)))
     ds["reason"] = (dims, reason, dict(long_name="classifier's decision branch"))
-    ds["poincare_X"] = (dims + ("sample",), samples[..., 0],
-                        dict(units="1", long_name="stroboscopic samples of X / clearance"))
-    ds["poincare_Y"] = (dims + ("sample",), samples[..., 1],
-                        dict(units="1", long_name="stroboscopic samples of Y / clearance"))
     model = to_system(p).model
-    for j in range(2, samples.shape[-1]):  # the other states (the rotor's velocities, a
-        # ring's speed): a Poincare section X against X' needs them
+    for j in range(samples.shape[-1]):  # every state: poincare_X and poincare_Y hold the
+        # first two, whatever the model calls them; the others under their own names (a
+        # Poincare section of a state against its velocity needs them)
         text = state_text(model, names[j])
-        ds[f"poincare_{names[j]}"] = (dims + ("sample",), samples[..., j], dict(
+        var = ("poincare_X", "poincare_Y")[j] if j < 2 else f"poincare_{names[j]}"
+        ds[var] = (dims + ("sample",), samples[..., j], dict(
             units="1", long_name=f"stroboscopic samples of {names[j]}"
                                  + (f": {text}" if text else "")))
     ds["final_state"] = (dims + ("state",), final,
@@ -241,17 +242,17 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
     # the loaded arcs' start, end, width (degrees) and loaded share, on dimension "arc"
     if model.contact is not None:
         from .arc_vars import add_arc_variables
-        ds = add_arc_variables(ds, results, dirs, n, dims)
+        ds = add_arc_variables(ds, results, dirs, n, dims, words)
     if direction != "both":
         ds = ds.isel(direction=0, drop=True)
         ds.attrs["direction"] = direction
     params = param_dict(p)
-    params.pop(model.param_names[model.omega_index], None)
+    params.pop(model.frequency_name, None)
     ds.attrs.update(
         title="vibimpact frequency sweep",
         Conventions="CF-1.8",
         source=f"vibimpact {__version__}",
-        model=model.name,
+        model=model.name, frequency_name=model.frequency_name,
         params=json.dumps(params, sort_keys=True),
         settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
         sweep_direction=direction, continuation=int(bool(continuation)),
@@ -263,22 +264,26 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
 
 
 def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") -> Params:
-    """The rotor parameters a sweep dataset records (its ``params`` attribute).
+    """The parameters a sweep dataset records (its ``params`` attribute), as its model's
+    parameter set.
 
     Parameters
     ----------
     ds : xarray.Dataset
         From :func:`vibimpact.sweep` or ``vibimpact classify``.
     eta : float, optional
-        The rotor speed to set (the attribute leaves it out); the default of
-        :class:`~vibimpact.Params` otherwise.
+        The forcing frequency to set (the attribute leaves it out); the default of the
+        model's parameter set otherwise (e.g. :class:`~vibimpact.Params`'s ``eta`` for the
+        built-in rotor).
     name : str
         How the messages name ``ds`` (an interface that reads it from a file: "the
         file").
 
     Returns
     -------
-    Params
+    parameter set
+        Of the model the dataset records (:class:`~vibimpact.Params` for the built-in
+        rotor).
 
     Raises
     ------
@@ -296,6 +301,13 @@ def sweep_params(ds: xr.Dataset, eta: float | None = None, *, name: str = "ds") 
         assert model.param_set is not None  # recorded_model(required=True) refuses none
         eta = getattr(model.param_set(), model.param_names[model.omega_index])
     return recorded_params(ds.attrs, name, omega=eta)
+
+
+def _registered(name):
+    """The registered model called ``name``; None for another name or none."""
+    from .. import models
+
+    return models.get(name) if isinstance(name, str) and name in models.names() else None
 
 
 def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
@@ -358,10 +370,12 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
         cols["points"].append(j - i + 1)
         i = j + 1
     d = ds.attrs.get("sweep_direction", "up")
+    words = file_words(_registered(ds.attrs.get("model")))
     out = xr.Dataset(
-        {"start": ("interval", np.array(cols["start"]), dict(units="1",
-                                                             long_name="first eta")),
-         "end": ("interval", np.array(cols["end"]), dict(units="1", long_name="last eta")),
+        {"start": ("interval", np.array(cols["start"]), dict(
+            units="1", long_name="first {freq}".format(**words))),
+         "end": ("interval", np.array(cols["end"]), dict(
+             units="1", long_name="last {freq}".format(**words))),
          "label": ("interval", np.array(cols["label"], dtype=object),
                    dict(long_name="regime in words")),
          "regime": ("interval", np.array(cols["regime"], dtype="i1"),
@@ -371,7 +385,8 @@ def intervals(ds: xr.Dataset, direction: str | None = None) -> Intervals:
          "impacts": ("interval", np.array(cols["impacts"]), dict(
              units="1", long_name="contacts per motion period")),
          "arcs": ("interval", np.array(cols["arcs"], dtype=object),
-                  dict(long_name="loaded arcs of the retainer, in words")),
+                  dict(long_name="loaded arcs of the {obstacle}, in "
+                                 "words".format(**words))),
          "points": ("interval", np.array(cols["points"], dtype="i4"),
                     dict(units="1", long_name="grid points in the interval")),
          "direction": ("interval", np.array([d] * len(cols["start"]), dtype=object),

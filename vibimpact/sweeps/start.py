@@ -1,12 +1,12 @@
 """Start a run where a sweep left the motion: coexisting attractors.
 
 A sweep with continuation follows one attractor through ``eta``; a run started from rest
-at the same ``eta`` may settle on another one that coexists with it.  fig8 at
-``eta = 1.25``: swept up from ``eta = 1.1`` the rotor is chaotic and hits the whole
-retainer, while from rest it settles on the impactless period-1 orbit.  :func:`sweep_start`
-gives the parameters and the state the sweep had at one grid point and direction (the
-point's ``final_state``, a point of the attractor the sweep found there), so that a run
-from it stays on that attractor:
+at the same ``eta`` may settle on another one that coexists with it.  For example, the
+built-in rotor's preset fig8 at ``eta = 1.25``: swept up from ``eta = 1.1`` the rotor is
+chaotic and hits the whole retainer, while from rest it settles on the impactless
+period-1 orbit.  :func:`sweep_start` gives the parameters and the state the sweep had at
+one grid point and direction (the point's ``final_state``, a point of the attractor the
+sweep found there), so that a run from it stays on that attractor:
 
 >>> import vibimpact as vi
 >>> ds = vi.sweep(vi.presets.get("fig8"), [1.1, 1.25])       # doctest: +SKIP
@@ -58,11 +58,12 @@ class SweepStart:
 
     Attributes
     ----------
-    params : Params
-        The sweep's parameters at the grid point's ``eta`` (the grid value itself).
+    params : parameter set
+        The sweep's parameters at the grid point's ``eta`` (the grid value itself), as
+        its model's parameter set (:class:`~vibimpact.Params` for the built-in rotor).
     state : ndarray, shape (n_state,)
-        The point's ``final_state`` (the rotor's X, Y, X', Y') at the start of a
-        forcing period.
+        The point's ``final_state`` (the model's state; the built-in rotor's X, Y, X',
+        Y') at the start of a forcing period.
     eta : float
         The grid value.
     direction : str
@@ -216,7 +217,7 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     Parameters
     ----------
     ds : xarray.Dataset
-        A rotor sweep (:func:`vibimpact.sweep`, ``vibimpact classify`` or
+        A sweep of any model (:func:`vibimpact.sweep`, ``vibimpact classify`` or
         ``bifurcation``), with ``regime``, ``label`` and ``final_state``.
     eta : float, optional
         A value of the sweep's grid (to within 1e-9 relative): the start takes the grid
@@ -241,10 +242,10 @@ def sweep_start(ds: xr.Dataset, eta: float | None = None, direction: str | None 
     TypeError
         When ``ds`` is not a Dataset (a Run, say).
     ValueError
-        Naming ``ds`` (not a sweep, a map, no rotor parameters), ``eta`` (not on the
-        grid: the message gives the nearest grid values) or ``direction`` (not in the
-        sweep, or not given for a sweep with both); also when the sweep did not compute
-        the point or it diverged there (no state to start from).
+        Naming ``ds`` (not a sweep, a map, no parameters of a known model), ``eta``
+        (not on the grid: the message gives the nearest grid values) or ``direction``
+        (not in the sweep, or not given for a sweep with both); also when the sweep did
+        not compute the point or it diverged there (no state to start from).
 
     Examples
     --------

@@ -1,4 +1,4 @@
-"""`sweep`: the rotor speed swept up and/or down with continuation, into an xarray Dataset.
+"""`sweep`: the forcing frequency swept up and/or down with continuation, into an xarray Dataset.
 
 Continuation and parallelism
 ----------------------------
@@ -133,8 +133,8 @@ def continued_state(p: object, eta: float, *,
         The parameters (any built-in model's parameter set), a System (run with its own
         solver settings), or a preset's name (:func:`vibimpact.models.presets.get`).
     eta : float
-        The forcing frequency of the returned state (``eta`` of the rotor, the model's
-        forcing frequency otherwise), > 0.
+        The forcing frequency of the returned state (the model's frequency parameter,
+        e.g. the built-in rotor's ``eta``), > 0.
     eta_start : float
         Where the sweep starts, > 0.
     step : float
@@ -229,8 +229,8 @@ def sweep(p: Params | DuffingParams | System, eta: ArrayLike, direction: str = "
         override ``settings``'), or the parameters of a built-in model; its forcing
         frequency is ignored.
     eta : array_like, shape (n,)
-        Strictly increasing grid of the forcing frequency (``eta`` of the rotor, the
-        model's frequency parameter otherwise); ``direction`` decides the order it is
+        Strictly increasing grid of the forcing frequency (the model's frequency
+        parameter, e.g. the built-in rotor's ``eta``); ``direction`` decides the order it is
         swept in.  A value within a few units in the last place of its rounding to 12
         decimals is taken as that rounding (:func:`snap_grid`), so that
         ``np.arange(0.9, 1.5 + 1e-12, 0.002)`` is swept (and stored) as

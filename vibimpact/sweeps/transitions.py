@@ -250,8 +250,9 @@ def _follow(p, orb, start, stop, width, max_events=4):
     events = []
     x, n, lo = orb.state, orb.n, start
     while len(events) < max_events:
-        bif = locate_bifurcation(System(p), x, n, param="eta", start=lo, stop=stop,
-                                 tol=width, shoot_kw=_SHOOT)
+        system = System(p)
+        bif = locate_bifurcation(system, x, n, param=system.model.frequency_name, start=lo,
+                                 stop=stop, tol=width, shoot_kw=_SHOOT)
         events.append(bif)
         nxt = bif.beyond
         if bif.kind not in (BifurcationKind.GRAZING, BifurcationKind.STICK_SLIP) or \
@@ -436,8 +437,10 @@ def transition_types(ds: xr.Dataset, p: Params | DuffingParams | System | None =
         period doubling", :func:`~vibimpact.base.bifurcation_kinds.kinds_in` splits it; the
         evidence gives each event's eta), ``mu_real``, ``mu_imag`` (the
         largest Floquet multiplier of the followed orbit at the bracket's persisting
-        end; NaN when no orbit was followed), ``gap`` (its smallest ``|R - 1|`` at an
-        extremum of R: 0 at grazing), ``method``, ``evidence`` and ``hysteresis`` (text).
+        end; NaN when no orbit was followed), ``gap`` (its smallest ``|penetration|`` at
+        an extremum of the penetration, :func:`vibimpact.analysis.bifurcation.grazing_gap`;
+        ``|R - 1|`` for the built-in rotor: 0 at grazing), ``method``, ``evidence`` and
+        ``hysteresis`` (text).
 
     Raises
     ------

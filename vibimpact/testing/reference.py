@@ -4,7 +4,7 @@
 :class:`~vibimpact.Params`) with :func:`scipy.integrate.solve_ivp`, one discrete mode at a
 time, and restarts at every switch.  It shares only the model functions of the model's
 kernel module (right-hand side, switching functions, mode transitions, initial mode:
-:mod:`vibimpact._kernel.rotor` for the rotor) with the production integrator
+e.g. :mod:`vibimpact._kernel.rotor` for the built-in rotor) with the production integrator
 :func:`vibimpact.simulate`; the Runge--Kutta steps, the step-size control and the event
 location are SciPy's.  It is the *cross-check* of the kernel and the fair SciPy
 baseline of the benchmarks (compiled right-hand side, restarted at switches), **not** the
@@ -37,7 +37,8 @@ class ReferenceSolution:
         States at ``t``.
     events : list of tuple
         ``(t, which, mode_before, mode_after)`` for every switch, in time order; ``which``
-        is the index of the switching function (the rotor's: 0 contact, 1 friction).
+        is the index of the switching function (the built-in rotor's: 0 contact, 1
+        friction).
     nfev : int
         Right-hand-side evaluations (SciPy's count, summed over segments).
     nsteps : int
@@ -121,22 +122,24 @@ def solve_reference(p, t_end, state0, rtol=1e-12, atol=1e-12, method="DOP853",
     """Integrate a built-in model with SciPy ``solve_ivp``, restarted at every switch.
 
     A cross-check of :func:`vibimpact.simulate`, not the production integrator.  Within
-    one discrete mode (``mode[0]`` contact flag, ``mode[1]`` friction state +1/-1/0, see
-    :mod:`vibimpact._kernel.rotor`) the field is smooth and ``solve_ivp`` integrates the
-    compiled :func:`~vibimpact._kernel.rotor.rhs`.  The terminal switching functions
-    (contact, friction) are SciPy events (crossing to negative, ``direction=-1``); at an
-    event :func:`~vibimpact._kernel.rotor.transition` gives the new mode and ``solve_ivp``
-    is restarted from the event state.  Integration also stops exactly at every output
+    one discrete mode (for the built-in rotor: ``mode[0]`` contact flag, ``mode[1]``
+    friction state +1/-1/0, see :mod:`vibimpact._kernel.rotor`) the field is smooth and
+    ``solve_ivp`` integrates the compiled ``rhs`` of the model's kernel module (e.g.
+    :func:`~vibimpact._kernel.rotor.rhs`).  The terminal switching functions (the built-in
+    rotor's: contact, friction) are SciPy events (crossing to negative,
+    ``direction=-1``); at an event the module's ``transition`` (e.g.
+    :func:`~vibimpact._kernel.rotor.transition`) gives the new mode and ``solve_ivp`` is
+    restarted from the event state.  Integration also stops exactly at every output
     time, so the returned states are step end points, not interpolated.
 
     Parameters
     ----------
     p : a built-in model's parameter set, or array_like with ``model``
-        Parameters (:class:`vibimpact.Params` for the rotor of eq. (5)).
+        Parameters (e.g. :class:`vibimpact.Params` for the built-in rotor of eq. (5)).
     t_end : float
         Final dimensionless time; integration starts at ``tau = 0`` (forcing phase 0).
-    state0 : array_like, shape (4,)
-        ``(X, Y, X', Y')`` at ``tau = 0``.
+    state0 : array_like, shape (n_state,)
+        The model's state at ``tau = 0`` (the built-in rotor's ``(X, Y, X', Y')``).
     rtol, atol : float
         Tolerances passed to ``solve_ivp``.
     method : str
@@ -152,7 +155,7 @@ def solve_reference(p, t_end, state0, rtol=1e-12, atol=1e-12, method="DOP853",
     Returns
     -------
     ReferenceSolution
-        States at ``t_eval`` (shape (m, 4)), the switch log and the work counters.
+        States at ``t_eval`` (shape (m, n_state)), the switch log and the work counters.
 
     Raises
     ------

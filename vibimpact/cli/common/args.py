@@ -30,6 +30,13 @@ class Parser(argparse.ArgumentParser):
                           help="report what the run does on stderr (-v: its steps, "
                                "-vv: debugging detail), through Python's logging")
 
+    def parse_known_args(self, args=None, namespace=None):
+        """argparse's, then every option left at a :class:`ModelDefault` given the value
+        the model of the parsed ``--preset`` declares for it."""
+        namespace, extras = super().parse_known_args(args, namespace)
+        ModelDefault.resolve_all(namespace)
+        return namespace, extras
+
     def error(self, message):
         """Print ``vibimpact: error: MESSAGE`` and exit with status 2."""
         message = " ".join(str(message).split())
@@ -94,6 +101,65 @@ DEFAULT_PRESET = "<the default preset>"
 DEFAULT_PRESET_HELP = "the one 'vibimpact presets' marks as the default"
 
 
+class ModelDefault:
+    """An option's default that the model declares
+    (:func:`vibimpact.models.presets.command_default`): the model of the command's
+    ``--preset`` (parsed first; the preset a ``census_preset`` default names), looked up
+    once the arguments are parsed, so that ``--help`` loads no model.
+
+    Parameters
+    ----------
+    key : str
+        One of :data:`vibimpact.models.presets.DEFAULT_KEYS`.
+    text : str
+        How ``--help`` says what the default is.
+    """
+
+    def __init__(self, key, text):
+        self.key, self.text = key, text
+
+    def __str__(self):
+        return self.text
+
+    @staticmethod
+    def resolve_all(namespace):
+        """Replace every :class:`ModelDefault` in ``namespace``, the preset first."""
+        from ...models.presets import command_default
+
+        found = sorted((v.key != "census_preset", k) for k, v in vars(namespace).items()
+                       if isinstance(v, ModelDefault))
+        for _, name in found:
+            key = getattr(namespace, name).key
+            setattr(namespace, name, command_default(key, getattr(namespace, "preset",
+                                                                  None)))
+
+
+#: ``--eta``'s default in a sweep: the frequencies the preset's model declares
+SWEEP_FREQUENCIES = ModelDefault(
+    "frequencies", "the range the preset's model declares; 'vibimpact presets' lists it")
+#: ``--eta``'s default in a two-parameter map: the model's coarser grid
+MAP_FREQUENCIES = ModelDefault(
+    "map_frequencies", "the grid the preset's model declares for a map; 'vibimpact "
+                       "presets' lists it")
+#: ``--preset`` and ``--eta`` of a census or a basin image: where the model says its
+#: attractors coexist
+CENSUS_PRESET = ModelDefault(
+    "census_preset", "the census preset the first model declares; 'vibimpact presets' "
+                     "lists it")
+CENSUS_FREQUENCY = ModelDefault(
+    "census_frequency", "the frequency the preset's model declares for a census, else "
+                        "the preset's own; 'vibimpact presets' lists it")
+
+
+def swept(args):
+    """The ``--eta`` text of a sweep; UsageError when neither given nor declared by the
+    model of ``--preset``."""
+    if args.eta is None:
+        raise UsageError(f"--eta: the model of preset {args.preset!r} declares no "
+                         "frequencies to sweep by default; give --eta START:STOP:STEP")
+    return args.eta
+
+
 def preset_name(text):
     """``--preset``'s value (its ``type``): the name as given, the default preset's
     name for :data:`DEFAULT_PRESET`."""
@@ -146,21 +212,28 @@ def positive_number(text):
 
 
 def with_sets(base, sets, eta=None):
-    """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``)
-    replaced; UsageError naming the option whose value lies outside its parameter's
-    domain (:meth:`vibimpact.Params.domain`), or saying what else is wrong."""
-    given = ([("--eta", "eta", eta)] if eta is not None else []) + \
+    """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``, the
+    model's forcing frequency whatever its name) replaced; UsageError naming the option
+    whose value lies outside its parameter's domain (:meth:`vibimpact.Params.domain`),
+    or saying what else is wrong."""
+    from ... import models
+
+    model = models.of_params(base)
+    freq = model.frequency_name if model is not None else "eta"
+    if freq in sets:
+        raise UsageError(f"set {freq} with --eta, not --set")
+    given = ([("--eta", freq, eta)] if eta is not None else []) + \
         [(f"--set {k}", k, v) for k, v in sets.items()]
     known = base.as_dict()
     for option, name, value in given:
         if name in known and math.isfinite(value) and value not in base.domain(name):
             raise UsageError(f"{option}: {base.domain(name).rule(name)}, got {value!r}")
-        if name == "eta" and not ETA_RANGE[0] <= value <= ETA_RANGE[1]:
-            raise UsageError(f"{option}: eta must lie in [{ETA_RANGE[0]:g}, "
+        if name == freq and not ETA_RANGE[0] <= value <= ETA_RANGE[1]:
+            raise UsageError(f"{option}: {freq} must lie in [{ETA_RANGE[0]:g}, "
                              f"{ETA_RANGE[1]:g}] (a forcing period the solver can "
                              f"resolve), got {value!r}")
     try:
-        return base.replace(**({} if eta is None else {"eta": eta}), **sets)
+        return base.replace(**({} if eta is None else {freq: eta}), **sets)
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
 
@@ -173,8 +246,6 @@ def parse_sets(items):
         key = key.strip()
         if not sep or not key:
             raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
-        if key == "eta":
-            raise UsageError("set eta with --eta, not --set")
         if key in out:
             raise UsageError(f"--set {key} given twice ({key}={out[key]:g} and "
                              f"{item.strip()}); give each parameter once")

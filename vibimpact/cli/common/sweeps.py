@@ -3,14 +3,11 @@ grid, the preset, ``--set``, direction, workers, blocks), the grid and parameter
 from them, and the command line recorded in the file."""
 import os
 
-from .args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, parse_sets, positive_int,
+from .args import (DEFAULT_PRESET, DEFAULT_PRESET_HELP, SWEEP_FREQUENCIES, swept,
+                   parse_sets, positive_int,
                    preset_name, with_sets, MAX_WORKERS)
 from .errors import error_text, UsageError
 from ...base._limits import MAX_POINTS
-
-#: the main job
-DEFAULT_ETA = "0.9:1.5:0.002"
-
 
 def default_workers():
     """Worker processes of a sweep by default: two, or one on a single CPU."""
@@ -23,7 +20,7 @@ def sweep_inputs(args):
     from ...sweeps import parse_range
 
     try:
-        etas = parse_range(args.eta)
+        etas = parse_range(swept(args))
     except ValueError as exc:
         raise UsageError(f"--eta: {exc}") from None
     try:
@@ -43,10 +40,11 @@ def command_line(args):
 def add_sweep_options(s, direction):
     """Add the options every sweep command takes to its parser ``s`` (``direction``: the
     default of --direction)."""
-    s.add_argument("--eta", default=DEFAULT_ETA, metavar="START:STOP:STEP|V1,V2,...",
-                   help="grid of the forcing frequency ratio: a range (STOP is included "
+    s.add_argument("--eta", default=SWEEP_FREQUENCIES,
+                   metavar="START:STOP:STEP|V1,V2,...",
+                   help="grid of the forcing frequency: a range (STOP is included "
                         "when it lies on the grid) or a list of increasing values, e.g. "
-                        f"1.0,1.1,1.25 (default: {DEFAULT_ETA})")
+                        f"1.0,1.1,1.25 (default: {SWEEP_FREQUENCIES})")
     s.add_argument("--preset", default=DEFAULT_PRESET, type=preset_name,
                    help=f"parameter set (default: {DEFAULT_PRESET_HELP}); see "
                         "'vibimpact presets'")
