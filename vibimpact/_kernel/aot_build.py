@@ -63,7 +63,7 @@ def exports():
     (:func:`.registry.families`), the array routines."""
     from . import boundary, driver, registry
 
-    out = {}
+    out: dict[str, tuple[object, tuple[object, ...], str | None]] = {}
     for family in registry.families():
         km = registry.family(family)
         out[f"integrate[{family}]"] = (driver.integrate, _integrate_example(family), family)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import functools
 import numbers
+from collections.abc import Callable
 
 import numpy as np
 
@@ -246,7 +247,7 @@ def init_mode_check(family):
 
 
 #: the argument check of each array routine, by its exported name
-ROUTINES = {
+ROUTINES: dict[str, Callable[..., object]] = {
     "dot": _vector_pair,
     "matmul": _matmul,
     "lstsq": _lstsq,

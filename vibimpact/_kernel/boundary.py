@@ -242,6 +242,7 @@ class Problem:
         also with its tangent vectors) at ``tau = 0``."""
         _check.state("y", y, self.n_state, self.variational and y.size != self.n_state)
         mode = np.zeros(self.n_mode, dtype=np.int64)
+        assert self.init_mode is not None  # a problem built without one has no mode to ask
         self.init_mode(0.0, y, self.p, mode)
         return mode
 
@@ -265,8 +266,8 @@ class EventLog:
 
     def __init__(self, cap, n, n_mode):
         self.cap, self.n, self.n_mode = int(cap), int(n), int(n_mode)
-        self.chunks = []
-        self._arrays = None
+        self.chunks: list[tuple[np.ndarray, ...]] = []
+        self._arrays: tuple[np.ndarray, ...] | None = None
 
     def arrays(self):
         """Fresh arrays ``(t, which, mode, state)`` for the next fill."""
@@ -277,6 +278,7 @@ class EventLog:
 
     def keep(self, n_ev):
         """Keep the first ``n_ev`` entries of the last fill."""
+        assert self._arrays is not None  # a fill follows arrays()
         self.chunks.append(tuple(a[:n_ev] for a in self._arrays))
 
     def events(self):
@@ -312,7 +314,8 @@ def counters():
     return np.zeros(N_COUNTERS, dtype=np.int64)
 
 
-def _leading(problem, method, options):
+def _leading(problem, method, options) -> tuple[
+        tuple[object, np.ndarray, np.ndarray, float], tuple[object, ...], np.ndarray]:
     """The arguments every kernel entry point starts with, packed as the kernel takes
     them (:func:`.driver.integrate`): ``(model, terminal, p, omega)``, the method's
     tableau tuple and the option vector.  The one place a kernel call is built."""

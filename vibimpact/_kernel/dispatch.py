@@ -182,7 +182,7 @@ def _ol_rhs(model, s, y, p, mode, out):
         base, var = entry.rhs, entry.var_rhs
 
         def impl_builtin(model, s, y, p, mode, out):
-            if model_id(model) == 0:
+            if model_id(model) == 0:  # type: ignore[call-arg]  # numba: no typingctx here
                 base(s, y, p, mode, out)
             else:
                 var(s, y, p, mode, out)
@@ -219,7 +219,7 @@ def _ol_transition(model, s, y, p, mode, which):
         base, var = entry.transition, entry.var_transition
 
         def impl_builtin(model, s, y, p, mode, which):
-            if model_id(model) == 0:
+            if model_id(model) == 0:  # type: ignore[call-arg]  # numba: no typingctx here
                 base(s, y, p, mode, which)
             else:
                 var(s, y, p, mode, which)

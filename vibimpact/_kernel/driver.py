@@ -264,7 +264,9 @@ def _locate(problem, method, cfg, ws, mode, s, y, h, counters):
     nsw = terminal.size
     counters[C_RHS] += prepare_dense(model, p, mode, mid, A, C, D, P, n_stages, s, y, h,
                                      ws.K, y1, ytmp, F)
-    which = np.int64(-1)  # not a literal: the functions it reaches would compile twice
+    # not a literal: the functions it reaches would compile twice; a switch index (int)
+    # once one is found
+    which: np.int64 | int = np.int64(-1)
     n_obs = 0
     th_term = 2.0
     for i in range(nsw):
@@ -305,7 +307,7 @@ def _grazing(problem, method, cfg, ws, mode, s, y, h, n_obs, th_term):
     mid = method[0]
     f0, y1, f1r, F, ytmp, gbuf = ws.f0, ws.y1, ws.f1r, ws.F, ws.ytmp, ws.gbuf
     obs_th, obs_i, yint, gobs = ws.obs_th, ws.obs_i, ws.yint, ws.gobs
-    which = np.int64(-1)
+    which: np.int64 | int = np.int64(-1)  # a switch index (int) once one is found
     for a in range(n_obs):
         interpolate(mid, obs_th[a], h, y, f0, y1, f1r, F, yint)
         model_switches(model, s + obs_th[a] * h, yint, p, mode, gobs)

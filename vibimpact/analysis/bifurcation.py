@@ -153,7 +153,7 @@ class Bifurcation:
     kind: BifurcationKind
     detail: str
     orbit: PeriodicOrbit
-    beyond: object = None
+    beyond: PeriodicOrbit | None = None
     signature: tuple = ()
     signature_beyond: tuple = ()
     gap: float = math.nan

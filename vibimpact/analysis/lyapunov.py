@@ -166,13 +166,14 @@ def _period_watch(states, shoot, tol, max_period, window, attempts=3):
             return False
         left[0] -= 1
         orb = shoot(pts[-1], n)
-        watch.orbit = orb if (
+        orbit = orb if (
             orb.status is Status.OK and orb.converged and orb.abs_max < 1.0
             and np.abs(orb.state - pts[-1]).max() <= 1e-2 * max(1.0, np.abs(pts).max())) \
             else None
-        return watch.orbit is not None
+        watch.orbit = orbit  # type: ignore[attr-defined]  # an attribute of a function
+        return orbit is not None
 
-    watch.orbit = None
+    watch.orbit = None  # type: ignore[attr-defined]  # an attribute of a function
     return watch
 
 

@@ -466,7 +466,7 @@ def continue_bifurcation(system: System, state0: ArrayLike, n: int = 1,
 def _march(system, p2, point0, sense, end, step, min_step, max_points, locate, kind, loc,
            phase0):
     """Curve points from ``point0`` towards ``p2 = end``: ``(points, status)``."""
-    pts = []
+    pts: list[tuple] = []
     prev, cur = None, point0
     h = step
     loc.phase = phase0  # the grazing extremum of the start, each direction

@@ -156,13 +156,15 @@ def check_declared(variables, path, what="file"):
         A ValueError naming the file, the largest variable, its shape and the declared
         size.
     """
-    total, largest = 0, None
+    total = 0
+    largest: tuple[object, tuple[int, ...], int] | None = None
     for name, shape, itemsize in variables:
         n = math.prod(int(s) for s in shape) * int(itemsize or TEXT_ITEM_BYTES)
         total += n
         if largest is None or n > largest[2]:
             largest = (name, tuple(int(s) for s in shape), n)
     if total > MAX_READ_BYTES:
+        assert largest is not None  # total > 0: some variable was counted
         name, shape, n = largest
         raise DeclaredTooLarge(f"{what} {path!r} declares {human_bytes(total)} of data "
                                f"(variable {str(name)[:60]!r} of shape {shape}: "

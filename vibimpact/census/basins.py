@@ -327,8 +327,8 @@ def basins_dataset(census, model, axes, rng, shape, base, eps):
         boundary_boxes=((), np.int32(measures["boundary_boxes"]), dict(
             long_name="boxes holding more than one attractor (N_b)", units="1")),
     )
-    xs = np.linspace(*rng[0], cols)
-    ys = np.linspace(*rng[1], rows)
+    xs = np.linspace(rng[0][0], rng[0][1], cols)  # rng: the two (lo, hi) ranges
+    ys = np.linspace(rng[1][0], rng[1][1], rows)
     out = out.assign_coords({xname: ("column", xs), yname: ("row", ys)})
     out[xname].attrs.update(long_name=f"start {xname}")
     out[yname].attrs.update(long_name=f"start {yname}")

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -85,7 +86,8 @@ def continue_attractors(libraries, scale, tol=MATCH_DISTANCE):
     list of list of int
         ``ids[i][a]``.
     """
-    ids, next_id = [], 0
+    ids: list[list[int]] = []
+    next_id = 0
     for i, lib in enumerate(libraries):
         cur = [-1] * len(lib)
         if i > 0 and lib and libraries[i - 1]:
@@ -153,7 +155,7 @@ def _var_attrs(name, values, words):
     """The CF attributes of census variable ``name`` holding ``values`` (``words``: the
     model's, :func:`vibimpact.models.words.file_words`)."""
     _, long_name, units = _VARIABLES[name]
-    out = dict(long_name=long_name.format(**words))
+    out: dict[str, Any] = dict(long_name=long_name.format(**words))
     if units is not None:
         out["units"] = units
     if name == "decided_by":

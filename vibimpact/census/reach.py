@@ -302,6 +302,7 @@ def _watch(system, x, cs, used):
         used += cs.cloud
         if seg.status is not Status.OK:
             return None, used, (seg.status, f"cloud: {seg.status.value}, {seg.reason}")
+        assert seg.strobe is not None  # cs.cloud >= 1 periods
         cloud = seg.strobe[1:].copy()
         if detect_period(cloud[-min(cloud.shape[0], tail_len):], tol=CLOUD_PERIOD_TOL,
                          max_period=cs.point.rule.max_period):

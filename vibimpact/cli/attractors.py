@@ -177,6 +177,7 @@ def _check_samples(ds, label, names, common):
                                             common)])
         ok = np.isfinite(at.transpose(..., "eta", "sample").values.astype(float))
         finite = ok if finite is None else finite & ok
+    assert finite is not None  # names: the model's states, one at least
     if not finite.any():
         why = ("" if "poincare" in str(ds.attrs.get("settings", "")) else
                " (sweep with --analyses including poincare)")
@@ -194,7 +195,7 @@ def _located(ds, sweep, path):
         where = locate(ds, sweep)
     except ValueError as exc:
         raise UsageError(f"--sweep: {error_text(exc)}") from None
-    names = {}
+    names: dict[int, str] = {}
     for i in range(ds.sizes["eta"]):
         for a in range(ds.sizes["attractor"]):
             names.setdefault(int(ds.global_id.values[i, a]), str(ds.name.values[i, a]))

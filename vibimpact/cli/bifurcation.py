@@ -4,13 +4,19 @@ data written next to the image.
 Only the standard library and the command line's shared parts are imported at module
 level; numpy, numba, xarray and matplotlib inside the command.
 """
+from __future__ import annotations
+
 import os
+from typing import TYPE_CHECKING
 
 from .common.checkpoints import run_checkpointed
 from .common.figures import add_figure_options, figure_options, image_ext_ok
 from .common.files import check_output, sweep_file_bytes, write_outputs
 from .common.inputs import check_distinct
 from .common.sweeps import add_sweep_options, command_line, sweep_inputs
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Callable
 
 _BIFURCATION_EPILOG = """\
 example:
@@ -54,7 +60,8 @@ def _cmd_bifurcation(args):
     if ds is None:
         return status
     ds.attrs.update(command=command_line(args), preset=args.preset, eta_range=args.eta)
-    writes = [(data, lambda: io.write_netcdf(ds, data, overwrite=args.overwrite))]
+    writes: list[tuple[str, Callable[[], object]]] = [
+        (data, lambda: io.write_netcdf(ds, data, overwrite=args.overwrite))]
     if data_only is None:
         writes.append((image, lambda: plot_bifurcation(ds, path=image,
                                                        **figure_options(args))))

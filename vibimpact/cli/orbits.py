@@ -55,7 +55,7 @@ def parse_periods(text):
     naming ``--period``."""
     from ..orbits.hunt import MAX_PERIOD
 
-    out = set()
+    out: set[int] = set()
     for part in str(text).split(","):
         a, sep, b = part.strip().partition(":")
         try:

@@ -4,12 +4,20 @@ a branch, a census).
 Only the standard library and the command line's shared parts are imported at module
 level; numpy, numba, xarray and matplotlib inside the command.
 """
+from __future__ import annotations
+
 import os
+from typing import TYPE_CHECKING
 
 from .common.errors import error_text, reason, UsageError
 from .common.figures import add_figure_options, figure_options, image_ext_ok
 from .common.files import check_output, is_store, read_input
 from .common.inputs import check_distinct
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Callable
+
+    from matplotlib.figure import Figure
 
 PLOT_KINDS = ("response", "bifurcation", "intervals", "xy", "map", "branch", "poincare",
               "lyapunov", "census")
@@ -223,6 +231,7 @@ def _cmd_plot(args):
     ds, what = _read_plotted(path)
     kind = args.kind or (_default_kind(ds, what, args) if what else None)
     check_kind(kind, what, path)
+    assert kind is not None  # check_kind refuses none
     for given, option in ((args.branch, "--branch"), (args.state, "--state")):
         if given and what != "sweep":
             raise UsageError(f"{option} is for the figures of a sweep file; {path!r} is "
@@ -256,11 +265,13 @@ def _cmd_plot(args):
         if kind == "xy":
             plotting.plot_xy(ds, out, **figure_options(args))
         else:
-            draw = {"response": plotting.plot_response,
-                    "bifurcation": plotting.plot_bifurcation,
-                    "intervals": plotting.plot_intervals,
-                    "poincare": plotting.plot_poincare,
-                    "lyapunov": plotting.plot_lyapunov}[kind]
+            draws: dict[str, Callable[..., Figure]] = {
+                "response": plotting.plot_response,
+                "bifurcation": plotting.plot_bifurcation,
+                "intervals": plotting.plot_intervals,
+                "poincare": plotting.plot_poincare,
+                "lyapunov": plotting.plot_lyapunov}
+            draw = draws[kind]
             fig = draw(ds, **figure_options(args), **states)
             if branches:
                 from ..plotting.branch import overlay_branches

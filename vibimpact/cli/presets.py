@@ -37,9 +37,8 @@ def _cmd_presets(args):
     from .. import models
     from ..models import presets
 
-    tabled = [models.get(n) for n in models.names()
-              if models.get(n).plot is not None and models.get(n).plot.preset_columns
-              and models.get(n).presets]
+    tabled = [m for m in map(models.get, models.names())
+              if m.plot is not None and m.plot.preset_columns and m.presets]
     for k, model in enumerate(tabled):
         if k:
             print(f"\nPresets of the {model.name} model:")

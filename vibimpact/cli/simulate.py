@@ -4,7 +4,10 @@ X-Y figure too).
 Only the standard library and the command line's shared parts are imported at module
 level; numpy, numba, xarray and matplotlib inside the command.
 """
+from __future__ import annotations
+
 import sys
+from typing import TYPE_CHECKING
 
 from .common.args import number, parse_sets, positive_int, positive_number, with_sets
 from .common.errors import error_text, UsageError
@@ -12,6 +15,9 @@ from .common.figures import add_figure_options, figure_options
 from .common.files import check_output, write_outputs
 from .common.run_limits import check_run_limits
 from ..base._text import count
+
+if TYPE_CHECKING:  # names of the annotations only
+    from collections.abc import Callable
 
 _SIMULATE_EPILOG = """\
 examples:
@@ -104,7 +110,8 @@ def _cmd_simulate(args):
     elapsed = time.perf_counter() - start
     command = shlex.join(["vibimpact"] + list(args.argv))
     ds = run.to_dataset(command, attrs={**attrs, "wall_time_s": round(elapsed, 3)})
-    writes = [(out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
+    writes: list[tuple[str, Callable[[], object]]] = [
+        (out, lambda: io.write_netcdf(ds, out, overwrite=args.overwrite))]
     if args.plot is not None:
         from ..plotting import plot_xy
 

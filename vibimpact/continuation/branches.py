@@ -89,7 +89,8 @@ def _kind_code(kind):
     """The stored code of a branch's bifurcation kind (a BifurcationKind or its short
     name); 0 (unknown) for one a branch file cannot hold."""
     try:
-        kind = BifurcationKind(kind)
+        # a lookup by value (EnumMeta.__call__), not a call of __new__
+        kind = BifurcationKind(kind)  # type: ignore[call-arg]
     except ValueError:
         return BifurcationKind.UNKNOWN.code
     return kind.code if kind in BRANCH_KINDS else BifurcationKind.UNKNOWN.code

@@ -276,11 +276,12 @@ class Segment:
     reason: str
     strobe: np.ndarray | None = None
     dense: np.ndarray | None = None
-    log: object = None
+    log: _kb.EventLog | None = None
 
     @property
     def events(self):
         """``{"t", "which", "mode_before", "mode_after", "state"}`` of the events."""
+        assert self.log is not None  # recorded periods whose events were kept
         return self.log.events()
 
 

@@ -17,7 +17,7 @@ tested.  Runs go through a :class:`~vibimpact.Solver` (:mod:`vibimpact.core.solv
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import math
 from dataclasses import dataclass, field, replace
@@ -238,7 +238,8 @@ class System:
         return self._with_settings(self.solver.replace(**settings))
 
     def _with_settings(self, settings):
-        return replace(self, solver=settings, **dict.fromkeys(SOLVER_FIELDS))
+        cleared: dict[str, Any] = dict.fromkeys(SOLVER_FIELDS)  # the settings' keywords
+        return replace(self, solver=settings, **cleared)
 
     def settings(self, **defaults) -> SolverSettings:
         """The solver settings, each ``None`` replaced by the caller's default (then by

@@ -100,7 +100,7 @@ def connect(scheduler, timeout=CONNECT_TIMEOUT):
                          f"distributed.Client or a Dask cluster, got {scheduler!r}")
     client = Client.__new__(Client)
     try:
-        client.__init__(**kw, timeout=timeout, set_as_default=False)
+        Client.__init__(client, **kw, timeout=timeout, set_as_default=False)
     except Exception as exc:  # OSError, TimeoutError, ValueError for a bad address, ...
         _abandon(client)
         raise ValueError(f"cannot connect to the Dask scheduler {what!r}: "
@@ -178,12 +178,13 @@ def _local_cluster(workers):
     except Exception as exc:
         raise _cannot_start(workers, exc) from exc
     # the worker processes its nannies start in this process (the cluster's own
-    # records of them lag behind while they start)
-    cluster.vibimpact_children = lambda: {
+    # records of them lag behind while they start); an attribute of ours on dask's object
+    cluster.vibimpact_children = lambda: {  # type: ignore[attr-defined]
         p.pid: "a Dask worker process" for p in set(mp.active_children()) - before}
     try:
         client = Client(cluster, set_as_default=False)
-        client.local_cluster = cluster  # its worker processes are watched (Dask.run)
+        # its worker processes are watched (Dask.run); an attribute of ours on the Client
+        client.local_cluster = cluster  # type: ignore[attr-defined]
         try:
             with dask.config.set(WORKER_CONFIG):
                 cluster.scale(workers)

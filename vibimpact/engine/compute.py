@@ -14,7 +14,7 @@ log = logging.getLogger(__name__)
 
 def _runs(points):
     """``[(position, result)]`` cut into runs of consecutive positions."""
-    runs = []
+    runs: list[list[tuple]] = []
     for i, res in points:
         if runs and runs[-1][-1][0] == i - 1:
             runs[-1].append((i, res))

@@ -46,7 +46,7 @@ import threading
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 from . import plan
 from .children import worker_setup
@@ -135,8 +135,9 @@ class Processes:
             def children():
                 out = {p.pid: "a worker process"
                        for p in set(mp.active_children()) - before}
-                if manager is not None and getattr(manager, "_process", None):
-                    out[manager._process.pid] = "the points' queue process"
+                process = getattr(manager, "_process", None)  # private (no manager: None)
+                if process:
+                    out[process.pid] = "the points' queue process"
                 return out
 
             try:
@@ -219,10 +220,10 @@ class Drainer(threading.Thread):
     def __init__(self, q):
         super().__init__(name="vibimpact-points", daemon=True)
         self.q = q
-        self.items = collections.deque()
-        self.error = None
+        self.items: collections.deque[Any] = collections.deque()  # points taken
+        self.error: BaseException | None = None
         self.finish = False
-        self.requests = _queue.SimpleQueue()
+        self.requests: _queue.SimpleQueue[threading.Event] = _queue.SimpleQueue()
 
     def run(self):
         try:

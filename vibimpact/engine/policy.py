@@ -164,7 +164,8 @@ def _run(task, on_point, continued):
     settings = task.settings
     out = []
     x = task.seed
-    branch = []  # (eta, orbit_point) of the latest consecutive period-1 points
+    # (eta, orbit_point) of the latest consecutive period-1 points
+    branch: list[tuple[float, Any]] = []
     for i in range(task.start, task.stop):
         res = task.done.get(i)
         if res is None:

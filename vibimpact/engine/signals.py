@@ -36,13 +36,13 @@ class StopWorkersOnSignal:
     """
 
     #: the signal that stopped this command, once one has (see :func:`signal_decides`)
-    received = None
+    received: int | None = None
     #: whether :attr:`received` has unwound through a guard (False: it was lost so far)
     delivered = False
     #: depth of :func:`signals_deferred` blocks now running, and the signal one of them
     #: holds back (``(guard, signum)``)
     deferring = 0
-    pending = None
+    pending: tuple[StopWorkersOnSignal, int] | None = None
     #: guards entered in the main thread and not left yet
     depth = 0
     _unraisable = None
@@ -155,7 +155,7 @@ def _quiet_interrupts(hook):
         logging.getLogger(__name__).debug(
             "after the interrupt: %s in %r", info.exc_type.__name__, info.object)
 
-    unraisable.quiets_interrupts = True
+    unraisable.quiets_interrupts = True  # type: ignore[attr-defined]  # an attribute of a function
     return unraisable
 
 

@@ -59,6 +59,7 @@ import os
 import re
 import shutil
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -112,9 +113,10 @@ def pack(points):
     keys = set().union(*(r.keys() for r in points))
     for key in sorted(keys):
         vals = [np.asarray(r[key]) if key in r else None for r in points]
-        if all(v is not None for v in vals) and len({v.shape for v in vals}) == 1 and \
-                len({v.dtype.kind for v in vals}) == 1:
-            arrays[f"f:{key}"] = np.stack(vals)
+        every = [v for v in vals if v is not None]
+        if len(every) == len(vals) and len({v.shape for v in every}) == 1 and \
+                len({v.dtype.kind for v in every}) == 1:
+            arrays[f"f:{key}"] = np.stack(every)
         else:
             for k, v in enumerate(vals):
                 if v is not None:
@@ -131,7 +133,7 @@ def _value(v):
 
 def unpack(arrays, m):
     """The ``m`` result dicts of :func:`pack`'s arrays."""
-    points = [{} for _ in range(m)]
+    points: list[dict[str, Any]] = [{} for _ in range(m)]
     for name, arr in arrays.items():
         head, _, key = name.partition(":")
         if head == "f":
@@ -155,9 +157,10 @@ class Checkpoint:
     def __init__(self, path, what="checkpoint"):
         self.path = Path(path)
         self.what = what  # "checkpoint" or "map checkpoint", in messages
-        self.fp = None
-        self.n = None
-        self.kind = None  # "sweep", "map", "census", "orbits": what a point result holds
+        self.fp: str | None = None
+        self.n: int | None = None  # points per stream, once tied to a request
+        # "sweep", "map", "census", "orbits": what a point result holds
+        self.kind: str | None = None
         self._record = None  # request.json's bytes, to restore a vanished checkpoint
         self._ident = None  # (st_dev, st_ino) of the directory this run writes into
 
@@ -240,7 +243,7 @@ class Checkpoint:
         """``(points, complete streams)`` in the entries now present (by their names):
         distinct grid points, so that overlapping entries or entries beyond the grid
         never count more points than the request has."""
-        per = {}
+        per: dict[tuple[int, str], set[int]] = {}
         n = self._streams_shape()
         for _, row, d, a, b in self.entries():
             stop = b if n is None else min(b, int(n))
@@ -373,6 +376,7 @@ class Checkpoint:
 
     def save(self, row, direction, points):
         """Write one entry: ``points`` is ``[(position, result)]``, contiguous."""
+        assert self.n is not None  # tied to a request (open)
         pos = np.array([i for i, _ in points], dtype=np.int64)
         arrays = pack([r for _, r in points])
         arrays.update(fingerprint=np.array(self.fp), row=np.array(row, dtype=np.int64),
@@ -395,6 +399,7 @@ class Checkpoint:
                           f": {exc.strerror or exc}") from None
 
     def _read(self, fd, name, row, direction, start, stop):
+        assert self.n is not None  # tied to a request (open, attach)
         try:
             efd = open_regular(name, name, dir_fd=fd, follow=False)
         except NotRegular:
@@ -423,7 +428,7 @@ class Checkpoint:
     def _whole(self, result):
         """Whether a loaded point result has the fields of its kind (:data:`FIELDS`); a
         sweep's or a map's final state is a vector."""
-        need = FIELDS.get(self.kind, ())
+        need = FIELDS.get(self.kind, ()) if self.kind is not None else ()
         if any(k not in result for k in need):
             return False
         return "final_state" not in need or np.ndim(result["final_state"]) == 1
@@ -453,7 +458,8 @@ class Checkpoint:
         written to ``last_resume.json``; without, they are only skipped (a look at a
         running checkpoint changes nothing).
         """
-        done, aside = {}, []
+        done: dict[tuple[int, str], dict[int, dict[str, Any]]] = {}
+        aside = []
         try:
             fd, _ = ckdir.dir_fd(self.path)
         except ckdir.Found as exc:
@@ -481,9 +487,11 @@ class Checkpoint:
     def _record_resume(self, fd, done, aside):
         """Write ``last_resume.json``: what :meth:`load` loaded and set aside, and how many
         points (streams) of the request are computed again because of the latter."""
+        assert self.n is not None  # tied to a request (open, attach)
         npts = sum(len(v) for v in done.values())
         full = sum(1 for v in done.values() if len(v) == self.n)
-        again, streams = set(), set()
+        again: set[tuple[int, str, int]] = set()
+        streams: set[tuple[int, str]] = set()
         for _, _, row, d, a, b in aside:
             if not self._inside(row, d, min(b, self.n)) or a >= min(b, self.n):
                 continue  # outside the request: it stood for none of its points
@@ -523,7 +531,7 @@ def set_aside_line(last, where, unit="points"):
     if not bad:
         return None
     reasons = last.get("reasons") or {}
-    shown = [f"{name[:-len('.corrupt')]}: {REASONS.get(reasons.get(name), 'damaged')}"
+    shown = [f"{name[:-len('.corrupt')]}: {REASONS.get(reasons.get(name, ''), 'damaged')}"
              for name in bad[:3]]
     more = ", ..." if len(bad) > 3 else ""
     key = "recomputed_points" if unit == "points" else "recomputed_streams"

@@ -203,7 +203,8 @@ def _template(p, name, values, etas, dirs, direction, settings, command):
     base = to_dataset(p, etas, ("up",), {"up": [None] * etas.size}, settings,
                       direction="up", continuation=True, blocks=1, command="")
     if "poincare" not in settings.analyses:
-        base = base.drop_vars([v for v in base.data_vars if v.startswith("poincare_")])
+        base = base.drop_vars([v for v in base.data_vars
+                               if isinstance(v, str) and v.startswith("poincare_")])
     lead = ("direction", name)
     data = {}
     for k, var in base.data_vars.items():

@@ -43,6 +43,7 @@ def _chunks(ds):
         if var.ndim < 2:
             continue
         inner = int(np.prod(var.shape[2:] if "direction" in var.dims else var.shape[1:]))
+        lead: tuple[int, ...]
         if "direction" in var.dims:
             lead = (1,)
             rows_dim = 1

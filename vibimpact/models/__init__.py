@@ -102,7 +102,7 @@ class Model:
     omega_index: int
     n_mode: int
     terminal: np.ndarray = field(repr=False)
-    kernel_model: object = field(repr=False)
+    kernel_model: _kb.BuiltinModel | tuple[Callable, Callable, Callable] = field(repr=False)
     rhs: Callable = field(repr=False)
     jac: Callable = field(repr=False)
     switches: Callable = field(repr=False)
@@ -285,7 +285,7 @@ class Model:
         The state followed by tangent vectors, mapped by saltation matrices at every
         switch (:mod:`vibimpact._kernel.variational`).
         """
-        if self.builtin:
+        if isinstance(self.kernel_model, _kb.BuiltinModel):  # self.builtin
             return _kb.builtin(self.kernel_model.family, variational=True)
         rhs, switches, transition = self.kernel_model
         return (rhs, switches, transition, self.jac, len(self.state_names),

@@ -403,11 +403,11 @@ def contact_spans(contact, p, t, which, mode_before, state, window, samples=None
     t0, t1 = float(window[0]), float(window[1])
     sw = np.flatnonzero(np.asarray(which) == contact.switch)
     is_exit = np.asarray(mode_before)[sw, contact.mode] == 1
-    starts, ends = list(t[sw[~is_exit]]), t[sw[is_exit]]
+    entries, ends = list(t[sw[~is_exit]]), t[sw[is_exit]]
     opened = bool(is_exit[0]) if sw.size else bool(inside0)
     if opened:
-        starts.insert(0, t0)
-    starts = np.asarray(starts, dtype=float)
+        entries.insert(0, t0)
+    starts = np.asarray(entries, dtype=float)
     j = np.searchsorted(ends, starts)            # each span ends at the next exit
     exited = j < ends.size
     stop = np.full(starts.size, t1)

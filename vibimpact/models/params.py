@@ -16,7 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, fields
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -108,6 +108,9 @@ class ParamsMixin:
     #: {name: Domain} of the parameters that have one (the others: any finite number)
     _DOMAINS: ClassVar[dict[str, Domain]] = {}
 
+    if TYPE_CHECKING:  # every class that mixes it in is a dataclass
+        __dataclass_fields__: ClassVar[dict[str, dataclasses.Field[Any]]]
+
     @classmethod
     def domain(cls, name: str) -> Domain:
         """The :class:`Domain` of parameter ``name`` (unbounded if it has none).
@@ -117,7 +120,7 @@ class ParamsMixin:
         ValueError
             Naming ``name`` when it is not a parameter of this model.
         """
-        names = [f.name for f in fields(cls)]  # type: ignore[arg-type]
+        names = [f.name for f in fields(cls)]
         if name not in names:
             raise ValueError(f"name must be one of {', '.join(names)}, got {name!r}")
         return cls._DOMAINS.get(name, Domain())

@@ -16,6 +16,7 @@ from ..base._validate import WrongType
 
 if TYPE_CHECKING:  # names of the annotations only
     from . import Model
+    from .params import ParamsMixin
 
 #: what ``get`` is given when no preset is named: :data:`DEFAULT`, looked up then
 _DEFAULT = "<the default preset>"
@@ -95,7 +96,7 @@ def _all():
     name two models declare is the first's)."""
     from .. import models
 
-    out = {}
+    out: dict[str, Model] = {}
     for mname in models.names():
         model = models.get(mname)
         for name in model.presets:
@@ -130,7 +131,7 @@ def describe(name: str) -> str:
     return model_of(name).presets[name][1]
 
 
-def get(name: str = _DEFAULT) -> object:
+def get(name: str = _DEFAULT) -> ParamsMixin:
     """The parameter set of a preset: the declaring model's own parameter set
     (:class:`~vibimpact.Params` for the paper's figures) with the preset's values.
 

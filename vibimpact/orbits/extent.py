@@ -71,7 +71,8 @@ def _side(system, param, branch):
     vals = np.asarray(branch.values, dtype=float)
     end, reason = vals.size, _reason(branch.status)
     for i, kind, value in branch.bifurcations:
-        if BifurcationKind(kind) is BifurcationKind.TURNING_POINT:
+        # a lookup by value (EnumMeta.__call__), not a call of __new__
+        if BifurcationKind(kind) is BifurcationKind.TURNING_POINT:  # type: ignore[call-arg]
             end, reason = i + 1, f"fold (turning point) at {value:.6g}"
             break
     n = int(branch.n)

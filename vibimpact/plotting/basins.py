@@ -29,7 +29,10 @@ _FAILED = "white"
 def _colours(n):
     from matplotlib import colormaps
 
-    base = list(colormaps["tab10"].colors) + list(colormaps["tab20"].colors[1::2])
+    # matplotlib's stubs type a registered map as a Colormap, without .colors (these two
+    # are ListedColormaps, whose .colors they type as any colour or array): ignored
+    tab10, tab20 = [colormaps[m].colors for m in ("tab10", "tab20")]  # type: ignore[attr-defined]
+    base = list(tab10) + list(tab20[1::2])
     return [base[i % len(base)] for i in range(n)]
 
 

@@ -30,6 +30,7 @@ if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Sequence
 
     import xarray as xr
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
@@ -76,7 +77,8 @@ def _branch_kind(kind):
     """The :class:`BifurcationKind` of a branch's event (a kind or its short name) that
     has a marker; UNKNOWN for anything else."""
     try:
-        kind = BifurcationKind(kind)
+        # a lookup by value (EnumMeta.__call__), not a call of __new__
+        kind = BifurcationKind(kind)  # type: ignore[call-arg]
     except ValueError:
         return BifurcationKind.UNKNOWN
     return kind if kind in BIFURCATION_MARKERS else BifurcationKind.UNKNOWN
@@ -192,7 +194,7 @@ def _branch_label(ds, name=None):
 def _legend(lk, axes):
     """One legend beside ``axes[0]`` (placed by the Look ``lk``) with every labelled
     artist of ``axes`` (first label wins), replacing the one it had."""
-    seen = {}
+    seen: dict[str, Artist] = {}
     for a in axes:
         for h, lab in zip(*a.get_legend_handles_labels()):
             seen.setdefault(lab, h)

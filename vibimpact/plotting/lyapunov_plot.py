@@ -21,6 +21,7 @@ if TYPE_CHECKING:  # names of the annotations only
     import os
 
     import xarray as xr
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
@@ -181,7 +182,7 @@ def _legend(ax, own, used, lk):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [Line2D([], [], ls="none", marker="o", color="0.5", mec="0.15",
+    handles: list[Artist] = [Line2D([], [], ls="none", marker="o", color="0.5", mec="0.15",
                       label=LYAPUNOV_LABEL),
                Line2D([], [], ls="none", marker="D", color="0.5", mec="0.15",
                       label=FLOQUET_LABEL),

@@ -158,7 +158,9 @@ def impacts_scale(keys):
         counts = counts[:MAX_CATEGORIES]
         labels = [str(c) for c in counts[:-1]] + [f">= {top}"]
     seq = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(counts), 1)))
-    cats = [(c, lab, seq[i]) for i, (c, lab) in enumerate(zip(counts, labels))]
+    # (key: a count or "mean"/"none", label, colour: an RGBA row or a grey's name)
+    cats: list[tuple[object, str, object]] = [
+        (c, lab, seq[i]) for i, (c, lab) in enumerate(zip(counts, labels))]
     if "mean" in flat:
         cats.append(("mean", "non-integer mean", "0.55"))
     if "none" in flat:

@@ -179,7 +179,8 @@ def band_legend(ax, own, bands, lk, alpha=1.0, title=None):
     means."""
     from matplotlib.patches import Patch
 
-    used, hatches = {}, set()
+    used: dict[tuple[int, int], tuple[str, str]] = {}  # {key: (name, colour)}
+    hatches = set()
     for _, _, color, name, key, hatch in bands:
         used.setdefault(key, (name, color))
         hatches.add(hatch)

@@ -17,7 +17,7 @@ checks.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import logging
 import math
@@ -30,6 +30,7 @@ from ..base import _validate as _v
 
 if TYPE_CHECKING:  # names of the annotations only
     from matplotlib.figure import Figure
+    from matplotlib.typing import RcKeyType
 
 __all__ = ["BAND_ALPHA", "COLUMN_WIDTH", "DEFAULT_STYLE", "LONG_PERIOD_COLOR",
            "PAPER_STYLE", "PERIOD_COLORS", "REGIME_COLORS", "STYLES", "Look", "class_color",
@@ -97,12 +98,12 @@ def text_color(color: str) -> str:
     return "white" if lum < 0.179 else "black"
 
 #: rcParams of the ``"default"`` style (matplotlib's, with smaller legends)
-DEFAULT_STYLE = {"legend.fontsize": "small", "legend.title_fontsize": "small",
+DEFAULT_STYLE: dict[RcKeyType, Any] = {"legend.fontsize": "small", "legend.title_fontsize": "small",
                  "axes.titlesize": "medium", "figure.titlesize": "medium",
                  "grid.linewidth": 0.4}
 
 #: rcParams of the ``"paper"`` style: a journal's single-column figure
-PAPER_STYLE = {
+PAPER_STYLE: dict[RcKeyType, Any] = {
     # a Times-like serif; DejaVu Serif for the glyphs STIX lacks (subscripts)
     "font.family": ["STIXGeneral", "DejaVu Serif"],
     "mathtext.fontset": "stix",
@@ -134,7 +135,7 @@ PAPER_STYLE = {
 }
 
 #: style name -> rcParams
-STYLES = {"default": DEFAULT_STYLE, "paper": PAPER_STYLE}
+STYLES: dict[str, dict[RcKeyType, Any]] = {"default": DEFAULT_STYLE, "paper": PAPER_STYLE}
 
 #: resolution (dots per inch) of a saved figure, per style
 DPI = {"default": 150.0, "paper": 300.0}
@@ -162,7 +163,7 @@ def smallest_text_pt():
 
     sizes = []
     for style in STYLES.values():
-        params = {**rcParamsDefault, **style}
+        params: dict[RcKeyType, Any] = {**rcParamsDefault, **style}
         base = float(params["font.size"])
         keys = [k for k in params if k.endswith(("fontsize", "labelsize", "titlesize"))
                 or k == "font.size"]
@@ -173,7 +174,7 @@ def smallest_text_pt():
     return min(sizes) * SHRINK_FACTOR
 
 
-def check_figsize(figsize):
+def check_figsize(figsize) -> tuple[float, float] | None:
     """``figsize`` as a ``(width, height)`` tuple of finite floats > 0 (inches), or None.
 
     Raises
@@ -272,7 +273,7 @@ class Look:
 
         return matplotlib.rc_context(STYLES[self.style])
 
-    def size(self, default, paper_height, columns=1):
+    def size(self, default, paper_height, columns=1) -> tuple[float, float]:
         """The figure size: ``figsize``, else ``default`` (width, height) in the default
         style and ``columns`` journal columns by ``paper_height`` inches in the paper
         style."""
@@ -280,7 +281,7 @@ class Look:
             return self.figsize
         if self.paper:
             return COLUMN_WIDTH * columns, float(paper_height)
-        return tuple(default)
+        return cast("tuple[float, float]", tuple(default))  # (width, height)
 
     def figure(self, default, paper_height, columns=1):
         """A new constrained-layout Figure of :meth:`size` at the look's resolution."""
@@ -422,21 +423,21 @@ def look(figsize=None, dpi=None, style=None, ax=None):
     ValueError
         Naming the argument.
     """
-    figsize = check_figsize(figsize)
-    if figsize is not None and ax is not None:
+    size = check_figsize(figsize)
+    if size is not None and ax is not None:
         raise ValueError("figsize sizes a new figure; leave it out when passing ax "
                          "(size ax's figure instead)")
     dpi = check_dpi(dpi)
-    if figsize is not None or dpi is not None:
+    if size is not None or dpi is not None:
         from ..base._limits import check_drawable, check_pixels
 
         # a pixel a side at the style's smallest resolution, text of a pixel at dpi (every
         # default figure is over an inch a side: the text rule keeps it over one pixel)
         try:
-            check_drawable(*(figsize or (1.0, 1.0)), dpi or min(DPI.values()),
+            check_drawable(*(size or (1.0, 1.0)), dpi or min(DPI.values()),
                            smallest_pt=smallest_text_pt() if dpi is not None else None)
-            if figsize is not None and dpi is not None:
-                check_pixels(*figsize, dpi)
+            if size is not None and dpi is not None:
+                check_pixels(*size, dpi)
         except ValueError as exc:
             raise ValueError(f"figsize, dpi: {exc}") from None
-    return Look(style=check_style(style), figsize=figsize, dpi=dpi)
+    return Look(style=check_style(style), figsize=size, dpi=dpi)

@@ -12,6 +12,7 @@ from the recorded start, transient and solver settings is the same motion; that 
 from __future__ import annotations
 
 import logging
+from typing import Any
 
 import numpy as np
 
@@ -81,8 +82,11 @@ def _system_and_start(value, ds):
         if name not in models.names() or "periods" not in a:
             return None
         spec = {k[6:]: a[k] for k in a if k.startswith("param_")}
+        param_set = models.get(name).param_set
+        if param_set is None:  # no parameter set to rebuild
+            return None
         try:
-            params = models.get(name).param_set(**spec)
+            params = param_set(**spec)
         except (TypeError, ValueError):
             return None
         solver = {k[7:]: a[k] for k in a if k.startswith("solver_")}
@@ -90,8 +94,9 @@ def _system_and_start(value, ds):
         transient, periods = int(a.get("transient", 0)), int(a["periods"])
     fields = set(SolverSettings.__dataclass_fields__)
     try:
-        settings = SolverSettings(**{k: (bool(v) if k == "adaptive" else v)
-                                     for k, v in solver.items() if k in fields})
+        given: dict[str, Any] = {k: (bool(v) if k == "adaptive" else v)
+                                 for k, v in solver.items() if k in fields}
+        settings = SolverSettings(**given)
     except (TypeError, ValueError):
         return None
     return params, np.asarray(state0, float), int(transient), int(periods), settings

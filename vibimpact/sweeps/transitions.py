@@ -48,7 +48,7 @@ Math. Phys. 74, 189.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -72,6 +72,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     import xarray as xr
 
+    from ..analysis.bifurcation import Bifurcation
     from ..models.params import DuffingParams, Params
 
 __all__ = ["transition_types", "format_transitions"]
@@ -80,7 +81,7 @@ _PERIODIC = REGIME_CODES[Label.PERIODIC]
 _QUASI = REGIME_CODES[Label.QUASIPERIODIC]
 _CHAOTIC = REGIME_CODES[Label.CHAOTIC]
 _UNSETTLED = REGIME_CODES[Label.UNSETTLED]
-_SHOOT = dict(tol=1e-9, max_iter=12)
+_SHOOT: dict[str, Any] = dict(tol=1e-9, max_iter=12)
 _SEEDED = {False: "", True: " (a sweep block starts there from a seeded state, not from "
                             "the previous point)"}
 
@@ -247,7 +248,7 @@ def _follow(p, orb, start, stop, width, max_events=4):
     :class:`Bifurcation`; after a grazing or stick-slip change the orbit (new contacts)
     is followed on, so a step may show e.g. grazing then period doubling.  The last entry
     has kind NONE when the orbit reaches ``stop``."""
-    events = []
+    events: list[Bifurcation] = []
     x, n, lo = orb.state, orb.n, start
     while len(events) < max_events:
         system = System(p)
@@ -265,7 +266,7 @@ def _follow(p, orb, start, stop, width, max_events=4):
 
 def _kind_text(events, from_chaos=False):
     """The chain of event kinds, in sweep order, as one string."""
-    names = []
+    names: list[BifurcationKind] = []
     for i, e in enumerate(events):
         k = e.kind
         if k == BifurcationKind.FOLD and from_chaos and i == 0:

@@ -94,8 +94,8 @@ def _switch_events(km, pa, mode, t0, y0):
 
         def ev(t, y, i=i, shift=shift):
             return values(t, y)[i] + shift
-        ev.terminal = True
-        ev.direction = -1
+        ev.terminal = True  # type: ignore[attr-defined]  # an attribute of a function
+        ev.direction = -1  # type: ignore[attr-defined]  # an attribute of a function
         funcs.append(ev)
     return funcs
 

@@ -240,7 +240,7 @@ def with_sets(base, sets, eta=None):
 
 def parse_sets(items):
     """``["k=v", ...]`` -> ``{k: float(v)}``; raises UsageError naming the bad item."""
-    out = {}
+    out: dict[str, float] = {}
     for item in items or ():
         key, sep, text = item.partition("=")
         key = key.strip()

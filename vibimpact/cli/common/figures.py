@@ -72,14 +72,14 @@ def check_figure_size(args):
     draws.  UsageError naming the options."""
     from ...base import _limits
 
-    figsize, dpi = getattr(args, "figsize", None), getattr(args, "dpi", None)
+    figsize: tuple[float, float] | None = getattr(args, "figsize", None)
+    dpi: float | None = getattr(args, "dpi", None)
     if figsize is None and dpi is None:
         return
     from ...plotting.style import DPI, smallest_text_pt
 
-    given = " ".join(f"--dpi {dpi:g}" if k == "dpi" else
-                     f"--figsize {figsize[0]:g}x{figsize[1]:g}"
-                     for k in ("figsize", "dpi") if getattr(args, k, None) is not None)
+    given = " ".join(([f"--figsize {figsize[0]:g}x{figsize[1]:g}"] if figsize is not None
+                      else []) + ([f"--dpi {dpi:g}"] if dpi is not None else []))
     # at least a pixel a side at the smallest resolution, text of a pixel at --dpi (every
     # default figure is over an inch a side: the text rule keeps it over one pixel)
     try:

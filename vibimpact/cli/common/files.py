@@ -98,7 +98,7 @@ def write_outputs(*writes):
     UsageError
         The failure in one line (ValueError, OSError, a NetCDF RuntimeError).
     """
-    done = []
+    done: list[str] = []
 
     def undo():
         for path in done:

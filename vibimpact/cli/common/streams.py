@@ -22,6 +22,7 @@ the null device, so that the interpreter's last flush at exit finds nothing to f
 import errno
 import os
 import sys
+from typing import TextIO, cast
 
 #: exit status of a command whose printed output was lost (EX_IOERR of sysexits.h)
 LOST_OUTPUT = 74
@@ -49,7 +50,7 @@ class Guarded:
         self._stream = stream
         self.name = name
         #: the first OSError of a write or flush (None while every write succeeded)
-        self.error = None
+        self.error: OSError | None = None
 
     def _fail(self, exc):
         if not isinstance(exc, OSError):  # ValueError: a closed file
@@ -122,18 +123,21 @@ class Streams:
 
     def __init__(self, program):
         self.program = program
-        self.saved = None
-        self.out = self.err = None
+        self.saved: tuple[TextIO, TextIO] | None = None
+        self.out: Guarded | None = None
+        self.err: Guarded | None = None
 
     def __enter__(self):
         self.saved = (sys.stdout, sys.stderr)
         self.out = Guarded(sys.stdout, "stdout")
         self.err = Guarded(sys.stderr, "stderr")
-        sys.stdout, sys.stderr = self.out, self.err
+        # a Guarded stands in for the text stream it wraps (write, flush, fileno, ...)
+        sys.stdout, sys.stderr = cast(TextIO, self.out), cast(TextIO, self.err)
         return self
 
     def __exit__(self, *exc_info):
         self.flush()
+        assert self.saved is not None and self.out is not None and self.err is not None
         sys.stdout, sys.stderr = self.saved
         if self.program:
             for guarded, fd in ((self.out, 1), (self.err, 2)):
@@ -143,6 +147,7 @@ class Streams:
 
     def flush(self):
         """Flush both streams (a failure is remembered, not raised)."""
+        assert self.out is not None and self.err is not None  # inside the with block
         self.out.flush()
         self.err.flush()
 
@@ -152,6 +157,7 @@ class Streams:
         that succeeded but whose printed output was lost.  Says so in one line on
         stderr when stdout alone failed (not for a closed pipe)."""
         self.flush()
+        assert self.out is not None and self.err is not None  # inside the with block
         if status not in (0, None):
             return status
         failed = [g for g in (self.out, self.err) if g.error is not None]
@@ -160,6 +166,7 @@ class Streams:
         if all(g.broken_pipe for g in failed):
             return BROKEN_PIPE
         if self.err.error is None:
+            assert self.out.error is not None  # stdout is the one that failed
             why = self.out.error.strerror or str(self.out.error)
             self.err.write(f"vibimpact: error: cannot write to stdout ({why}): the "
                            f"printed results are lost (the command ran to its end and "
