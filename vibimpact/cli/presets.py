@@ -66,7 +66,7 @@ def _defaults_line(model):
 
     first = next(iter(model.presets))
     sweep = command_default("frequencies", first)
-    where = command_default("census_preset", first)
+    where = str(command_default("census_preset", first))
     freq = command_default("census_frequency", where)
     sweeps = (f"sweeps {sweep}, maps {command_default('map_frequencies', first)}"
               if sweep is not None else "sweeps and maps need --eta")

@@ -10,6 +10,7 @@ looks) is each model's :attr:`~vibimpact.models.Model.defaults`
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from ..base._validate import WrongType
@@ -32,7 +33,7 @@ DEFAULT_KEYS = {
 }
 
 
-def check_defaults(model: str, defaults: dict, presets) -> None:
+def check_defaults(model: str, defaults: dict, presets: Mapping) -> None:
     """Refuse a model's ``defaults`` (:data:`DEFAULT_KEYS`) that name an unknown key, a
     preset the model does not declare, or a value of the wrong kind.
 
@@ -58,7 +59,7 @@ def check_defaults(model: str, defaults: dict, presets) -> None:
                              f"positive number, got {value!r}")
 
 
-def command_default(key: str, preset: str | None = None):
+def command_default(key: str, preset: str | None = None) -> str | float | None:
     """What a command uses for ``key`` (:data:`DEFAULT_KEYS`) when not told: the value
     the model of ``preset`` declares (a name no model declares, or None: the first
     registered model), else the fallback: ``census_preset``, the model's default preset
