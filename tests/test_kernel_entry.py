@@ -1,16 +1,17 @@
-"""Kernel calls typed once per kind of arguments (issue 41, item 1): a Routine asks numba's
-dispatcher for the compiled overload once per :func:`type_key` (or per key the boundary
-gives) and then calls its entry point; the argument checks still come first."""
+"""The integration loop typed once per model (issue 41, item 1): the boundary asks numba's
+dispatcher for the loop's compiled overload once per key (the model's family, a user
+model's functions) and then calls its entry point; its argument checks still come first,
+and its scratch arrays are made once per thread."""
 import threading
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from numba import typeof
 
+import vibimpact as vi
 from vibimpact._kernel import boundary
 from vibimpact._kernel.dispatch import builtin
-from vibimpact._kernel.precompiled import Routine, type_key
+from vibimpact._kernel.precompiled import Routine
 
 
 class _Counting:
@@ -27,90 +28,92 @@ class _Counting:
         return getattr(self.jit, name)
 
 
-def _solve_routine():
-    """The kernel's linear solve (a Routine with an argument check) and arguments."""
-    for routine, args in boundary.array_routine_calls():
-        if routine.name == "solve":
-            return routine, args
-    raise AssertionError("no solve routine")
+@pytest.fixture
+def counted(monkeypatch):
+    """The boundary's integration loop behind a fresh Routine whose dispatcher counts
+    the calls that reach it."""
+    counting = _Counting(boundary._integrate.jit)
+    monkeypatch.setattr(boundary, "_integrate", Routine("integrate", counting))
+    return counting
 
 
-def test_one_kind_of_arguments_is_typed_once_and_gives_the_dispatchers_result():
-    """Hypothesis: repeated calls with arguments of one kind reach numba's dispatcher
-    once (the first); the entry point called afterwards returns exactly what the
-    dispatcher returns; arguments of another kind (a read-only matrix, which numba types
-    apart) reach the dispatcher again, once."""
-    routine, args = _solve_routine()
-    counting = _Counting(routine.jit)
-    fresh = Routine(routine.name, counting)
-    a = np.array([[4.0, 1.0], [2.0, 3.0]])
-    b = np.array([1.0, 2.0])
-    want = routine.jit(a, b)
-    outs = [fresh(a.copy(), b.copy()) for _ in range(5)]
-    assert counting.calls == 1
-    for out in outs:
-        assert np.array_equal(np.asarray(out[0] if isinstance(out, tuple) else out),
-                              np.asarray(want[0] if isinstance(want, tuple) else want))
-    frozen = a.copy()
-    frozen.flags.writeable = False
-    fresh(frozen, b.copy())
-    fresh(frozen, b.copy())
-    assert counting.calls == 2
+def test_a_model_is_typed_once_and_runs_as_through_the_dispatcher(counted):
+    """Hypothesis: runs of one model reach numba's dispatcher once (the first call) and
+    give bit for bit the states and counters of runs through the dispatcher; another
+    family is typed once more."""
+    system = vi.System(vi.presets.get("fig8").replace(eta=1.2))
+    runs = [system.simulate(periods=3, transient=2) for _ in range(3)]
+    assert counted.calls == 1
+    plain = boundary._integrate.jit.jit
+    boundary._integrate.entries.clear()
+    counted.jit = _Always(plain)
+    again = system.simulate(periods=3, transient=2)
+    for run in runs:
+        assert np.array_equal(run.strobe, again.strobe)
+        assert run.counters == again.counters
+    counted.jit = plain
+    calls = counted.calls
+    duffing = vi.DuffingParams(delta=0.3, alpha=1.0, beta=0.0, gamma=0.2, omega=1.3)
+    for _ in range(3):
+        vi.simulate(duffing, periods=2)
+    assert counted.calls - calls == 1
 
 
-def test_a_wrong_argument_is_refused_after_its_kind_was_cached():
-    """Hypothesis: the argument check runs before the cached entry point: once a kind is
-    cached, a float32 matrix or one of the wrong shape is still a ValueError naming the
-    kernel argument, and nothing reaches the compiled code."""
-    routine, _ = _solve_routine()
-    counting = _Counting(routine.jit)
-    fresh = Routine(routine.name, counting)
-    a, b = np.eye(3), np.ones(3)
-    fresh(a, b)
-    with pytest.raises(ValueError, match="kernel argument"):
-        fresh(a.astype(np.float32), b)
-    with pytest.raises(ValueError, match="kernel argument"):
-        fresh(np.eye(3)[:, :2].copy(), b)
-    assert counting.calls == 1
+class _Always:
+    """A dispatcher whose overloads are never found: every call goes through it."""
+
+    def __init__(self, jit):
+        self.jit = jit
+        self.overloads = {}
+
+    def __call__(self, *args):
+        return self.jit(*args)
+
+    def __getattr__(self, name):
+        return getattr(self.jit, name)
 
 
-_VALUES = [np.zeros(3), np.zeros(3, np.float32), np.zeros(3, np.int64), np.zeros((2, 3)),
-           np.zeros((3, 2)).T, np.zeros((4, 4))[::2, ::2], np.zeros(6)[::2],
-           np.asfortranarray(np.zeros((2, 3))), 1, 2**63, -1, 1.0, True, 1 + 2j,
-           np.float64(1.0), np.int32(1), (1, 2.0), (1, np.zeros(2)), (np.zeros(2), 1),
-           (1, (2.0, np.zeros((1, 1)))), builtin("rotor"), builtin("rotor", True),
-           builtin("duffing")]
+def test_a_wrong_argument_is_refused_after_the_model_was_typed(counted):
+    """Hypothesis: the boundary's checks run before the cached entry point: once the
+    model is typed, a float32 state, a clock of the wrong length or a mode of the wrong
+    size is still a ValueError naming the kernel argument, and nothing more reaches the
+    compiled code."""
+    system = vi.System(vi.presets.get("fig8").replace(eta=1.2))
+    system.simulate(periods=1, transient=0)
+    held = {}
+    way_in = boundary.integrate
 
+    def grab(*a, **k):
+        held["call"] = (a, k)
+        return way_in(*a, **k)
 
-def _readonly(a):
-    a = a.copy()
-    a.flags.writeable = False
-    return a
-
-
-@pytest.mark.parametrize("i", range(len(_VALUES) + 1))
-def test_equal_keys_are_equal_numba_types(i):
-    """Hypothesis: type_key is at least as fine as numba's typeof: values with equal
-    keys have equal numba types (checked over every pair of a set of arrays of other
-    dtypes, dimensions, memory orders and flags, scalars, nested tuples and built-in
-    models), so an entry point found for one key fits every value of that key."""
-    values = _VALUES + [_readonly(np.zeros(3))]
-    v = values[i]
-    for w in values:
-        if type_key(v) == type_key(w):
-            assert typeof(v) == typeof(w), (v, w)
-    assert type_key(builtin("rotor")) == type_key(builtin("rotor", True))
-    assert type_key(np.zeros(3)) != type_key(_readonly(np.zeros(3)))
+    boundary.integrate = grab
+    try:
+        system.simulate(periods=1, transient=0)
+    finally:
+        boundary.integrate = way_in
+    (problem, method, options, y, mode, clock, k_end), k = held["call"][0][:7], \
+        held["call"][1]
+    reached = counted.calls
+    for bad in (dict(y=y.astype(np.float32)), dict(clock=np.zeros(2)),
+                dict(mode=np.zeros(5, dtype=np.int64))):
+        args = dict(y=y.copy(), mode=mode.copy(), clock=clock.copy(), **{})
+        args.update(bad)
+        with pytest.raises(ValueError, match="kernel argument"):
+            way_in(problem, method, options, args["y"], args["mode"], args["clock"],
+                   k_end, **k)
+    assert counted.calls == reached
 
 
 def test_the_run_key_tells_user_models_apart_and_builtin_ones_by_family():
     """Hypothesis: the integration loop's key is one per built-in family (a model and
-    its variational equations share the compiled loop) and one per user model's
-    functions (two user models with other functions have other keys)."""
+    its variational equations share the compiled loop), one per user model's functions
+    (two user models with other functions have other keys) and apart for a read-only
+    parameter vector (numba types it apart)."""
     p = np.zeros(3)
 
-    def problem(model):  # what the key reads of a boundary.Problem
-        return SimpleNamespace(model=model, p=p)
+    def problem(model, params=p):  # what the key reads of a boundary.Problem
+        return SimpleNamespace(model=model, p=params)
 
     def f():
         pass
@@ -122,6 +125,9 @@ def test_the_run_key_tells_user_models_apart_and_builtin_ones_by_family():
     assert rotor == boundary._run_key(problem(builtin("rotor", True)))
     assert rotor != boundary._run_key(problem(builtin("duffing")))
     assert boundary._run_key(problem((f, f, f))) != boundary._run_key(problem((g, f, f)))
+    frozen = p.copy()
+    frozen.flags.writeable = False
+    assert rotor != boundary._run_key(problem(builtin("rotor"), frozen))
 
 
 def test_each_thread_has_its_own_workspace_made_once():
@@ -136,3 +142,58 @@ def test_each_thread_has_its_own_workspace_made_once():
     t.start()
     t.join()
     assert theirs and theirs[0] is not mine
+
+
+def _flagged(a, adaptive: bool = True, /, b=0, *, quiet: bool | None = None):
+    return a, adaptive, b, quiet
+
+
+def _flagged_kw(a, loud: bool = False, **more):
+    return a, loud, more
+
+
+@pytest.mark.parametrize("fn,args,kwargs", [
+    (_flagged, (1,), {}), (_flagged, (1, "no"), {}), (_flagged, (1, True, 2), {}),
+    (_flagged, (1,), {"quiet": "yes"}), (_flagged, (1,), {"quiet": None}),
+    (_flagged, (1, True, 2, 3), {}), (_flagged, (1,), {"adaptive": "no"}),
+    (_flagged, (1,), {"b": 1, "c": 2}), (_flagged, (1, 1), {"b": 1}),
+    (_flagged_kw, (1, "x"), {}), (_flagged_kw, (1,), {"loud": 1}),
+    (_flagged_kw, (1,), {"other": "x"}), (_flagged_kw, (1, True), {"loud": True}),
+    (_flagged_kw, (), {"a": 1, "loud": None})])
+def test_the_flag_check_decides_as_signature_binding(fn, args, kwargs):
+    """Hypothesis: checks_flags, which finds the flags of a call without inspect (the
+    kernel's hot path goes through it), refuses exactly the calls that inspect's
+    bind_partial would have it refuse: a bad flag in a call that fits the signature is
+    a TypeError naming it; a call that does not fit is left to the function's own
+    TypeError; a good call passes."""
+    import inspect
+
+    from vibimpact.base._validate import checks_flags, flag, flag_annotation
+
+    sig = inspect.signature(fn)
+    try:
+        given = sig.bind_partial(*args, **kwargs).arguments
+    except TypeError:
+        given = {}
+    want = None
+    for name, p in sig.parameters.items():
+        kind = flag_annotation(p.annotation)
+        if kind is not None and name in given and not (kind and given[name] is None):
+            try:
+                flag(name, given[name])
+            except TypeError as exc:
+                want = str(exc)
+                break
+    try:
+        got = checks_flags(fn)(*args, **kwargs)
+        err = None
+    except TypeError as exc:
+        got, err = None, str(exc)
+    if want is not None:
+        assert err == want
+    else:
+        try:
+            expected, fn_err = fn(*args, **kwargs), None
+        except TypeError as exc:
+            expected, fn_err = None, str(exc)
+        assert (got, err) == (expected, fn_err)

@@ -21,24 +21,19 @@ arguments), and a wrong shape, dtype or memory order is a ``ValueError``.
 """
 from __future__ import annotations
 
-import numpy as np
-
 from .argcheck import check_of
-from .dispatch import BuiltinModel
 
 
 class Routine:
     """A kernel function called from Python: its argument check (:mod:`.argcheck`),
-    then the compiled code.
+    then numba's dispatcher ``jit``; or, with a key, the compiled code directly.
 
-    numba's dispatcher types every argument of every call (some 60 µs for the
-    integration loop's twenty arguments) before it finds the compiled overload.  A
-    Routine asks the dispatcher once per *kind* of arguments (:func:`type_key`: dtypes,
-    dimensions, memory order and flags of the arrays, the Python types of the scalars, the
-    family of a built-in model, the identity of a user model's functions) and then calls
-    that overload's entry point directly, which is what the dispatcher calls after
-    typing.  The arguments are checked as before: the check comes first, and an array
-    of another kind is another key, so it goes through the dispatcher.
+    numba's dispatcher types every argument of every call before it finds the compiled
+    overload: fast for a few arrays (under a microsecond), slow for the integration
+    loop's twenty arguments with their tuples and the model (some 50 µs, the most of a
+    short call).  :meth:`call_keyed` asks the dispatcher once per key the caller gives
+    (what the arguments' types depend on once the caller has checked them) and then
+    calls that overload's entry point, which is what the dispatcher calls after typing.
 
     Attribute access falls through to the dispatcher (``.py_func``, ``.signatures``).
     """
@@ -50,19 +45,19 @@ class Routine:
         self.jit = jit
         # the shapes and sizes its loops use (the compiled code checks no index)
         self.check = check_of(name)
-        # type_key(args) -> entry point (a key holds a user model's functions themselves,
-        # never their ids: a function that goes away cannot lend its id to another)
+        # key -> entry point (a key holds a user model's functions themselves, never
+        # their ids: a function that goes away cannot lend its id to another)
         self.entries = {}
 
     def __call__(self, *args):
         if self.check is not None:
             self.check(*args)
-        return self.call_keyed(type_key(args), *args)
+        return self.jit(*args)
 
     def call_keyed(self, key, *args):
-        """Call with arguments already checked whose numba types ``key`` determines
-        (:meth:`__call__`: :func:`type_key`; :mod:`.boundary`'s integration loop: the
-        model's family, as its checks pin every array's dtype, dimensions and order)."""
+        """Call with arguments the caller has checked, whose numba types ``key``
+        determines (:mod:`.boundary`'s integration loop: the model's family, as its checks
+        pin every array's dtype, dimensions and memory order)."""
         entry = self.entries.get(key)
         if entry is not None:
             return entry(*args)
@@ -82,37 +77,6 @@ class Routine:
 
     def __repr__(self):
         return f"Routine({self.name!r})"
-
-
-_SCALARS = (bool, int, float, complex)
-
-
-def type_key(value):
-    """What numba's type of ``value`` depends on, as plain Python values: for an array
-    its dtype, dimensions, memory order, and writeable and aligned flags; for a tuple its
-    items' keys; for a built-in model its family (:class:`.dispatch.BuiltinModel`: a
-    model and its variational equations are one type); for a Python or NumPy scalar its
-    type (an integer also whether it fits int64); for anything else (a user model's
-    numba functions) the object itself, compared by identity where it has no equality
-    of its own (an unhashable one: its id)."""
-    if isinstance(value, tuple):
-        return tuple([type_key(v) for v in value])
-    if isinstance(value, np.ndarray):
-        f = value.flags
-        return (value.dtype.str, value.ndim, f.c_contiguous, f.f_contiguous, f.writeable,
-                f.aligned)
-    kind = type(value)
-    if kind is int:
-        return int, -(2**63) <= value < 2**63
-    if kind in _SCALARS or isinstance(value, np.generic):
-        return kind
-    if kind is BuiltinModel:
-        return BuiltinModel, value.family
-    try:
-        hash(value)
-    except TypeError:
-        return kind, id(value)
-    return kind, value
 
 
 def routine(name, jit):
