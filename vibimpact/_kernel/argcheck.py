@@ -44,6 +44,8 @@ def array(name, a, dtype=np.float64, ndim=1, shape=None, writeable=False):
 
 def integer(name, value, minimum=0):
     """Check that ``value`` is an integer ``>= minimum``."""
+    if type(value) is int and value >= minimum:  # the common case, without the ABC check
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or \
             value < minimum:
         raise ValueError(f"kernel argument {name} must be an integer >= {minimum}, got "

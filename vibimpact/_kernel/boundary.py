@@ -23,6 +23,7 @@ dataclasses.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field, replace
 from collections.abc import Callable
 
@@ -368,24 +369,26 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
         count = counters()
     if log is None:
         log = EventLog(log_capacity(k_end - k_record), n, problem.n_mode)
-    ws = _workspace(n, problem.terminal.size, mode.size)
+    ws = _scratch(n, problem.terminal.size, mode.size)
     status = LOG_FULL
+    key = _run_key(problem)
     while status == LOG_FULL:
-        status, n_ev, _ = _integrate(*integrate_args(
+        status, n_ev, _ = _integrate.call_keyed(key, *integrate_args(
             problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
-            log.arrays(), dense_m, dense, count))
+            log.arrays(), dense_m, dense, count, checked_ws=True))
         log.keep(n_ev)
     return status, log
 
 
 def integrate_args(problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
-                   log_arrays, dense_m, dense, count, renorm=_PLAIN):
+                   log_arrays, dense_m, dense, count, renorm=_PLAIN, checked_ws=False):
     """The argument tuple of the kernel's integration loop (:func:`.driver.integrate`),
     for :func:`integrate`, :func:`benettin` and the install-time build of the precompiled
     loop (:mod:`.aot_build`): ``ws`` a :func:`.driver.workspace`, ``log_arrays`` an
     :meth:`EventLog.arrays`, ``renorm`` ``(n_state, bound, logs, states)`` of a
-    Benettin run (none by default)."""
-    _check_run(problem, method, ws, y, mode, clock, count)
+    Benettin run (none by default); ``checked_ws``: ``ws`` is this thread's
+    :func:`_scratch`, checked when it was made."""
+    _check_run(problem, method, ws, y, mode, clock, count, checked_ws=checked_ws)
     n = y.size
     _check.integer("k_end", k_end)
     _check.integer("k_record", k_record)
@@ -396,18 +399,50 @@ def integrate_args(problem, method, options, ws, y, mode, clock, k_end, k_record
             strobe, log_arrays, 0, dense_m, dense, count, renorm)
 
 
-def _check_run(problem, method, ws, y, mode, clock, count, suffix=""):
+def _run_key(problem):
+    """What the numba types of the integration loop's arguments depend on once
+    :func:`integrate_args` has checked them (every array's dtype, dimensions and memory
+    order are pinned there, the method's tableau tuple has one layout for every method,
+    a plain run's and a Benettin run's ``renorm`` one type): the model (a built-in
+    family; a user model's functions themselves, held by the key) and whether
+    ``p`` is writeable (numba types a read-only array apart).  The key of
+    :meth:`.precompiled.Routine.call_keyed`."""
+    km = _dispatch.kernel_model(problem.model)
+    model = km.family if isinstance(km, BuiltinModel) else tuple(km)
+    return model, bool(problem.p.flags.writeable)
+
+
+def _scratch(n, n_switch, n_mode):
+    """This thread's workspace for a state of ``n`` entries (:func:`.driver.workspace`:
+    scratch arrays the loop overwrites before it reads them, reusable across calls),
+    made and checked once per thread and size instead of at every call; a thread never
+    runs two kernel calls at once, and no two threads share one."""
+    cache = getattr(_SCRATCH, "cache", None)
+    if cache is None:
+        cache = _SCRATCH.cache = {}
+    ws = cache.get((n, n_switch, n_mode))
+    if ws is None:
+        ws = _workspace(n, n_switch, n_mode)
+        _check.workspace(ws, n, n_switch, n_mode)
+        cache[(n, n_switch, n_mode)] = ws
+    return ws
+
+
+_SCRATCH = threading.local()
+
+
+def _check_run(problem, method, ws, y, mode, clock, count, suffix="", checked_ws=False):
     """Check the arguments of a run of ``problem`` that every kernel entry point takes
-    (:mod:`.argcheck`): the problem, the method, the workspace, the state, the mode, the
-    clock and the counters."""
+    (:mod:`.argcheck`): the problem, the method, the workspace (unless ``checked_ws``),
+    the state, the mode, the clock and the counters."""
     if not isinstance(problem, Problem) or not isinstance(method, Method):
         raise ValueError("the kernel takes a boundary.Problem and a boundary.Method")
     _check.state("y" + suffix, y, problem.n_state, problem.variational)
     _check.mode_vector("mode" + suffix, mode, problem.n_mode)
     _check.clock("clock" + suffix, clock)
     if not suffix:
-        n_sw = problem.terminal.size
-        _check.workspace(ws, y.size, n_sw, problem.n_mode)
+        if not checked_ws:
+            _check.workspace(ws, y.size, problem.terminal.size, problem.n_mode)
         _check.counters(count)
 
 
@@ -423,13 +458,13 @@ def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods
     n = y.size
     if n_periods <= 0:
         return OK, 0
-    ws = _workspace(n, problem.terminal.size, mode.size)
+    ws = _scratch(n, problem.terminal.size, mode.size)
     # nothing is recorded before a period's end: the log never fills
     log = EventLog(64, n, problem.n_mode)
     renorm = (int(n_state), float(bound), _rows(logs, n_periods), _rows(states, n_periods))
-    status, _, done = _integrate(*integrate_args(
+    status, _, done = _integrate.call_keyed(_run_key(problem), *integrate_args(
         problem, method, options, ws, y, mode, clock, 0, 0, np.empty((1, n)), log.arrays(),
-        0, np.empty((1, n)), count, renorm))
+        0, np.empty((1, n)), count, renorm, checked_ws=True))
     return status, done
 
 

@@ -26,23 +26,46 @@ from .argcheck import check_of
 
 class Routine:
     """A kernel function called from Python: its argument check (:mod:`.argcheck`),
-    then numba's dispatcher ``jit``.
+    then numba's dispatcher ``jit``; or, with a key, the compiled code directly.
+
+    numba's dispatcher types every argument of every call before it finds the compiled
+    overload: fast for a few arrays (under a microsecond), slow for the integration
+    loop's twenty arguments with their tuples and the model (some 50 µs, the most of a
+    short call).  :meth:`call_keyed` asks the dispatcher once per key the caller gives
+    (what the arguments' types depend on once the caller has checked them) and then
+    calls that overload's entry point, which is what the dispatcher calls after typing.
 
     Attribute access falls through to the dispatcher (``.py_func``, ``.signatures``).
     """
 
-    __slots__ = ("name", "jit", "check")
+    __slots__ = ("name", "jit", "check", "entries")
 
     def __init__(self, name, jit):
         self.name = name
         self.jit = jit
         # the shapes and sizes its loops use (the compiled code checks no index)
         self.check = check_of(name)
+        # key -> entry point (a key holds a user model's functions themselves, never
+        # their ids: a function that goes away cannot lend its id to another)
+        self.entries = {}
 
     def __call__(self, *args):
         if self.check is not None:
             self.check(*args)
         return self.jit(*args)
+
+    def call_keyed(self, key, *args):
+        """Call with arguments the caller has checked, whose numba types ``key``
+        determines (:mod:`.boundary`'s integration loop: the model's family, as its checks
+        pin every array's dtype, dimensions and memory order)."""
+        entry = self.entries.get(key)
+        if entry is not None:
+            return entry(*args)
+        out = self.jit(*args)  # compiles or loads the overload for these types
+        found = self.jit.overloads.get(tuple(self.jit.typeof_pyval(a) for a in args))
+        if found is not None:  # None: the dispatcher converted an argument; ask it again
+            self.entries[key] = found.entry_point
+        return out
 
     def __getattr__(self, attr):
         if attr in Routine.__slots__:  # not set yet (unpickling)

@@ -229,16 +229,45 @@ def checks_flags(fn: _F) -> _F:
     sig = inspect.signature(fn)
     kinds = {n: flag_annotation(p.annotation) for n, p in sig.parameters.items()}
     names = tuple(n for n, k in kinds.items() if k is not None)
+    # where each flag is found in a call, worked out once (no inspect in the call: the
+    # kernel's hot paths go through here): its index among the positional arguments,
+    # whether it may be given by keyword; and what makes a call not fit the signature
+    params = list(sig.parameters.values())
+    P = inspect.Parameter
+    ordered = [p.name for p in params if p.kind in (P.POSITIONAL_ONLY,
+                                                    P.POSITIONAL_OR_KEYWORD)]
+    index = {n: ordered.index(n) for n in names if n in ordered}
+    by_keyword = {p.name for p in params if p.kind in (P.POSITIONAL_OR_KEYWORD,
+                                                       P.KEYWORD_ONLY)}
+    more_args = any(p.kind is P.VAR_POSITIONAL for p in params)
+    more_kwargs = any(p.kind is P.VAR_KEYWORD for p in params)
+
+    def fits(args, kwargs):
+        """Whether the call fits the signature as far as flags are concerned (as
+        ``sig.bind_partial`` would: not too many positional arguments, no unknown or
+        twice-given keyword)."""
+        if len(args) > len(ordered) and not more_args:
+            return False
+        for key in kwargs:
+            if key not in by_keyword:
+                if not more_kwargs or key in ordered:
+                    return False
+            elif key in ordered and ordered.index(key) < len(args):
+                return False
+        return True
 
     @functools.wraps(fn)
     def checked(*args, **kwargs):
-        try:
-            given = sig.bind_partial(*args, **kwargs).arguments
-        except TypeError:
-            given = {}
-        for name in names:
-            if name in given and not (kinds[name] and given[name] is None):
-                flag(name, given[name])
+        if names and fits(args, kwargs):
+            for name in names:
+                if name in kwargs:
+                    value = kwargs[name]
+                elif index.get(name, len(args)) < len(args):
+                    value = args[index[name]]
+                else:
+                    continue
+                if not (kinds[name] and value is None):
+                    flag(name, value)
         return fn(*args, **kwargs)
 
     checked.checked_flags = names  # type: ignore[attr-defined]  # an attribute of a function
