@@ -45,7 +45,7 @@ PERFORMANCE_SECTIONS = {
     "work_precision.py": ["work_precision"], "stress.py": ["stress"],
     "benchmark_map.py": ["map"], "lyapunov_error_control.py": ["lyapunov-error-control"],
     "census_bench.py": ["census"], "ring_bench.py": ["ring"],
-    "variational_bench.py": ["variational"],
+    "variational_bench.py": ["variational"], "call_overhead.py": ["call_overhead"],
 }
 
 

@@ -35,7 +35,7 @@ from _common import smoke  # noqa: E402
 
 SCRIPTS = ("benchmark_kernel.py", "first_run.py", "benchmark_sweep.py", "profile_sweep.py",
            "work_precision.py", "stress.py", "benchmark_map.py", "lyapunov_error_control.py",
-           "census_bench.py", "ring_bench.py", "variational_bench.py")
+           "census_bench.py", "ring_bench.py", "variational_bench.py", "call_overhead.py")
 
 
 def main(argv):
