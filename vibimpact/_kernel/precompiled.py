@@ -29,9 +29,9 @@ class Routine:
     then numba's dispatcher ``jit``; or, with a key, the compiled code directly.
 
     numba's dispatcher types every argument of every call before it finds the compiled
-    overload: fast for a few arrays (under a microsecond), slow for the integration
-    loop's twenty arguments with their tuples and the model (some 50 µs, the most of a
-    short call).  :meth:`call_keyed` asks the dispatcher once per key the caller gives
+    overload: fast for a few arrays, slow for the integration loop's twenty arguments
+    with their tuples and the model (the most of a short call; ``reports/performance.md``,
+    section call_overhead, measures both).  :meth:`call_keyed` asks the dispatcher once per key the caller gives
     (what the arguments' types depend on once the caller has checked them) and then
     calls that overload's entry point, which is what the dispatcher calls after typing.
 
