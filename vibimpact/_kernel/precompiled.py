@@ -31,8 +31,9 @@ class Routine:
     numba's dispatcher types every argument of every call before it finds the compiled
     overload: fast for a few arrays, slow for the integration loop's twenty arguments
     with their tuples and the model (the most of a short call; ``reports/performance.md``,
-    section call_overhead, measures both).  :meth:`call_keyed` asks the dispatcher once per key the caller gives
-    (what the arguments' types depend on once the caller has checked them) and then
+    section call_overhead, measures both).  :meth:`call_keyed` asks the dispatcher once
+    per key the caller gives (what the arguments' types depend on once the caller has
+    checked them) and then
     calls that overload's entry point, which is what the dispatcher calls after typing.
 
     Attribute access falls through to the dispatcher (``.py_func``, ``.signatures``).
