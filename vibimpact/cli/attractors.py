@@ -250,7 +250,7 @@ def add_parser(sub, fmt):
                                    "attractor with its basin fraction and write a NetCDF "
                                    "file.")
     a.add_argument("--preset", default=CENSUS_PRESET,
-                   help=f"parameter set (default: {CENSUS_PRESET}); see 'vibimpact presets'")
+                   help=f"parameter set (default: {CENSUS_PRESET})")
     a.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
     a.add_argument("--eta", default=CENSUS_FREQUENCY, metavar="START:STOP:STEP",

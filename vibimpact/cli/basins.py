@@ -185,7 +185,7 @@ def add_parser(sub, fmt):
     # plain negative numbers so)
     b._negative_number_matcher = re.compile(r"^-\.?\d")
     b.add_argument("--preset", default=CENSUS_PRESET,
-                   help=f"parameter set (default: {CENSUS_PRESET}); see 'vibimpact presets'")
+                   help=f"parameter set (default: {CENSUS_PRESET})")
     b.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                    help="change a parameter of the preset, e.g. B=0.01 (repeatable)")
     b.add_argument("--eta", type=number, default=CENSUS_FREQUENCY,
