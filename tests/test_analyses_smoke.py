@@ -151,6 +151,22 @@ def test_a_profile_entry_that_matches_nothing_fails_the_profile():
             ps.bucket_times(stats, buckets + (gone,))
 
 
+def test_a_kernel_entry_point_counts_as_its_python_function():
+    """Hypothesis: the integration loop called through its compiled entry point, which
+    cProfile records as a built-in ``<built-in method vibimpact._kernel.driver.integrate>``,
+    counts as ``_kernel/driver.py:integrate`` (summed with calls through numba's
+    dispatcher), and a built-in of another name matches nothing."""
+    ps = _profile_sweep()
+    stats = {("~", 0, "<built-in method vibimpact._kernel.driver.integrate>"):
+             (9, 9, 3.0, 3.0, {}),
+             ("/x/vibimpact/_kernel/driver.py", 1, "integrate"): (1, 1, 0.5, 0.5, {})}
+    buckets = (("kernel", "_kernel/driver.py", "integrate", "tottime"),)
+    assert ps.bucket_times(stats, buckets) == {"kernel": 3.5}
+    other = {("~", 0, "<built-in method builtins.len>"): (1, 1, 1.0, 1.0, {})}
+    with pytest.raises(ps.UnmatchedProfileEntry):
+        ps.bucket_times(other, buckets)
+
+
 def test_the_profile_section_shows_every_part_the_script_profiles():
     """Hypothesis: the profile section of reports/performance.md has one row per part of
     profile_sweep.BUCKETS (the parts the script profiles today, in its order) and no part

@@ -13,6 +13,7 @@ import cProfile
 import datetime
 import platform
 import pstats
+import re
 import time
 import sys
 from pathlib import Path
@@ -59,6 +60,19 @@ BUCKETS = (
 KERNEL_PARTS = ("integrator kernel (all integrations)",)
 
 
+_BUILTIN = re.compile(r"<built-in method (vibimpact(?:\.\w+)*)\.(\w+)>")
+
+
+def _as_source(key):
+    """A profile key ``(file, line, function)``, a compiled kernel entry point's (a
+    built-in of module ``vibimpact._kernel.X``) as its Python source's."""
+    fname, line, fn = key
+    m = _BUILTIN.fullmatch(fn) if fname == "~" else None
+    if m is None:
+        return key
+    return m.group(1).replace(".", "/") + ".py", line, m.group(2)
+
+
 class UnmatchedProfileEntry(LookupError):
     """A part of :data:`BUCKETS` matched no function of the profile."""
 
@@ -69,6 +83,12 @@ def bucket_times(stats, buckets=BUCKETS):
     A part may have several entries (their times summed: a part spread over two
     functions); every entry must match a function the profile saw.
 
+    A compiled kernel function called through its entry point (the package calls the
+    integration loop's overload directly once numba has typed it) is profiled as a
+    built-in, ``<built-in method vibimpact._kernel.driver.integrate>``: it counts as the
+    function of that module (``_kernel/driver.py``, ``integrate``), as the same function
+    called through numba's dispatcher does.
+
     Raises
     ------
     UnmatchedProfileEntry
@@ -76,6 +96,7 @@ def bucket_times(stats, buckets=BUCKETS):
         and the report would show 0 s for it (or silently leave its share out of a part).
     """
     out, missing = {}, []
+    stats = {_as_source(key): value for key, value in stats.items()}
     for name, suffix, func, col in buckets:
         t, hit = 0.0, False
         for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
