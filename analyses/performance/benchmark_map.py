@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _comm
 from _common.cpu import machine_cpu as _machine_cpu  # noqa: E402
 from _common.cpu import own_cpu as _own_cpu  # noqa: E402
 from _common import smoke  # noqa: E402
+from _common.profiles import by_source  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -36,7 +37,7 @@ from vibimpact.engine import plan
 from vibimpact.engine.store import Checkpoint
 from vibimpact.maps.map2d import DONE
 from vibimpact.sweeps import parse_range
-from vibimpact.points.point import REGIME_CODES, SweepSettings, analyse_point
+from vibimpact.points.point import REGIME_CODES, SweepSettings
 
 ROOT = Path(__file__).resolve().parents[2]
 REPORT = ROOT / "reports" / "performance.md"
@@ -119,7 +120,7 @@ def per_point_profile(p, etas, name, values):
         cost = _rows_by_point(p, etas, name, values)
     finally:
         prof.disable()
-    stats = pstats.Stats(prof).stats
+    stats = by_source(pstats.Stats(prof).stats)  # the loop's entry point as its source
     total = sum(v[2] for v in stats.values())
     kernel = sum(v[2] for (f, _, _), v in stats.items() if "_kernel" in f)
     return cost, kernel / total

@@ -32,6 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _comm
 from _common.cpu import machine_cpu as _machine_cpu  # noqa: E402
 from _common.cpu import own_cpu as _own_cpu  # noqa: E402
 from _common import smoke  # noqa: E402
+from _common.profiles import by_source  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi  # noqa: E402
@@ -86,14 +87,16 @@ def profile_b(system):
     finally:
         prof.disable()
     wall = time.perf_counter() - t
-    stats = pstats.Stats(prof).stats
+    stats = by_source(pstats.Stats(prof).stats)  # the loop's entry point as its source
     total = sum(v[2] for v in stats.values())
     kernel = sum(v[2] for (f, _, fn), v in stats.items()
                  if f.endswith("_kernel/driver.py") and fn == "integrate")
     calls = sum(v[0] for (f, _, fn), v in stats.items()
                 if f.endswith("_kernel/driver.py") and fn == "integrate")
+    # the way into the compiled code: a routine's call, checked or keyed
     dispatch = sum(v[3] for (f, _, fn), v in stats.items()
-                   if f.endswith("_kernel/precompiled.py") and fn == "__call__") - kernel
+                   if f.endswith("_kernel/precompiled.py") and fn in ("__call__", "call_keyed")
+                   ) - kernel
     return dict(wall=wall, kernel=kernel / total, dispatch=max(dispatch, 0.0) / total,
                 calls=calls, cells=PROFILE_GRID[0] * PROFILE_GRID[1])
 

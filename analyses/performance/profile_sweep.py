@@ -13,7 +13,6 @@ import cProfile
 import datetime
 import platform
 import pstats
-import re
 import time
 import sys
 from pathlib import Path
@@ -22,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # analyses/: _common
 from _common import smoke  # noqa: E402
+from _common.profiles import by_source  # noqa: E402
 from _common.report import write_section  # noqa: E402
 
 import vibimpact as vi
@@ -60,19 +60,6 @@ BUCKETS = (
 KERNEL_PARTS = ("integrator kernel (all integrations)",)
 
 
-_BUILTIN = re.compile(r"<built-in method (vibimpact(?:\.\w+)*)\.(\w+)>")
-
-
-def _as_source(key):
-    """A profile key ``(file, line, function)``, a compiled kernel entry point's (a
-    built-in of module ``vibimpact._kernel.X``) as its Python source's."""
-    fname, line, fn = key
-    m = _BUILTIN.fullmatch(fn) if fname == "~" else None
-    if m is None:
-        return key
-    return m.group(1).replace(".", "/") + ".py", line, m.group(2)
-
-
 class UnmatchedProfileEntry(LookupError):
     """A part of :data:`BUCKETS` matched no function of the profile."""
 
@@ -96,7 +83,7 @@ def bucket_times(stats, buckets=BUCKETS):
         and the report would show 0 s for it (or silently leave its share out of a part).
     """
     out, missing = {}, []
-    stats = {_as_source(key): value for key, value in stats.items()}
+    stats = by_source(stats)
     for name, suffix, func, col in buckets:
         t, hit = 0.0, False
         for (fname, _, fn), (_, _, tt, ct, _) in stats.items():
