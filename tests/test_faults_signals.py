@@ -491,12 +491,14 @@ sys.stderr = Said(sys.stderr)
 
 
 @pytest.mark.parametrize("second", [signal.SIGTERM, signal.SIGINT], ids=["TERM", "INT"])
-@pytest.mark.parametrize("ending", ["error", "interrupted"])
+@pytest.mark.parametrize("ending", ["error", "interrupted", "saved points"])
 def test_a_signal_while_the_last_line_is_said_adds_no_line(ending, second, tmp_path):
     """Hypothesis: a SIGTERM or SIGINT that arrives while the command says how it ended
-    (its error line, exit 2; or its interrupted line after a first SIGTERM, exit 143)
-    neither adds a second line nor changes the status: the line said decides (what
-    the slow line found when a stopped worker's error and the test's SIGTERM met)."""
+    (its error line, exit 2; its interrupted line after a first SIGTERM, exit 143; a
+    checkpointed sweep's interrupted line with its saved points, which the command
+    says itself) neither adds a second line nor changes the status: the line said
+    decides (what the slow line found when a stopped worker's error and the test's
+    SIGTERM met)."""
     env = {"SECOND_SIGNAL": str(int(second))}
     if ending == "error":
         proc = start(["simulate", "--from", "missing.nc", "-o", "r.nc"], tmp_path,
@@ -506,9 +508,10 @@ def test_a_signal_while_the_last_line_is_said_adds_no_line(ending, second, tmp_p
         assert status == 2 and len(lines) == 1, (status, lines)
         assert lines[0].startswith("vibimpact: error:") and "missing.nc" in lines[0]
     else:
-        proc = start(["simulate", "--preset", "fig8", "--eta", "1.0", "--periods",
-                      "100000", "--transient", "0", "-o", "r.nc"], tmp_path, env=env,
-                     prelude=SECOND_SIGNAL)
+        args = (["simulate", "--preset", "fig8", "--eta", "1.0", "--periods", "100000",
+                 "--transient", "0", "-o", "r.nc"] if ending == "interrupted" else
+                ["classify", *SWEEP, "--workers", "1", "-o", "r.nc"])
+        proc = start(args, tmp_path, env=env, prelude=SECOND_SIGNAL)
         try:
             time.sleep(2.5)
             assert proc.poll() is None, messages(tmp_path)
@@ -516,6 +519,10 @@ def test_a_signal_while_the_last_line_is_said_adds_no_line(ending, second, tmp_p
             os.killpg(proc.pid, signal.SIGKILL)
             raise
         assert_one_interrupted_line(tmp_path, signal_and_finish(proc, signal.SIGTERM))
+    if ending == "saved points":  # the checkpoint is kept, named on the line
+        assert files(tmp_path) == ["r.nc.partial"]
+        assert "saved in r.nc.partial" in messages(tmp_path)[0]
+        return
     assert files(tmp_path) == []  # no output, no temporary
 
 

@@ -13,7 +13,7 @@ import importlib
 import sys
 
 from .common.args import Parser, set_verbosity, verbosity
-from .common.errors import UsageError
+from .common.errors import PROGRAM, UsageError, hold_signals
 from ..engine.signals import (interrupt_status, quiet_after_interrupt, signal_decides,
                               StopWorkersOnSignal)
 
@@ -123,12 +123,13 @@ def main(argv=None):
     from .common.streams import Streams
 
     program = argv is None  # the process's own command line: it exits after this
+    PROGRAM["on"] = program  # only then does saying the last line hold the signals
     stopped = None
     with Streams(program) as streams:  # a stream that cannot be written: a status
         try:
             status = _main(argv, program)
         except KeyboardInterrupt as exc:  # before the command's guard (reading options)
-            _hold_signals(program)
+            hold_signals()
             print("vibimpact: interrupted", file=sys.stderr)
             status = interrupt_status(exc)
         except SystemExit as exc:  # argparse: --help, --version, a usage error
@@ -184,29 +185,16 @@ def _main(argv, program):
                 raise
             raise interrupt from exc
     except UsageError as exc:
-        _hold_signals(program)  # the line says how it ended: a signal now adds none
+        hold_signals()  # the line says how it ended: a signal now adds none
         print("vibimpact: error: " + " ".join(str(exc).split()), file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
-        _hold_signals(program)
+        hold_signals()
         if not getattr(exc, "reported", False):  # a command may have said more already
             print("vibimpact: interrupted", file=sys.stderr)
         return interrupt_status(exc)
     finally:
         # the command is over, its files in place: a signal during the interpreter's
         # exit must not kill it silently (exit -15, no line)
-        _hold_signals(program)
+        hold_signals()
 
-
-def _hold_signals(program):
-    """Ignore SIGINT and SIGTERM from now on in the process (``program``): the command
-    has decided how it ends and is saying so.  A signal that arrives while its last line
-    is said (a stopped worker's error as ``timeout`` sends SIGTERM) would otherwise
-    interrupt the print and add a second line and another status; one already
-    received but not yet handled is dropped with it (Python runs no handler for an
-    ignored signal)."""
-    if program:
-        import signal
-
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            signal.signal(sig, signal.SIG_IGN)

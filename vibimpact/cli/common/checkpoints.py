@@ -7,7 +7,7 @@ import os
 import sys
 
 from ...base._text import count, one_line
-from .errors import UsageError, error_text, report_interrupt
+from .errors import UsageError, error_text, hold_signals, report_interrupt
 from ...engine.leftovers import output_of, remove_stale_temporaries, wrote_output
 from ...engine.signals import StopWorkersOnSignal
 
@@ -79,6 +79,7 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
         return None, report_interrupt(
             exc, "vibimpact: interrupted" + _saved_line(ckpt, unit, resumable))
     except WorkerLost as exc:
+        hold_signals()  # the last line: a signal now adds none
         # one_line: Dask's KilledWorker spans lines
         print(f"vibimpact: error: {one_line(exc)}{_saved_line(ckpt, unit, resumable)}",
               file=sys.stderr)

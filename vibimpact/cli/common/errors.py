@@ -43,10 +43,34 @@ def error_text(exc):
     return reason(exc)
 
 
+#: whether the command line runs as the process's own program (set by
+#: :func:`vibimpact.cli.main`): only then may saying how it ended change the process's
+#: signal handling
+PROGRAM = {"on": False}
+
+
+def hold_signals():
+    """Ignore SIGINT and SIGTERM from now on, in the command line's own process: the
+    command has decided how it ends and is saying so in its last line.  A signal that
+    arrives while that line is said (a stopped worker's error as ``timeout`` sends
+    SIGTERM) would otherwise interrupt the print and add a second line and another
+    status; one already received but not yet handled is dropped with it (Python runs no
+    handler for an ignored signal).  Called before every last line: the error and
+    interrupted lines of :func:`vibimpact.cli.main`, a command's interrupted line with
+    its saved points, a lost worker's line."""
+    if PROGRAM["on"]:
+        import signal
+
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
+
+
 def report_interrupt(exc, line):
     """Print ``line`` for the interrupt ``exc`` (once: :func:`vibimpact.cli.main` prints
-    nothing more for it) and return its exit status."""
+    nothing more for it; signals held first, :func:`hold_signals`) and return its exit
+    status."""
     if not getattr(exc, "reported", False):
+        hold_signals()
         print(line, file=sys.stderr)
         exc.reported = True
     return interrupt_status(exc)
