@@ -324,3 +324,22 @@ def test_a_bare_point_result_assumes_no_models_size():
     assert bare.final_state.size == bare.multipliers.size == bare.samples.size == 0
     sized = PointResult.empty(2, 8)
     assert sized.samples.shape == (8, 2) and sized.multipliers.shape == (2,)
+
+
+def test_a_parameter_sets_period_is_over_the_models_own_frequency():
+    """Hypothesis: every built-in parameter set's period is 2 pi over the model's forcing
+    frequency (one declaration, ParamsMixin's, for hand-written and table-made sets),
+    and a model whose set names another frequency than its omega_index is refused."""
+    import dataclasses
+    import math
+
+    for name in models.names():
+        model = models.get(name)
+        p = model.param_set()
+        assert p.period == 2.0 * math.pi / getattr(p, model.frequency_name), name
+    rotor = models.get("rotor")
+    wrong = dataclasses.make_dataclass("Wrong", [], bases=(rotor.param_set,), frozen=True,
+                                       namespace={"_FREQUENCY": "G"})
+    with pytest.raises(ValueError, match="forcing frequency 'G'"):
+        vi.models.Model.builtin_model("wrong", "rotor", rotor.state_names,
+                                      rotor.omega_index, wrong)

@@ -7,7 +7,6 @@ Kernel: :mod:`vibimpact._kernel.duffing`.  Parameters: :class:`DuffingParams`
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from ..models import Model, PlotSpec
@@ -34,14 +33,7 @@ class DuffingParams(ParamsMixin):
     omega: float = 1.2
 
     _DOMAINS = _DUFFING_DOMAINS
-
-    def __post_init__(self):
-        self._check_domains()
-
-    @property
-    def period(self):
-        """Forcing period ``2 pi / omega``."""
-        return 2.0 * math.pi / self.omega
+    _FREQUENCY = "omega"
 
 
 MODEL = Model.builtin_model("duffing", "duffing", ("x", "dx"), omega_index=4,

@@ -110,14 +110,7 @@ class Params(ParamsMixin):
     eps: float = 0.0
 
     _DOMAINS = _ROTOR_DOMAINS
-
-    def __post_init__(self):
-        self._check_domains()
-
-    @property
-    def period(self):
-        """Forcing period ``2 pi / eta`` in dimensionless time."""
-        return 2.0 * math.pi / self.eta
+    _FREQUENCY = "eta"
 
     @classmethod
     def from_dimensional(cls, m: float, k: float, k2: float, b: float, kh: float, bh: float,

@@ -176,6 +176,11 @@ class Model:
         if names != tuple(km.param_names) or len(state_names) != km.n_state:
             raise ValueError(f"model {name!r}: the parameter set or state layout does not "
                              f"match the kernel module {family!r}")
+        declared = getattr(param_set, "_FREQUENCY", names[omega_index])
+        if declared != names[omega_index]:
+            raise ValueError(f"model {name!r}: the parameter set's forcing frequency "
+                             f"{declared!r} is not its parameter at omega_index "
+                             f"({names[omega_index]!r})")
         unknown = set(state_text or {}) - set(state_names)
         if unknown:
             raise ValueError(f"model {name!r}: state_text names no state: "

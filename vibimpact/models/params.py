@@ -107,6 +107,9 @@ class ParamsMixin:
 
     #: {name: Domain} of the parameters that have one (the others: any finite number)
     _DOMAINS: ClassVar[dict[str, Domain]] = {}
+    #: the name of the forcing frequency's field (the set's :attr:`period` is
+    #: ``2 pi`` over it)
+    _FREQUENCY: ClassVar[str] = ""
 
     if TYPE_CHECKING:  # every class that mixes it in is a dataclass
         __dataclass_fields__: ClassVar[dict[str, dataclasses.Field[Any]]]
@@ -124,6 +127,15 @@ class ParamsMixin:
         if name not in names:
             raise ValueError(f"name must be one of {', '.join(names)}, got {name!r}")
         return cls._DOMAINS.get(name, Domain())
+
+    def __post_init__(self):
+        self._check_domains()
+
+    @property
+    def period(self) -> float:
+        """Forcing period ``2 pi / omega`` (``omega``: the set's forcing frequency,
+        :attr:`_FREQUENCY`)."""
+        return 2.0 * math.pi / getattr(self, self._FREQUENCY)
 
     def _check_domains(self):
         """Validate every field: finite, and inside its domain (in ``_DOMAINS`` order)."""
@@ -188,9 +200,7 @@ def param_set(name: str, table, omega: str, module: str, doc: str = "") -> type:
                   + (f"; {d.rule(n).split(' must be ')[1]}" if d is not None else "") + ")."]
     namespace = {
         "_DOMAINS": {n: d for n, _, d, _ in rows if d is not None},
-        "__post_init__": lambda self: self._check_domains(),
-        "period": property(lambda self: 2.0 * math.pi / getattr(self, omega),
-                           doc=f"Forcing period ``2 pi / {omega}``."),
+        "_FREQUENCY": omega,
         "__doc__": "\n".join(lines) + "\n",
         "__module__": module,
     }
