@@ -37,7 +37,3 @@ def file_words(model: Model | None) -> dict[str, str]:
         freq=(model.frequency_name if model is not None else "the forcing frequency"),
         angle=getattr(spec, "angle_text", None) or "the contact angle")
 
-
-def worded(text: str, model: Model | None) -> str:
-    """``text`` with the model's words (:func:`file_words`) in its ``{fields}``."""
-    return text.format(**file_words(model))
