@@ -12,6 +12,7 @@ The loss is made deterministic here: the test sends the signal from inside such 
 """
 import ctypes
 import os
+import re
 import signal
 import sys
 import time
@@ -376,3 +377,89 @@ def test_stderr_is_put_back_when_two_threads_relaunch_the_tracker_at_once():
     b.join()
     after = os.fstat(2)
     assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
+
+
+#: every command with a checkpoint, small: (arguments, its output)
+CHECKPOINTED = {
+    "classify": ["classify", "--eta", "1.0:1.03:0.01", "--workers", "1", "--no-progress",
+                 "-o", "c.nc"],
+    "map": ["map", "--eta", "1.0:1.02:0.01", "--vary", "kh=50,60", "--workers", "1",
+            "--no-progress", "-o", "m.zarr"],
+    "attractors": ["attractors", "--eta", "1.1", "--starts", "3", "--workers", "1",
+                   "--no-progress", "-o", "a.nc"],
+    "basins": ["basins", "--grid", "5x5", "--workers", "1", "--no-progress", "-o", "b.nc"],
+    "orbits": ["orbits", "--eta", "1.1", "--period", "1", "--workers", "1",
+               "--no-progress", "-o", "o.nc"],
+}
+
+
+#: the errors a library may turn a swallowed interrupt into, one per command and moment
+#: (ValueError and OSError are the ones the commands word as their own failures)
+ERRORS = (RuntimeError, ValueError, OSError, AttributeError)
+
+
+@pytest.mark.parametrize("moment", ["opened", "saved", "writing"])
+@pytest.mark.parametrize("name", CHECKPOINTED)
+def test_an_error_a_lost_signal_leads_to_keeps_the_saved_points_line(
+        name, moment, tmp_path, monkeypatch, capfd):
+    """Hypothesis: a checkpointed command whose SIGTERM is lost in a ctypes callback
+    (numba's loader) and whose computation then fails with an error of its own (the
+    loader's state left half-built), just after its checkpoint is made, just after an
+    entry is saved or while its result is written, ends as the signal asked (exit 143) with its one interrupted line
+    saying how many points the checkpoint holds and how to resume, not the bare
+    'vibimpact: interrupted' (what the slow line saw under load) nor that error."""
+    import contextlib
+
+    from vibimpact.cli import main
+    from vibimpact.engine import compute
+    from vibimpact.engine.store import Checkpoint
+
+    monkeypatch.chdir(tmp_path)
+    argv = CHECKPOINTED[name]
+    error = ERRORS[(list(CHECKPOINTED).index(name) * 3
+                    + ["opened", "saved", "writing"].index(moment)) % 4]
+
+    def fail():
+        lose_in_ctypes_callback(signal.SIGTERM)
+        raise error("the loader's state is half-built")
+
+    if moment == "opened":
+        open_checkpoint = Checkpoint.open
+
+        def opened(self, *a, **kw):
+            open_checkpoint(self, *a, **kw)
+            fail()
+
+        monkeypatch.setattr(Checkpoint, "open", opened)
+    elif moment == "writing":  # the computed result being written to its output
+        from vibimpact.cli import classify, map as map_command
+        from vibimpact.cli.common import census_steps
+
+        module = {"classify": classify, "map": map_command}.get(name, census_steps)
+        finish = module.finish_checkpointed
+
+        def finishing(ds, out, ckpt, write, **kw):
+            return finish(ds, out, ckpt, lambda *a, **k: fail(), **kw)
+
+        monkeypatch.setattr(module, "finish_checkpointed", finishing)
+    else:  # just after the first entry is saved, outside the block that saves it
+        deferred = compute.signals_deferred
+
+        @contextlib.contextmanager
+        def saved():
+            with deferred():
+                yield
+            fail()
+
+        monkeypatch.setattr(compute, "signals_deferred", saved)
+    rc = main(argv)
+    err = capfd.readouterr().err
+    lines = err.strip().splitlines()
+    assert rc == 143, err
+    assert "Traceback" not in err and "half-built" not in err and len(lines) == 1, err
+    ckpt = argv[-1] + ".partial"
+    unit = "rows?" if name == "map" else "points?"
+    held = "0" if moment == "opened" else "[1-9][0-9]*"
+    assert re.fullmatch(rf"vibimpact: interrupted: {held} {unit} saved in "
+                        rf"{re.escape(ckpt)}; rerun with --resume", lines[0]), err
+    assert {p.name for p in tmp_path.iterdir()} == {ckpt}

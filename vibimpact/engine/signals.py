@@ -194,10 +194,13 @@ def signal_decides(exc):
     (a checkpoint entry being compressed) turns it into "Can't close the ZIP file while
     there is an open writing handle", a write cut short reports its own failure.  When a
     signal has stopped the command (:class:`StopWorkersOnSignal`), that signal decides
-    the line and the exit status, not the error it caused."""
+    the line and the exit status, not the error it caused.  The interrupt returned is
+    the signal delivered (its caller raises it): no guard raises it once more on its
+    way out."""
     signum = StopWorkersOnSignal.received
     if signum is None or isinstance(exc, KeyboardInterrupt):
         return None
+    StopWorkersOnSignal.delivered = True
     return Interrupted(signum)
 
 

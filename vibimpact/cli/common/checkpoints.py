@@ -9,7 +9,7 @@ import sys
 from ...base._text import count, one_line
 from .errors import UsageError, error_text, hold_signals, report_interrupt
 from ...engine.leftovers import output_of, remove_stale_temporaries, wrote_output
-from ...engine.signals import StopWorkersOnSignal
+from ...engine.signals import StopWorkersOnSignal, signal_decides
 
 
 def checkpoint_of(out):
@@ -68,13 +68,22 @@ def run_checkpointed(ckpt, unit, compute, *, resumable=True):
     ("points" or "rows") the checkpoint ``ckpt`` holds and how to resume, unless
     ``resumable`` is false or ``ckpt`` is None (a command without --resume: "nothing
     written").  A ValueError (a checkpoint of another request, a lost scheduler) is a
-    UsageError.
+    UsageError.  An error that a signal caused (a library that turned the interrupt into
+    its own exception, a worker the signal killed; :func:`signal_decides`) is that
+    signal, said with the same saved points, not left to :func:`vibimpact.cli.main`'s
+    bare interrupted line.
     """
     from ...engine.executors import WorkerLost
 
     try:
-        with StopWorkersOnSignal():
-            return compute(), None
+        try:
+            with StopWorkersOnSignal():
+                return compute(), None
+        except Exception as exc:
+            interrupt = signal_decides(exc)
+            if interrupt is None:
+                raise
+            raise interrupt from exc
     except KeyboardInterrupt as exc:
         return None, report_interrupt(
             exc, "vibimpact: interrupted" + _saved_line(ckpt, unit, resumable))
@@ -112,13 +121,22 @@ def finish_checkpointed(ds, out, ckpt, write, *, resuming, keep, overwrite, unit
         print(warning, file=sys.stderr)
     try:
         try:
-            write(ds, out, overwrite=overwrite or (resuming and output_of(ckpt, out)))
-        except (ValueError, OSError, RuntimeError) as exc:
-            raise UsageError(f"{error_text(exc)} (the computed {unit} stay in {where}; "
-                             "fix the problem and rerun with --resume)") from None
-        wrote_output(ckpt, out)
-        if not keep:
-            ckpt.remove()
+            try:
+                write(ds, out, overwrite=overwrite or (resuming and output_of(ckpt, out)))
+            except (ValueError, OSError, RuntimeError) as exc:
+                if signal_decides(exc) is not None:
+                    raise
+                raise UsageError(f"{error_text(exc)} (the computed {unit} stay in "
+                                 f"{where}; fix the problem and rerun with --resume)") \
+                    from None
+            wrote_output(ckpt, out)
+            if not keep:
+                ckpt.remove()
+        except Exception as exc:  # an error the signal caused is the signal
+            interrupt = signal_decides(exc)
+            if interrupt is None:
+                raise
+            raise interrupt from exc
     except KeyboardInterrupt as exc:  # the write's temporary file is gone already
         report_interrupt(exc, "vibimpact: interrupted" + _saved_line(ckpt, unit,
                                                                       resumable))
