@@ -211,7 +211,7 @@ def test_blow_up_is_labelled_not_returned_as_exponents():
 @pytest.mark.parametrize("call, name", [
     (lambda s: lyapunov_spectrum(s, n_exponents=5), "n_exponents"),
     (lambda s: Averaging(min_periods=10, max_periods=5), "max_periods"),
-    (lambda s: lyapunov_spectrum(s.with_solver(method="rk4")), "method"),
+    (lambda s: lyapunov_spectrum(s.with_solver(method="rk5")), "method"),
     (lambda s: Averaging(target_stderr=-1.0), "target_stderr"),
     (lambda s: Averaging(block=1), "block"),
     (lambda s: lyapunov_spectrum(s, averaging=dict(transient=0)), "averaging"),

@@ -156,7 +156,7 @@ API_CASES = {
     "classify_params unknown setting": (lambda: _analyse("classify_params", periods=10),
                                         "periods"),
     "shooting state0 too short": (lambda: _analyse("shoot_periodic_orbit", [0.0]), "state0"),
-    "monodromy rk4": (lambda: _system(method="rk4").monodromy([0.0] * 4), "method"),
+    "monodromy rk5": (lambda: _system(method="rk5").monodromy([0.0] * 4), "method"),
     "continuation unknown parameter": (lambda: _analyse("continue_orbit", [0.0] * 4,
                                                         param="kq", stop=1.2), "param"),
     "Averaging block 1": (lambda: _averaging(block=1), "block"),

@@ -34,6 +34,7 @@ from . import dispatch as _dispatch
 from . import driver as _driver
 from . import integrator as _integrator
 from . import linalg as _linalg
+from . import noevents as _noevents
 from . import recurrence as _recurrence
 from . import tableaux as _tab
 from .driver import workspace as _workspace
@@ -45,6 +46,8 @@ from .precompiled import routine as _routine
 #: the kernel functions called from Python: precompiled at install time where possible,
 #: numba's JIT-compiled functions otherwise (:mod:`.precompiled`)
 _integrate = _routine("integrate", _driver.integrate)
+#: the era's integrator (method ``rk4-fixed-noevents``): a loop of its own
+_integrate_noevents = _routine("integrate_noevents", _noevents.integrate_noevents)
 dot = _routine("dot", _linalg.dot)
 matmul = _routine("matmul", _linalg.matmul)
 lstsq = _routine("lstsq", _linalg.lstsq)
@@ -75,7 +78,7 @@ class Method:
 
     Attributes
     ----------
-    name : {"rk4", "dp5", "dop853"}
+    name : {"rk4", "dp5", "dop853", "rk4-fixed-noevents"}
     id : int
         The kernel's number of the method (:mod:`.tableaux`).
     A, B, C, E, E3, D, P : ndarray
@@ -113,7 +116,7 @@ class Method:
     @property
     def adaptive(self):
         """Whether the method has an error estimate (DP5, DOP853)."""
-        return self.id != _tab.RK4
+        return self.id not in _tab.FIXED
 
     def kernel_args(self):
         """The tableau as the kernel's argument tuple."""
@@ -125,7 +128,7 @@ def _methods():
     out = {}
     for name, mid in _tab.METHOD_IDS.items():
         hertz = tuple(float(g) for g in _tab.HERTZ_ERROR.get(mid, (0.0, 0.0)))
-        if mid == _tab.RK4:
+        if mid in _tab.FIXED:
             out[name] = Method(name, mid, _tab.RK4_A, _tab.RK4_B, _tab.RK4_C, _EMPTY1,
                                _EMPTY1, _EMPTY2, _EMPTY2, 4, 4, hertz)
         elif mid == _tab.DP5:
@@ -186,7 +189,7 @@ class Options:
 
     def vector(self, method):
         """The kernel's option vector (layout in :mod:`.integrator`)."""
-        g_in, g_out = method.hertz if method.id != _tab.RK4 else (0.0, 0.0)
+        g_in, g_out = method.hertz if method.id not in _tab.FIXED else (0.0, 0.0)
         return np.array([self.rtol, self.atol, self.h_fixed, self.max_step, self.bound,
                          self.event_tol, float(self.max_steps_per_period),
                          0.0 if self.adaptive else 1.0, float(self.n_bound),
@@ -372,12 +375,18 @@ def integrate(problem, method, options, y, mode, clock, k_end, *, k_record=0, st
     ws = _scratch(n, problem.terminal.size, mode.size)
     status = LOG_FULL
     key = _run_key(problem)
+    loop = _loop(method)
     while status == LOG_FULL:
-        status, n_ev, _ = _integrate.call_keyed(key, *integrate_args(
+        status, n_ev, _ = loop.call_keyed(key, *integrate_args(
             problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
             log.arrays(), dense_m, dense, count, checked_ws=True))
         log.keep(n_ev)
     return status, log
+
+
+def _loop(method):
+    """The integration loop of ``method``: the driver's, or the era integrator's."""
+    return _integrate_noevents if method.id == _tab.RK4_NOEVENTS else _integrate
 
 
 def integrate_args(problem, method, options, ws, y, mode, clock, k_end, k_record, strobe,
@@ -462,7 +471,7 @@ def benettin(problem, method, options, y, mode, clock, n_state, bound, n_periods
     # nothing is recorded before a period's end: the log never fills
     log = EventLog(64, n, problem.n_mode)
     renorm = (int(n_state), float(bound), _rows(logs, n_periods), _rows(states, n_periods))
-    status, _, done = _integrate.call_keyed(_run_key(problem), *integrate_args(
+    status, _, done = _loop(method).call_keyed(_run_key(problem), *integrate_args(
         problem, method, options, ws, y, mode, clock, 0, 0, np.empty((1, n)), log.arrays(),
         0, np.empty((1, n)), count, renorm, checked_ws=True))
     return status, done

@@ -49,6 +49,7 @@ Workspace = namedtuple("Workspace", (
     "flag", "lo", "hi",                  # detection: kind and bracket of each switch
     "obs_th", "obs_i",                   # located observer crossings
     "mode_old",                          # the mode before a transition
+    "mode_stage",                        # a stage's mode (:mod:`.noevents`)
 ))
 
 #: outcomes of :func:`_switch_now`
@@ -69,7 +70,8 @@ def workspace(n, n_switch, n_mode):
                      np.empty(n), np.empty((5, n_switch)), np.empty(n_switch),
                      np.empty(n_switch), np.zeros(n_switch, dtype=np.int64),
                      np.zeros(n_switch), np.zeros(n_switch), np.empty(n_switch),
-                     np.empty(n_switch, dtype=np.int64), np.zeros(n_mode, dtype=np.int64))
+                     np.empty(n_switch, dtype=np.int64), np.zeros(n_mode, dtype=np.int64),
+                     np.zeros(n_mode, dtype=np.int64))
 
 
 @njit(**PIECE)
@@ -433,7 +435,8 @@ def integrate(problem, method, opts, ws, y, mode, ks, k_end, k_record, strobe, l
         (mode-changing) switch, 0 for an observer; ``p``: float64 parameter vector;
         ``omega``: forcing frequency, the period is ``T = 2 pi / omega``.
     method : tuple ``(id, A, B, C, E, E3, D, P, order, n_stages)``
-        The Runge--Kutta method as data (:mod:`.tableaux`).
+        The Runge--Kutta method as data (:mod:`.tableaux`); not ``RK4_NOEVENTS``, whose
+        loop is :func:`.noevents.integrate_noevents`.
     opts : float64 array
         ``(rtol, atol, h_fixed, h_max, bound, event_tol, max_steps_per_period, fixed,
         n_bound, n_err, tfac, g_in, g_out)`` (:mod:`.integrator`, read through

@@ -43,7 +43,7 @@ from numba import njit
 
 from .dispatch import model_rhs
 from .jitopts import INNER
-from .tableaux import DOP853, DP5, RK4
+from .tableaux import DOP853, DP5, RK4, RK4_NOEVENTS
 
 # status codes (mirrored in vibimpact.core.run.Status)
 OK = 0
@@ -232,7 +232,7 @@ def interpolate(method, theta, h, y0, f0, y1, f1, F, out):
 def settings(opts, method_id, order, omega, n):
     """The option vector ``opts`` (layout above) as a :data:`Settings` for a method and a
     state of ``n`` entries."""
-    fixed = method_id == RK4 or opts[O_FIXED] > 0.0
+    fixed = method_id == RK4 or method_id == RK4_NOEVENTS or opts[O_FIXED] > 0.0
     tfac = opts[O_TFAC]
     n_bound = n if opts[O_NBOUND] <= 0.0 else min(n, int(opts[O_NBOUND]))
     n_err = n if opts[O_NERR] <= 0.0 else min(n, int(opts[O_NERR]))
@@ -241,5 +241,6 @@ def settings(opts, method_id, order, omega, n):
     n_norm = n if tfac > 0.0 else n_err
     return Settings(2.0 * math.pi / omega, opts[O_RTOL], opts[O_ATOL], opts[O_HFIX],
                     opts[O_HMAX], opts[O_BOUND], opts[O_EVTOL], opts[O_MAXSTEPS],
-                    method_id != RK4, fixed, -1.0 / order, order, n_bound, n_err, tfac,
+                    method_id == DP5 or method_id == DOP853, fixed, -1.0 / order, order,
+                    n_bound, n_err, tfac,
                     opts[O_GIN], g_out, n_norm)

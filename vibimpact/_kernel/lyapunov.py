@@ -17,8 +17,22 @@ from numba import njit
 
 from .driver import integrate
 from .integrator import DIVERGED_BOUND, OK
-from .jitopts import ALLOC
+from .jitopts import ALLOC, PIECE
 from .linalg import matmul, qr
+from .noevents import integrate_noevents
+from .tableaux import RK4_NOEVENTS
+
+
+@njit(**PIECE)
+def _one_period(problem, method, opts, ws, y, mode, ks, k_next, strobe, log, none, dense,
+                counters, plain):
+    """One forcing period of a plain run, on the method's loop (the driver's, or the era
+    integrator's, :mod:`.noevents`)."""
+    if method[0] == RK4_NOEVENTS:
+        return integrate_noevents(problem, method, opts, ws, y, mode, ks, k_next, k_next,
+                                  strobe, log, none, none, dense, counters, plain)
+    return integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next, strobe, log,
+                     none, none, dense, counters, plain)
 
 
 @njit(inline="always", **ALLOC)
@@ -49,12 +63,12 @@ def two_trajectory(problem, method, opts, ws, y, mode, ks, y2, mode2, ks2, d0, s
     plain = (none, 0.0, np.empty((0, 0)), np.empty((0, 0)))  # no renormalisation
     for j in range(n_periods):
         k_next = int(ks[0]) + 1
-        status, _, _ = integrate(problem, method, opts, ws, y, mode, ks, k_next, k_next,
-                                 strobe, log, none, none, dense, counters, plain)
+        status, _, _ = _one_period(problem, method, opts, ws, y, mode, ks, k_next, strobe,
+                                   log, none, dense, counters, plain)
         if status != OK:
             return status, j
-        status, _, _ = integrate(problem, method, opts, ws, y2, mode2, ks2, k_next, k_next,
-                                 strobe, log, none, none, dense, counters, plain)
+        status, _, _ = _one_period(problem, method, opts, ws, y2, mode2, ks2, k_next, strobe,
+                                   log, none, dense, counters, plain)
         if status != OK:
             return status, j
         d = 0.0

@@ -24,10 +24,15 @@ import numpy as np
 RK4 = 0
 DP5 = 1
 DOP853 = 2
+#: RK4's tableau at a fixed step with the switches inside the right-hand side and no
+#: event location (:mod:`.noevents`: the era's integrator, to measure with)
+RK4_NOEVENTS = 3
 
-METHOD_IDS = {"rk4": RK4, "dp5": DP5, "dop853": DOP853}
+METHOD_IDS = {"rk4": RK4, "dp5": DP5, "dop853": DOP853, "rk4-fixed-noevents": RK4_NOEVENTS}
+#: the fixed-step methods (no error estimate)
+FIXED = (RK4, RK4_NOEVENTS)
 #: classical order of each method (used by the step-size controller and the tests)
-ORDER = {RK4: 4, DP5: 5, DOP853: 8}
+ORDER = {RK4: 4, DP5: 5, DOP853: 8, RK4_NOEVENTS: 4}
 
 # --- RK4 -------------------------------------------------------------------------------
 RK4_C = np.array([0.0, 0.5, 0.5, 1.0])

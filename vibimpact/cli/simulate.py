@@ -104,7 +104,8 @@ def _cmd_simulate(args):
     try:
         run = simulate(params, periods=args.periods, transient=args.transient,
                        state0=state0, dense=dense, solver=SolverSettings(
-                           method=args.method, rtol=args.rtol, atol=args.atol))
+                           method=args.method, rtol=args.rtol, atol=args.atol,
+                           steps_per_period=args.steps_per_period))
     except ValueError as exc:
         raise UsageError(error_text(exc)) from None
     elapsed = time.perf_counter() - start
@@ -154,8 +155,14 @@ def add_parser(sub, fmt):
     s.add_argument("--state0", type=number, nargs="+", metavar="X",
                    help="initial state at t = 0, one value per state of the model "
                         "(default: rest, 0 0 0 0)")
-    s.add_argument("--method", choices=("dop853", "dp5", "rk4"), default="dop853",
-                   help="integrator (default: dop853)")
+    s.add_argument("--method", choices=("dop853", "dp5", "rk4", "rk4-fixed-noevents"),
+                   default="dop853", help="integrator (default: dop853); "
+                   "rk4-fixed-noevents: RK4 at a fixed step with the contact switch inside "
+                   "the right-hand side and no event location, the integrator of a simple "
+                   "code of the paper's time, to measure with")
+    s.add_argument("--steps-per-period", type=positive_int(1), default=400, metavar="N",
+                   help="steps per forcing period of the fixed-step methods (rk4, "
+                        "rk4-fixed-noevents; default: 400)")
     s.add_argument("--rtol", type=positive_number, default=1e-9, help="relative "
                    "tolerance, > 0 (default: 1e-9)")
     s.add_argument("--atol", type=positive_number, default=1e-12, help="absolute "

@@ -91,13 +91,20 @@ class SolverSettings:
 
     Parameters
     ----------
-    method : {"dop853", "dp5", "rk4"}, optional
-        Dormand--Prince 8(5,3) or 5(4), adaptive, or the classical fixed-step RK4.
+    method : {"dop853", "dp5", "rk4", "rk4-fixed-noevents"}, optional
+        Dormand--Prince 8(5,3) or 5(4), adaptive; the classical RK4 at a fixed step, with
+        located events; or ``"rk4-fixed-noevents"``, the era's integrator: RK4 at exactly
+        ``steps_per_period`` steps per period, every stage in the mode its own state
+        implies (the contact switch inside the right-hand side), switches applied at the
+        end of the step that crossed them, no event location
+        (:mod:`vibimpact._kernel.noevents`).  It exists to measure how much the labels
+        depend on an accurate integration (order 1 through contacts), not to be used.
     rtol, atol : float, optional
         Tolerances of the adaptive methods.
     steps_per_period : int, optional
-        Fixed-step runs (RK4, or ``adaptive=False``): steps per forcing period.  Steps are
-        also cut at events and graded next to contact surfaces.
+        Fixed-step runs (the RK4 methods, or ``adaptive=False``): steps per forcing
+        period.  With ``"rk4"`` steps are also cut at events and graded next to contact
+        surfaces; ``"rk4-fixed-noevents"`` keeps its grid.
     adaptive : bool, optional
         False runs DP5 or DOP853 with fixed steps, no error control (to measure orders).
     max_step : float, optional
@@ -338,7 +345,8 @@ class Solver:
         vectors (the first columns of the identity), mapped by saltation matrices at
         every switch.
 
-        Adaptive methods and steps only; the bound applies to the model state only; the tangent
+        DP5 and DOP853 take adaptive steps here whatever ``adaptive`` says; a fixed-step
+        method its own steps.  The bound applies to the model state only; the tangent
         entries' local errors are tested at ``tangent_tol`` times the tolerances
         (``inf``: not tested; None: as the state's).  ``first_step``: the first step
         size trial (``min(T / 50, max_step)`` by default).
@@ -366,7 +374,8 @@ class Solver:
              settings: SolverSettings, *,
              first_step: float | None = None) -> tuple[Solver, Solver]:
         """Two solvers of ``system`` started at ``state0`` and ``state1`` with the same
-        clock, for :meth:`two_trajectory` (adaptive methods and steps only)."""
+        clock, for :meth:`two_trajectory` (DP5 and DOP853 with adaptive steps, a
+        fixed-step method on its own steps)."""
         settings = cls._adaptive(settings)
         options = settings.options(system.period, system.model.bound)
         out = []
@@ -382,21 +391,22 @@ class Solver:
     @staticmethod
     def check_tangents(settings: SolverSettings, tangent_tol: float | None = None) -> None:
         """Check that ``settings`` and ``tangent_tol`` can run the variational equations
-        or a pair (:meth:`variational`, :meth:`pair`): ``ValueError`` naming ``method``
-        for a fixed-step method, ``tangent_tol`` for one below 1."""
+        or a pair (:meth:`variational`, :meth:`pair`): ``ValueError`` naming
+        ``tangent_tol`` for one below 1 (every method runs them)."""
         Solver._adaptive(settings)
         if tangent_tol is not None:
             _tangent_factor(tangent_tol)
 
     @staticmethod
     def _adaptive(settings):
-        """``settings`` filled, with adaptive steps (the variational and two-trajectory
-        runs always take them: ``adaptive=False`` is for measuring orders of plain runs);
-        ``ValueError`` naming ``method`` for RK4."""
+        """``settings`` filled, with adaptive steps for an embedded method (the
+        variational and two-trajectory runs of DP5 and DOP853 always take them:
+        ``adaptive=False`` is for measuring orders of plain runs).  A fixed-step method
+        (``"rk4"``, ``"rk4-fixed-noevents"``) runs them on its own steps, so that every
+        analysis runs on the method a study measures."""
         s = settings.filled()
         if s.method not in ("dop853", "dp5"):
-            raise ValueError(f"method must be 'dop853' or 'dp5' (adaptive), "
-                             f"got {s.method!r}")
+            return s
         return s if s.adaptive else s._with({"adaptive": True})
 
     def _start(self, system, settings, options, y, *, variational, x0=None):

@@ -1,0 +1,421 @@
+"""Label-level work-precision: how coarse may the integration be before the labels change,
+and do the paper's missing windows appear under the integrator of its time?
+
+For fig8, fig10 and fig11, the main job's sweep (eta 0.9:1.5:0.002 up, with
+continuation, every analysis) is run on each integration method over its settings and
+compared with a reference sweep (DOP853 at rtol 1e-12):
+
+* the fraction of the 301 labels equal to the reference's;
+* the largest shift of an interval end: the Hausdorff distance between the etas where
+  the label changes (midway between the two grid points) in the sweep and in the
+  reference (none on one side and some on the other: not finite);
+* the paper's interval claims of the preset (:mod:`vibimpact.paper.claims`) judged on
+  the sweep, and which of them change their verdict with the method;
+
+against the sweep's CPU time (``time.process_time`` of a serial sweep; sweeps run two at a
+time in worker processes).  The methods: ``rk4-fixed-noevents`` (the era's integrator:
+RK4 at a fixed step, the contact switch inside the right-hand side, no event location)
+at 50 ... 3,200 steps per period, the event-located ``rk4`` at 50 ... 1,600, ``dp5`` and
+``dop853`` over their tolerances (``atol = rtol / 1000``).
+
+Then the era question: under ``rk4-fixed-noevents`` at 50, 100, 200 and 400 steps per
+period, with the shipped B and Ec and with the two best other readings of the
+calibration (``reports/calibration.nc``), do the paper's claims of fig10 and fig11 hold
+(both directions, judged as the paper report judges them)?
+
+Run as ``python analyses/performance/label_precision.py [--workers N] [--smoke DIR]``
+(its run time is in the section it writes).  It writes ``reports/label_precision.json`` (every number
+of the section), the section ``label-precision`` of ``reports/performance.md`` (rendered
+from that file by :func:`render`; ``tests/test_label_precision_report.py`` fails when
+they drift) and ``reports/figures/label_precision.png``.
+"""
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import platform
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # analyses/: _common
+from _common import smoke  # noqa: E402
+from _common.report import write_section  # noqa: E402
+
+ROOT = HERE.parents[1]
+REPORT = ROOT / "reports" / "performance.md"
+DATA = ROOT / "reports" / "label_precision.json"
+FIGURE = ROOT / "reports" / "figures" / "label_precision.png"
+SECTION = "label-precision"
+
+PRESETS = ("fig8", "fig10", "fig11")
+ETA = "0.9:1.5:0.002"
+#: the reference sweep's method and settings
+REFERENCE = ("dop853", {"rtol": 1e-12, "atol": 1e-14})
+#: each method's settings, coarsest first
+SETTINGS = {
+    "rk4-fixed-noevents": [{"steps_per_period": n}
+                           for n in (50, 100, 200, 400, 800, 1600, 3200)],
+    "rk4": [{"steps_per_period": n} for n in (50, 100, 200, 400, 800, 1600)],
+    "dp5": [{"rtol": r, "atol": r * 1e-3} for r in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9)],
+    "dop853": [{"rtol": r, "atol": r * 1e-3}
+               for r in (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)],
+}
+#: the era question: its presets, steps per period and how many calibration readings
+#: besides the shipped one
+ERA_PRESETS = ("fig10", "fig11")
+ERA_STEPS = (50, 100, 200, 400)
+ERA_READINGS = 2
+
+
+def setting_text(method, setting):
+    """``400 steps`` or ``rtol 1e-08``: a setting in the report's words."""
+    if "steps_per_period" in setting:
+        return f"{setting['steps_per_period']} steps"
+    return f"rtol {setting['rtol']:.0e}"
+
+
+def _params(preset, reading=None):
+    import vibimpact as vi
+
+    p = vi.presets.get(preset)
+    if reading is not None:
+        p = p.replace(**reading["presets"][preset])
+        p = p.replace(Ec=reading["Ec"])
+    return p
+
+
+def _sweep(job):
+    """One sweep, serial, in a worker: its labels and claims, and its CPU time."""
+    import vibimpact as vi
+    from vibimpact.paper import claims as C
+
+    preset, method, setting, direction, reading, eta = job
+    params = _params(preset, reading)
+    system = vi.System(params, solver=vi.SolverSettings(method=method, **setting))
+    t0 = time.process_time()
+    ds = vi.sweep(system, vi.grid(eta), direction=direction,
+                  execution=vi.Execution(workers=1, progress=False))
+    cpu = time.process_time() - t0
+    up = ds.sel(direction="up") if "direction" in ds.dims else ds
+    claims = {}
+    for c in C.claims(preset):
+        verdict, det = C.judge(ds, c)
+        claims[c.key] = {"verdict": verdict, "start": _num(det.start), "end": _num(det.end)}
+    return {"preset": preset, "method": method, "setting": setting,
+            "direction": direction, "reading": None if reading is None else reading["name"],
+            "cpu_s": cpu, "eta": [float(x) for x in up["eta"].values],
+            "labels": [str(x) for x in up["label"].values], "claims": claims}
+
+
+def _num(x):
+    return None if not np.isfinite(x) else float(x)
+
+
+def boundaries(eta, labels):
+    """The etas where the label changes, midway between the two grid points."""
+    eta = np.asarray(eta, dtype=float)
+    lab = np.asarray(labels, dtype=object)
+    i = np.flatnonzero(lab[1:] != lab[:-1])
+    return 0.5 * (eta[i] + eta[i + 1])
+
+
+def hausdorff(a, b):
+    """The Hausdorff distance between two sets of etas (0 for two empty ones, inf for one
+    empty one)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.size == 0 and b.size == 0:
+        return 0.0
+    if a.size == 0 or b.size == 0:
+        return float("inf")
+    d = np.abs(a[:, None] - b[None, :])
+    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+
+
+def compare(run, ref):
+    """The comparison of one sweep with the reference: labels agreeing, the largest
+    interval-end shift, the claims whose verdict differs."""
+    same = np.asarray(run["labels"], dtype=object) == np.asarray(ref["labels"], dtype=object)
+    shift = hausdorff(boundaries(run["eta"], run["labels"]),
+                      boundaries(ref["eta"], ref["labels"]))
+    changed = sorted(k for k, v in run["claims"].items()
+                     if v["verdict"] != ref["claims"][k]["verdict"])
+    return {"agree": float(same.mean()), "n_differ": int((~same).sum()),
+            "shift": None if not np.isfinite(shift) else shift, "claims_changed": changed}
+
+
+def _calibration_readings(n):
+    """The ``n`` best readings of ``reports/calibration.nc`` other than the shipped
+    winner's: ``{"name", "B", "Ec", "presets": {fig: {"B", "Bh", "BT", "f"}}}``."""
+    import xarray as xr
+
+    sys.path.insert(0, str(HERE.parent / "paper"))
+    import calibrate_search as S
+
+    with xr.open_dataset(ROOT / "reports" / "calibration.nc") as cal:
+        winner = json.loads(cal.attrs["winner"])
+        reading = cal["reading"].values
+        objective = cal["objective"].values
+        B, Ec = cal["B"].values, cal["Ec"].values
+    by_name = {r.key: r for r in S.readings() if r.adoptable}
+    best = []
+    for name in dict.fromkeys(str(x) for x in reading):
+        if name == winner["reading"] or name not in by_name:
+            continue
+        sel = np.flatnonzero(reading == name)
+        k = sel[np.argmin(objective[sel])]
+        best.append((float(objective[k]), name, float(B[k]), float(Ec[k])))
+    out = []
+    for obj, name, b, ec in sorted(best)[:n]:
+        presets = {}
+        for fig in by_name[name].figures:
+            damp = S.damping_values(fig.damp)
+            presets[fig.preset] = dict(damp, B=0.0 if fig.b_zero else b)
+        out.append({"name": name, "text": by_name[name].text, "B": b, "Ec": ec,
+                    "objective": obj, "presets": presets})
+    return out
+
+
+def jobs(workers):
+    """Every sweep of the study, the longest first."""
+    out = []
+    for preset in PRESETS:
+        out.append((preset, REFERENCE[0], REFERENCE[1], "up", None, ETA))
+        for method, settings in SETTINGS.items():
+            for s in settings:
+                out.append((preset, method, s, "up", None, ETA))
+    readings = [None] + _calibration_readings(ERA_READINGS)
+    for reading in readings:
+        for preset in ERA_PRESETS:
+            out.append((preset, REFERENCE[0], REFERENCE[1], "both", reading, ETA))
+            for n in ERA_STEPS:
+                out.append((preset, "rk4-fixed-noevents", {"steps_per_period": n}, "both",
+                            reading, ETA))
+
+    def cost(job):
+        s = job[2]
+        return s.get("steps_per_period", 0) + (1000 if s.get("rtol", 1) < 1e-11 else 0)
+
+    return sorted(out, key=cost, reverse=True), readings
+
+
+def run(workers):
+    """Run the study; returns the data written to ``label_precision.json``."""
+    todo, readings = jobs(workers)
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(workers) as pool:
+        results = list(pool.map(_sweep, todo))
+    wall = time.perf_counter() - t0
+    key = {(r["preset"], r["method"], json.dumps(r["setting"], sort_keys=True),
+            r["direction"], r["reading"]): r for r in results}
+
+    def get(preset, method, setting, direction="up", reading=None):
+        return key[(preset, method, json.dumps(setting, sort_keys=True), direction,
+                    reading)]
+
+    precision = {}
+    for preset in PRESETS:
+        ref = get(preset, *REFERENCE)
+        rows = []
+        for method, settings in SETTINGS.items():
+            for s in settings:
+                r = get(preset, method, s)
+                rows.append(dict(method=method, setting=s, text=setting_text(method, s),
+                                 cpu_s=r["cpu_s"], claims={k: v["verdict"] for k, v
+                                                            in r["claims"].items()},
+                                 **compare(r, ref)))
+        precision[preset] = {"reference_cpu_s": ref["cpu_s"], "rows": rows,
+                             "reference_claims": {k: v["verdict"]
+                                                  for k, v in ref["claims"].items()},
+                             "reference_intervals": int(boundaries(
+                                 ref["eta"], ref["labels"]).size + 1)}
+    era = []
+    for reading in readings:
+        name = None if reading is None else reading["name"]
+        for preset in ERA_PRESETS:
+            ref = get(preset, *REFERENCE, "both", name)
+            for c in ref["claims"]:
+                row = {"reading": name or "shipped", "preset": preset, "claim": c,
+                       "reference": ref["claims"][c]["verdict"], "era": {}}
+                for n in ERA_STEPS:
+                    r = get(preset, "rk4-fixed-noevents", {"steps_per_period": n}, "both",
+                            name)
+                    row["era"][str(n)] = r["claims"][c]
+                era.append(row)
+    import vibimpact as vi
+
+    return {"date": datetime.date.today().isoformat(), "machine": _machine(),
+            "workers": workers, "wall_s": wall, "eta": ETA,
+            "reference": {"method": REFERENCE[0], **REFERENCE[1]},
+            "B": vi.presets.get("fig8").B, "Ec": vi.presets.get("fig8").Ec,
+            "precision": precision, "readings": [r for r in readings if r is not None],
+            "era_steps": list(ERA_STEPS), "era": era}
+
+
+def _machine():
+    return f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def coarsest(rows, method):
+    """The coarsest setting of ``method`` from which on every finer one gives all labels
+    equal to the reference's (None: not even the finest)."""
+    mine = [r for r in rows if r["method"] == method]
+    best = None
+    for r in reversed(mine):  # finest first
+        if r["n_differ"] != 0:
+            break
+        best = r
+    return best
+
+
+def _fmt_shift(x):
+    return "none shared" if x is None else f"{x:.3f}"
+
+
+def render(data):
+    """The report section, from the study's data (nothing else)."""
+    lines = [
+        f"Label-level work-precision ({data['date']}, {data['machine']}; "
+        f"`analyses/performance/label_precision.py`, sweeps two at a time in "
+        f"{data['workers']} worker processes, {data['wall_s'] / 60:.1f} min wall). "
+        f"Each sweep is the main job's: η {data['eta']} up with continuation, every "
+        f"analysis, B = {data['B']:g}, Ec = {data['Ec']:g}. Reference: "
+        f"{data['reference']['method']} at rtol {data['reference']['rtol']:.0e}. "
+        "*Labels equal*: the share of the 301 labels equal to the reference's. "
+        "*Largest end shift*: the Hausdorff distance between the etas where the label "
+        "changes in the sweep and in the reference. *Claims changed*: the paper's claims "
+        "of the preset whose verdict differs from the reference's. CPU time: the "
+        "serial sweep's process time.",
+        "",
+        "![labels equal and interval-end shift against CPU time](figures/label_precision.png)",
+        "",
+    ]
+    for preset, p in data["precision"].items():
+        lines += [f"**{preset}** (reference: {p['reference_cpu_s']:.1f} s CPU, "
+                  f"{p['reference_intervals']} intervals)", "",
+                  "| method | setting | CPU s | labels equal | largest end shift | "
+                  "claims changed |", "| --- | --- | ---: | ---: | ---: | --- |"]
+        for r in p["rows"]:
+            lines.append(f"| {r['method']} | {r['text']} | {r['cpu_s']:.1f} | "
+                         f"{r['agree']:.3f} ({r['n_differ']} differ) | "
+                         f"{_fmt_shift(r['shift'])} | "
+                         f"{', '.join(r['claims_changed']) or '—'} |")
+        lines.append("")
+    lines += ["Coarsest setting from which on every finer one gives all 301 labels of the "
+              "reference:", "", "| preset | " + " | ".join(SETTINGS) + " |",
+              "| --- |" + " --- |" * len(SETTINGS)]
+    for preset, p in data["precision"].items():
+        cells = []
+        for method in SETTINGS:
+            best = coarsest(p["rows"], method)
+            cells.append("none of the settings" if best is None else
+                         f"{best['text']} ({best['cpu_s']:.1f} s)")
+        lines.append(f"| {preset} | " + " | ".join(cells) + " |")
+    lines += ["", "Claims whose verdict changes with the method (reference verdict → the "
+              "settings that give another):", ""]
+    any_change = False
+    for preset, p in data["precision"].items():
+        for claim, ref in p["reference_claims"].items():
+            other = [f"{r['method']} {r['text']}: {r['claims'][claim]}" for r in p["rows"]
+                     if r["claims"][claim] != ref]
+            if other:
+                any_change = True
+                lines.append(f"- {claim} ({ref}): " + "; ".join(other))
+    if not any_change:
+        lines.append("- none")
+    lines += ["", "**Under the era's integrator** (`rk4-fixed-noevents`, both directions, "
+              "judged as `reports/paper.md` judges): the verdict on each claim of fig10 and "
+              "fig11 at " + ", ".join(str(n) for n in data["era_steps"]) +
+              " steps per period, beside the reference's, for the shipped B and Ec and the "
+              "calibration's next-best readings:", ""]
+    for r in data["readings"]:
+        lines.append(f"- reading {r['name']} ({r['text']}): B = {r['B']:g}, Ec = "
+                     f"{r['Ec']:g}, calibration objective {r['objective']:.3f}")
+    lines += ["", "| reading | claim | reference | " +
+              " | ".join(f"{n} steps" for n in data["era_steps"]) + " | appears? |",
+              "| --- | --- | --- |" + " --- |" * len(data["era_steps"]) + " --- |"]
+    for row in data["era"]:
+        cells = []
+        for n in data["era_steps"]:
+            e = row["era"][str(n)]
+            span = "" if e["start"] is None else f" ({e['start']:.3f}–{e['end']:.3f})"
+            cells.append(f"{e['verdict']}{span}")
+        appears = [n for n in data["era_steps"] if row["era"][str(n)]["verdict"] == "agree"]
+        yes = (f"yes at {', '.join(map(str, appears))}" if appears and
+               row["reference"] != "agree" else "held by the reference too" if appears
+               else "no")
+        lines.append(f"| {row['reading']} | {row['claim']} | {row['reference']} | " +
+                     " | ".join(cells) + f" | {yes} |")
+    return "\n".join(lines)
+
+
+def plot(data, path):
+    """Labels equal and the largest interval-end shift against CPU time, per preset."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    presets = list(data["precision"])
+    fig, axes = plt.subplots(2, len(presets), figsize=(4.2 * len(presets), 6.4),
+                             squeeze=False, sharex="col")
+    for j, preset in enumerate(presets):
+        rows = data["precision"][preset]["rows"]
+        for method in SETTINGS:
+            mine = [r for r in rows if r["method"] == method]
+            t = [r["cpu_s"] for r in mine]
+            axes[0, j].plot(t, [r["agree"] for r in mine], "o-", ms=4, label=method)
+            shift = [np.nan if r["shift"] is None else max(r["shift"], 1e-4) for r in mine]
+            axes[1, j].plot(t, shift, "o-", ms=4, label=method)
+        axes[0, j].axvline(data["precision"][preset]["reference_cpu_s"], color="0.6",
+                           lw=0.8, ls="--")
+        axes[0, j].set_title(preset)
+        axes[0, j].set_ylim(0, 1.02)
+        axes[1, j].set_yscale("log")
+        axes[1, j].set_xscale("log")
+        axes[1, j].set_xlabel("CPU time of the sweep (s)")
+    axes[0, 0].set_ylabel("labels equal to the reference")
+    axes[1, 0].set_ylabel("largest interval-end shift (η)")
+    axes[0, 0].legend(fontsize=7)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.stem + ".tmp" + path.suffix)
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def write(data, report, data_path, figure):
+    """Write the data, the figure and the section (each replaced atomically)."""
+    tmp = data_path.with_name(data_path.name + ".tmp")
+    tmp.write_text(json.dumps(data, indent=1) + "\n")
+    os.replace(tmp, data_path)
+    plot(data, figure)
+    write_section(report, SECTION, render(data))
+
+
+def main(argv=None):
+    ap = smoke.parser(__doc__)
+    ap.add_argument("--workers", type=int, default=2, help="sweeps at a time (default 2)")
+    args = ap.parse_args(argv)
+    report, data_path, figure = REPORT, DATA, FIGURE
+    if args.smoke is not None:
+        smoke.shrink(globals(), args.smoke, PRESETS=("fig10",), ETA="1.19:1.21:0.01",
+                     SETTINGS={"rk4-fixed-noevents": [{"steps_per_period": 50}],
+                               "dop853": [{"rtol": 1e-6, "atol": 1e-9}]},
+                     ERA_PRESETS=("fig10",), ERA_STEPS=(50,), ERA_READINGS=1)
+        report = smoke.moved(REPORT, args.smoke)
+        data_path = smoke.moved(DATA, args.smoke)
+        figure = smoke.moved(FIGURE, args.smoke)
+    data = run(args.workers)
+    write(data, report, data_path, figure)
+    print(render(data))
+
+
+if __name__ == "__main__":
+    main()
