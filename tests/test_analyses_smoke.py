@@ -32,6 +32,9 @@ SMOKE = {
     # not run by performance.py: it compiles the kernel cold, installs into throwaway
     # environments and writes a report of its own
     "performance/kernel_install.py": ["kernel_install.md"],
+    # not run by performance.py either: a study of its own (sweeps on every method)
+    "performance/label_precision.py": ["performance.md", "label_precision.json",
+                                       "label_precision.png"],
     "reliability/reliability.py": ["reliability.md"],
     "ring/ring_study.py": ["ring.md", "ring.json", "figures/ring_map.png",
                            "figures/ring_motion.png"],
