@@ -22,7 +22,7 @@ from ..analysis.classify import Label
 from ..core.run import state_text
 from ..core.system import param_dict, to_system
 from ..models.words import file_words
-from ..points.point import (CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
+from ..points.point import (point_system, CONTACT_FLAGS, CONTACT_IMPACTING, CONTACT_NONE,
                             CONTACT_PERMANENT, REGIME_CODES, REGIME_FLAGS, SCALARS)
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -255,6 +255,9 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
         model=model.name, frequency_name=model.frequency_name,
         params=json.dumps(params, sort_keys=True),
         settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
+        # the integrator that ran: a System's own settings win over the sweep's
+        solver=json.dumps(point_system(p, settings).solver.filled().as_dict(),
+                          sort_keys=True, default=str),
         sweep_direction=direction, continuation=int(bool(continuation)),
         blocks=int(blocks), command=command if command is not None else " ".join(sys.argv),
     )
