@@ -32,10 +32,11 @@ from numba import njit
 
 from .dispatch import model_rhs, model_step_cap, model_switches, model_transition
 from .events import BRACKETED, IMMEDIATE, detect, locate, retake
-from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS,
-                         DIVERGED_BOUND, DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, OK,
-                         STEP_UNDERFLOW, ZENO, error_norm, interpolate, prepare_dense,
-                         rk_step, settings)
+from .integrator import (C_EVENTS, C_OBSERVED, C_REJECTED, C_RHS, C_STEPS, LOG_FULL,
+                         MAX_STEPS, OK, STEP_UNDERFLOW, ZENO, error_norm, interpolate,
+                         prepare_dense, rk_step, settings)
+from .integrator import check_state as _check_state
+from .integrator import log_event as _log
 from .jitopts import LEAF, PIECE
 from .renormalise import renormalise
 from .sampling import next_period_sample, resume, samples, suspend
@@ -90,21 +91,6 @@ def graded_step(hf, t, order):
     tau = 1.0
     return max(hf * (hf / tau) ** ((order + 1.0) / 2.5 - 1.0),
                hf * (t / tau) ** (1.5 / (order + 1.0)))
-
-
-@njit(**PIECE)
-def _log(log, n_ev, t, which, mode_before, mode_after, y):
-    """Write one entry of the event log ``(t, which, mode, state)``; returns the count."""
-    ev_t, ev_which, ev_mode, ev_y = log
-    nm = mode_before.size
-    ev_t[n_ev] = t
-    ev_which[n_ev] = which
-    for m in range(nm):
-        ev_mode[n_ev, m] = mode_before[m]
-        ev_mode[n_ev, nm + m] = mode_after[m]
-    for m in range(y.size):
-        ev_y[n_ev, m] = y[m]
-    return n_ev + 1
 
 
 @njit(**PIECE)
@@ -180,24 +166,6 @@ def _attempt(problem, method, cfg, ws, mode, s, y, h, h_prop, lands, counters):
         model_rhs(model, s + h, ws.y1, p, mode, f1r)
         counters[C_RHS] += 1
     return True, h, h_next
-
-
-@njit(**PIECE)
-def _check_state(y1, n_bound, bound):
-    """OK, or DIVERGED_NONFINITE / DIVERGED_BOUND (the first ``n_bound`` entries beyond
-    ``bound``) for a new state."""
-    finite = True
-    big = 0.0
-    for m in range(y1.size):
-        if not np.isfinite(y1[m]):
-            finite = False
-        elif m < n_bound and abs(y1[m]) > big:
-            big = abs(y1[m])
-    if not finite:
-        return DIVERGED_NONFINITE
-    if big > bound:
-        return DIVERGED_BOUND
-    return OK
 
 
 @njit(**PIECE)

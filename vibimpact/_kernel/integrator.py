@@ -39,10 +39,11 @@ Algorithm of one step (methods as data; tableaux in :mod:`.tableaux`):
 import math
 from collections import namedtuple
 
+import numpy as np
 from numba import njit
 
 from .dispatch import model_rhs
-from .jitopts import INNER
+from .jitopts import INNER, PIECE
 from .tableaux import DOP853, DP5, RK4, RK4_NOEVENTS
 
 # status codes (mirrored in vibimpact.core.run.Status)
@@ -244,3 +245,36 @@ def settings(opts, method_id, order, omega, n):
                     method_id == DP5 or method_id == DOP853, fixed, -1.0 / order, order,
                     n_bound, n_err, tfac,
                     opts[O_GIN], g_out, n_norm)
+
+
+@njit(**PIECE)
+def log_event(log, n_ev, t, which, mode_before, mode_after, y):
+    """Write one entry of the event log ``(t, which, mode, state)``; returns the count."""
+    ev_t, ev_which, ev_mode, ev_y = log
+    nm = mode_before.size
+    ev_t[n_ev] = t
+    ev_which[n_ev] = which
+    for m in range(nm):
+        ev_mode[n_ev, m] = mode_before[m]
+        ev_mode[n_ev, nm + m] = mode_after[m]
+    for m in range(y.size):
+        ev_y[n_ev, m] = y[m]
+    return n_ev + 1
+
+
+@njit(**PIECE)
+def check_state(y1, n_bound, bound):
+    """OK, or DIVERGED_NONFINITE / DIVERGED_BOUND (the first ``n_bound`` entries beyond
+    ``bound``) for a new state."""
+    finite = True
+    big = 0.0
+    for m in range(y1.size):
+        if not np.isfinite(y1[m]):
+            finite = False
+        elif m < n_bound and abs(y1[m]) > big:
+            big = abs(y1[m])
+    if not finite:
+        return DIVERGED_NONFINITE
+    if big > bound:
+        return DIVERGED_BOUND
+    return OK

@@ -34,13 +34,12 @@ kernel does not carry it).
 """
 import math
 
-import numpy as np
 from numba import njit
 
 from .dispatch import model_rhs, model_switches, model_transition
-from .integrator import (C_EVENTS, C_OBSERVED, C_RHS, C_STEPS, DIVERGED_BOUND,
-                         DIVERGED_NONFINITE, LOG_FULL, MAX_STEPS, O_BOUND, O_HFIX,
-                         O_MAXSTEPS, O_NBOUND, OK, hermite)
+from .integrator import (C_EVENTS, C_OBSERVED, C_RHS, C_STEPS, LOG_FULL, MAX_STEPS,
+                         O_BOUND, O_HFIX, O_MAXSTEPS, O_NBOUND, OK, check_state, hermite)
+from .integrator import log_event as _log
 from .jitopts import LEAF, PIECE
 from .renormalise import renormalise
 from .sampling import suspend
@@ -103,34 +102,6 @@ def _rk4(model, terminal, p, A, B, C, s, y, h, mode, ws, counters):
         for j in range(4):
             acc += B[j] * K[j, m]
         y1[m] = y[m] + h * acc
-
-
-@njit(**PIECE)
-def _log(log, n_ev, t, which, mode_before, mode_after, y):
-    """One entry of the event log ``(t, which, mode, state)``; returns the count."""
-    ev_t, ev_which, ev_mode, ev_y = log
-    nm = mode_before.size
-    ev_t[n_ev] = t
-    ev_which[n_ev] = which
-    for m in range(nm):
-        ev_mode[n_ev, m] = mode_before[m]
-        ev_mode[n_ev, nm + m] = mode_after[m]
-    for m in range(y.size):
-        ev_y[n_ev, m] = y[m]
-    return n_ev + 1
-
-
-@njit(**PIECE)
-def _diverged(y1, n_bound, bound):
-    """The status of a new state: OK, DIVERGED_NONFINITE or DIVERGED_BOUND (the first
-    ``n_bound`` entries beyond ``bound``)."""
-    big = 0.0
-    for m in range(y1.size):
-        if not np.isfinite(y1[m]):
-            return DIVERGED_NONFINITE
-        if m < n_bound and abs(y1[m]) > big:
-            big = abs(y1[m])
-    return DIVERGED_BOUND if big > bound else OK
 
 
 @njit(**PIECE)
@@ -248,7 +219,7 @@ def integrate_noevents(problem, method, opts, ws, y, mode, ks, k_end, k_record, 
             hh = s_end - s
             model_switches(model, s, y, p, mode, ws.G[0])
             _rk4(model, terminal, p, A, B, C, s, y, hh, mode, ws, counters)
-            status = _diverged(ws.y1, n_bound, bound)
+            status = check_state(ws.y1, n_bound, bound)
             if status != OK:
                 break
             counters[C_STEPS] += 1
