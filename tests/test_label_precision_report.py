@@ -41,6 +41,8 @@ def test_the_data_files_shares_and_counts_agree():
         for r in p["floor"] + p["rows"]:
             assert abs(r["agree"] - (1 - r["n_differ"] / n)) < 1e-12, (preset, r["text"])
             assert 0 <= r["n_differ_periodic"] <= r["n_differ"], (preset, r["text"])
+            pw = r["pointwise"]
+            assert 0 <= pw["n_differ_periodic"] <= pw["n_differ"] <= n, (preset, r["text"])
             if r["n_differ"] == 0:
                 assert r["claims_changed"] == [] and r["shift"] == 0.0, (preset, r["text"])
 

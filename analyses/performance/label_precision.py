@@ -12,11 +12,17 @@ compared with a reference sweep (DOP853 at rtol 1e-12):
 * the paper's interval claims of the preset (:mod:`vibimpact.paper.claims`) judged on
   the sweep, and which of them change their verdict with the method;
 
-against the sweep's CPU time (``time.process_time`` of a serial sweep; sweeps run two at a
-time in worker processes).  The methods: ``rk4-fixed-noevents`` (the era's integrator:
-RK4 at a fixed step, the contact switch inside the right-hand side, no event location)
-at 50 ... 3,200 steps per period, the event-located ``rk4`` at 50 ... 1,600, ``dp5`` and
-``dop853`` over their tolerances (``atol = rtol / 1000``).
+against the sweep's CPU time (``time.process_time`` of a serial sweep; ``--workers``
+sweeps at a time in worker processes).  The rotor is multistable, so a continued sweep whose state
+differs by round-off at one point may follow another attractor from there on; the
+reference's own reproducibility (DOP853 a decade looser and tighter) measures that floor,
+and a *pointwise* comparison takes it out: every method analyses every eta from the
+same start, the reference sweep's final state at the eta before, and its labels are
+compared with the reference method's from those starts.  The methods:
+``rk4-fixed-noevents`` (the era's integrator: RK4 at a fixed step, the contact switch
+inside the right-hand side, no event location) at 50 ... 3,200 steps per period, the
+event-located ``rk4`` at 50 ... 1,600, ``dp5`` and ``dop853`` over their tolerances
+(``atol = rtol / 1000``).
 
 Then the era question: under ``rk4-fixed-noevents`` at 50, 100, 200 and 400 steps per
 period, with the shipped B and Ec and with the two best other readings of the
@@ -24,10 +30,11 @@ calibration (``reports/calibration.nc``), do the paper's claims of fig10 and fig
 (both directions, judged as the paper report judges them)?
 
 Run as ``python analyses/performance/label_precision.py [--workers N] [--smoke DIR]``
-(its run time is in the section it writes).  It writes ``reports/label_precision.json`` (every number
-of the section), the section ``label-precision`` of ``reports/performance.md`` (rendered
-from that file by :func:`render`; ``tests/test_label_precision_report.py`` fails when
-they drift) and ``reports/figures/label_precision.png``.
+(its run time is in the section it writes).  It writes ``reports/label_precision.json``
+(every number of the section), the section ``label-precision`` of
+``reports/performance.md`` (rendered from that file by :func:`render`;
+``tests/test_label_precision_report.py`` fails when they drift) and
+``reports/figures/label_precision.png``.
 """
 from __future__ import annotations
 
@@ -153,7 +160,31 @@ def _sweep(job):
     return {"preset": preset, "method": method, "setting": setting,
             "direction": direction, "reading": None if reading is None else reading["name"],
             "cpu_s": cpu, "eta": [float(x) for x in up["eta"].values],
-            "labels": [str(x) for x in up["label"].values], "claims": claims}
+            "labels": [str(x) for x in up["label"].values], "claims": claims,
+            "final_state": np.asarray(up["final_state"].values, dtype=float).tolist()}
+
+
+def _pointwise(job):
+    """Every eta analysed from a given start (no continuation), serial, in a worker: the
+    labels and the CPU time."""
+    import vibimpact as vi
+    from vibimpact.core.system import with_frequency
+    from vibimpact.points.point import analyse_point
+    from vibimpact.sweeps.dataset import to_dataset
+
+    preset, method, setting, eta, starts = job
+    params = _params(preset)
+    system = vi.System(params, solver=vi.SolverSettings(method=method, **setting))
+    settings = vi.SweepSettings()
+    grid = vi.grid(eta)
+    t0 = time.process_time()
+    results = [analyse_point(with_frequency(system, float(e)), np.asarray(x), settings)
+               .as_dict() for e, x in zip(grid, starts)]
+    cpu = time.process_time() - t0
+    ds = to_dataset(system, grid, ["up"], {"up": results}, settings, direction="up",
+                    continuation=False, blocks=1, command="")
+    return {"preset": preset, "method": method, "setting": setting, "cpu_s": cpu,
+            "eta": [float(x) for x in grid], "labels": [str(x) for x in ds["label"].values]}
 
 
 def _num(x):
@@ -193,6 +224,16 @@ def compare(run, ref):
     return {"agree": float(same.mean()), "n_differ": int((~same).sum()),
             "n_differ_periodic": int((~same & periodic).sum()),
             "shift": None if not np.isfinite(shift) else shift, "claims_changed": changed}
+
+
+def _pointwise_row(run, ref):
+    """A pointwise run against the reference method's from the same starts: the labels
+    that differ (all, and where the reference is periodic) and the CPU time."""
+    lab, rlab = np.asarray(run["labels"], dtype=object), np.asarray(ref["labels"], dtype=object)
+    periodic = np.array([str(x).startswith("P") for x in rlab])
+    return {"n_differ": int((lab != rlab).sum()),
+            "n_differ_periodic": int(((lab != rlab) & periodic).sum()),
+            "cpu_s": run["cpu_s"]}
 
 
 def _calibration_readings(n):
@@ -258,9 +299,26 @@ def run(workers):
     t0 = time.perf_counter()
     with ProcessPoolExecutor(workers) as pool:
         results = list(pool.map(_sweep, todo))
-    wall = time.perf_counter() - t0
     key = {(r["preset"], r["method"], json.dumps(r["setting"], sort_keys=True),
             r["direction"], r["reading"]): r for r in results}
+    point_jobs = []
+    for preset in PRESETS:
+        ref = key[(preset, REFERENCE[0], json.dumps(REFERENCE[1], sort_keys=True), "up",
+                   None)]
+        final = np.asarray(ref["final_state"], dtype=float)
+        starts = np.vstack([np.zeros((1, final.shape[1])), final[:-1]])
+        for method, setting in [REFERENCE, *FLOOR, *((m, s) for m, ss in SETTINGS.items()
+                                                     for s in ss)]:
+            point_jobs.append((preset, method, setting, ETA, starts))
+    with ProcessPoolExecutor(workers) as pool:
+        points = list(pool.map(_pointwise, sorted(point_jobs, key=lambda j: -j[2].get(
+            "steps_per_period", 0))))
+    wall = time.perf_counter() - t0
+    pkey = {(r["preset"], r["method"], json.dumps(r["setting"], sort_keys=True)): r
+            for r in points}
+
+    def pointwise(preset, method, setting):
+        return pkey[(preset, method, json.dumps(setting, sort_keys=True))]
 
     def get(preset, method, setting, direction="up", reading=None):
         return key[(preset, method, json.dumps(setting, sort_keys=True), direction,
@@ -269,6 +327,7 @@ def run(workers):
     precision = {}
     for preset in PRESETS:
         ref = get(preset, *REFERENCE)
+        pref = pointwise(preset, *REFERENCE)
         rows = []
         for method, settings in SETTINGS.items():
             for s in settings:
@@ -276,12 +335,17 @@ def run(workers):
                 rows.append(dict(method=method, setting=s, text=setting_text(method, s),
                                  cpu_s=r["cpu_s"], claims={k: v["verdict"] for k, v
                                                             in r["claims"].items()},
+                                 pointwise=_pointwise_row(pointwise(preset, method, s),
+                                                          pref),
                                  **compare(r, ref)))
         floor = [dict(method=m, setting=s, text=setting_text(m, s),
-                      cpu_s=get(preset, m, s)["cpu_s"], **compare(get(preset, m, s), ref))
-                 for m, s in FLOOR]
+                      cpu_s=get(preset, m, s)["cpu_s"],
+                      pointwise=_pointwise_row(pointwise(preset, m, s), pref),
+                      **compare(get(preset, m, s), ref)) for m, s in FLOOR]
         precision[preset] = {"reference_cpu_s": ref["cpu_s"], "rows": rows,
                              "floor": floor,
+                             "pointwise_reference_differ": int(sum(
+                                 a != b for a, b in zip(pref["labels"], ref["labels"]))),
                              "reference_periodic": int(sum(str(x).startswith("P")
                                                            for x in ref["labels"])),
                              "reference_claims": {k: v["verdict"]
@@ -358,8 +422,9 @@ def render(data):
     """The report section, from the study's data (nothing else)."""
     lines = [
         f"Label-level work-precision ({data['date']}, {data['machine']}; "
-        f"`analyses/performance/label_precision.py`, sweeps two at a time in "
-        f"{data['workers']} worker processes, {data['wall_s'] / 60:.1f} min wall). "
+        f"`analyses/performance/label_precision.py`, each sweep serial, "
+        f"{data['workers']} at a time in worker processes, {data['wall_s'] / 60:.1f} min "
+        "wall). "
         f"Each sweep is the main job's: η {data['eta']} up with continuation, every "
         f"analysis, B = {data['B']:g}, Ec = {data['Ec']:g}. Reference: "
         f"{data['reference']['method']} at rtol {data['reference']['rtol']:.0e}. "
@@ -386,17 +451,23 @@ def render(data):
     for preset, p in data["precision"].items():
         lines += [f"**{preset}** (reference: {p['reference_cpu_s']:.1f} s CPU, "
                   f"{p['reference_intervals']} intervals, {p['reference_periodic']} of "
-                  f"{data['points']} points periodic). The first rows are the reference's "
-                  "own reproducibility: DOP853 a decade looser and a decade tighter.", "",
+                  f"{data['points']} points periodic; pointwise from its own final "
+                  f"states, the reference method gives {p['pointwise_reference_differ']} "
+                  "other labels than its continued sweep). The first rows are the "
+                  "reference's own reproducibility: DOP853 a decade looser and a decade "
+                  "tighter.", "",
                   "| method | setting | CPU s | labels equal | of them where the reference "
-                  "is periodic | largest end shift | claims changed |",
-                  "| --- | --- | ---: | ---: | ---: | ---: | --- |"]
+                  "is periodic | largest end shift | claims changed | pointwise: labels "
+                  "that differ (where periodic) |",
+                  "| --- | --- | ---: | ---: | ---: | ---: | --- | ---: |"]
         for r in p["floor"] + p["rows"]:
+            pw = r["pointwise"]
             lines.append(f"| {r['method']} | {r['text']} | {r['cpu_s']:.1f} | "
                          f"{r['agree']:.3f} ({r['n_differ']} differ) | "
                          f"{r['n_differ_periodic']} differ | "
                          f"{_fmt_shift(r['shift'])} | "
-                         f"{', '.join(r['claims_changed']) or '—'} |")
+                         f"{', '.join(r['claims_changed']) or '—'} | "
+                         f"{pw['n_differ']} ({pw['n_differ_periodic']}) |")
         lines.append("")
     methods = list(dict.fromkeys(r["method"] for p in data["precision"].values()
                                  for r in p["rows"]))
@@ -422,10 +493,23 @@ def render(data):
             cells.append("none of the settings" if best is None else
                          f"{best['text']} ({best['cpu_s']:.1f} s)")
         lines.append(f"| {preset} ({limit}) | " + " | ".join(cells) + " |")
+    lines += ["", "Pointwise (every η from the same start): coarsest setting from which on "
+              "every finer one differs from the reference method at no more labels than the "
+              "reference-quality DOP853 runs do pointwise (that most, in brackets):", "",
+              "| preset | " + " | ".join(methods) + " |", "| --- |" + " --- |" * len(methods)]
+    for preset, p in data["precision"].items():
+        limit = max(f["pointwise"]["n_differ"] for f in p["floor"])
+        rows = [dict(r, n_differ=r["pointwise"]["n_differ"]) for r in p["rows"]]
+        cells = []
+        for method in methods:
+            best = coarsest_within(rows, method, limit)
+            cells.append("none of the settings" if best is None else
+                         f"{best['text']} ({best['pointwise']['cpu_s']:.1f} s)")
+        lines.append(f"| {preset} ({limit}) | " + " | ".join(cells) + " |")
     lines += ["", "Claims whose verdict changes with the method (reference verdict → the "
               "settings that give another):", ""]
     any_change = False
-    for preset, p in data["precision"].items():
+    for p in data["precision"].values():
         for claim, ref in p["reference_claims"].items():
             other = [f"{r['method']} {r['text']}: {r['claims'][claim]}" for r in p["rows"]
                      if r["claims"][claim] != ref]
@@ -464,12 +548,13 @@ def render(data):
 def plot(data, path):
     """Labels equal and the largest interval-end shift against CPU time, per preset."""
     import matplotlib
+    import matplotlib.ticker
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     presets = list(data["precision"])
-    fig, axes = plt.subplots(2, len(presets), figsize=(4.2 * len(presets), 6.4),
+    fig, axes = plt.subplots(3, len(presets), figsize=(4.2 * len(presets), 9.2),
                              squeeze=False, sharex="col")
     for j, preset in enumerate(presets):
         rows = data["precision"][preset]["rows"]
@@ -479,15 +564,27 @@ def plot(data, path):
             axes[0, j].plot(t, [r["agree"] for r in mine], "o-", ms=4, label=method)
             shift = [np.nan if r["shift"] is None else max(r["shift"], 1e-4) for r in mine]
             axes[1, j].plot(t, shift, "o-", ms=4, label=method)
+            axes[2, j].plot([r["pointwise"]["cpu_s"] for r in mine],
+                            [max(r["pointwise"]["n_differ"], 0.5) for r in mine], "o-",
+                            ms=4, label=method)
+        floor_pw = max(f["pointwise"]["n_differ"] for f in data["precision"][preset]["floor"])
+        axes[2, j].axhline(max(floor_pw, 0.5), color="0.3", lw=0.8, ls=":")
+        axes[2, j].set_yscale("log")
         axes[0, j].axvline(data["precision"][preset]["reference_cpu_s"], color="0.6",
                            lw=0.8, ls="--")
+        worst = min(f["agree"] for f in data["precision"][preset]["floor"])
+        axes[0, j].axhline(worst, color="0.3", lw=0.8, ls=":",
+                           label="DOP853 a decade from the reference")
         axes[0, j].set_title(preset)
         axes[0, j].set_ylim(0, 1.02)
         axes[1, j].set_yscale("log")
         axes[1, j].set_xscale("log")
-        axes[1, j].set_xlabel("CPU time of the sweep (s)")
+        axes[2, j].set_xlabel("CPU time of the sweep or pointwise run (s)")
+        for ax in axes[:, j]:
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     axes[0, 0].set_ylabel("labels equal to the reference")
     axes[1, 0].set_ylabel("largest interval-end shift (η)")
+    axes[2, 0].set_ylabel("pointwise: labels that differ")
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
