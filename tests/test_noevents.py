@@ -168,17 +168,20 @@ def test_the_two_trajectory_exponent_runs_on_the_era_method():
     assert abs(era.exponents[0] - ref.exponents[0]) < 1e-5, (era.exponents, ref.exponents)
 
 
-def test_a_sweeps_file_names_the_integrator_that_ran():
-    """Hypothesis: a sweep's ``solver`` attribute is the integrator that ran -- the
-    System's own method and steps where it has them (here the era's method at 100
-    steps), the sweep's DOP853 at rtol 1e-8 otherwise -- so that a label's provenance
-    is in its file (the ``settings`` attribute alone said DOP853 for both)."""
-    import json
+def test_a_sweeps_file_names_the_integrator_that_ran(tmp_path):
+    """Hypothesis: a sweep's ``solver_<setting>`` attributes (as a run's, an orbit's or a
+    branch's file has them) are the integrator that ran -- the System's own method and
+    steps where it has them (here the era's method at 100 steps), the sweep's DOP853 at
+    rtol 1e-8 otherwise -- and survive the NetCDF file, so that a label's provenance is
+    in its file (the ``settings`` attribute alone said DOP853 for both)."""
+    from vibimpact.io import read_netcdf, write_netcdf
 
     params = vi.presets.get("fig8")
     eta = np.array([1.0])
     run = vi.Execution(workers=1, progress=False)
-    own = json.loads(vi.sweep(_era(params, 100), eta, execution=run).attrs["solver"])
-    plain = json.loads(vi.sweep(params, eta, execution=run).attrs["solver"])
-    assert own["method"] == "rk4-fixed-noevents" and own["steps_per_period"] == 100
-    assert plain["method"] == "dop853" and plain["rtol"] == 1e-8
+    write_netcdf(vi.sweep(_era(params, 100), eta, execution=run), tmp_path / "era.nc")
+    own = read_netcdf(tmp_path / "era.nc").attrs
+    plain = vi.sweep(params, eta, execution=run).attrs
+    assert own["solver_method"] == "rk4-fixed-noevents"
+    assert own["solver_steps_per_period"] == 100
+    assert plain["solver_method"] == "dop853" and plain["solver_rtol"] == 1e-8

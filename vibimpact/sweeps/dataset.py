@@ -255,14 +255,16 @@ def to_dataset(p: Params | DuffingParams | System, etas: np.ndarray, dirs: Seque
         model=model.name, frequency_name=model.frequency_name,
         params=json.dumps(params, sort_keys=True),
         settings=json.dumps(settings.as_attrs(), sort_keys=True, default=str),
-        # the integrator that ran: a System's own settings win over the sweep's
-        solver=json.dumps(point_system(p, settings).solver.filled().as_dict(),
-                          sort_keys=True, default=str),
         sweep_direction=direction, continuation=int(bool(continuation)),
         blocks=int(blocks), command=command if command is not None else " ".join(sys.argv),
     )
     for k, v in params.items():
         ds.attrs[f"param_{k}"] = float(v)
+    # the integrator that ran (a System's own solver settings win over the sweep's), as
+    # run, orbit and branch files record it; "" for a setting left to the integrator, a
+    # flag as 0 or 1 (NetCDF has no boolean attribute)
+    for k, v in point_system(p, settings).solver.filled().as_dict().items():
+        ds.attrs[f"solver_{k}"] = "" if v is None else int(v) if isinstance(v, bool) else v
     return ds
 
 
