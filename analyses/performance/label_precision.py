@@ -383,13 +383,7 @@ def _machine():
 def coarsest(rows, method):
     """The coarsest setting of ``method`` from which on every finer one gives all labels
     equal to the reference's (None: not even the finest)."""
-    mine = [r for r in rows if r["method"] == method]
-    best = None
-    for r in reversed(mine):  # finest first
-        if r["n_differ"] != 0:
-            break
-        best = r
-    return best
+    return coarsest_within(rows, method, 0)
 
 
 def floor_differ(p):
@@ -407,6 +401,17 @@ def coarsest_within(rows, method, limit):
             break
         best = r
     return best
+
+
+def _coarsest_cells(rows, methods, limit, cpu=lambda r: r["cpu_s"]):
+    """One table row's cells: each method's :func:`coarsest_within` ``limit``, with its
+    CPU time."""
+    cells = []
+    for method in methods:
+        best = coarsest_within(rows, method, limit)
+        cells.append("none of the settings" if best is None else
+                     f"{best['text']} ({cpu(best):.1f} s)")
+    return cells
 
 
 def _cell(text):
@@ -475,11 +480,7 @@ def render(data):
               "labels of the reference:", "", "| preset | " + " | ".join(methods) + " |",
               "| --- |" + " --- |" * len(methods)]
     for preset, p in data["precision"].items():
-        cells = []
-        for method in methods:
-            best = coarsest(p["rows"], method)
-            cells.append("none of the settings" if best is None else
-                         f"{best['text']} ({best['cpu_s']:.1f} s)")
+        cells = _coarsest_cells(p["rows"], methods, 0)
         lines.append(f"| {preset} | " + " | ".join(cells) + " |")
     lines += ["", "Coarsest setting from which on every finer one differs from the reference "
               "at no more labels than a reference-quality sweep does (the most of the "
@@ -487,11 +488,7 @@ def render(data):
               "| preset | " + " | ".join(methods) + " |", "| --- |" + " --- |" * len(methods)]
     for preset, p in data["precision"].items():
         limit = floor_differ(p)
-        cells = []
-        for method in methods:
-            best = coarsest_within(p["rows"], method, limit)
-            cells.append("none of the settings" if best is None else
-                         f"{best['text']} ({best['cpu_s']:.1f} s)")
+        cells = _coarsest_cells(p["rows"], methods, limit)
         lines.append(f"| {preset} ({limit}) | " + " | ".join(cells) + " |")
     lines += ["", "Pointwise (every η from the same start): coarsest setting from which on "
               "every finer one differs from the reference method at no more labels than the "
@@ -500,11 +497,7 @@ def render(data):
     for preset, p in data["precision"].items():
         limit = max(f["pointwise"]["n_differ"] for f in p["floor"])
         rows = [dict(r, n_differ=r["pointwise"]["n_differ"]) for r in p["rows"]]
-        cells = []
-        for method in methods:
-            best = coarsest_within(rows, method, limit)
-            cells.append("none of the settings" if best is None else
-                         f"{best['text']} ({best['pointwise']['cpu_s']:.1f} s)")
+        cells = _coarsest_cells(rows, methods, limit, lambda r: r["pointwise"]["cpu_s"])
         lines.append(f"| {preset} ({limit}) | " + " | ".join(cells) + " |")
     lines += ["", "Claims whose verdict changes with the method (reference verdict → the "
               "settings that give another):", ""]
