@@ -35,6 +35,7 @@ from .library import Attractor, cloud_radius, same
 from .reach import DIVERGED, ENTERED, ESCAPED_LABEL, FAILED, FAILED_LABEL, \
     CensusRound, CensusSettings
 from .starts import Box, as_starts, default_box
+from .unseen import unseen_mass
 
 if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
@@ -143,6 +144,7 @@ def _tasks(p, etas, states, libraries, cs, span, done):
 def attractors(system: System, eta: float | ArrayLike | None = None,
                starts: int | ArrayLike = 400, *, seed: int = 0, box: Box | None = None,
                settings: CensusSettings | None = None,
+               until_unseen: float | None = None,
                execution: Execution | None = None) -> xr.Dataset:
     """Every attractor at each point of an eta grid, with basin fractions.
 
@@ -161,6 +163,13 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
         by default: the two positions of a planar contact in the unit disk, everything
         else in ``[-1, 1]``); its scale is the unit of the census' distances.
     settings : CensusSettings, optional
+    until_unseen : float, optional
+        Stop adding rounds of starts as soon as the unseen basin mass
+        (:func:`vibimpact.census.unseen.unseen_mass`: the larger of the Good–Turing
+        estimate and the resolution of the starts so far) is at most this level, in
+        ``(0, 1)``, at every eta; ``starts`` (a count) is then the most starts.  The
+        states are those of ``starts`` starts, cut after the last round run, so the
+        result depends on ``starts``, ``seed`` and the level, never on the workers.
     execution : Execution, optional
         Workers, Dask, checkpoint and resume (none of which changes a number).
 
@@ -168,7 +177,9 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     -------
     xarray.Dataset
         Dimensions ``eta``, ``start``, ``attractor``, ``state``, ``sample``,
-        ``multiplier``: see :func:`vibimpact.census.dataset.census_dataset`.
+        ``multiplier``: see :func:`vibimpact.census.dataset.census_dataset`; per eta
+        ``unseen`` (the basin mass the census may have missed), ``unseen_good_turing``
+        and ``singletons``.
 
     Raises
     ------
@@ -208,6 +219,7 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     else:
         etas = check_grid(eta if np.ndim(eta) else [eta])
     states = as_starts(starts, d, box, seed)
+    level = _until(until_unseen, starts)
     execution = as_execution(execution)
     scale = box.scale
     n = states.shape[0]
@@ -215,7 +227,8 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
                    model=system.model.name, eta=etas.tolist(),
                    starts=states.tolist() if n <= 64 else
                    [int(n), float(np.abs(states).sum()), states[:4].tolist()],
-                   settings={k: v for k, v in settings.as_attrs().items()}, box=box.describe())
+                   settings={k: v for k, v in settings.as_attrs().items()}, box=box.describe(),
+                   **({} if level is None else dict(until_unseen=level)))
     store, done = execution.open_checkpoint("census", request, dict(
         rows=int(etas.size), directions=[STATES], points=int(n)))
     libraries: list[list] = [[] for _ in etas]
@@ -240,5 +253,38 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
                 for i, res in rows:
                     results[r][i] = res
                     labels[r][i] = lab[i]
+            if level is not None and seen_enough(labels, span[1], level):
+                n = span[1]
+                break
+    states, labels = states[:n], [lab[:n] for lab in labels]
+    results = [row[:n] for row in results]
     return census_dataset(system, etas, states, box, seed, settings, libraries, labels,
-                          results)
+                          results, until_unseen=level)
+
+
+def _until(level, starts):
+    """``until_unseen`` checked (None, or a level in (0, 1) with a count of starts)."""
+    if level is None:
+        return None
+    if isinstance(level, (bool, np.bool_)) or not isinstance(
+            level, (int, float, np.integer, np.floating)):
+        raise _v.WrongType(f"until_unseen must be a number in (0, 1), got {level!r}"[:200])
+    if not 0.0 < float(level) < 1.0:
+        raise ValueError(f"until_unseen must be in (0, 1), got {level!r}")
+    if not isinstance(starts, (int, np.integer)) or isinstance(starts, (bool, np.bool_)):
+        raise ValueError("until_unseen needs starts as a count (the most starts), not "
+                         "an array of states")
+    return float(level)
+
+
+def point_counts(label) -> np.ndarray:
+    """Starts per attractor of one eta's labels (the diverged starts as one more class;
+    failed and not yet run starts on none)."""
+    lab = np.asarray(label)
+    found = np.bincount(lab[lab >= 0]) if np.any(lab >= 0) else np.zeros(0, np.int64)
+    return np.r_[found, np.count_nonzero(lab == ESCAPED_LABEL)]
+
+
+def seen_enough(labels, n, level) -> bool:
+    """Whether the first ``n`` starts leave at most ``level`` unseen at every eta."""
+    return all(unseen_mass(point_counts(lab[:n]), n)[0] <= level for lab in labels)

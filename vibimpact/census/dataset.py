@@ -8,10 +8,13 @@ Per start: ``start_state (start, state)``, ``label (eta, start)`` (the attractor
 at that eta; -1: its integration failed), ``decided_by`` and ``periods`` (how and after
 how many forcing periods its attractor was known).
 
-Per eta: ``failed`` and ``failed_fraction`` (starts whose integration failed: the solver
-could not go on, a step-size underflow, say; they are on no attractor, so that the
-attractors' fractions and ``failed_fraction`` sum to 1) and ``failure`` (the solver's
-reason for the first of them; empty when none failed).  A start whose motion diverged
+Per eta: ``unseen`` (the basin mass the census may have missed, never 0:
+:func:`vibimpact.census.unseen.unseen_mass`), ``unseen_good_turing`` and
+``singletons`` (attractors reached by one start); ``failed`` and ``failed_fraction``
+(starts whose integration failed: the solver could not go on, a step-size underflow,
+say; they are on no attractor, so that the attractors' fractions and
+``failed_fraction`` sum to 1) and ``failure`` (the solver's reason for the first of
+them; empty when none failed).  A start whose motion diverged
 (the state left the solver's bound or became non-finite) is on the pseudo-attractor
 "diverged", with its basin fraction like any attractor.
 
@@ -38,6 +41,7 @@ from ..models.words import file_words
 from ..sweeps.dataset import label_text, period_attrs
 from .reach import DECIDED_FLAGS, ESCAPED_LABEL, FAILED_LABEL
 from .library import nearest_distances
+from .unseen import CONFIDENCE, unseen_mass
 
 _log = logging.getLogger(__name__)
 
@@ -148,6 +152,12 @@ _VARIABLES = {
     "failed": (("eta",), "starts whose integration failed (on no attractor)", "1"),
     "failed_fraction": (("eta",), "share of the starts whose integration failed", "1"),
     "failure": (("eta",), "the solver's reason for the first failed start", None),
+    "unseen": (("eta",), "basin mass the census may have missed: the larger of "
+                         "unseen_good_turing and the resolution of n_starts starts", "1"),
+    "unseen_good_turing": (("eta",), "Good-Turing estimate of the basin mass of "
+                                     "attractors no start reached (singletons / starts)",
+                           "1"),
+    "singletons": (("eta",), "attractors reached by exactly one start", "1"),
 }
 
 
@@ -171,7 +181,8 @@ def _var_attrs(name, values, words):
     return out
 
 
-def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results):
+def census_dataset(system, etas, states, box, seed, settings, libraries, labels, results,
+                   until_unseen=None):
     """The census Dataset (module docstring) of :func:`vibimpact.census.attractors`."""
     m, n, d = etas.size, states.shape[0], states.shape[1]
     diverged = [bool(np.any(lab == ESCAPED_LABEL)) for lab in labels]
@@ -230,6 +241,7 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
             names[i, a] = "diverged"
             gid[i, a] = next_gid  # one id for divergence at every eta
     failed = np.sum(label == FAILED_LABEL, axis=1).astype(np.int32)
+    unseen = np.array([unseen_mass(np.bincount(row[row >= 0]), n) for row in label])
     failure = np.array([_first_failure(row, lab) for row, lab in zip(results, label)],
                        dtype=object)
     for i, lib in enumerate(libraries):
@@ -245,7 +257,9 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
                   floquet_abs_max=fam, multiplier_re=mre, multiplier_im=mim,
                   representative=rep, samples=samples, name=names.astype(str),
                   found_by=first, global_id=gid, failed=failed,
-                  failed_fraction=failed / float(n), failure=failure.astype(str))
+                  failed_fraction=failed / float(n), failure=failure.astype(str),
+                  unseen=unseen[:, 0], unseen_good_turing=unseen[:, 1],
+                  singletons=unseen[:, 2].astype(np.int32))
     ds = xr.Dataset(
         {k: (_VARIABLES[k][0], v, _var_attrs(k, v, file_words(model)))
          for k, v in values.items()},
@@ -265,7 +279,8 @@ def census_dataset(system, etas, states, box, seed, settings, libraries, labels,
         attrs=dict(kind="census", model=model.name, frequency_name=model.frequency_name,
                    seed=int(seed), box=box.describe(),
                    box_lo=box.lo, box_hi=box.hi, box_scale=box.scale,
-                   n_starts=int(n),
+                   n_starts=int(n), unseen_confidence=CONFIDENCE,
+                   until_unseen=np.nan if until_unseen is None else float(until_unseen),
                    **{f"param_{k}": v for k, v in param_dict(system).items()
                       if k != model.frequency_name},
                    **{f"census_{k}": v for k, v in settings.as_attrs().items()}))

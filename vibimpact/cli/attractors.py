@@ -5,7 +5,7 @@ Like :mod:`vibimpact.cli`, only the standard library is imported at module level
 import os
 
 from .common.args import (CENSUS_FREQUENCY, CENSUS_PRESET, parse_sets, positive_int,
-                          with_sets, MAX_WORKERS)
+                          with_sets, MAX_WORKERS, unit_fraction)
 from .common.checkpoints import checkpoint_of
 from .common.errors import error_text, UsageError
 from .common.figures import add_figure_options
@@ -69,7 +69,43 @@ def _table(ds):
         if "failed" in ds and int(ds.failed.values[i]):
             lines.append(f"  --   {float(ds.failed_fraction.values[i]):6.3f}"
                          "           integration failed (on no attractor)")
+        if "unseen" in ds:
+            lines.append(_unseen_line(ds, i))
     return lines
+
+
+def _unseen_line(ds, i):
+    """The line of the basin mass the census at eta index ``i`` may have missed."""
+    n = int(ds.attrs.get("n_starts", ds.sizes["start"]))
+    k = int(ds.singletons.values[i])
+    return (f"  ?    <= {float(ds.unseen.values[i]):.3f}      unseen (Good-Turing "
+            f"{float(ds.unseen_good_turing.values[i]):.3f}: {k} attractor"
+            f"{'' if k == 1 else 's'} reached by one start; {n} starts reach a basin "
+            f"above {_resolution(n):.3f} with probability "
+            f"{float(ds.attrs.get('unseen_confidence', 0.95)):.0%})")
+
+
+def _resolution(n):
+    from ..census.unseen import resolution
+
+    return resolution(n)
+
+
+def unseen_hint(ds, level=None):
+    """The hint printed when some eta of the census may have missed more than ``level``
+    of its basin (the census' own ``until_unseen``, else 0.01), or None."""
+    import math
+
+    goal = ds.attrs.get("until_unseen", math.nan) if level is None else level
+    goal = 0.01 if not math.isfinite(float(goal)) else float(goal)
+    worst = float(ds.unseen.values.max()) if "unseen" in ds else 0.0
+    if worst <= goal:
+        return None
+    more = 1 << max(12, (int(ds.sizes["start"]) * 4 - 1).bit_length())
+    return (f"hint: up to {worst:.3f} of the basin may lie on attractors no start "
+            f"reached: add starts (--starts {more} --until-unseen {goal:g}); "
+            "'vibimpact orbits' finds periodic orbits, stable or not, that no start "
+            "reached")
 
 
 def _sweep_file(args, system, etas):
@@ -226,11 +262,15 @@ def _cmd_attractors(args):
 
     ds, status, elapsed = run_and_write(
         args, out, ckpt, resuming, "census", lambda run: attractors(
-            system, etas, starts=args.starts, seed=args.seed, execution=run),
+            system, etas, starts=args.starts, seed=args.seed,
+            until_unseen=args.until_unseen, execution=run),
         io.write_netcdf)
     if ds is None:
         return status
     print("\n".join(_table(ds)))
+    hint = unseen_hint(ds)
+    if hint is not None:
+        print(hint)
     if sweep is not None:
         print("\n".join(_located(ds, sweep, args.sweep)))
     print(f"wrote {out} ({ds.sizes['eta']} eta x {ds.sizes['start']} starts in "
@@ -258,6 +298,10 @@ def add_parser(sub, fmt):
                         f"value (default: {CENSUS_FREQUENCY})")
     a.add_argument("--starts", type=positive_int(1, 1_000_000), default=400, metavar="N",
                    help="starting states per eta (default: 400)")
+    a.add_argument("--until-unseen", type=unit_fraction, default=None, metavar="LEVEL",
+                   help="add rounds of starts (16, 64, 256, ...) until at most LEVEL of "
+                        "the basin may be unseen at every eta; --starts is then the most "
+                        "starts")
     a.add_argument("--seed", type=positive_int(0, 2**63 - 1), default=0,
                    help="seed of the random starts (default: 0)")
     a.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",

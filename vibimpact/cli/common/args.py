@@ -211,6 +211,14 @@ def positive_number(text):
     return value
 
 
+def unit_fraction(text):
+    """The argparse type of a number strictly between 0 and 1 (a share of a basin)."""
+    value = number(text)
+    if not 0.0 < value < 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 1), got {text!r}")
+    return value
+
+
 def with_sets(base, sets, eta=None):
     """The parameter set ``base`` with the ``--set`` values ``sets`` (and ``--eta``, the
     model's forcing frequency whatever its name) replaced; UsageError naming the option
