@@ -432,7 +432,7 @@ def test_plot_map_draws_every_panel(serial, tmp_path):
     panels = [ax for ax in fig.axes if ax.get_title()]
     assert len(panels) == 4
     up = serial.sel(direction="up")
-    want = len(boundaries(up["label"].values, _edges(ETA), _edges(VARY["kh"])))
+    want = len(boundaries(up["regime"].values, _edges(ETA), _edges(VARY["kh"])))
     assert want > 0
     for ax in panels:
         lines = [c for c in ax.collections if isinstance(c, LineCollection)]

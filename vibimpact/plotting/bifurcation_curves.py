@@ -3,9 +3,9 @@ written by :func:`vibimpact.continuation.curves.curve_to_dataset`) drawn in thei
 over the regime map of :func:`vibimpact.map2d` when one is given.
 
 The map's regime cells (as the first panel of :func:`vibimpact.plotting.map2d.plot_map`,
-with its interval boundaries as thin black lines) lie under the curves: a fold, period
-doubling or grazing curve of a periodic orbit should run along a boundary where the
-regime map's labels change (Kuznetsov 2004, ch. 10; di Bernardo et al. 2008, ch. 8).
+with the boundaries between different regimes as thin black lines) lie under the curves:
+a fold, period doubling or grazing curve of a periodic orbit should run along a boundary
+where the regime map's cells change (Kuznetsov 2004, ch. 10; di Bernardo et al. 2008, ch. 8).
 """
 from __future__ import annotations
 
@@ -114,8 +114,9 @@ def _draw_map(ax, over, name, direction):
         over = over.sel(direction=direction or dirs[0])
     sub = over.transpose(name, "eta", ...)
     xe, ye = _cell_edges(over["eta"].values), _cell_edges(over[name].values)
-    regime_panel(ax, xe, ye, np.asarray(sub["regime"].values, dtype=int))
-    segs = boundaries(sub["label"].values, xe, ye)
+    reg = np.asarray(sub["regime"].values, dtype=int)
+    regime_panel(ax, xe, ye, reg)
+    segs = boundaries(reg, xe, ye)  # between different regimes only, as plot_map's
     if segs:
         ax.add_collection(LineCollection(segs, colors="k", linewidths=0.4, zorder=3))
     ax.set_xlim(xe[0], xe[-1])
@@ -137,8 +138,9 @@ def plot_bifurcation_curves(curves: xr.Dataset | Sequence[xr.Dataset],
         files read back); each drawn as a line in the style of its kind
         (:data:`CURVE_STYLES`), with its start marked.
     over : xarray.Dataset, optional
-        A map of :func:`vibimpact.map2d` over (eta, PARAM): its regime cells and label
-        boundaries are drawn underneath, and every curve must lie in (eta, PARAM).
+        A map of :func:`vibimpact.map2d` over (eta, PARAM): its regime cells and the
+        boundaries between different regimes are drawn underneath, and every curve must
+        lie in (eta, PARAM).
     path : str or os.PathLike, optional
         Save the figure there.
     direction : {"up", "down"}, optional

@@ -19,7 +19,8 @@ if TYPE_CHECKING:  # names of the annotations only
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["MAP_REGIME_COLORS", "MISSING", "boundaries", "is_listed", "plot_map"]
+__all__ = ["MAP_REGIME_COLORS", "MISSING", "boundaries", "is_listed", "plot_map", "tick_indices",
+           "value_ticks"]
 
 
 def _vary_name(ds):
@@ -49,16 +50,16 @@ def boundaries(labels, xe, ye):
     Parameters
     ----------
     labels : ndarray, shape (ny, nx)
-        Labels of the points (rows: the varied parameter, columns: eta).
+        Labels of the points (rows: the varied parameter, columns: eta); the map draws
+        those of its regime codes.
     xe, ye : ndarray
         Cell edges along eta (nx + 1) and along the parameter (ny + 1).
 
     Returns
     -------
     list of ((x0, y0), (x1, y1))
-        Vertical segments are the interval boundaries of each row (as
-        :func:`vibimpact.intervals` finds them); horizontal ones separate rows whose labels
-        differ at the same eta.
+        Vertical segments separate neighbouring points of a row whose labels differ;
+        horizontal ones separate rows whose labels differ at the same eta.
     """
     lab = np.asarray(labels).astype(str)
     segs = []
@@ -88,6 +89,35 @@ def is_listed(ds, values):
         return False
     step = np.diff(v)
     return not np.allclose(step, step[0], rtol=1e-9, atol=0.0)
+
+
+#: most ticks on the axis of the varied parameter (its values thinned beyond)
+MAX_VALUE_TICKS = 8
+
+
+def tick_indices(n, most=MAX_VALUE_TICKS):
+    """Indices of the values that get a tick: every value when ``n <= most``, else about
+    ``most`` of them at one stride, always the first and the last (the last replacing the
+    stride's last one when it would sit less than half a stride from it)."""
+    if n <= most:
+        return np.arange(n)
+    stride = -(-(n - 1) // (most - 1))
+    idx = list(range(0, n, stride))
+    if idx[-1] != n - 1:
+        if n - 1 - idx[-1] < stride / 2:
+            idx[-1] = n - 1
+        else:
+            idx.append(n - 1)
+    return np.asarray(idx)
+
+
+def value_ticks(values, listed):
+    """``(positions, labels)`` of the ticks on the varied parameter's axis: at the
+    sampled values themselves (at the rows 0, 1, ... of a categorical axis), thinned by
+    :func:`tick_indices`, each labelled with its value."""
+    idx = tick_indices(len(values))
+    where = idx.astype(float) if listed else np.asarray(values, dtype=float)[idx]
+    return where, [f"{float(values[i]):g}" for i in idx]
 
 
 @_v.checks_flags
@@ -131,15 +161,17 @@ def plot_map(ds: xr.Dataset, direction: str | None = None,
 
     Notes
     -----
-    Every point is a cell reaching half-way to its neighbours.  Black lines separate
-    neighbouring points with different labels (kind of motion, period, impacts per
-    period, loaded arcs): the vertical ones are the boundaries of the frequency intervals
-    of each row, the horizontal ones where a row's label differs from the next row's.
+    Every point is a cell reaching half-way to its neighbours; the parameter's axis spans
+    the cells and has its ticks at the sampled values (thinned when there are many,
+    :func:`tick_indices`).  Black lines separate neighbouring points of different regime
+    (kind of motion) only, in every panel: the vertical ones where a row's regime changes
+    along eta, the horizontal ones where a row's regime differs from the next row's.
     Each quantity has one colour scale over all the panels of the figure (both sweep
     directions): the same colour is the same period, count or exponent everywhere.
     Period and impacts per period are integers, drawn with one colour per value present;
-    grey: not computed (the exponent is computed only where no period is found) or, for
-    the period, no period.
+    grey: not computed (the exponent is computed only where no period is found; a grey
+    swatch under the exponent's bar names the regimes of its grey points) or, for the
+    period, no period.
     """
     from ._sweep import check_contents, check_dataset
 
@@ -163,10 +195,10 @@ def plot_map(ds: xr.Dataset, direction: str | None = None,
             grid[2 * k, 0].annotate(f"sweep {d}", (0.0, 1.0), xycoords="axes fraction",
                                     xytext=(0, 14), textcoords="offset points",
                                     fontweight="bold")
+        where, labels = value_ticks(values, listed)
         for ax in grid[:, 0]:
             ax.set_ylabel(name)
-            if listed:
-                ax.set_yticks(np.arange(values.size), [f"{v:g}" for v in values])
+            ax.set_yticks(where, labels)
         freq = frequency_label(ds)
         for ax in grid[-1]:
             ax.set_xlabel(freq)
@@ -198,7 +230,7 @@ def _panels(fig, grid, subs, xe, ye):
                                    for s in subs])
     lams = [np.asarray(s["lyapunov"].values, dtype=float) for s in subs]
     norm = exponent_norm(lams)
-    for k, sub in enumerate(subs):
+    for k in range(len(subs)):
         (a, b), (c, e) = grid[2 * k], grid[2 * k + 1]
         regime_panel(a, xe, ye, regs[k])
         pscale.draw(fig, b, xe, ye, pkeys[k], "T = n 2π/η")
@@ -207,8 +239,10 @@ def _panels(fig, grid, subs, xe, ye):
         # y-axis label; the panel's title names the quantity
         iscale.draw(fig, c, xe, ye, ikeys[k], None)
         c.set_title("impacts per period")
-        exponent_panel(fig, e, xe, ye, lams[k], norm)
-        segs = boundaries(sub["label"].values, xe, ye)
+        exponent_panel(fig, e, xe, ye, lams[k], norm, regs[k])
+        # between different regimes only: a line inside one regime (the label changes
+        # with the period, impacts or arcs) reads as a regime boundary that is not
+        segs = boundaries(regs[k], xe, ye)
         for ax in (a, b, c, e):
             _draw_boundaries(ax, segs)
             ax.set_xlim(xe[0], xe[-1])

@@ -8,7 +8,10 @@ sweep direction drawn, so that a colour means the same in every panel of it:
   in it;
 * period and impacts per period (integers): a discrete scale, one colour per value
   present (:class:`Discrete`, drawn with a ``ListedColormap`` and a ``BoundaryNorm``);
-* largest Lyapunov exponent: one diverging scale, symmetric about 0, over every panel.
+* largest Lyapunov exponent: one diverging scale, symmetric about 0, over every panel,
+  and a grey swatch under its bar naming what the grey cells are (not computed: the
+  regimes of those points, periodic where the exponent is computed only without a
+  period).
 """
 from __future__ import annotations
 
@@ -19,7 +22,8 @@ import numpy as np
 from ._sweep import REGIME_NAMES
 
 __all__ = ["MAP_REGIME_COLORS", "MISSING", "Discrete", "exponent_norm", "exponent_panel",
-           "impacts_scale", "period_scale", "regime_panel"]
+           "impacts_scale", "missing_swatch", "not_computed_text", "period_scale",
+           "regime_panel"]
 
 #: regime code -> colour (0: not computed)
 MAP_REGIME_COLORS = {0: "0.85", 1: "#31a354", 2: "tab:orange", 3: "tab:red", 4: "0.15",
@@ -79,12 +83,20 @@ class Discrete:
         return m
 
 
-def _bar_axes(ax):
+#: where a colour bar sits, in the panel's axes fraction (left, bottom, width, height):
+#: the full height, or above the grey swatch (:data:`SWATCH`) of a panel that has one
+BAR, SHORT_BAR = [1.03, 0.05, 0.04, 0.9], [1.03, 0.25, 0.04, 0.7]
+#: the grey "not computed" swatch under a short bar
+SWATCH = [1.03, 0.05, 0.04, 0.1]
+
+
+def _bar_axes(ax, short=False):
     """The axes of a panel's colour bar: an inset of the panel, right beside it.  A bar
     given the panel (``fig.colorbar(ax=...)``) sits in the column's margin and floats
     away from its panel when another panel of the column needs a wider margin (the
-    regime legend, a longer label), where its label reads as the next panel's."""
-    return ax.inset_axes([1.03, 0.05, 0.04, 0.9])
+    regime legend, a longer label), where its label reads as the next panel's.  A
+    ``short`` bar leaves room for the grey swatch under it (:func:`missing_swatch`)."""
+    return ax.inset_axes(SHORT_BAR if short else BAR)
 
 
 def _tab20(k):
@@ -195,15 +207,53 @@ def exponent_norm(lams):
     return Normalize(-top, top)
 
 
-def exponent_panel(fig, ax, xe, ye, lam, norm):
-    """The largest Lyapunov exponent on ``ax`` (grey: not computed), on ``norm``."""
+def exponent_panel(fig, ax, xe, ye, lam, norm, regime=None):
+    """The largest Lyapunov exponent on ``ax``, on ``norm``, with a grey swatch under its
+    colour bar that says what the grey cells are (:func:`not_computed_text`)."""
     from matplotlib import colormaps
 
     cm = colormaps["RdBu_r"].with_extremes(bad=MISSING)
+    grey = ~np.isfinite(np.asarray(lam, dtype=float))
     m = ax.pcolormesh(xe, ye, np.ma.masked_invalid(lam), cmap=cm, norm=norm)
-    cb = fig.colorbar(m, cax=_bar_axes(ax))
+    cb = fig.colorbar(m, cax=_bar_axes(ax, short=bool(grey.any())))
     cb.set_label("λ₁ per unit τ")
+    if grey.any():
+        missing_swatch(ax, not_computed_text(grey, regime))
     none = not np.isfinite(lam).any()
     ax.set_title("largest Lyapunov exponent" + (" (none computed: all periodic)"
                                                 if none else ""))
     return m
+
+
+#: the tick label of the grey swatch of the exponent panel
+NOT_COMPUTED = "not computed"
+
+
+def not_computed_text(grey, regime=None):
+    """What the grey cells of the exponent panel are: ``"not computed"`` and, on a second
+    line, the regimes of those cells in the dataset (``"(periodic)"``: the exponent is
+    computed only where no period is found)."""
+    if regime is None:
+        return NOT_COMPUTED
+    codes = np.unique(np.asarray(regime)[np.asarray(grey)])
+    names = [REGIME_NAMES.get(int(c), "?") for c in codes]
+    return f"{NOT_COMPUTED}\n({', '.join(names)})" if names else NOT_COMPUTED
+
+
+def missing_swatch(ax, text):
+    """A grey swatch (:data:`MISSING`) under the colour bar of ``ax``, labelled ``text``:
+    the key of the cells drawn grey."""
+    from matplotlib.patches import Rectangle
+
+    sw = ax.inset_axes(SWATCH)
+    sw.add_patch(Rectangle((0.0, 0.0), 1.0, 1.0, facecolor=MISSING, edgecolor="0.5",
+                           lw=0.5, transform=sw.transAxes, label=text))
+    sw.set_xticks([])
+    sw.set_yticks([0.5], [text])
+    sw.yaxis.tick_right()
+    sw.tick_params(axis="y", length=0)
+    sw.set_xlim(0.0, 1.0)
+    sw.set_ylim(0.0, 1.0)
+    for spine in sw.spines.values():
+        spine.set_visible(False)
+    return sw

@@ -88,6 +88,13 @@ def plot_xy(ds: xr.Dataset | Run, path: str | os.PathLike[str] | None = None,
     is inverted: the bottom of the retainer (``theta = +90`` degrees) is drawn at the
     bottom (the paper's figs 8a, 10a-c and 11b-d mark the same arcs).
 
+    Of a run longer than :data:`vibimpact.plotting.xy_dense.LAST_PERIODS` forcing periods
+    the last that many periods of the trajectory are drawn in colour and the earlier ones
+    thin and faint grey beneath them (a few hundred periods of a chaotic motion on top of
+    each other bury the attractor), the stroboscopic points on top of everything; the
+    legend says which periods each line holds.  A loaded-arc legend says "whole circle"
+    only of arcs that cover the whole circle (:func:`arcs_label`).
+
     The trajectory is drawn as straight segments between samples, none longer than
     :data:`vibimpact.plotting.xy_dense.MAX_SEGMENT_PX` pixels of the figure: where the
     run's own dense samples are coarser (a chaotic impact motion would show as a
@@ -142,19 +149,14 @@ def _plot_spec(ds, states):
 def _phase(value, ds, ax, lk, own, cols, names):
     """The orbit and its stroboscopic points in the plane of the states ``names`` (a
     model whose contact is no circle around the origin)."""
-    from .style import width
     from .xy_dense import trajectory_for
 
     if "trajectory" in ds:
         raw = ds["trajectory"].values[:, cols]
         span = float(np.nanmax(np.ptp(raw, axis=0))) * 1.1 if raw.size else 1.0
         traj = trajectory_for(value, ds, ax, cols, span if span > 0 else 1.0, lk.dpi)
-        ax.plot(traj[:, cols[0]], traj[:, cols[1]], color="C0", lw=width(0.47), alpha=0.8,
-                label="trajectory")
-    strobe = ds["strobe"].values
-    ax.plot(strobe[:, cols[0]], strobe[:, cols[1]], ls="none", marker="o", ms=3.5,
-            color="C1", mfc="none" if "trajectory" in ds else "C1",
-            label=f"stroboscopic points ({len(strobe)})")
+        draw_trajectory(ax, traj, cols, len(ds["strobe"]) - 1)
+    _draw_strobe(ax, ds, cols, lk.paper)
     ax.set_xlabel(names[0])
     ax.set_ylabel(names[1])
     lk.title(ax, _title(ds))
@@ -177,21 +179,17 @@ def _orbit(value, ds, ax, lk, own, spec, cols):
             label=spec.circle_label)
     if "trajectory" in ds:
         traj = trajectory_for(value, ds, ax, [i, j], 2.4 * r, lk.dpi)
-        ax.plot(traj[:, i], traj[:, j], color="C0", lw=width(0.47), alpha=0.8,
-                label="trajectory")
-    strobe = ds["strobe"].values
-    ax.plot(strobe[:, i], strobe[:, j], ls="none", marker="o", ms=3.5, color="C1",
-            mfc="none" if "trajectory" in ds else "C1",
-            label=f"stroboscopic points ({len(strobe)})")
+        draw_trajectory(ax, traj, cols, len(ds["strobe"]) - 1)
+    _draw_strobe(ax, ds, cols, lk.paper)
     arcs = loaded_arcs(value, ds)
     if arcs is not None and arcs.n_arcs:
         draw_arcs(ax, arcs, width(3.3), r)
     if "impact_theta" in ds and ds.sizes.get("impact", 0):
         deg = ds["impact_theta"].values
         th = np.radians(deg)
-        ax.plot(r * np.cos(th), r * np.sin(th), ls="none", marker="x", ms=7, mew=width(1.0),
-                color="C3",
-                label=f"impacts ({th.size})")
+        ax.plot(r * np.cos(th), r * np.sin(th), ls="none", marker="x",
+                ms=7 * (PAPER_MARK_SCALE if lk.paper else 1.0), mew=width(1.0),
+                color="C3", zorder=3, label=f"impacts ({th.size})")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(spec.xy[0])
     ax.set_ylabel(f"{spec.xy[1]}  ({spec.y_note})" if spec.y_note else spec.xy[1])
@@ -200,6 +198,47 @@ def _orbit(value, ds, ax, lk, own, spec, cols):
     lk.title(ax, _title(ds))
     lk.legend_below(ax, own, ax.get_legend_handles_labels()[0], ncol=2)
     ax.grid(True, alpha=0.5)
+
+
+#: colour and opacity of the faint earlier periods of a trajectory (:func:`draw_trajectory`)
+EARLIER_COLOR, EARLIER_ALPHA = "0.7", 0.5
+#: the markers' size in the paper style (one 3.5 inch column), as a share of the default's
+PAPER_MARK_SCALE = 0.5
+#: drawing order: faint earlier periods, the recent ones, impacts, stroboscopic points
+Z_EARLIER, Z_RECENT, Z_STROBE = 1.5, 2.5, 4.0
+
+
+def draw_trajectory(ax, traj, cols, n_periods):
+    """The trajectory's samples ``traj`` (``n_periods`` forcing periods) in the plane of
+    the states ``cols``: the last :data:`~vibimpact.plotting.xy_dense.LAST_PERIODS`
+    periods in colour, the earlier ones thin and faint grey beneath them, each labelled
+    with the periods it holds.  Returns the line of the recent periods."""
+    from ..base._text import count
+    from .style import width
+    from .xy_dense import LAST_PERIODS, split_recent
+
+    i, j = cols
+    earlier, recent = split_recent(traj, n_periods)
+    if earlier is None:
+        label = f"trajectory, all {count(n_periods, 'period')}"
+    else:
+        label = f"trajectory, last {LAST_PERIODS} of {n_periods} periods"
+        ax.plot(earlier[:, i], earlier[:, j], color=EARLIER_COLOR, lw=width(0.3),
+                alpha=EARLIER_ALPHA, zorder=Z_EARLIER,
+                label=f"earlier {count(n_periods - LAST_PERIODS, 'period')} (faint)")
+    (line,) = ax.plot(recent[:, i], recent[:, j], color="C0", lw=width(0.47), alpha=0.9,
+                      zorder=Z_RECENT, label=label)
+    return line
+
+
+def _draw_strobe(ax, ds, cols, paper=False):
+    """The stroboscopic points on top of everything else (hollow over a trajectory;
+    smaller in the paper style's narrow column)."""
+    strobe = ds["strobe"].values
+    ax.plot(strobe[:, cols[0]], strobe[:, cols[1]], ls="none", marker="o",
+            ms=3.5 * (PAPER_MARK_SCALE if paper else 1.0),
+            color="C1", mfc="none" if "trajectory" in ds else "C1", zorder=Z_STROBE,
+            label=f"stroboscopic points ({len(strobe)})")
 
 
 #: an arc narrower than this (degrees) is drawn this wide, centred on it, to be seen
@@ -233,8 +272,26 @@ def draw_arcs(ax, arcs, lw, radius=1.0):
     """The loaded arcs as thick bands on the circle of ``radius`` (the model's circular
     obstacle, :attr:`vibimpact.models.PlotSpec.circle`; the built-in rotor's retainer: 1)
     from start to end, labelled with their words and their extent in degrees."""
+    text = arcs_label(arcs)
     for k, (s, w) in enumerate(zip(arcs.start, arcs.width)):
         x, y = arc_points(float(s), float(w), radius)
         ax.plot(x, y, color="C3", lw=lw, alpha=0.45, solid_capstyle="butt",
-                label=f"loaded arcs: {arcs if arcs.n_arcs <= 4 else arcs.summary}"
-                if k == 0 else None)
+                label=text if k == 0 else None)
+
+
+def arcs_label(arcs):
+    """The legend text of the loaded arcs (:class:`vibimpact.analysis.ContactArcs`): their
+    words and extents (:meth:`~vibimpact.analysis.ContactArcs.to_text`; the words alone
+    beyond 4 arcs), except that "whole circle" is said only of arcs that cover it: arcs
+    that leave gaps (each narrower than
+    :data:`vibimpact.analysis.impacts.WHOLE_CIRCLE_GAP`, which the analysis calls the
+    whole circle) are counted, listed and their largest gap given instead."""
+    from ..base._text import count
+
+    if arcs.n_arcs == 1 and float(arcs.width[0]) >= 360.0:
+        return "loaded arcs: whole circle"
+    if arcs.summary != "whole circle":
+        return f"loaded arcs: {arcs if arcs.n_arcs <= 4 else arcs.summary}"
+    extents = str(arcs).removeprefix(arcs.summary).strip()
+    head = count(arcs.n_arcs, "arc") + (f" {extents}" if arcs.n_arcs <= 4 else "")
+    return f"loaded arcs: {head}, largest gap {arcs.largest_gap:.0f}°"

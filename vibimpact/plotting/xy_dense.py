@@ -29,6 +29,26 @@ MAX_SAMPLES = 4_000_000
 MAX_REDRAW_PERIODS = 5000
 
 
+#: the last this many forcing periods of a trajectory are drawn prominently, the earlier
+#: ones faint (:func:`split_recent`): two hundred periods of a chaotic motion on top of
+#: each other bury the attractor
+LAST_PERIODS = 10
+
+
+def split_recent(traj, n_periods, last=LAST_PERIODS):
+    """``(earlier, recent)``: the samples of the last ``last`` of the trajectory's
+    ``n_periods`` forcing periods and those before them (sharing the sample between, so
+    that the curve is unbroken; None when the run has no more than ``last`` periods).
+
+    The samples are evenly spaced in time from the first stroboscopic sample to the last,
+    ``len(traj) - 1`` intervals over ``n_periods`` periods."""
+    traj = np.asarray(traj)
+    if n_periods <= last or len(traj) < 2:
+        return None, traj
+    cut = int(round((len(traj) - 1) * (n_periods - last) / n_periods))
+    return traj[:cut + 1], traj[cut:]
+
+
 def pixels_per_unit(ax, span, dpi=None):
     """Pixels of ``ax`` per data unit for a square view ``span`` units across, at the
     larger of its figure's resolution and ``dpi`` (the one it is saved at)."""
