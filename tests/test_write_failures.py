@@ -169,9 +169,10 @@ def _savefig_fails(mp, out):
 
 
 def _recorded_sweep(d):
-    """A classify file to rerun and to plot (three points, period only)."""
+    """A classify file to rerun and to plot (three points, period and the chaos test
+    its labels need)."""
     assert run_cli(["classify", "--eta", "1.0:1.02:0.01", "--no-progress", "--workers",
-                    "1", "--analyses", "period", "-o", "c.nc"], _NoCapture())[0] == 0
+                    "1", "--analyses", "period,lyapunov", "-o", "c.nc"], _NoCapture())[0] == 0
 
 
 #: case -> (argv, the files that must not exist afterwards, install, setup)

@@ -18,13 +18,20 @@ from .common.sweeps import add_sweep_options, command_line, sweep_inputs
 if TYPE_CHECKING:  # names of the annotations only
     from collections.abc import Callable
 
+#: what a point of the diagram computes: its Poincare points and what its label needs
+#: (the chaos tests run only where no period is found)
+LABEL_ANALYSES = ("period", "impacts", "poincare", "lyapunov", "test01")
+
 _BIFURCATION_EPILOG = """\
 example:
   vibimpact bifurcation --eta 0.9:1.5:0.002 --preset fig8 -o bif.png
 
-Sweeps eta up and down (--direction both by default) computing only the period and the
-Poincare (stroboscopic) points, draws X and Y of the Poincare points against eta (up and
-down sweeps in two colours) and writes the data next to the image (bif.png -> bif.nc);
+Sweeps eta up and down (--direction both by default) computing only the period, the
+impacts, the Poincare (stroboscopic) points and, where no period is found, the chaos
+tests (largest Lyapunov exponent, 0-1 test) that the labels need, so that its labels
+and --kind intervals are those of 'vibimpact classify'; draws X and Y of the Poincare
+points against eta (up and down sweeps told apart, on bands of their regimes) and
+writes the data next to the image (bif.png -> bif.nc);
 'vibimpact plot bif.nc --kind bifurcation' redraws it.
 
 exit status: 0 written, 2 bad input (nothing computed) or a worker process died
@@ -55,7 +62,7 @@ def _cmd_bifurcation(args):
     run = vi.Execution(workers=args.workers,
                        progress=not args.no_progress and "bifurcation")
     ds, status = run_checkpointed(None, "points", lambda: vi.sweep(
-        params, etas, direction=args.direction, analyses=("period", "poincare"),
+        params, etas, direction=args.direction, analyses=LABEL_ANALYSES,
         continuation=vi.Continuation(blocks=args.blocks), execution=run))
     if ds is None:
         return status

@@ -91,6 +91,13 @@ _HINTS = {("lyapunov", "map"): "; its exponent over (eta, PARAM) is a panel of i
           ("poincare", "map"): "; a map stores no Poincare samples"}
 
 
+#: --kind -> (what it draws, its analysis, the variables of which one must be finite)
+_DRAWN = {"response": ("response data (X_m)", "response", ("X_m",)),
+          "bifurcation": ("Poincare points", "poincare", ("poincare_X",)),
+          "poincare": ("Poincare points", "poincare", ("poincare_X",)),
+          "lyapunov": ("Lyapunov exponents", "lyapunov", ("lyapunov", "floquet_exponent"))}
+
+
 def _kind_of(ds):
     """The kind of vibimpact file ``ds`` is (a key of :data:`FILE_KINDS`), or None."""
     from ..continuation.branches import is_branch_dataset
@@ -157,8 +164,8 @@ def _missing(ds, path, what, analysis):
     diverged or not computed, or the analysis was not requested."""
     import numpy as np
 
-    from ..base._json import loads
     from ..base._text import count
+    from ..plotting.needs import recorded_analyses
     from ..analysis.classify import Label
     from ..points.point import REGIME_CODES
 
@@ -170,11 +177,8 @@ def _missing(ds, path, what, analysis):
                "computed")
         return UsageError(f"{path!r} has no {what} to draw: {why} (its labels: --kind "
                           "intervals)")
-    try:
-        asked = analysis in loads(ds.attrs.get("settings", "{}"), "settings").get("analyses", "")
-    except (ValueError, AttributeError):
-        asked = False
-    if asked:
+    asked = recorded_analyses(ds)
+    if asked is not None and analysis in asked:
         return UsageError(f"{path!r} has no {what} to draw: none of its points has a "
                           "finite value")
     return UsageError(f"{path!r} has no {what}: sweep with --analyses including {analysis}")
@@ -244,12 +248,19 @@ def _cmd_plot(args):
     if what in ("map", "branch", "census"):
         return {"map": _plot_map, "branch": _plot_branch, "census": _plot_census}[what](
             args, ds)
-    if kind == "response" and not _has(ds, "X_m"):
-        raise _missing(ds, path, "response data (X_m)", "response")
-    if kind in ("bifurcation", "poincare") and not _has(ds, "poincare_X"):
-        raise _missing(ds, path, "Poincare points", "poincare")
-    if kind == "lyapunov" and not (_has(ds, "lyapunov") or _has(ds, "floquet_exponent")):
-        raise _missing(ds, path, "Lyapunov exponents", "lyapunov")
+    from ..plotting._sweep import check_contents
+    from ..plotting.needs import missing
+
+    try:  # a damaged file is said as such before what it lacks
+        check_contents(ds)
+    except ValueError as exc:
+        raise UsageError(f"cannot draw {kind} from {path!r}: {reason(exc)}") from None
+    gap = missing(ds, kind)  # the plotting functions' own test of what they draw
+    if gap is not None:
+        raise _missing(ds, path, *gap)
+    if kind in _DRAWN and not any(_has(ds, v) for v in _DRAWN[kind][2]):
+        # every point diverged or not computed: empty axes, which plot does not draw
+        raise _missing(ds, path, *_DRAWN[kind][:2])
     if args.branch and kind != "response":
         raise UsageError(f"--branch draws over response curves, not --kind {kind}")
     states = _states(args, ds, kind)

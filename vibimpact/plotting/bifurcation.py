@@ -2,14 +2,15 @@
 model's first two states or of any states the sweep stores (a ring's speed ``Vr``)."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..base import _validate as _v
 from ._sweep import (DIRECTION_COLORS, axes_of, check_sweep, directions, frequency_label,
-                     new_figure, title)
+                     grid_step, new_figure, title)
 from .poincare import poincare_variable, state_names
+from .needs import require
 from .style import look
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -66,11 +67,18 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
 
     Notes
     -----
-    The up and down sweeps are drawn as small dots in two colours: where they differ the
-    motion depends on the history (hysteresis, coexisting attractors).  A periodic orbit
-    of period n shows n dots above its eta, chaos a vertical smear.  Lengths are in
-    clearances; +Y points down, along gravity.  Each panel's line of a direction holds
-    exactly the finite samples of its variable (by eta, then by sample).
+    The up sweep is drawn as small filled dots and the down sweep as rings, in two
+    colours (:data:`DIRECTION_MARKS`): where both sweeps find the same point the dot sits
+    inside the ring, where they differ the motion depends on the history (hysteresis,
+    coexisting attractors).  Behind the points, bands coloured by the regime of each eta
+    in the dataset (``regime``, ``period``; the colours and legend of
+    :func:`vibimpact.plotting.plot_response`'s bands, :func:`regime_bands`): the up
+    sweep's in the upper half of each panel, the down sweep's in the lower half; drawn
+    when the dataset holds the intervals' ``label``, ``impacts_per_period`` and ``arcs``
+    too.  A periodic orbit of period n shows n dots above its eta, chaos a vertical
+    smear.  Lengths are in clearances; +Y points down, along gravity.  Each panel's line
+    of a direction holds exactly the finite samples of its variable (by eta, then by
+    sample).
 
     Examples
     --------
@@ -89,7 +97,8 @@ def plot_bifurcation(ds: xr.Dataset, ax: Axes | None = None,
         else:
             fig, axes = axes_of(ax, n, "one per state drawn: "
                                 + ", ".join(name for _, name in drawn))
-        _draw(ds, axes, lk, drawn)
+        require(ds, "bifurcation")  # after the options' checks, before any drawing
+        _draw(ds, axes, lk, drawn, own=ax is None)
         return lk.finish(fig, path)
 
 
@@ -118,25 +127,95 @@ def _drawn(ds, states):
 _LABELS = {"Y": "Y  (Poincaré, +Y down)"}
 
 
-def _draw(ds, axes, lk, drawn):
-    """The Poincaré points of every direction on ``axes``, one per ``(variable, name)``
-    of ``drawn``."""
+#: marks of each sweep direction: the up sweep's small filled dots sit inside the down
+#: sweep's rings where the two coincide, so that both show (markersize in points, edge
+#: width as a factor of the style's line width)
+DIRECTION_MARKS: dict[str, dict[str, Any]] = {
+    "up": dict(marker="o", ms=1.6, mew=0.0, alpha=0.8),
+    "down": dict(marker="o", ms=3.6, mfc="none", mew=0.33, alpha=0.8)}
+#: the markers' size in the paper style, as a share of the default's (a narrow column)
+PAPER_MARK_SCALE = 0.7
+#: the variables the regime bands need (:func:`vibimpact.sweeps.dataset.intervals`'s)
+BAND_VARS = ("regime", "label", "period", "impacts_per_period", "arcs")
+
+
+def direction_marks(d, paper=False):
+    """The ``plot`` keywords of the marks of sweep direction ``d``
+    (:data:`DIRECTION_MARKS`; another direction: the up sweep's), scaled for the
+    style."""
+    from .style import width
+
+    marks = dict(DIRECTION_MARKS.get(d, DIRECTION_MARKS["up"]))
+    if paper:
+        marks["ms"] *= PAPER_MARK_SCALE
+    marks["mew"] = width(marks["mew"])
+    return marks
+
+
+def regime_bands(ds, axes, lk, own):
+    """Bands behind the points of ``axes``, one per interval of
+    :func:`vibimpact.sweeps.dataset.intervals` (consecutive points of one label) from half
+    a grid step before its first eta to half a step after its last, in the colour of its
+    regime class (:func:`vibimpact.plotting.style.class_color`, the response and interval
+    plots' colours): the up sweep's in the upper half of each panel, the down sweep's in
+    the lower half; their legend below (:func:`vibimpact.plotting.response.band_legend`;
+    ``own``: the figure is plot_bifurcation's).  Returns the bands' ``(start, end,
+    colour, name, key, hatch)``."""
+    from ..sweeps.dataset import intervals
+    from .response import band_legend
+    from .style import BAND_ALPHA, class_color
+
+    h = grid_step(ds["eta"].values)
+    dirs = directions(ds)
+    bands = []
+    for row, (d, sub) in enumerate(dirs):
+        sub = sub.copy()
+        sub.attrs["sweep_direction"] = d
+        iv = intervals(sub)
+        lo, hi = (0.0, 1.0) if len(dirs) < 2 else ((0.5, 1.0) if row == 0 else (0.0, 0.5))
+        for k in range(iv.sizes["interval"]):
+            s, e = sorted((float(iv["start"].values[k]), float(iv["end"].values[k])))
+            color, name, key = class_color(iv["regime"].values[k], iv["period"].values[k])
+            bands.append((s - h / 2, e + h / 2, color, name, key, None))
+            for ax in axes:
+                ax.axvspan(s - h / 2, e + h / 2, ymin=lo, ymax=hi, facecolor=color,
+                           alpha=BAND_ALPHA, lw=0, zorder=0)
+    if bands:
+        band_legend(axes[-1], own, bands, lk, alpha=BAND_ALPHA,
+                    title="bands: up sweep (upper half), down sweep (lower half)"
+                    if len(dirs) > 1 else None)
+    return bands
+
+
+def _draw(ds, axes, lk, drawn, own):
+    """The regime bands and the Poincaré points of every direction on ``axes``, one per
+    ``(variable, name)`` of ``drawn`` (``own``: the figure is plot_bifurcation's)."""
+    if all(v in ds for v in BAND_VARS):
+        regime_bands(ds, axes, lk, own)
     for d, sub in directions(ds):
         eta = sub["eta"].values
         color = DIRECTION_COLORS.get(d, "tab:green")
+        marks = direction_marks(d, lk.paper)
+        what = "dots" if marks.get("mfc") != "none" else "rings"
         for a, (var, _) in zip(axes, drawn):
             v = np.asarray(sub[var].transpose("eta", ...).values, dtype=float)
             v = v.reshape(eta.size, -1)
             e = np.broadcast_to(eta[:, None], v.shape)
             ok = np.isfinite(v)
-            a.plot(e[ok], v[ok], ls="none", marker=".", ms=1.5, mew=0, color=color,
-                   alpha=0.7, rasterized=True, label=f"sweep {d}")
+            a.plot(e[ok], v[ok], ls="none", color=color, rasterized=True, zorder=2,
+                   label=f"sweep {d} ({what})", **marks)
     for a, (_, name) in zip(axes, drawn):
         a.set_ylabel(_LABELS.get(name, f"{name}  (Poincaré)"))
     axes[-1].set_xlabel(frequency_label(ds))
     for a in axes:
         a.grid(True, alpha=0.5)
-    leg = lk.legend(axes[0], markerscale=6)
+    leg = lk.legend(axes[0])
     for h in leg.legend_handles:
         h.set_alpha(1.0)
+        h.set_markersize(LEGEND_MARK_SIZE if h.get_markerfacecolor() != "none"
+                         else 1.6 * LEGEND_MARK_SIZE)
     lk.title(axes[0], title(ds))
+
+
+#: size (points) of the filled dot in the legend (a ring: 1.6 times it)
+LEGEND_MARK_SIZE = 5.0

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._sweep import axes_of, check_sweep, directions, frequency_label, new_figure, title
+from .needs import require
 from .style import look, width
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -122,6 +123,7 @@ def plot_lyapunov(ds: xr.Dataset, ax: Axes | None = None,
     """
     check_sweep(ds, "lyapunov", "regime", "period")
     lk = look(figsize, dpi, style, ax)
+    require(ds, "lyapunov")  # after the options' checks
     dirs = directions(ds)
     with lk.context():
         own = ax is None

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._sweep import axes_of, check_sweep, directions, frequency_label, title
+from .needs import require
 from .style import look
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -219,6 +220,7 @@ def plot_poincare(ds: xr.Dataset, ax: Axes | None = None,
     check_sweep(ds, "poincare_X", "poincare_Y")
     (_, hname), (_, vname) = section_states(ds)
     lk = look(figsize, dpi, style, ax)
+    require(ds, "poincare")  # after the options' checks
     dirs = directions(ds)
     eta = np.asarray(ds["eta"].values, dtype=float)
     norm = Normalize(float(eta.min()), float(eta.max())) if eta.size else Normalize()

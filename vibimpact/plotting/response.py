@@ -8,6 +8,7 @@ import numpy as np
 from ..base import _validate as _v
 from ._sweep import (DIRECTION_COLORS, REGIME_NAMES, axes_of, check_sweep, directions,
                      frequency_label, grid_step, new_figure, spec, title)
+from .needs import require
 from .style import (BAND_ALPHA, LONG_PERIOD_COLOR, PERIOD_COLORS, REGIME_COLORS, class_color,
                     look, text_color, width)
 
@@ -22,6 +23,9 @@ if TYPE_CHECKING:  # names of the annotations only
 # kept importable from here) are the regime classes' of vibimpact.plotting.style
 __all__ = ["LONG_PERIOD_COLOR", "PERIOD_COLORS", "REGIME_COLORS", "band_legend",
            "plot_intervals", "plot_response"]
+#: the response curves' marker sizes in the paper style, as a share of the default's:
+#: sixty points across one 3.5 inch column crowd at the default's sizes
+PAPER_MARKER_SCALE = 0.5
 #: hatching of a band -> its legend entry, which says what it means
 HATCHES = {"///": "hatched ///: impactless", "...": "dotted ...: permanent contact"}
 
@@ -116,6 +120,7 @@ def _response_labels(ds):
 def _curves(ds, axes, lk):
     """The response maxima of every direction on ``axes`` (X_m, Y_m), their legend."""
     marked = set()
+    scale = PAPER_MARKER_SCALE if lk.paper else 1.0  # a narrow column: the points crowd
     for d, sub in directions(ds):
         eta = sub["eta"].values
         reg = np.asarray(sub["regime"].values, dtype=int)
@@ -123,9 +128,10 @@ def _curves(ds, axes, lk):
         for a, name in zip(axes, ("X_m", "Y_m")):
             v = np.asarray(sub[name].values, dtype=float).copy()
             v[reg == 4] = np.nan
-            a.plot(eta, v, color=color, lw=width(0.6), marker=".", ms=3,
+            a.plot(eta, v, color=color, lw=width(0.6), marker=".", ms=3 * scale,
                    label=f"sweep {d}")
-            for code, marker, ms in ((3, "x", 5), (2, "+", 6), (5, "1", 6)):
+            for code, marker, ms in ((3, "x", 5 * scale), (2, "+", 6 * scale),
+                                     (5, "1", 6 * scale)):
                 sel = (reg == code) & np.isfinite(v)
                 if sel.any():
                     lab = REGIME_NAMES[code] if (a, code) not in marked else None
@@ -259,6 +265,7 @@ def plot_intervals(ds: xr.Dataset, ax: Axes | None = None,
     """
     check_sweep(ds, "label", "regime", "period", "impacts_per_period")
     lk = look(figsize, dpi, style, ax)
+    require(ds, "intervals")  # after the options' checks
     n = len(directions(ds))
     with lk.context():
         own = ax is None
