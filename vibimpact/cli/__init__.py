@@ -172,6 +172,9 @@ def _main(argv, program):
     StopWorkersOnSignal.received = None
     if program:
         quiet_after_interrupt()
+        from .common.first_run import listen
+
+        listen(args.command)  # a first run says that it compiles, before it does
     try:
         try:
             from .common.figures import check_figure_size
