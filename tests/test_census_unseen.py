@@ -165,3 +165,25 @@ def test_cli_prints_the_unseen_mass_and_the_hint(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "hint:" not in text
     assert vi.io.read_netcdf(out2).sizes["start"] == 16
+
+
+def test_an_orbit_hunt_names_the_stable_orbit_no_census_start_reached():
+    """Hypothesis: in the unforced double well, a census whose starts all lie in the
+    right well reaches only x = +1; a hunt of period-1 orbits finds both stable wells
+    (and the saddle at 0, unstable), and unreached_orbits names exactly the orbit at
+    x = -1, never the unstable one; a census with starts in both wells reaches both."""
+    from vibimpact.census.locate import unreached_orbits
+    from vibimpact.orbits import hunt_to_dataset
+
+    system = vi.System(DOUBLE_WELL)
+    right = vi.attractors(system, starts=16, box=Box([0.6, -0.2], [1.4, 0.2]))
+    both = vi.attractors(system, starts=32, box=BOX, seed=1)
+    seeds = np.array([[1.1, 0.0], [-1.1, 0.0], [0.01, 0.0]])
+    hunt = hunt_to_dataset(vi.hunt_orbits(system, (1,), seeds=seeds, random=0,
+                                          continuation=False), system)
+    x = hunt.orbit_point.values[:, 0, 0]
+    stable = hunt.stable.values == 1
+    assert sorted(np.round(x[stable], 6)) == [-1.0, 1.0]
+    missed = unreached_orbits(hunt, right)
+    assert [o for o, _ in missed] == [int(np.flatnonzero(stable & (x < 0))[0])]
+    assert unreached_orbits(hunt, both) == []

@@ -61,6 +61,10 @@ _EXPORTS = {
     "plotting": ("plotting", None),
     "sweeps": ("sweeps", None),
     "io": ("io", None),
+    # the one way to save any dataset of the package (a sweep, a census, a run, a map
+    # as NetCDF, ...) and to read it back
+    "save": ("io", "write_netcdf"),
+    "load": ("io", "read_netcdf"),
 }
 
 __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "Model",
@@ -72,7 +76,7 @@ __all__ = ["Params", "DuffingParams", "presets", "simulate", "Run", "Status", "M
            "map2d", "attractors", "CensusSettings", "basins", "census", "maps", "plotting",
            "sweeps", "io", "__version__",
            "Execution", "Continuation", "Independent", "Interrupted", "engine", "hunt_orbits",
-           "orbits"]
+           "orbits", "save", "load"]
 
 
 def _load(name):

@@ -3,7 +3,9 @@
 A sweep with continuation shows one attractor at each eta; where a census of the same
 parameters lists several, :func:`locate` says which of them it is (the census attractor
 whose stroboscopic samples the sweep's own Poincare samples lie on), so that a sweep's
-label belongs to a named attractor with its basin fraction.
+label belongs to a named attractor with its basin fraction.  :func:`unreached_orbits`
+does the same for the stable orbits of an orbit hunt: those that are on none of the
+census' attractors are attractors no start of the census reached.
 """
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import xarray as xr
 
 from .library import nearest_distances
 
-__all__ = ["locate", "LOCATE_TOL"]
+__all__ = ["locate", "LOCATE_TOL", "unreached_orbits"]
 
 #: the sweep's samples lie on a census attractor when their mean distance to its samples
 #: is below this many box scales
@@ -95,3 +97,48 @@ def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr
                             valid_min=out.dtype.type(0),
                             long_name="census attractor (global_id) the sweep is on; -1: "
                                       "none of the census' attractors"))
+
+
+def unreached_orbits(orbits: xr.Dataset, census: xr.Dataset,
+                     tol: float = LOCATE_TOL) -> list[tuple[int, str]] | None:
+    """The stable orbits of a hunt that no start of a census at the same point reached.
+
+    Parameters
+    ----------
+    orbits : xarray.Dataset
+        :func:`vibimpact.orbits.hunt_to_dataset` (``stable``, ``period``, ``label``,
+        ``orbit_point (orbit, phase, state)``, attribute ``forcing_value``).
+    census : xarray.Dataset
+        :func:`vibimpact.attractors` of the same model and parameters.
+    tol : float
+        Mean distance of the orbit's cycle points to an attractor's samples, in box
+        scales, within which the orbit is that attractor.
+
+    Returns
+    -------
+    list of (int, str) or None
+        ``(orbit index, label)`` of every stable orbit on none of the census' attractors
+        at the hunt's forcing frequency; None when the census holds no point there.
+    """
+    if census.attrs.get("kind") != "census":
+        raise ValueError("census is not an attractor census (vi.attractors)")
+    eta = round(float(orbits.attrs.get("forcing_value", np.nan)), 12)
+    hit = np.flatnonzero(np.round(census.eta.values.astype(float), 12) == eta)
+    if hit.size == 0:
+        return None
+    i = int(hit[0])
+    scale = float(census.attrs.get("box_scale", 1.0))
+    clouds = []
+    for a in range(census.sizes["attractor"]):
+        cloud = census.samples.values[i, a]
+        clouds.append(cloud[np.all(np.isfinite(cloud), axis=1)])
+    out = []
+    for o in range(orbits.sizes.get("orbit", 0)):
+        if int(orbits.stable.values[o]) != 1:
+            continue
+        pts = orbits.orbit_point.values[o]
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        near = [float(nearest_distances(pts, c).mean()) for c in clouds if c.size]
+        if pts.size and not (near and min(near) <= tol * scale):
+            out.append((o, str(orbits.label.values[o])))
+    return out

@@ -131,12 +131,37 @@ def _cmd_orbits(args):
     print("\n".join(hunt.table()))
     if hunt.failed_note() is not None:  # written, said, exit 0 (as a census)
         print(f"vibimpact: warning: {hunt.failed_note()}", file=sys.stderr)
+    print("\n".join(_unreached_lines(ds, args.seeds)))
     print(f"wrote {out} ({elapsed:.1f} s: hunt {hunt.timings['hunt_s']:.1f} s, "
           f"continuation {hunt.timings['continuation_s']:.1f} s)")
     from ..plotting.orbits import plot_orbits
 
     draw(args, ds, out, plot_orbits, opts)
     return 0
+
+
+def _unreached_lines(ds, seeds):
+    """Lines naming the stable orbits that no start of the --seeds census reached at the
+    hunt's eta (none when --seeds is no census or holds no point there)."""
+    if seeds is None:
+        return []
+    census = read_input(os.fspath(seeds), "--seeds")
+    if census.attrs.get("kind") != "census":
+        return []
+    from ..census.locate import unreached_orbits
+
+    missed = unreached_orbits(ds, census)
+    if missed is None:
+        return []
+    eta = float(ds.attrs["forcing_value"])
+    i = int(abs(census.eta.values - eta).argmin())
+    unseen = (f" (the census says up to {float(census.unseen.values[i]):.3g} of its "
+              "basin may be unseen)" if "unseen" in census else "")
+    if not missed:
+        return [f"every stable orbit is an attractor of the census {os.fspath(seeds)!r}"]
+    return [f"orbit {o} ({label}) is stable, but no start of the census "
+            f"{os.fspath(seeds)!r} reached it at eta = {eta:g}{unseen}: more starts, or "
+            "'vibimpact basins' for where its basin lies" for o, label in missed]
 
 
 #: the API's default random seeds (:data:`vibimpact.orbits.hunt.DEFAULT_RANDOM`), here
