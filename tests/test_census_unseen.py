@@ -187,3 +187,21 @@ def test_an_orbit_hunt_names_the_stable_orbit_no_census_start_reached():
     missed = unreached_orbits(hunt, right)
     assert [o for o, _ in missed] == [int(np.flatnonzero(stable & (x < 0))[0])]
     assert unreached_orbits(hunt, both) == []
+
+
+@pytest.mark.slow  # two fig11 censuses (about half a minute on 2 cores)
+def test_readme_census_settings_find_the_four_fig11_attractors(tmp_path, capsys):
+    """Hypothesis: at fig11, eta = 1.06, the README's census (2000 starts, seed 0) lists
+    four attractors, among them the two P1 orbits with small basins (impactless and
+    with one impact); 200 starts list fewer, with an unseen mass above 0 and the hint."""
+    big, small = tmp_path / "c.nc", tmp_path / "s.nc"
+    argv = ["attractors", "--preset", "fig11", "--eta", "1.06", "--no-progress"]
+    assert main([*argv, "--starts", "2000", "--workers", "2", "-o", str(big)]) == 0
+    assert main([*argv, "--starts", "200", "-o", str(small)]) == 0
+    text = capsys.readouterr().out
+    c, s = vi.io.read_netcdf(big), vi.io.read_netcdf(small)
+    names = [str(n) for n in c.name.values[0] if str(n)]
+    assert len(names) == 4
+    assert sum(n.startswith("P1") for n in names) == 2
+    assert np.isfinite(s.fraction.values[0]).sum() < 4
+    assert float(s.unseen[0]) > 0 and "hint:" in text

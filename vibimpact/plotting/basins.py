@@ -79,6 +79,34 @@ def legend_labels(ds: xr.Dataset) -> list[str]:
     return out
 
 
+def _obstacle(ds, ax, xname, yname, extent):
+    """The model's circular obstacle (the rotor's retainer clearance) on a plane of its
+    two contact positions, drawn as in the XY figures (equal axes; the vertical axis
+    down where the model's XY figure has it down); the legend handles it adds."""
+    from ._sweep import spec
+
+    try:
+        sp = spec(ds)
+    except ValueError:  # a dataset that names no model: no obstacle known
+        return []
+    if sp.circle is None or tuple(sp.xy) != (xname, yname):
+        return []
+    r = float(sp.circle)
+    phi = np.linspace(0.0, 2.0 * np.pi, 721)
+    (line,) = ax.plot(r * np.cos(phi), r * np.sin(phi), color="black", lw=1.2, ls="--",
+                      label=sp.circle_label)
+    ax.set_aspect("equal")
+    lo, hi = min(extent[0], extent[2], -r), max(extent[1], extent[3], r)
+    pad = 0.02 * (hi - lo)
+    ax.set_xlim(lo - pad, hi + pad)
+    ax.set_ylim(lo - pad, hi + pad)
+    if sp.y_down and not ax.yaxis_inverted():
+        ax.invert_yaxis()
+    if sp.y_note:
+        ax.set_ylabel(f"{yname}  ({sp.y_note})")
+    return [line]
+
+
 def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
                 path: str | os.PathLike[str] | None = None, *,
                 figsize: tuple[float, float] | None = None, dpi: float | None = None,
@@ -156,6 +184,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
         ax.set_ylabel(yname)
         handles = [Patch(facecolor=c, edgecolor="none", label=t)
                    for c, t in zip(colours, legend_labels(ds))]
+        handles += _obstacle(ds, ax, xname, yname, extent)
         if np.any(img == -1):
             share = float(np.mean(img == -1))
             handles.append(Patch(facecolor=_FAILED, edgecolor="0.5",

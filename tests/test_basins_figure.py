@@ -1,0 +1,42 @@
+"""The basins figure of the rotor is drawn as its XY figures are: the retainer marked,
+equal axes, Y down; a model without a circular obstacle gets none."""
+import numpy as np
+import pytest
+
+import vibimpact as vi
+from vibimpact.plotting.basins import plot_basins
+
+
+@pytest.fixture(scope="module")
+def rotor_basins():
+    """A 5 x 5 basin image of fig11 at eta = 1.06 in the (X, Y) plane."""
+    return vi.basins(vi.System(vi.presets.get("fig11")), eta=1.06, grid=(5, 5),
+                     plane=("X", "Y"))
+
+
+def test_rotor_basins_mark_the_retainer_with_equal_axes_and_y_down(rotor_basins):
+    """Hypothesis: on the rotor's (X, Y) plane the figure draws the retainer circle of
+    radius 1 (every point of the dashed line at distance 1 from the origin, in the
+    legend), with equal axes spanning it, and the Y axis inverted as in plot_xy."""
+    fig = plot_basins(rotor_basins)
+    ax = fig.axes[0]
+    circles = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    assert len(circles) == 1
+    r = np.hypot(*circles[0].get_data())
+    np.testing.assert_allclose(r, 1.0, atol=1e-12)
+    assert "retainer" in circles[0].get_label()
+    assert ax.get_aspect() == 1.0 and ax.yaxis_inverted()
+    lo, hi = sorted(ax.get_ylim())
+    assert lo <= -1.0 and hi >= 1.0
+    legend = fig.legends[0] if fig.legends else ax.get_legend()
+    assert any("retainer" in t.get_text() for t in legend.get_texts())
+
+
+def test_a_model_without_a_circle_gets_no_circle(tmp_path):
+    """Hypothesis: a Duffing basin image (no circular obstacle) has no dashed circle and
+    keeps its vertical axis upward."""
+    ds = vi.basins(vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.0,
+                                              omega=1.0)), grid=(5, 5))
+    ax = plot_basins(ds).axes[0]
+    assert not [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    assert not ax.yaxis_inverted()
