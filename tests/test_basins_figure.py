@@ -40,3 +40,26 @@ def test_a_model_without_a_circle_gets_no_circle(tmp_path):
     ax = plot_basins(ds).axes[0]
     assert not [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
     assert not ax.yaxis_inverted()
+
+
+def test_a_one_eta_census_draws_a_bar_per_attractor_on_a_log_axis():
+    """Hypothesis: the census figure of one eta draws one bar per attractor whose width
+    is its basin fraction (a small basin stays visible on the log axis, down to half a
+    start), labelled A<global id>, and its eta axis has the one tick of that eta."""
+    from matplotlib.patches import Rectangle
+
+    from vibimpact.census import Box
+    from vibimpact.plotting.census import plot_census
+
+    system = vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.0,
+                                        omega=1.0))
+    ds = vi.attractors(system, starts=24, box=Box([-2.0, -2.0], [2.0, 2.0]))
+    fig = plot_census(ds)
+    top, bottom = fig.axes[:2]
+    bars = [p for p in top.patches if isinstance(p, Rectangle)]
+    frac = np.sort(ds.fraction.values[0][np.isfinite(ds.fraction.values[0])])
+    np.testing.assert_allclose(np.sort([b.get_width() for b in bars]), frac)
+    assert top.get_xscale() == "log" and top.get_xlim()[0] == 0.5 / 24
+    labels = {t.get_text() for t in top.get_yticklabels()}
+    assert labels == {f"A{int(g)}" for g in ds.global_id.values[0] if g >= 0}
+    np.testing.assert_allclose(bottom.get_xticks(), ds.eta.values)

@@ -34,6 +34,31 @@ def _attractor_names(ds):
     return names
 
 
+def _single_eta(ds, ax, ids, names, colors, fractions):
+    """The basin fractions of a census of one eta as horizontal bars on a log axis (an
+    attractor of 0.1 % is as visible as one of 50 %), each labelled with its fraction;
+    the legend handles."""
+    from matplotlib.patches import Patch
+
+    n = int(ds.attrs.get("n_starts", ds.sizes.get("start", 1))) or 1
+    floor = 0.5 / n  # half a start: the axis' lower end
+    order = sorted(range(len(ids)), key=lambda k: -fractions[k])
+    handles = []
+    for row, k in enumerate(order):
+        g, f = ids[k], float(fractions[k])
+        ax.barh(row, max(f, floor), left=0.0, color=colors[g], height=0.7)
+        ax.text(max(f, floor) * 1.15, row, f"{100 * f:.2g} %", va="center",
+                fontsize="small")
+        handles.append(Patch(facecolor=colors[g], label=f"A{g}: {names[g]}"))
+    ax.set_xscale("log")
+    ax.set_xlim(floor, 3.0)
+    ax.set_yticks(range(len(order)), [f"A{ids[k]}" for k in order])
+    ax.invert_yaxis()
+    ax.set_xlabel("basin fraction (log)")
+    ax.xaxis.set_tick_params(labelbottom=True)
+    return handles
+
+
 def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                 component: int = 0, figsize: tuple[float, float] | None = None,
                 dpi: float | None = None, style: str | None = None) -> Figure:
@@ -80,7 +105,7 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     state = str(ds.state.values[component])
     with lk.context():
         fig = lk.figure((10, 8), 7.0)
-        top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(1, 2))
+        top, bottom = fig.subplots(2, 1, sharex=eta.size > 1, height_ratios=(1, 2))
         import matplotlib as mpl
 
         cmap = mpl.colormaps["tab20" if len(ids) > 10 else "tab10"]
@@ -97,7 +122,12 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
             edges = np.array([eta[0] - 0.005, eta[0] + 0.005])
         xs = np.repeat(edges, 2)[1:-1]
         handles, below = [], np.zeros(eta.size)
-        for k, g in enumerate(ids):
+        if eta.size == 1:  # one eta: a bar per attractor, small basins on a log axis
+            handles = _single_eta(ds, top, ids, names, colors, stacked[:, 0])
+            ids_drawn: list = []
+        else:
+            ids_drawn = ids
+        for k, g in enumerate(ids_drawn):
             above = below + stacked[k]
             handles.append(top.fill_between(xs, np.repeat(below, 2), np.repeat(above, 2),
                                             color=colors[g], linewidth=0.0,
@@ -105,13 +135,14 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
             below = above
         failed = np.nan_to_num(ds.failed_fraction.values) if "failed_fraction" in ds \
             else np.zeros(eta.size)
-        if failed.any():  # starts whose integration failed: on no attractor, hatched
+        if failed.any() and eta.size > 1:  # failed starts: on no attractor, hatched
             handles.append(top.fill_between(
                 xs, np.repeat(below, 2), np.repeat(below + failed, 2), facecolor="white",
                 edgecolor="0.5", hatch="xx", linewidth=0.0,
                 label="integration failed"))
-        top.set_ylim(0.0, 1.0)
-        top.set_ylabel("basin fraction")
+        if eta.size > 1:
+            top.set_ylim(0.0, 1.0)
+            top.set_ylabel("basin fraction")
         samples = ds.samples.values[..., component]
         for g in ids:
             for i in range(eta.size):
@@ -121,6 +152,9 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                     bottom.plot(np.full(y.size, eta[i]), y, ".", ms=2.0,
                                 color=colors[g])
         bottom.set_xlabel("η")
+        if eta.size == 1:  # the one eta, not ticks between values that were not run
+            bottom.set_xticks([float(eta[0])], [f"{float(eta[0]):g}"])
+            bottom.set_xlim(edges[0], edges[1])
         bottom.set_ylabel(f"{state} (stroboscopic)")
         lk.legend(top, handles=handles)
         lk.title(fig, f"attractor census, {int(ds.attrs.get('n_starts', 0))} starts "
