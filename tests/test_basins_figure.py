@@ -63,3 +63,58 @@ def test_a_one_eta_census_draws_a_bar_per_attractor_on_a_log_axis():
     labels = {t.get_text() for t in top.get_yticklabels()}
     assert labels == {f"A{int(g)}" for g in ds.global_id.values[0] if g >= 0}
     np.testing.assert_allclose(bottom.get_xticks(), ds.eta.values)
+
+
+def test_basins_named_after_a_census_share_its_names_and_colours():
+    """Hypothesis: a basin image named after a census of the same point gives each
+    attractor the census' id of the same attractor (the double well's wells, told by
+    the sign of x), its legend names it A<id>, and the basins and census figures fill
+    it with the same colour."""
+    from matplotlib.colors import to_rgba
+
+    from vibimpact.census import Box
+    from vibimpact.census.locate import name_after
+    from vibimpact.plotting.census import plot_census
+    from vibimpact.plotting.style import attractor_colour
+
+    system = vi.System(vi.DuffingParams(delta=0.3, alpha=-1.0, beta=1.0, gamma=0.0,
+                                        omega=1.0))
+    census = vi.attractors(system, starts=24, box=Box([-2.0, -2.0], [2.0, 2.0]), seed=4)
+    raw = vi.basins(system, grid=(6, 6))  # no cell on the saddle at 0
+    named = name_after(raw, census)
+    side = {int(g): np.sign(census.representative.values[0, a, 0])
+            for a, g in enumerate(census.global_id.values[0]) if g >= 0}
+    for a, g in enumerate(named.global_id.values):
+        assert side[int(g)] == np.sign(named.representative.values[a, 0])
+    fig = plot_basins(named)
+    texts = [t.get_text() for t in (fig.legends[0] if fig.legends else
+                                    fig.axes[0].get_legend()).get_texts()]
+    for g in named.global_id.values:
+        assert any(t.startswith(f"A{int(g)}: ") for t in texts)
+    cfig = plot_census(census)
+    bars = {t.get_text(): None for t in cfig.axes[0].get_yticklabels()}
+    for p, label in zip(sorted(cfig.axes[0].patches, key=lambda p: p.get_y()),
+                        [t.get_text() for t in cfig.axes[0].get_yticklabels()]):
+        bars[label] = p.get_facecolor()
+    for g in named.global_id.values:
+        assert bars[f"A{int(g)}"] == to_rgba(attractor_colour(int(g)))
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda p: vi.save(vi.sweep(vi.presets.get("soft-impact"), [0.8]), p),
+     "not an attractor census"),
+    (lambda p: vi.save(vi.attractors(vi.System(vi.presets.get("soft-impact")), 0.9,
+                                     starts=4), p), "holds no point at eta")])
+def test_basins_census_option_refuses_what_cannot_name_it(make, words, tmp_path, capsys):
+    """Hypothesis: 'vibimpact basins --census FILE' with a file that is no census, or a
+    census without the basins' eta, exits 2 with one line before any work and writes
+    nothing."""
+    from vibimpact.cli import main
+
+    make(tmp_path / "c.nc")
+    out = tmp_path / "b.nc"
+    assert main(["basins", "--preset", "soft-impact", "--eta", "0.8", "--grid", "5x5",
+                 "--census", str(tmp_path / "c.nc"), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0]
+    assert not out.exists()

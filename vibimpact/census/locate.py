@@ -14,7 +14,7 @@ import xarray as xr
 
 from .library import nearest_distances
 
-__all__ = ["locate", "LOCATE_TOL", "unreached_orbits"]
+__all__ = ["locate", "LOCATE_TOL", "unreached_orbits", "name_after"]
 
 #: the sweep's samples lie on a census attractor when their mean distance to its samples
 #: is below this many box scales
@@ -142,3 +142,53 @@ def unreached_orbits(orbits: xr.Dataset, census: xr.Dataset,
         if pts.size and not (near and min(near) <= tol * scale):
             out.append((o, str(orbits.label.values[o])))
     return out
+
+
+def name_after(basins: xr.Dataset, census: xr.Dataset,
+               tol: float = LOCATE_TOL) -> xr.Dataset:
+    """``basins`` with the ``global_id`` of each attractor taken from ``census``, so that
+    the same attractor has the same name (A<id>) and colour in both figures and tables.
+
+    An attractor of the basin image is the census attractor of its period whose samples
+    lie within ``tol`` box scales of its own (mean nearest distance) at the image's
+    eta; one that matches none gets a new id after the census' largest.
+
+    Raises
+    ------
+    ValueError
+        When ``census`` is no census or holds no point at the image's eta.
+    """
+    if census.attrs.get("kind") != "census":
+        raise ValueError("census is not an attractor census (vi.attractors)")
+    eta = round(float(basins["eta"].values), 12) if "eta" in basins.coords else np.nan
+    hit = np.flatnonzero(np.round(census.eta.values.astype(float), 12) == eta)
+    if hit.size == 0:
+        raise ValueError(f"census holds no point at the basins' eta {eta:g}")
+    i = int(hit[0])
+    scale = float(census.attrs.get("box_scale", 1.0))
+    ids = census.global_id.values[i]
+    taken, new = set(), int(census.global_id.values.max()) + 1
+    out = np.full(basins.sizes["attractor"], -1, dtype=np.int32)
+    for a in range(basins.sizes["attractor"]):
+        mine = basins.samples.values[a]
+        mine = mine[np.all(np.isfinite(mine), axis=1)]
+        best, best_d = -1, np.inf
+        for b in range(census.sizes["attractor"]):
+            cloud = census.samples.values[i, b]
+            cloud = cloud[np.all(np.isfinite(cloud), axis=1)]
+            if not (mine.size and cloud.size) or b in taken or \
+                    int(census.period.values[i, b]) != int(basins.period.values[a]):
+                continue
+            dist = float(nearest_distances(mine, cloud).mean())
+            if dist < best_d:
+                best, best_d = b, dist
+        if best >= 0 and best_d <= tol * scale:
+            taken.add(best)
+            out[a] = int(ids[best])
+        else:
+            out[a], new = new, new + 1
+    named = basins.copy()
+    named["global_id"] = ("attractor", out, dict(basins.global_id.attrs, long_name=(
+        "attractor's id in the census it is named after (A<id>)")))
+    named.attrs["named_after_census"] = 1
+    return named

@@ -130,7 +130,8 @@ def summary(ds):
              f"{'' if ds.sizes['attractor'] == 1 else 's'}:"]
     for a in rows:
         f, se = float(ds.fraction[a]), float(ds.fraction_se[a])
-        lines.append(f"  {a:3d}  {f:6.3f} +- {se:.3f}  {ds.name.values[a]}")
+        name = f"A{int(ds.global_id.values[a])}" if "global_id" in ds else f"{a:3d}"
+        lines.append(f"  {name:<4s} {f:6.3f} +- {se:.3f}  {ds.name.values[a]}")
     if "failed" in ds and int(ds.failed):
         lines.append(f"   --  {float(ds.failed_fraction):6.3f}           integration "
                      "failed (on no attractor)")
@@ -146,6 +147,28 @@ def summary(ds):
     return lines
 
 
+def _census_file(args, system):
+    """The --census file (None without one), checked before any work: a census of the
+    basins' model that holds the basins' eta."""
+    if args.census is None:
+        return None
+    import numpy as np
+
+    from .common.files import read_input
+
+    ds = read_input(os.fspath(args.census), "--census")
+    if ds.attrs.get("kind") != "census":
+        raise UsageError(f"--census {os.fspath(args.census)!r} is not an attractor census "
+                         "('vibimpact attractors')")
+    if ds.attrs.get("model") != system.model.name:
+        raise UsageError(f"--census {os.fspath(args.census)!r} is a census of the "
+                         f"{ds.attrs.get('model')} model, not of {system.model.name}")
+    if not np.any(np.round(ds.eta.values.astype(float), 12) == round(system.omega, 12)):
+        raise UsageError(f"--census {os.fspath(args.census)!r} holds no point at eta = "
+                         f"{system.omega:g}")
+    return ds
+
+
 def _cmd_basins(args):
     from .common.census_steps import check_outputs, draw, run_and_write
     from ..engine.store import Checkpoint
@@ -157,11 +180,16 @@ def _cmd_basins(args):
     resuming, fig_kw = check_outputs(args, out, ckpt)
 
     from ..census.basins import basins, write_basins
+    from ..census.locate import name_after
+
+    census = _census_file(args, system)
 
     ds, status, elapsed = run_and_write(
         args, out, ckpt, resuming, "basins", lambda run: basins(
             system, None, grid=grid, plane=plane, ranges=ranges, base=state,
-            eps=args.eps, execution=run), write_basins)
+            eps=args.eps, execution=run) if census is None else name_after(basins(
+            system, None, grid=grid, plane=plane, ranges=ranges, base=state,
+            eps=args.eps, execution=run), census), write_basins)
     if ds is None:
         return status
     print("\n".join(summary(ds)))
@@ -206,6 +234,9 @@ def add_parser(sub, fmt):
                    help="box side of the basin entropy in cells (default: 5)")
     b.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",
                    help="local processes (default: 1); never changes a number")
+    b.add_argument("--census", default=None, metavar="CENSUS.nc",
+                   help="name the attractors as this census ('vibimpact attractors' at "
+                        "the same eta) does: the same A<id> and colour")
     b.add_argument("-o", "--output", default="basins.nc", metavar="OUT.nc",
                    help="NetCDF file to write (default: basins.nc)")
     b.add_argument("--plot", default=None, metavar="IMAGE",

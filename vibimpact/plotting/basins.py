@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .style import look
+from .style import attractor_colour, look
 
 if TYPE_CHECKING:  # names of the annotations only
     import os
@@ -19,21 +19,18 @@ if TYPE_CHECKING:  # names of the annotations only
 
 __all__ = ["plot_basins", "legend_labels"]
 
-#: the colours of attractors 0, 1, ... (tab10, then tab20's light shades); a diverged
-#: basin is drawn black
+#: a diverged basin is drawn black (the attractors: style.attractor_colour of their id)
 _GREY_DIVERGED = "0.1"
 #: cells whose integration failed (basin -1: on no attractor) are drawn white
 _FAILED = "white"
 
 
-def _colours(n):
-    from matplotlib import colormaps
-
-    # matplotlib's stubs type a registered map as a Colormap, without .colors (these two
-    # are ListedColormaps, whose .colors they type as any colour or array): ignored
-    tab10, tab20 = [colormaps[m].colors for m in ("tab10", "tab20")]  # type: ignore[attr-defined]
-    base = list(tab10) + list(tab20[1::2])
-    return [base[i % len(base)] for i in range(n)]
+def _ids(ds):
+    """The attractors' ids (``global_id``: the census' when named after one), else
+    their indices."""
+    if "global_id" in ds and ds["global_id"].dims == ("attractor",):
+        return [int(g) for g in ds["global_id"].values]
+    return list(range(int(ds.sizes["attractor"])))
 
 
 def _short(v):
@@ -75,7 +72,7 @@ def legend_labels(ds: xr.Dataset) -> list[str]:
             if np.isfinite(rep[i]) and np.isfinite(rep[j]):
                 where = f" at {xname} {_short(rep[i])}, {yname} {_short(rep[j])}"
         frac = f": {100 * f:.1f} ± {100 * se:.1f} %" if math.isfinite(f) else ""
-        out.append(f"{a}: {name}{where}{frac}")
+        out.append(f"A{_ids(ds)[a]}: {name}{where}{frac}")
     return out
 
 
@@ -161,7 +158,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     lk = look(figsize, dpi, style, ax)
     img = np.asarray(ds["basin"].values)
     n = int(ds.sizes["attractor"])
-    colours = _colours(n)
+    colours = [attractor_colour(g) for g in _ids(ds)]
     names = [str(v) for v in ds["name"].values]
     colours = [_GREY_DIVERGED if nm == "diverged" else c for nm, c in zip(names, colours)]
     cmap = ListedColormap(colours).with_extremes(under=_FAILED)  # -1: failed cells

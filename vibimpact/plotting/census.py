@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .style import look
+from .style import attractor_colour, look
 
 if TYPE_CHECKING:
     import os
@@ -106,10 +106,7 @@ def plot_census(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     with lk.context():
         fig = lk.figure((10, 8), 7.0)
         top, bottom = fig.subplots(2, 1, sharex=eta.size > 1, height_ratios=(1, 2))
-        import matplotlib as mpl
-
-        cmap = mpl.colormaps["tab20" if len(ids) > 10 else "tab10"]
-        colors = {g: cmap(k % cmap.N) for k, g in enumerate(ids)}
+        colors = {g: attractor_colour(g) for g in ids}  # the basins figure's too
         stacked = np.zeros((len(ids), eta.size))
         for k, g in enumerate(ids):
             stacked[k] = np.where(gid == g, frac, 0.0).sum(axis=1)

@@ -441,3 +441,14 @@ def look(figsize=None, dpi=None, style=None, ax=None):
         except ValueError as exc:
             raise ValueError(f"figsize, dpi: {exc}") from None
     return Look(style=check_style(style), figsize=size, dpi=dpi)
+
+
+def attractor_colour(gid: int):
+    """The colour of attractor ``A<gid>`` in every census, basins and orbit figure:
+    tab10, then tab20's light shades, by its global id (one attractor, one colour)."""
+    from matplotlib import colormaps
+
+    # the stubs type a registered map as a Colormap, without .colors (ListedColormaps)
+    tab10, tab20 = [colormaps[m].colors for m in ("tab10", "tab20")]  # type: ignore[attr-defined]
+    base = list(tab10) + list(tab20[1::2])
+    return base[int(gid) % len(base)]
