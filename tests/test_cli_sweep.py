@@ -340,8 +340,11 @@ def test_interrupted_sweep_resumes_bit_identical(sig, workers, tmp_path, referen
 @pytest.mark.slow  # among the fast suite's longest tests: run on CI's slow line
 def test_bifurcation_writes_png_and_its_data(tmp_path):
     """bifurcation writes the PNG and the data next to it (same stem, .nc) with up and
-    down sweeps and only the period and Poincaré analyses; 'plot --kind bifurcation'
-    redraws it, and '--kind response' is refused (the file has no response data)."""
+    down sweeps and the analyses that decide a label (those of classify) but not the
+    response; 'plot --kind bifurcation' redraws it, and '--kind response' is refused
+    (the file has no response data)."""
+    from vibimpact.cli.bifurcation import LABEL_ANALYSES
+    from vibimpact.plotting.needs import recorded_analyses
     import xarray as xr
 
     r = cli("bifurcation", *TINY, "-o", "bif.png", cwd=tmp_path)
@@ -354,7 +357,8 @@ def test_bifurcation_writes_png_and_its_data(tmp_path):
         assert list(ds["direction"].values) == ["up", "down"]
         assert ds["poincare_X"].dims == ("direction", "eta", "sample")
         assert np.all(np.isfinite(ds["poincare_X"].values))
-        assert np.all(np.isnan(ds["lyapunov"].values)) and np.all(np.isnan(ds["X_m"].values))
+        assert recorded_analyses(ds) == set(LABEL_ANALYSES)
+        assert np.all(np.isnan(ds["X_m"].values))
         assert ds.attrs["command"].startswith("vibimpact bifurcation --eta")
     r = cli("plot", "bif.nc", "--kind", "bifurcation", "-o", "again.png", cwd=tmp_path)
     assert r.returncode == 0, r.stderr

@@ -245,6 +245,55 @@ def test_routine_pickles_to_the_same_routine():
     assert init.name == "rotor_init_mode"
 
 
+#: in a fresh interpreter (as a worker process that numba's memo of dispatchers does not
+#: reach): unpickle the routines and models of stdin, call each family's initial mode and
+#: the array routines, and print whether every dispatcher is its module's own and how
+#: many functions numba compiled (rather than loaded from the cache)
+_UNPICKLE = """
+import pickle, sys
+import numpy as np
+from numba.core import event
+compiled = []
+class L(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__qualname__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", L())
+from vibimpact._kernel.precompiled import own_dispatcher
+routines, models = pickle.load(sys.stdin.buffer)
+own = all(own_dispatcher(r.name, r.jit) for r in routines)
+for m in models:
+    n = len(m.state_names)
+    m.init_mode(0.0, np.full(n, 0.5), np.zeros(len(m.param_names)),
+                np.zeros(m.n_mode, dtype=np.int64))
+v = np.arange(3.0)
+routines[0](v, v)
+print(own, len(compiled), compiled)
+"""
+
+
+def test_a_routine_unpickled_in_a_fresh_process_loads_from_the_cache():
+    """Hypothesis: a kernel routine or built-in model pickled to a process that never saw
+    it (a worker) arrives as the dispatcher of its kernel module, with numba's disk cache,
+    so that calling it there compiles nothing -- a factory-made ``init_mode`` (the rigid
+    stop's) included, whose cache key holds the dispatchers it closes over; numba
+    rebuilds a dispatcher it pickled by value without the cache, and every worker
+    compiled its ``init_mode`` again."""
+    from vibimpact._kernel.cache_stamp import cache_state
+
+    if not cache_state()[0]:
+        pytest.fail("the test environment's kernel cache is not in use: "
+                    + cache_state()[1])
+    models = [vi.models.get(n) for n in vi.models.names()]  # every built-in family
+    routines = [kb.dot, kb.matmul, kb.solve, kb.eigvals, *(m.init_mode for m in models)]
+    r = subprocess.run([sys.executable, "-c", _UNPICKLE], input=pickle.dumps(
+        (routines, models)), capture_output=True, timeout=120, cwd=ROOT)
+    assert r.returncode == 0, r.stderr.decode()
+    own, count = r.stdout.decode().split()[:2]
+    assert own == "True" and count == "0", r.stdout.decode()
+
+
 @pytest.mark.parametrize("family", ["rotor", "duffing", "hard_impact"])
 def test_an_init_mode_routine_made_anywhere_checks_its_arguments(family):
     """Hypothesis: a family's ``init_mode`` routine is checked however it was made -- by

@@ -78,6 +78,29 @@ def chatter_remainder(u, a, r):
     return 2.0 * r * u / (a * (1.0 - r))
 
 
+def stable_uuid(dispatcher):
+    """Give the dispatcher ``dispatcher`` a uuid derived from its function's module and
+    name, where it has none yet.
+
+    numba keys the disk cache of a closure on the pickled values it closes over; a
+    dispatcher pickles with its uuid, which numba draws at random in every process, so
+    that a function made by a factory over dispatchers (:func:`stop_model`'s) would miss
+    its cache in every new process and compile again (and add an entry to the index).
+    With the same uuid in every process the key is the same.  numba gives no public way to
+    name the uuid; where its private one is missing or already set, nothing is done (the
+    function then compiles once per process, as a user model's does).
+    """
+    func = getattr(dispatcher, "py_func", None)
+    setter = getattr(dispatcher, "_set_uuid", None)
+    if func is None or setter is None:
+        return
+    try:
+        if getattr(dispatcher, "_MemoMixin__uuid", None) is None:
+            setter(f"vibimpact-kernel:{func.__module__}.{func.__qualname__}")
+    except (AssertionError, AttributeError, TypeError):
+        pass
+
+
 def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1.0,
                chatter_time=CHATTER_TIME, cache=True):
     """The kernel functions of a model with a rigid stop (see the module's docstring).
@@ -132,6 +155,9 @@ def stop_model(free_rhs, free_jac, accel, n, pos, vel, stop, restitution, side=1
         raise ValueError(f"chatter_time must be > 0, got {chatter_time!r}")
     leaf = dict(LEAF, cache=bool(cache))
     side = float(side)
+    if cache:
+        for fn in (free_rhs, free_jac, accel):
+            stable_uuid(fn)
 
     @njit(**leaf)
     def rhs(s, y, p, mode, out):

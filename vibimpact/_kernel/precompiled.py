@@ -21,6 +21,9 @@ arguments), and a wrong shape, dtype or memory order is a ``ValueError``.
 """
 from __future__ import annotations
 
+import importlib
+import sys
+
 from .argcheck import check_of
 
 
@@ -74,10 +77,56 @@ class Routine:
         return getattr(self.jit, attr)
 
     def __reduce__(self):
+        # the kernel's own dispatcher by name: numba pickles a dispatcher as its Python
+        # function and options, and a process that unpickles it (a worker) rebuilds one
+        # without the on-disk cache -- compiling it again in every process -- unless it
+        # already holds one of the same uuid
+        if own_dispatcher(self.name, self.jit):
+            return _named, (self.name, reference(self.jit))
         return routine, (self.name, self.jit)
 
     def __repr__(self):
         return f"Routine({self.name!r})"
+
+
+def reference(jit):
+    """``(module, name)`` of the module attribute that is the dispatcher ``jit``, or None
+    (a function made inside another, a user model's function kept by no module)."""
+    func = getattr(jit, "py_func", None)
+    module, name = getattr(func, "__module__", None), getattr(func, "__qualname__", "")
+    mod = sys.modules.get(module) if module else None
+    if mod is None or "." in name or getattr(mod, name, None) is not jit:
+        return None
+    return module, name
+
+
+def _family_init_mode(name):
+    """The ``init_mode`` dispatcher of the built-in family of routine ``name``
+    (``<family>_init_mode``), or None."""
+    from . import registry
+
+    family = name[:-len("_init_mode")] if name.endswith("_init_mode") else None
+    if family is None or family not in registry.families():
+        return None
+    return registry.family(family).init_mode
+
+
+def own_dispatcher(name, jit):
+    """Whether ``jit`` is the kernel's own dispatcher of routine ``name``: a kernel
+    module's attribute, or a built-in family's ``init_mode`` (made by a factory)."""
+    ref = reference(jit)
+    if ref is not None:
+        return ref[0].startswith(__package__ + ".")
+    return _family_init_mode(name) is jit
+
+
+def _named(name, ref):
+    """The :class:`Routine` ``name`` of the kernel's own dispatcher: the module attribute
+    ``ref`` (``(module, name)``), or with ``ref`` None the family's ``init_mode``
+    (unpickling)."""
+    jit = (getattr(importlib.import_module(ref[0]), ref[1]) if ref is not None
+           else _family_init_mode(name))
+    return routine(name, jit)
 
 
 def routine(name, jit):

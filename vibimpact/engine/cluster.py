@@ -186,6 +186,10 @@ def _local_cluster(workers):
         # its worker processes are watched (Dask.run); an attribute of ours on the Client
         client.local_cluster = cluster  # type: ignore[attr-defined]
         try:
+            # before the workers start, so that each one (and one started later) has it
+            from .worker_logs import QuietLogs
+
+            client.register_plugin(QuietLogs(), name=QuietLogs.name)
             with dask.config.set(WORKER_CONFIG):
                 cluster.scale(workers)
             _wait_for_workers(client, cluster, workers)
