@@ -240,7 +240,7 @@ def test_no_command_hides_in_a_block_that_is_not_run():
 def test_readme_has_two_setup_commands_and_ci_runs_both():
     """Hypothesis: the README's first two shell lines are the set-up a newcomer copies:
     install and run the main job (``vibimpact classify``), install the test extra and
-    run ``python -m pytest -q``; ``.ci/run`` runs both installs and that test command,
+    run ``python -m pytest -q -n 2``; ``.ci/run`` runs both installs and that test command,
     and no other README line installs anything but the documentation's extra."""
     lines = _lines(ROOT / "README.md")
     first, second = (db.segments(db.command(ln)) for ln in lines[:2])
@@ -248,7 +248,7 @@ def test_readme_has_two_setup_commands_and_ci_runs_both():
     assert db.normal(first[0]) == "pip install -e ." and first[1][:2] == ["vibimpact",
                                                                          "classify"]
     assert [db.normal(s) for s in second] == ['pip install -e .[test]',
-                                              "python -m pytest -q"]
+                                              "python -m pytest -q -n 2"]
     assert {db.normal(first[0]), *map(db.normal, second)} <= ci
     later = [db.normal(s) for ln in lines[2:] for s in db.segments(db.command(ln))
              if db.is_setup(s) and db.normal(s).startswith("pip")]

@@ -36,7 +36,7 @@ def test_ci_runs_ruff_and_mypy_on_the_package_before_the_tests():
     install = lines.index(["install", "-e", ".[lint]"])
     ruff = lines.index(["python", "-m", "ruff", "check", "vibimpact"])
     mypy = lines.index(["python", "-m", "mypy", "vibimpact"])
-    tests = lines.index(["python", "-m", "pytest", "-q"])
+    tests = lines.index(["python", "-m", "pytest", "-q", "-n", "2"])
     assert install < ruff < tests and install < mypy < tests
 
 
