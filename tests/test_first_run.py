@@ -73,3 +73,47 @@ def test_the_line_is_said_once_and_only_for_the_kernel(monkeypatch, capsys):
     first_run._say()
     err = capsys.readouterr().err
     assert err.count("compiling the kernel") == 1
+
+
+def test_a_compile_is_certain_only_where_the_cache_holds_no_integration_loop(tmp_path):
+    """Hypothesis: the file-system test says a compile is certain for an empty
+    ``NUMBA_CACHE_DIR`` and for a kernel whose ``__pycache__`` holds no index of the
+    integration loop, and not where such an index lies anywhere below the cache
+    directory or in ``__pycache__``; and the index it looks for is the one numba wrote
+    for the test environment's filled cache (a renamed loop would fail here)."""
+    from vibimpact._kernel.cache_stamp import cache_state
+
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert first_run.compile_is_certain({"NUMBA_CACHE_DIR": str(empty)})
+    deep = tmp_path / "filled" / "work" / "_kernel_abc"
+    deep.mkdir(parents=True)
+    (deep / "driver.integrate-414.py311.nbi").write_bytes(b"")
+    assert not first_run.compile_is_certain({"NUMBA_CACHE_DIR": str(tmp_path / "filled")})
+    kernel = tmp_path / "kernel"
+    (kernel / "__pycache__").mkdir(parents=True)
+    assert first_run.compile_is_certain({}, kernel)
+    (kernel / "__pycache__" / "driver.integrate-9.py311.nbi").write_bytes(b"")
+    assert not first_run.compile_is_certain({}, kernel)
+    if not cache_state()[0]:
+        pytest.fail("the test environment's kernel cache is not in use: "
+                    + cache_state()[1])
+    env = {k: v for k, v in os.environ.items() if k == "NUMBA_CACHE_DIR"}
+    assert not first_run.compile_is_certain(env)
+
+
+def test_an_error_before_the_work_prints_no_compile_line_on_a_cold_cache(tmp_path):
+    """Hypothesis: on an empty numba cache, a command refused before it computes (an
+    output that exists without --overwrite; an option out of range) prints its one
+    error line and no compile line: the line waits for numba's first call."""
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    (tmp_path / "o.nc").write_bytes(b"x")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    for argv in (["classify", "--eta", "1.0", "--no-progress", "-o", "o.nc"],
+                 ["attractors", "--eta", "1.0", "--starts", "0", "-o", "a.nc"]):
+        r = subprocess.run([sys.executable, "-m", "vibimpact", *argv], cwd=tmp_path,
+                           env=env, capture_output=True, text=True, timeout=120)
+        lines = r.stderr.splitlines()
+        assert r.returncode == 2 and len(lines) == 1, (argv, r.stderr)
+        assert lines[0].startswith("vibimpact: error:") or "error:" in lines[0], lines

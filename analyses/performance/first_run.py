@@ -70,24 +70,50 @@ def _env(cache_dir):
     return dict(os.environ) if SMOKE else dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
 
 
-def _python(args, cache_dir):
-    """``(seconds, stdout)`` of ``python ARGS`` with the numba cache ``cache_dir``."""
+def _python(args, cache_dir, said=None):
+    """``(seconds, stdout)`` of ``python ARGS`` with the numba cache ``cache_dir``; with a
+    list ``said``, the seconds from the start to each line on stderr are appended to it
+    as ``(seconds, line)``."""
+    import threading
+
     cmd = [sys.executable, *args]
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=_env(cache_dir), stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(cmd, env=_env(cache_dir), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    err = []
+
+    def read_stderr():
+        for line in proc.stderr:
+            err.append((time.perf_counter() - t0, line))
+
+    reader = threading.Thread(target=read_stderr)
+    reader.start()
+    stdout = proc.stdout.read()
+    proc.wait()
     wall = time.perf_counter() - t0
+    reader.join()
     if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stderr}")
-    return wall, proc.stdout
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n"
+                           + "".join(line for _, line in err))
+    if said is not None:
+        said.extend(err)
+    return wall, stdout
+
+
+#: the start of the line a run prints before numba compiles the kernel
+COMPILE_LINE = "vibimpact: compiling the kernel for first use"
+#: the acceptance target of that line's time from the start (seconds; issue 43)
+TARGET_LINE_S = 1.0
 
 
 def _run(args, cache_dir, out):
-    """``(seconds, cache files written)`` of ``vibimpact ARGS`` with the numba cache
-    ``cache_dir``."""
-    start = time.time()
-    wall, _ = _python(["-m", "vibimpact"] + [a.format(out=out) for a in args], cache_dir)
-    return wall, _cache_files(cache_dir, since=start)
+    """``(seconds, cache files written, seconds to the compile line or None)`` of
+    ``vibimpact ARGS`` with the numba cache ``cache_dir``."""
+    start, said = time.time(), []
+    wall, _ = _python(["-m", "vibimpact"] + [a.format(out=out) for a in args], cache_dir,
+                      said)
+    line = next((t for t, text in said if text.startswith(COMPILE_LINE)), None)
+    return wall, _cache_files(cache_dir, since=start), line
 
 
 def _fill(cache_dir):
@@ -124,9 +150,12 @@ def measure(commands=None, repeat=1):
     -------
     dict
         ``{"commands": {name: {"command", "empty_s", "empty_files", "warm_s",
-        "filled_s", "filled_files"}}, "fill_s", "fill_files", "status"}``: the first run
-        on an empty cache and the cache files it wrote, the run after it (warm), the
-        first run on a filled cache and the cache files it wrote; the fill's seconds
+        "filled_s", "filled_files", "line_s", "line_elsewhere"}}, "fill_s",
+        "fill_files", "status"}``: the first run on an empty cache, the cache files it
+        wrote and the seconds from its start to its compile line (:data:`COMPILE_LINE`;
+        None where one of its runs did not print it), the run after it (warm), the first
+        run on a filled cache and the cache files it wrote, whether a warm or filled run
+        printed the compile line; the fill's seconds
         (the smallest of its runs, one per filled measurement), the cache files it
         wrote and what the package said of the filled cache.
     """
@@ -135,25 +164,34 @@ def measure(commands=None, repeat=1):
     for name in commands or COMMANDS:
         args = COMMANDS[name]
         empty, warm, empty_files, filled, filled_files = [], [], [], [], []
+        line, warm_line, filled_line = [], [], []
         for _ in range(repeat):
             with tempfile.TemporaryDirectory(prefix="vibimpact-first-run-") as tmp:
                 cache = _fresh_cache(tmp)
-                seconds, files = _run(args, cache, os.path.join(tmp, "empty"))
+                seconds, files, said = _run(args, cache, os.path.join(tmp, "empty"))
                 empty.append(seconds)
                 empty_files.append(files)
-                warm.append(_run(args, cache, os.path.join(tmp, "warm"))[0])
+                line.append(said)
+                seconds, _, said = _run(args, cache, os.path.join(tmp, "warm"))
+                warm.append(seconds)
+                warm_line.append(said)
             with tempfile.TemporaryDirectory(prefix="vibimpact-first-run-") as tmp:
                 cache = _fresh_cache(tmp)
                 seconds, fill_files, status = _fill(cache)
                 fills.append(seconds)
-                seconds, files = _run(args, cache, os.path.join(tmp, "filled"))
+                seconds, files, said = _run(args, cache, os.path.join(tmp, "filled"))
                 filled.append(seconds)
                 filled_files.append(files)
+                filled_line.append(said)
         out[name] = {"command": "vibimpact " + " ".join(a.replace("{out}", "OUT")
                                                         for a in args),
                      "empty_s": min(empty), "empty_files": max(empty_files),
                      "warm_s": min(warm), "filled_s": min(filled),
-                     "filled_files": max(filled_files)}
+                     "filled_files": max(filled_files),
+                     # the compile line: its time on the empty cache (None where a run
+                     # did not print it), and whether a warm or filled run printed it
+                     "line_s": None if None in line else min(line),
+                     "line_elsewhere": any(t is not None for t in warm_line + filled_line)}
     return {"commands": out, "fill_s": min(fills), "fill_files": fill_files,
             "status": status}
 
@@ -204,14 +242,23 @@ def report(res, help_s, help_files, repeat):
          f"The fill (the install step) took {res['fill_s']:.1f} s and wrote "
          f"{res['fill_files']} cache files; the package then said of its kernel: "
          f"*{res['status']}*.", "",
-         "| command | empty cache: first run [s] | empty cache: cache files written "
+         "| command | empty cache: first run [s] | empty cache: compile line after [s] "
+         "| empty cache: cache files written "
          "| empty cache: warm [s] | filled cache: first run [s] "
          "| filled cache: cache files written |",
-         "| --- | ---: | ---: | ---: | ---: | ---: |"]
+         "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows.values():
-        L.append(f"| `{r['command']}` | {r['empty_s']:.1f} | {r['empty_files']} | "
+        said = "none" if r["line_s"] is None else f"{r['line_s']:.2f}"
+        L.append(f"| `{r['command']}` | {r['empty_s']:.1f} | {said} | {r['empty_files']} | "
                  f"{r['warm_s']:.1f} | {r['filled_s']:.1f} | {r['filled_files']} |")
     L.append("")
+    for name, r in rows.items():
+        said = ("not printed" if r["line_s"] is None else f"{r['line_s']:.2f} s against "
+                f"the target of {TARGET_LINE_S:.0f} s: "
+                + ("met" if r["line_s"] <= TARGET_LINE_S else "**not met**"))
+        L.append(f"- `{name}`'s compile line on an empty cache (seconds from the "
+                 f"process's start to the line on stderr): {said}; printed by a warm or "
+                 f"filled-cache run: {'**yes**' if r['line_elsewhere'] else 'no'}")
     for name, r in rows.items():
         L.append(f"- first `{name}` on the filled cache: {r['filled_s']:.1f} s against the "
                  f"target of {TARGET_FIRST_S:.0f} s: {_verdict(r['filled_s'])}; on an empty "

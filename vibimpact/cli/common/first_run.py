@@ -8,10 +8,22 @@ for numba's own compile event, which numba raises only when a function is compil
 rather than loaded from its cache, so that the first compile of the process prints one
 line on stderr before it starts; a run whose cache is in use prints nothing.
 
+Importing numba and what a command needs takes a while before the first compile starts;
+where the compile is certain -- numba's cache directory for the kernel holds no index of
+the integration loop, which every computing command runs -- :func:`listen` prints the
+line at once, before it imports numba (:func:`compile_is_certain`).
+
 Like :mod:`vibimpact.cli`, only the standard library is imported at module level;
 numba in :func:`listen`.
 """
+import os
 import sys
+from pathlib import Path
+
+#: the kernel's sources, and the index file numba writes for the integration loop there
+#: (``driver.integrate-<line>.py311.nbi``)
+KERNEL = Path(__file__).resolve().parents[2] / "_kernel"
+INDEX = "driver.integrate-*.nbi"
 
 #: the commands that run the kernel (and so may compile it)
 COMPUTING = frozenset({"simulate", "classify", "bifurcation", "map", "continue", "orbits",
@@ -44,13 +56,46 @@ def _of_kernel(ev):
     return str(getattr(func, "__module__", "")).startswith("vibimpact._kernel")
 
 
+def compile_is_certain(environ=os.environ, kernel=KERNEL):
+    """Whether numba will certainly compile the integration loop in this process: the
+    directory it caches the kernel in holds no index of it.  Read from the file system
+    only (no numba): with ``NUMBA_CACHE_DIR`` set, no such index anywhere below it;
+    otherwise none in the writable ``__pycache__`` beside the kernel's sources.  False
+    where it cannot tell (``__pycache__`` not writable: numba then caches in a directory
+    of its own)."""
+    base = environ.get("NUMBA_CACHE_DIR")
+    if base:
+        try:
+            return not any(next(Path(d).glob(INDEX), None) for d, _, _ in os.walk(base))
+        except OSError:
+            return False
+    cache = kernel / "__pycache__"
+    if not os.access(cache if cache.is_dir() else kernel, os.W_OK):
+        return False
+    return next(cache.glob(INDEX), None) is None
+
+
 def listen(command):
     """Print :func:`compile_line` on stderr before numba's first compile in this process,
     for a ``command`` of :data:`COMPUTING` (once per process; nothing when every
-    function loads from the cache)."""
+    function loads from the cache): at once where :func:`compile_is_certain`, else when
+    numba starts to compile a kernel function."""
     if command not in COMPUTING or _STATE["listening"]:
         return
     from numba.core import event
+
+    if compile_is_certain():
+        # numba takes its compiler lock before it readies its typing (a while) and before
+        # its cache says the function must be compiled; the kernel's modules are
+        # imported by now, so the next lock is the first call of a numba function
+        class _FirstLock(event.Listener):
+            def on_start(self, ev):
+                _say()
+
+            def on_end(self, ev):
+                pass
+
+        event.register("numba:compiler_lock", _FirstLock())
 
     class _FirstCompile(event.Listener):
         def on_start(self, ev):
@@ -64,4 +109,4 @@ def listen(command):
     _STATE["listening"] = True
 
 
-__all__ = ["listen", "compile_line", "COMPUTING"]
+__all__ = ["listen", "compile_line", "compile_is_certain", "COMPUTING"]
