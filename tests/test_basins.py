@@ -301,3 +301,22 @@ def test_cli_writes_file_plot_and_table(tmp_path):
     for name in ds.name.values:
         assert str(name) in proc.stdout
     assert "basin entropy Sb" in proc.stdout and "log 2" in proc.stdout
+
+
+def test_cells_not_started_change_no_boundary_measure():
+    """Hypothesis: padding a basin image with box-aligned blocks of cells not started
+    (-2) leaves its boundary fraction, basin entropy and boundary basin entropy as they
+    were: those cells are no label, no neighbour and no box."""
+    from vibimpact.census.basins import NOT_STARTED, boundary_measures
+
+    rng = np.random.default_rng(3)
+    img = (rng.random((10, 10)) < 0.4).astype(np.int64)
+    img[:5, :5] = 2
+    padded = np.full((10, 20), NOT_STARTED, dtype=np.int64)
+    padded[:, 5:15] = img
+    a, b = boundary_measures(img, 5), boundary_measures(padded, 5)
+    for key in ("boundary_fraction", "basin_entropy", "boundary_basin_entropy",
+                "boxes", "boundary_boxes", "attractors"):
+        assert b[key] == pytest.approx(a[key]), key
+    with pytest.raises(ValueError, match="no cell was started"):
+        boundary_measures(np.full((5, 5), NOT_STARTED), 5)

@@ -118,3 +118,44 @@ def test_basins_census_option_refuses_what_cannot_name_it(make, words, tmp_path,
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0]
     assert not out.exists()
+
+
+def test_rotor_basins_start_only_the_disk_inside_the_retainer(rotor_basins):
+    """Hypothesis: by default the rotor's (X, Y) image starts exactly the cells with
+    X^2 + Y^2 <= 1 (inside the retainer clearance): the others hold -2, count as
+    not_started, are not started in the census (its fractions, over the started cells,
+    add up to 1) and are left out of the boundary cells."""
+    ds = rotor_basins
+    x, y = np.meshgrid(ds.X.values, ds.Y.values)
+    inside = x ** 2 + y ** 2 <= 1.0
+    assert not inside.all() and inside.any()
+    np.testing.assert_array_equal(ds.basin.values == -2, ~inside)
+    np.testing.assert_array_equal(ds.started.values, inside)
+    assert int(ds.not_started) == int((~inside).sum())
+    assert np.nansum(ds.fraction.values) + float(ds.failed_fraction) == pytest.approx(1.0)
+    assert not ds.boundary.values[~inside].any()
+    assert np.all(ds.periods.values[~inside] == 0)
+
+
+def test_the_figure_greys_the_cells_not_started_and_says_so(rotor_basins):
+    """Hypothesis: the cells not started are masked in the drawn image (so drawn in the
+    colour map's 'bad' grey, not in an attractor's colour) and the legend says how many
+    there are."""
+    fig = plot_basins(rotor_basins)
+    ax = fig.axes[0]
+    drawn = ax.get_images()[0].get_array()
+    np.testing.assert_array_equal(np.ma.getmaskarray(drawn),
+                                  rotor_basins.basin.values == -2)
+    legend = fig.legends[0] if fig.legends else ax.get_legend()
+    n = int(rotor_basins.not_started)
+    assert any(t.get_text().startswith(f"not started ({n} cells)")
+               for t in legend.get_texts())
+
+
+def test_everywhere_starts_the_corners_too():
+    """Hypothesis: with everywhere=True no cell is left out (a 3 x 3 image of fig8 at
+    eta = 1.25 whose corners lie at R = sqrt(2))."""
+    ds = vi.basins(vi.System(vi.presets.get("fig8")), eta=1.25, grid=(3, 3), eps=1,
+                   everywhere=True)
+    assert int(ds.not_started) == 0 and np.all(ds.basin.values >= -1)
+    assert bool(ds.started.values.all())

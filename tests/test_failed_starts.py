@@ -90,14 +90,20 @@ def test_genuine_divergence_stays_the_diverged_pseudo_attractor():
 
 
 def test_basins_cells_beyond_the_solver_fail_apart():
-    """Hypothesis: a basin image reaching X = 1e300 marks the cells there -1 (failed),
-    counts them apart, and its fractions add up to 1 with the failed fraction."""
+    """Hypothesis: a basin image that starts every cell (``everywhere``, as the cells at
+    X = 1e300 lie far outside the retainer) marks the cells there -1 (failed), counts
+    them apart, and its fractions add up to 1 with the failed fraction; by default those
+    cells are not started (-2) and none fails."""
     ds = vi.basins(vi.System(vi.presets.get("fig8")), 1.2, grid=(2, 2), eps=1,
-                   ranges=((-0.5, 1e300), (-0.5, 0.5)))
+                   ranges=((-0.5, 1e300), (-0.5, 0.5)), everywhere=True)
     assert np.all(ds.basin.values[:, 1] == -1)
     assert int(ds.failed) == 2
     assert np.nansum(ds.fraction.values) + float(ds.failed_fraction) == pytest.approx(1.0)
     assert "step size underflow" in str(ds.failure.values)
+    inside = vi.basins(vi.System(vi.presets.get("fig8")), 1.2, grid=(2, 2), eps=1,
+                       ranges=((-0.5, 1e300), (-0.5, 0.5)))
+    assert np.all(inside.basin.values[:, 1] == -2) and int(inside.not_started) == 2
+    assert int(inside.failed) == 0
 
 
 def test_orbit_hunt_counts_failed_seeds():

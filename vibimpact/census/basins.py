@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 
 from ..base import _validate as _v
 from ..core.system import as_system
+from .reach import DECIDED_FLAGS
 from .starts import default_box, grid_starts
 
 if TYPE_CHECKING:  # names of the annotations only
@@ -44,10 +45,15 @@ if TYPE_CHECKING:  # names of the annotations only
     from .reach import CensusSettings
 
 __all__ = ["basins", "boundary_cells", "boundary_measures", "plane_axes", "write_basins",
-           "EPS"]
+           "started_cells", "EPS", "NOT_STARTED"]
 
 #: side of the boxes of the basin entropy, in cells (Daza et al. 2016 use 5)
 EPS = 5
+#: the basin label of a cell not started: its start lies in penetration of the model's
+#: contact (the built-in rotor's cells outside the retainer clearance, ``R > 1``)
+NOT_STARTED = -2
+#: its ``decided_by`` flag (after the census' own, :data:`.reach.DECIDED_FLAGS`)
+NOT_STARTED_FLAG = 4
 #: the attractor-table variables of the census carried into a basins dataset
 _TABLE = ("fraction", "fraction_se", "regime", "period", "impacts_per_period", "n_arcs",
           "lyapunov", "floquet_abs_max", "multiplier_re", "multiplier_im",
@@ -129,8 +135,33 @@ def _ranges(ranges, axes, box, cells=None):
     return out
 
 
+def started_cells(system, starts) -> np.ndarray:
+    """Which starts a basin image integrates: those not in penetration of the model's
+    contact (:class:`vibimpact.models.Contact`'s ``penetration`` > 0: the built-in
+    rotor's states outside the retainer clearance, ``R > 1``, where it cannot be); every
+    start of a model that declares no contact.
+
+    Parameters
+    ----------
+    system : System
+    starts : ndarray, shape (m, d)
+
+    Returns
+    -------
+    ndarray of bool, shape (m,)
+    """
+    contact = getattr(system.model, "contact", None)
+    starts = np.asarray(starts, dtype=np.float64)
+    if contact is None or starts.shape[0] == 0:
+        return np.ones(starts.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):  # a start of 1e300: not in contact if not > 0
+        depth = np.asarray(contact.penetration(starts, system.p), dtype=np.float64)
+    return ~(depth > 0.0)
+
+
 def boundary_cells(image) -> np.ndarray:
-    """Cells with a 4-neighbour (up, down, left or right) of another label.
+    """Cells with a 4-neighbour (up, down, left or right) of another label; a cell not
+    started (:data:`NOT_STARTED`) is on no boundary and counts as no neighbour.
 
     Parameters
     ----------
@@ -144,8 +175,9 @@ def boundary_cells(image) -> np.ndarray:
     if a.ndim != 2:
         raise ValueError(f"image must be 2-D (rows, columns), got shape {a.shape}")
     out = np.zeros(a.shape, dtype=bool)
-    dv = a[1:, :] != a[:-1, :]
-    dh = a[:, 1:] != a[:, :-1]
+    on = a != NOT_STARTED
+    dv = (a[1:, :] != a[:-1, :]) & on[1:, :] & on[:-1, :]
+    dh = (a[:, 1:] != a[:, :-1]) & on[:, 1:] & on[:, :-1]
     out[1:, :] |= dv
     out[:-1, :] |= dv
     out[:, 1:] |= dh
@@ -163,7 +195,9 @@ def boundary_measures(image, eps: int = EPS) -> dict:
     eps : int
         Side of the entropy's boxes in cells (Daza et al. 2016); the boxes tile the
         image from its first row and column, and cells of an incomplete box at the far
-        edges are left out.
+        edges are left out.  Cells not started (:data:`NOT_STARTED`) are left out too:
+        a box's proportions are over its started cells, a box of none is no box, and
+        the boundary fraction is a share of the started cells.
 
     Returns
     -------
@@ -188,29 +222,39 @@ def boundary_measures(image, eps: int = EPS) -> dict:
     if nr < 1 or nc < 1:
         raise ValueError(f"eps: boxes of {eps} x {eps} cells do not fit in an image of "
                          f"{rows} x {cols}")
-    _, codes = np.unique(a, return_inverse=True)
+    on = a != NOT_STARTED
+    if not on.any():
+        raise ValueError("image: no cell was started")
+    labels, codes = np.unique(a, return_inverse=True)
     codes = codes.reshape(a.shape)
-    k = int(codes.max()) + 1
+    k = labels.size
     boxes: np.ndarray = codes[:nr * eps, :nc * eps].reshape(nr, eps, nc, eps).swapaxes(1, 2)
     boxes = boxes.reshape(nr * nc, eps * eps)
     counts = np.zeros((boxes.shape[0], k), dtype=np.int64)
     np.add.at(counts, (np.repeat(np.arange(boxes.shape[0]), eps * eps), boxes.ravel()), 1)
-    p = counts / float(eps * eps)
+    if labels[0] == NOT_STARTED:  # np.unique sorts: the not-started code is the first
+        counts = counts[:, 1:]
+        k -= 1
+    filled = counts.sum(axis=1)
+    counts = counts[filled > 0]
+    p = counts / filled[filled > 0, None].astype(float)
     with np.errstate(divide="ignore", invalid="ignore"):
         s = -np.where(p > 0, p * np.log(p), 0.0).sum(axis=1)
     mixed = (counts > 0).sum(axis=1) > 1
     sbb = float(s[mixed].mean()) if mixed.any() else math.nan
-    return dict(boundary_fraction=float(boundary_cells(a).mean()),
-                basin_entropy=float(s.mean()), boundary_basin_entropy=sbb,
+    return dict(boundary_fraction=float(boundary_cells(a)[on].mean()),
+                basin_entropy=float(s.mean()) if s.size else math.nan,
+                boundary_basin_entropy=sbb,
                 boxes=int(s.size), boundary_boxes=int(mixed.sum()),
                 fractal_by_log2=bool(math.isfinite(sbb) and sbb > math.log(2.0)),
                 attractors=k)
 
 
+@_v.checks_flags
 def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (200, 200),
            plane: tuple[str, str] | None = None,
            ranges: tuple[tuple[float, float], tuple[float, float]] | None = None,
-           base: ArrayLike | None = None, *, eps: int = EPS,
+           base: ArrayLike | None = None, *, eps: int = EPS, everywhere: bool = False,
            settings: CensusSettings | None = None,
            execution: Execution | None = None) -> xr.Dataset:
     """The basins of attraction of every attractor in a plane of states.
@@ -236,6 +280,11 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         X, Y, at rest); its values in the plane's components are ignored.
     eps : int
         Box side of the basin entropy, in cells (:func:`boundary_measures`).
+    everywhere : bool
+        Start every cell.  By default a cell whose start lies in penetration of the
+        model's contact is not started (:func:`started_cells`; ``basin``
+        :data:`NOT_STARTED`): the built-in rotor's plane X, Y is then the disk inside
+        the retainer clearance, the corners of the square range left out.
     settings : CensusSettings, optional
     execution : Execution, optional
         Workers, Dask, checkpoint and resume; none of them changes a number.
@@ -246,7 +295,9 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         ``basin (row, column)``: the attractor index (along ``attractor``) each cell's
         start reaches, -1 where its integration failed (the solver could not go on:
         such a cell is on no attractor, and the boundary measures take it for a label
-        of its own); ``failed``, ``failed_fraction`` and ``failure`` (the count and
+        of its own), -2 where it was not started (``everywhere``); ``started``
+        ``(row, column)`` and the scalar ``not_started`` (their count); the census'
+        fractions are shares of the started cells; ``failed``, ``failed_fraction`` and ``failure`` (the count and
         share of those cells, the solver's first reason); the plane variables as coordinates
         (``<plane[0]> (column)``,
         ``<plane[1]> (row)``); ``boundary (row, column)`` (:func:`boundary_cells`),
@@ -292,28 +343,69 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
     rng = _ranges(ranges, axes, box, (cols, rows))
     base = np.zeros(d) if base is None else _v.state("base", base, d)
     starts = grid_starts(base, axes, rng, (rows, cols))
-    census = attractors(system, eta, starts, settings=settings, execution=execution)
-    return basins_dataset(census, model, axes, rng, (rows, cols), base, eps)
+    started = np.ones(len(starts), dtype=bool) if everywhere \
+        else started_cells(system, starts)
+    if not started.any():
+        _check_eta(system, eta)  # a bad eta is said first, as where cells are started
+        raise ValueError("ranges: every cell of the grid starts in penetration of the "
+                         "model's contact (none would be started); start them with "
+                         "everywhere=True (vibimpact basins --everywhere)")
+    census = attractors(system, eta, starts[started], settings=settings,
+                        execution=execution)
+    return basins_dataset(census, model, axes, rng, (rows, cols), base, eps, started)
 
 
-def basins_dataset(census, model, axes, rng, shape, base, eps):
-    """The basins Dataset (:func:`basins`) of a census over a grid of starts."""
+def _check_eta(system, eta):
+    """ValueError naming ``eta`` (or the system's frequency) outside the solver's range,
+    as the census says it."""
+    from ..sweeps.sweep import check_frequency, check_grid
+
+    if eta is None:
+        name = system.model.param_names[system.model.omega_index]
+        check_frequency(np.array([system.omega]), f"system's forcing frequency {name}")
+    else:
+        check_grid([eta])
+
+
+def _on_grid(values, started, fill):
+    """``values`` of the started cells (1-D) spread over the whole grid, ``fill``
+    elsewhere."""
+    values = np.asarray(values)
+    out = np.full(started.shape, fill, dtype=values.dtype)
+    out[started] = values
+    return out
+
+
+def basins_dataset(census, model, axes, rng, shape, base, eps, started=None):
+    """The basins Dataset (:func:`basins`) of a census over a grid of starts
+    (``started``: which cells it started, all by default)."""
     rows, cols = shape
     names = list(model.state_names)
     xname, yname = names[axes[0]], names[axes[1]]
-    img = census.label.values[0].reshape(rows, cols)
+    started = np.ones(rows * cols, dtype=bool) if started is None \
+        else np.asarray(started, dtype=bool)
+    img = _on_grid(census.label.values[0], started, NOT_STARTED).reshape(rows, cols)
+    decided = _on_grid(census.decided_by.values[0], started, NOT_STARTED_FLAG)
     measures = boundary_measures(img, eps)
     table = census[[v for v in _TABLE if v in census]].isel(eta=0)
     out = table.assign(
         basin=(("row", "column"), img, dict(
             long_name="attractor reached (index along attractor; -1: the integration "
-                      "failed)", valid_min=img.dtype.type(0))),
+                      "failed; -2: not started, in penetration of the contact)",
+            valid_min=img.dtype.type(0))),
+        started=(("row", "column"), started.reshape(rows, cols), dict(
+            long_name="the cell was started (not in penetration of the contact)")),
+        not_started=((), np.int32(rows * cols - int(started.sum())), dict(
+            long_name="cells not started (in penetration of the contact)", units="1")),
         boundary=(("row", "column"), boundary_cells(img), dict(
             long_name="a 4-neighbour has another label")),
-        periods=(("row", "column"), census.periods.values[0].reshape(rows, cols),
+        periods=(("row", "column"), _on_grid(census.periods.values[0], started,
+                                             0).reshape(rows, cols),
                  census.periods.attrs),
-        decided_by=(("row", "column"), census.decided_by.values[0].reshape(rows, cols),
-                    census.decided_by.attrs),
+        decided_by=(("row", "column"), decided.reshape(rows, cols), dict(
+            census.decided_by.attrs, flag_values=np.arange(NOT_STARTED_FLAG + 1,
+                                                           dtype=decided.dtype),
+            flag_meanings=DECIDED_FLAGS + " not_started")),
         boundary_fraction=((), measures["boundary_fraction"], dict(
             long_name="share of cells with a 4-neighbour of another label")),
         basin_entropy=((), measures["basin_entropy"], dict(

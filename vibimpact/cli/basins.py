@@ -125,8 +125,11 @@ def summary(ds):
     """The printed lines: the attractor table (largest basin first) and the measures."""
     rows = sorted(range(ds.sizes["attractor"]), key=lambda a: -float(ds.fraction[a]))
     cells = ds.sizes["row"] * ds.sizes["column"]
+    skipped = int(ds.not_started) if "not_started" in ds else 0
+    started = f" ({cells - skipped} started: {skipped} in penetration of the contact " \
+              "are not)" if skipped else ""
     lines = [f"{ds.attrs.get('plane')} plane, {ds.sizes['column']} x {ds.sizes['row']} = "
-             f"{cells} cells, {ds.sizes['attractor']} attractor"
+             f"{cells} cells{started}, {ds.sizes['attractor']} attractor"
              f"{'' if ds.sizes['attractor'] == 1 else 's'}:"]
     for a in rows:
         f, se = float(ds.fraction[a]), float(ds.fraction_se[a])
@@ -187,9 +190,11 @@ def _cmd_basins(args):
     ds, status, elapsed = run_and_write(
         args, out, ckpt, resuming, "basins", lambda run: basins(
             system, None, grid=grid, plane=plane, ranges=ranges, base=state,
-            eps=args.eps, execution=run) if census is None else name_after(basins(
+            eps=args.eps, everywhere=args.everywhere, execution=run)
+        if census is None else name_after(basins(
             system, None, grid=grid, plane=plane, ranges=ranges, base=state,
-            eps=args.eps, execution=run), census), write_basins)
+            eps=args.eps, everywhere=args.everywhere, execution=run), census),
+        write_basins)
     if ds is None:
         return status
     print("\n".join(summary(ds)))
@@ -230,6 +235,10 @@ def add_parser(sub, fmt):
     b.add_argument("--base", default=None, metavar="V1,V2,...",
                    help="the whole state the plane's two values replace (default: 0: at "
                         "rest)")
+    b.add_argument("--everywhere", action="store_true",
+                   help="start every cell (default: a cell whose start is in penetration "
+                        "of the model's contact is not started: the rotor's X, Y plane is "
+                        "the disk inside the retainer)")
     b.add_argument("--eps", type=positive_int(1, 1000), default=5, metavar="N",
                    help="box side of the basin entropy in cells (default: 5)")
     b.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",

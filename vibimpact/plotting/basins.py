@@ -23,6 +23,9 @@ __all__ = ["plot_basins", "legend_labels"]
 _GREY_DIVERGED = "0.1"
 #: cells whose integration failed (basin -1: on no attractor) are drawn white
 _FAILED = "white"
+#: cells not started (basin -2: the start in penetration of the contact, the rotor's
+#: corners outside the retainer) are drawn light grey
+_NOT_STARTED = "0.9"
 
 
 def _ids(ds):
@@ -138,7 +141,8 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     Notes
     -----
     Cells whose integration failed (``basin`` -1) are white, with a legend entry of
-    their share.
+    their share of the started cells; cells not started (``basin`` -2, their start in
+    penetration of the contact: the rotor's corners outside the retainer) light grey.
     Cell ``(r, c)`` is drawn centred on the plane's values of its start; the horizontal
     axis is the plane's first variable, the vertical its second.  The title gives the
     boundary fraction, the basin entropy ``Sb`` and the boundary basin entropy ``Sbb``
@@ -161,7 +165,7 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
     colours = [attractor_colour(g) for g in _ids(ds)]
     names = [str(v) for v in ds["name"].values]
     colours = [_GREY_DIVERGED if nm == "diverged" else c for nm, c in zip(names, colours)]
-    cmap = ListedColormap(colours).with_extremes(under=_FAILED)  # -1: failed cells
+    cmap = ListedColormap(colours).with_extremes(under=_FAILED, bad=_NOT_STARTED)
     norm = BoundaryNorm(np.arange(-0.5, n + 0.5), n)
     xs = np.asarray(ds[xname].values, dtype=float)
     ys = np.asarray(ds[yname].values, dtype=float)
@@ -175,23 +179,31 @@ def plot_basins(ds: xr.Dataset, ax: Axes | None = None,
             ax = fig.add_subplot()
         else:
             fig = ax.figure
-        ax.imshow(img, origin="lower", extent=extent, cmap=cmap, norm=norm,
+        # -1 (failed) below the colours; -2 (not started) masked
+        ax.imshow(np.ma.masked_equal(img, -2), origin="lower", extent=extent, cmap=cmap,
+                  norm=norm,
                   interpolation="nearest", aspect="auto", rasterized=True)
         ax.set_xlabel(xname)
         ax.set_ylabel(yname)
         handles = [Patch(facecolor=c, edgecolor="none", label=t)
                    for c, t in zip(colours, legend_labels(ds))]
         handles += _obstacle(ds, ax, xname, yname, extent)
+        started = img != -2
         if np.any(img == -1):
-            share = float(np.mean(img == -1))
+            share = float(np.mean(img[started] == -1))
             handles.append(Patch(facecolor=_FAILED, edgecolor="0.5",
                                  label=f"integration failed: {100 * share:.1f} %"))
+        if not started.all():
+            handles.append(Patch(facecolor=_NOT_STARTED, edgecolor="none",
+                                 label=f"not started ({int((~started).sum())} cells): "
+                                       "in penetration of the contact"))
         lk.legend_below(ax, own, handles, fontsize="small")
         sbb = float(ds["boundary_basin_entropy"]) if "boundary_basin_entropy" in ds \
             else math.nan
         parts = []
         if "boundary_fraction" in ds:
-            parts.append(f"boundary {100 * float(ds['boundary_fraction']):.1f} % of cells")
+            of = "of cells" if started.all() else "of the started cells"
+            parts.append(f"boundary {100 * float(ds['boundary_fraction']):.1f} % {of}")
         if "basin_entropy" in ds:
             parts.append(f"Sb {float(ds['basin_entropy']):.3f}")
         if math.isfinite(sbb):
