@@ -208,3 +208,74 @@ def test_readme_census_settings_find_the_four_fig11_attractors(tmp_path, capsys)
     assert sum(m is not None and m.group(1) == "1" for m in periods) == 2, names
     assert np.isfinite(s.fraction.values[0]).sum() < 4
     assert float(s.unseen[0]) > 0 and "hint:" in text
+
+
+def test_orbits_take_the_census_names_of_the_attractors_they_are(tmp_path):
+    """Hypothesis: named after a census of both wells, each stable orbit of the double
+    well's hunt gets the census' global id of the well it is (the attractor whose
+    samples hold its point), the unstable saddle gets -1; named after a census that saw
+    only the right well, the left orbit gets a new id after the census' largest; the ids
+    survive the file, and the orbits figure labels and colours a named orbit as the
+    census figure does its attractor."""
+    from vibimpact.census.locate import orbits_named_after
+    from vibimpact.orbits import hunt_to_dataset, write_orbits
+    from vibimpact.plotting.orbits import plot_orbits
+    from vibimpact.plotting.style import attractor_colour
+
+    system = vi.System(DOUBLE_WELL)
+    both = vi.attractors(system, starts=32, box=BOX, seed=1)
+    right = vi.attractors(system, starts=16, box=Box([0.6, -0.2], [1.4, 0.2]))
+    seeds = np.array([[1.1, 0.0], [-1.1, 0.0], [0.01, 0.0]])
+    hunt = hunt_to_dataset(vi.hunt_orbits(system, (1,), seeds=seeds, random=0,
+                                          continuation=False), system)
+    x = hunt.orbit_point.values[:, 0, 0]
+    stable = hunt.stable.values == 1
+    named = orbits_named_after(hunt, both)
+    cx = both.representative.values[0, :, 0]  # each census attractor's x
+    for o in range(hunt.sizes["orbit"]):
+        g = int(named.global_id.values[o])
+        if not stable[o]:
+            assert g == -1
+            continue
+        a = int(np.flatnonzero(both.global_id.values[0] == g)[0])
+        assert np.sign(cx[a]) == np.sign(x[o])
+    assert sorted(int(g) for g in named.global_id.values[stable]) == sorted(
+        int(g) for g in both.global_id.values[0] if g >= 0)
+    alone = orbits_named_after(hunt, right)
+    left = int(np.flatnonzero(stable & (x < 0))[0])
+    assert int(alone.global_id.values[left]) == int(right.global_id.values.max()) + 1
+    path = tmp_path / "o.nc"
+    write_orbits(named, path)
+    back = vi.io.read_netcdf(path)
+    np.testing.assert_array_equal(back.global_id.values, named.global_id.values)
+    ax = plot_orbits(back).axes[0]
+    labels = [t.get_text() for t in ax.get_yticklabels()]
+    o = int(np.flatnonzero(stable)[0])
+    g = int(named.global_id.values[o])
+    assert labels[o].startswith(f"A{g}: ")
+    import matplotlib.colors as mc
+
+    drawn = [ln for ln in ax.get_lines() if np.allclose(ln.get_ydata(), o)]
+    assert drawn and all(mc.same_color(ln.get_color(), attractor_colour(g)) for ln in drawn)
+
+
+def test_the_orbits_command_names_each_stable_orbit_after_its_seeds_census(tmp_path,
+                                                                         capsys):
+    """Hypothesis: 'vibimpact orbits --seeds CENSUS' prints, for each stable orbit on an
+    attractor of the census, the census' name of it (A<id>, the id the census file
+    holds for that attractor), and stores that id in the orbits file."""
+    census, orbits = tmp_path / "c.nc", tmp_path / "o.nc"
+    assert main(["attractors", "--preset", "soft-impact", "--eta", "0.8", "--starts", "16",
+                 "--no-progress", "-o", str(census)]) == 0
+    assert main(["orbits", "--preset", "soft-impact", "--eta", "0.8", "--seeds",
+                 str(census), "--period", "1", "--random", "0", "--no-progress", "-o",
+                 str(orbits)]) == 0
+    text = capsys.readouterr().out
+    c, o = vi.io.read_netcdf(census), vi.io.read_netcdf(orbits)
+    ids = {int(g) for g in c.global_id.values[0] if g >= 0}
+    stable = np.flatnonzero(o.stable.values == 1)
+    assert stable.size >= 1
+    for k in stable:
+        g = int(o.global_id.values[k])
+        assert g in ids
+        assert f"orbit {k} ({o.label.values[k]}) is A{g} of the census" in text

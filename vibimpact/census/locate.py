@@ -14,7 +14,7 @@ import xarray as xr
 
 from .library import nearest_distances
 
-__all__ = ["locate", "LOCATE_TOL", "unreached_orbits", "name_after"]
+__all__ = ["locate", "LOCATE_TOL", "unreached_orbits", "name_after", "orbits_named_after"]
 
 #: the sweep's samples lie on a census attractor when their mean distance to its samples
 #: is below this many box scales
@@ -99,6 +99,90 @@ def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr
                                       "none of the census' attractors"))
 
 
+def _census_point(census, value):
+    """The census' index of the eta ``value`` (None where it holds none)."""
+    if census.attrs.get("kind") != "census":
+        raise ValueError("census is not an attractor census (vi.attractors)")
+    hit = np.flatnonzero(np.round(census.eta.values.astype(float), 12)
+                         == round(float(value), 12))
+    return int(hit[0]) if hit.size else None
+
+
+def orbits_named_after(orbits: xr.Dataset, census: xr.Dataset,
+                       tol: float = LOCATE_TOL) -> xr.Dataset | None:
+    """``orbits`` with the ``global_id`` of each stable orbit taken from ``census``, so
+    that an attractor has the same name (A<id>) and colour in the census, basins and
+    orbits files, figures and tables.
+
+    A stable orbit is the census attractor whose samples its cycle points lie on (mean
+    nearest distance within ``tol`` box scales, the nearest first, each attractor named
+    once); a stable orbit on none of them -- an attractor no start of the census reached
+    -- gets a new id after the census' largest; an unstable orbit is no attractor:
+    ``global_id`` -1.
+
+    Parameters
+    ----------
+    orbits : xarray.Dataset
+        :func:`vibimpact.orbits.hunt_to_dataset` (``stable``, ``orbit_point (orbit,
+        phase, state)``, attribute ``forcing_value``).
+    census : xarray.Dataset
+        :func:`vibimpact.attractors` of the same model and parameters.
+    tol : float
+
+    Returns
+    -------
+    xarray.Dataset or None
+        ``orbits`` with ``global_id (orbit)`` and the attributes ``named_after_census``
+        and ``census_ids`` (the census' ids at that eta, so that a reader tells an
+        attractor of the census from a new one); None when the census holds no point at
+        the hunt's forcing frequency.
+
+    Raises
+    ------
+    ValueError
+        When ``census`` is no census.
+    """
+    i = _census_point(census, orbits.attrs.get("forcing_value", np.nan))
+    if i is None:
+        return None
+    scale = float(census.attrs.get("box_scale", 1.0))
+    ids = census.global_id.values[i]
+    clouds = []
+    for a in range(census.sizes["attractor"]):
+        cloud = census.samples.values[i, a]
+        clouds.append(cloud[np.all(np.isfinite(cloud), axis=1)])
+    n = orbits.sizes.get("orbit", 0)
+    out = np.full(n, -1, dtype=np.int32)
+    pairs = []  # (distance, orbit, attractor) within tol, nearest first
+    for o in range(n):
+        if int(orbits.stable.values[o]) != 1:
+            continue
+        pts = orbits.orbit_point.values[o]
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        for a, cloud in enumerate(clouds):
+            if pts.size and cloud.size and int(ids[a]) >= 0:
+                d = float(nearest_distances(pts, cloud).mean())
+                if d <= tol * scale:
+                    pairs.append((d, o, a))
+    taken: set[int] = set()
+    for _, o, a in sorted(pairs):
+        if out[o] < 0 and a not in taken:
+            out[o] = int(ids[a])
+            taken.add(a)
+    new = int(np.max(census.global_id.values, initial=-1)) + 1
+    for o in range(n):
+        if int(orbits.stable.values[o]) == 1 and out[o] < 0:
+            out[o], new = new, new + 1
+    named = orbits.copy()
+    named["global_id"] = ("orbit", out, dict(
+        long_name="the stable orbit's attractor id in the census it is named after "
+                  "(A<id>; -1: unstable, no attractor)", valid_min=np.int32(0)))
+    named.attrs["named_after_census"] = 1
+    named.attrs["census_ids"] = np.array(sorted(int(g) for g in ids if g >= 0),
+                                         dtype=np.int32)
+    return named
+
+
 def unreached_orbits(orbits: xr.Dataset, census: xr.Dataset,
                      tol: float = LOCATE_TOL) -> list[tuple[int, str]] | None:
     """The stable orbits of a hunt that no start of a census at the same point reached.
@@ -118,30 +202,16 @@ def unreached_orbits(orbits: xr.Dataset, census: xr.Dataset,
     -------
     list of (int, str) or None
         ``(orbit index, label)`` of every stable orbit on none of the census' attractors
-        at the hunt's forcing frequency; None when the census holds no point there.
+        at the hunt's forcing frequency (:func:`orbits_named_after` gives it a new id);
+        None when the census holds no point there.
     """
-    if census.attrs.get("kind") != "census":
-        raise ValueError("census is not an attractor census (vi.attractors)")
-    eta = round(float(orbits.attrs.get("forcing_value", np.nan)), 12)
-    hit = np.flatnonzero(np.round(census.eta.values.astype(float), 12) == eta)
-    if hit.size == 0:
+    named = orbits_named_after(orbits, census, tol)
+    if named is None:
         return None
-    i = int(hit[0])
-    scale = float(census.attrs.get("box_scale", 1.0))
-    clouds = []
-    for a in range(census.sizes["attractor"]):
-        cloud = census.samples.values[i, a]
-        clouds.append(cloud[np.all(np.isfinite(cloud), axis=1)])
-    out = []
-    for o in range(orbits.sizes.get("orbit", 0)):
-        if int(orbits.stable.values[o]) != 1:
-            continue
-        pts = orbits.orbit_point.values[o]
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        near = [float(nearest_distances(pts, c).mean()) for c in clouds if c.size]
-        if pts.size and not (near and min(near) <= tol * scale):
-            out.append((o, str(orbits.label.values[o])))
-    return out
+    known = set(int(g) for g in named.attrs["census_ids"])
+    return [(o, str(orbits.label.values[o])) for o in range(named.sizes.get("orbit", 0))
+            if int(named.global_id.values[o]) >= 0
+            and int(named.global_id.values[o]) not in known]
 
 
 def name_after(basins: xr.Dataset, census: xr.Dataset,

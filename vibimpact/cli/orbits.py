@@ -114,6 +114,7 @@ def _cmd_orbits(args):
     from ..orbits import hunt_orbits, hunt_to_dataset, write_orbits
 
     hunts = []
+    census = _census_of(args.seeds)
 
     def compute(run):
         hunt = hunt_orbits(system, periods, seeds=seeds, random=args.random,
@@ -121,7 +122,12 @@ def _cmd_orbits(args):
                            continuation=not args.no_continue,
                            window=args.window, execution=run)
         hunts.append(hunt)
-        return hunt_to_dataset(hunt, system)
+        ds = hunt_to_dataset(hunt, system)
+        if census is not None:  # the census' names, stored in the file
+            from ..census.locate import orbits_named_after
+
+            ds = orbits_named_after(ds, census) or ds
+        return ds
 
     ds, status, elapsed = run_and_write(args, out, ckpt, resuming, "orbits", compute,
                                         write_orbits)
@@ -131,7 +137,7 @@ def _cmd_orbits(args):
     print("\n".join(hunt.table()))
     if hunt.failed_note() is not None:  # written, said, exit 0 (as a census)
         print(f"vibimpact: warning: {hunt.failed_note()}", file=sys.stderr)
-    print("\n".join(_unreached_lines(ds, args.seeds)))
+    print("\n".join(_name_lines(ds, census, args.seeds)))
     print(f"wrote {out} ({elapsed:.1f} s: hunt {hunt.timings['hunt_s']:.1f} s, "
           f"continuation {hunt.timings['continuation_s']:.1f} s)")
     from ..plotting.orbits import plot_orbits
@@ -140,28 +146,36 @@ def _cmd_orbits(args):
     return 0
 
 
-def _unreached_lines(ds, seeds):
-    """Lines naming the stable orbits that no start of the --seeds census reached at the
-    hunt's eta (none when --seeds is no census or holds no point there)."""
+def _census_of(seeds):
+    """The --seeds file when it is an attractor census (None otherwise)."""
     if seeds is None:
-        return []
+        return None
     census = read_input(os.fspath(seeds), "--seeds")
-    if census.attrs.get("kind") != "census":
-        return []
-    from ..census.locate import unreached_orbits
+    return census if census.attrs.get("kind") == "census" else None
 
-    missed = unreached_orbits(ds, census)
-    if missed is None:
+
+def _name_lines(ds, census, seeds):
+    """Lines giving each stable orbit its attractor's name in the ``census`` of --seeds
+    (``A<id>``) and naming those no start of it reached at the hunt's eta (none when
+    --seeds is no census or holds no point there)."""
+    if census is None or "global_id" not in ds:
         return []
+    known = {int(g) for g in ds.attrs["census_ids"]}
     eta = float(ds.attrs["forcing_value"])
+    names = [f"orbit {o} ({ds.label.values[o]}) is A{int(g)} of the census" for o, g in
+             enumerate(ds.global_id.values) if int(g) in known]
+    missed = [(o, str(ds.label.values[o])) for o, g in enumerate(ds.global_id.values)
+              if int(g) >= 0 and int(g) not in known]
     i = int(abs(census.eta.values - eta).argmin())
     unseen = (f" (the census says up to {float(census.unseen.values[i]):.3g} of its "
               "basin may be unseen)" if "unseen" in census else "")
     if not missed:
-        return [f"every stable orbit is an attractor of the census {os.fspath(seeds)!r}"]
-    return [f"orbit {o} ({label}) is stable, but no start of the census "
-            f"{os.fspath(seeds)!r} reached it at eta = {eta:g}{unseen}: more starts, or "
-            "'vibimpact basins' for where its basin lies" for o, label in missed]
+        return names + [f"every stable orbit is an attractor of the census "
+                        f"{os.fspath(seeds)!r}"]
+    return names + [f"orbit {o} ({label}) is stable, but no start of the census "
+                    f"{os.fspath(seeds)!r} reached it at eta = {eta:g}{unseen}: more "
+                    f"starts, or 'vibimpact basins' for where its basin lies (named "
+                    f"A{int(ds.global_id.values[o])} here)" for o, label in missed]
 
 
 #: the API's default random seeds (:data:`vibimpact.orbits.hunt.DEFAULT_RANDOM`), here

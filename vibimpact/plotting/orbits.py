@@ -83,7 +83,7 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     from ..base import _validate as _v
     from ..base._text import count
     from ..orbits.dataset import is_orbit_dataset
-    from .style import look, width
+    from .style import attractor_colour, look, width
 
     _v.dataset("ds", ds, "the xarray.Dataset of an orbit hunt (hunt_to_dataset)")
     if not is_orbit_dataset(ds):
@@ -98,8 +98,11 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
     with lk.context():
         fig = lk.figure((8, 1.4 + 0.35 * max(k, 1)), 1.0 + 0.22 * max(k, 1))
         ax = fig.subplots()
+        gid = ds["global_id"].values if "global_id" in ds else np.full(k, -1)
         for i in range(k):
-            color = PERIOD_COLORS[(int(ds["period"].values[i]) - 1) % len(PERIOD_COLORS)]
+            # a stable orbit named after a census: its attractor's colour there
+            color = attractor_colour(int(gid[i])) if int(gid[i]) >= 0 else \
+                PERIOD_COLORS[(int(ds["period"].values[i]) - 1) % len(PERIOD_COLORS)]
             for lo, hi, stable in _bars(ds, i, param):
                 if hi > lo:
                     ax.plot([lo, hi], [i, i], color=color, lw=width(2.0 if stable else 1.2),
@@ -109,8 +112,10 @@ def plot_orbits(ds: xr.Dataset, path: str | os.PathLike[str] | None = None, *,
                             ms=5)
         ax.axvline(value, color="0.4", lw=width(0.6), ls=":")
         ax.set_yticks(np.arange(k))
-        ax.set_yticklabels([f"{lab} ({arcs})" if arcs else str(lab) for lab, arcs in
-                            zip(ds["label"].values, ds["arcs"].values)])
+        ax.set_yticklabels([(f"A{int(g)}: " if int(g) >= 0 else "")
+                            + (f"{lab} ({arcs})" if arcs else str(lab))
+                            for lab, arcs, g in zip(ds["label"].values, ds["arcs"].values,
+                                                    gid)])
         ax.set_ylim(max(k, 1) - 0.5, -0.5)  # no orbit found: an empty row
         ax.set_xlabel(spec(ds).symbol(str(param)))
         ax.grid(True, axis="x", alpha=0.5)
