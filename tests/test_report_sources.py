@@ -111,7 +111,7 @@ def test_performance_report_judges_the_first_run_by_its_own_numbers():
     rows = {m.group(1): (float(m.group(2)), *(float(g) for g in m.groups()[3:]))
             for m in re.finditer(r"^\| `(vibimpact [^`]+)` \|" + num + r" ([\d.]+|none) \|"
                                  + num * 4, sec, re.M)}
-    lines = {m.group(1): m.group(2) for m in re.finditer(
+    lines = {m.group(1): m.group(3) for m in re.finditer(
         r"^\| `(vibimpact [^`]+)` \|" + num + r" ([\d.]+|none) \|", sec, re.M)}
     commands = {name: "vibimpact " + " ".join(a.replace("{out}", "OUT") for a in args)
                 for name, args in first_run.COMMANDS.items()}
