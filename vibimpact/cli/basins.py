@@ -237,8 +237,8 @@ def add_parser(sub, fmt):
                         "rest)")
     b.add_argument("--everywhere", action="store_true",
                    help="start every cell (default: a cell whose start is in penetration "
-                        "of the model's contact is not started: the rotor's X, Y plane is "
-                        "the disk inside the retainer)")
+                        "of the model's contact is not started, as a start outside a "
+                        "retainer's clearance)")
     b.add_argument("--eps", type=positive_int(1, 1000), default=5, metavar="N",
                    help="box side of the basin entropy in cells (default: 5)")
     b.add_argument("--workers", type=positive_int(1, MAX_WORKERS), default=1, metavar="N",
