@@ -136,11 +136,12 @@ def test_cli_attractors_warns_once_and_exits_0(tmp_path, capfd):
 
 @pytest.mark.slow
 def test_cli_basins_and_orbits_warn_once(tmp_path, capfd):
-    """Hypothesis: 'basins' reaching X = 1e300 and 'orbits' of a ring that cannot be
+    """Hypothesis: 'basins --everywhere' reaching X = 1e300 (cells far outside the
+    retainer, which only --everywhere starts) and 'orbits' of a ring that cannot be
     integrated each write their file and say one warning line; exit status 0."""
     rc, so, err = run_cli(["basins", "--preset", "fig8", "--eta", "1.2", "--grid", "2x2",
-                           "--eps", "1", "--range=-0.5:1e300,-0.5:0.5", "--no-progress",
-                           "-o", tmp_path / "b.nc"], capfd)
+                           "--eps", "1", "--range=-0.5:1e300,-0.5:0.5", "--everywhere",
+                           "--no-progress", "-o", tmp_path / "b.nc"], capfd)
     assert rc == 0, err
     assert len(warnings_of(err)) == 1 and "2 of 4 starts" in err
     assert "integration failed" in so
