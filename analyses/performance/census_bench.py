@@ -147,6 +147,9 @@ def report(a, b, prof, c, load):
     ta, da = a
     tb, db = b
     cells = GRID[0] * GRID[1]
+    # the cells integrated: the disk inside the retainer (the corners are not started)
+    on = db.started.values if "started" in db else np.ones(db.basin.shape, bool)
+    started = int(on.sum())
     names = [str(v) for v in da.name.values[0]]
     p8 = any(n.startswith("P8, 11 impacts") for n in names)
     p14 = any(n.startswith("P14, 21 impacts") for n in names)
@@ -183,15 +186,16 @@ def report(a, b, prof, c, load):
         f"{np.median(da.periods.values):.0f}, mean {da.periods.values.mean():.0f}; "
         f"{ta / STARTS * 1e3:.1f} ms per start.",
         "",
-        f"(b) {cells:,} cells in {tb:.1f} s ({tb / cells * 1e3:.2f} ms per cell on "
+        f"(b) {cells:,} cells, {started:,} of them started (inside the retainer), in "
+        f"{tb:.1f} s ({tb / started * 1e3:.2f} ms per started cell on "
         f"{WORKERS} workers); attractors: {table(db)}; boundary cells "
         f"{float(db.boundary_fraction):.3f}, basin entropy Sb "
         f"{float(db.basin_entropy):.3f}, boundary basin entropy Sbb {sbb:.3f} (boxes of "
         f"{int(db.attrs['entropy_eps'])} x {int(db.attrs['entropy_eps'])} cells): "
         + ("Sbb > log 2, the boundary is fractal by the log 2 criterion." if
            bool(db.fractal_by_log2) else "Sbb <= log 2, the log 2 criterion does not "
-           "decide.") + f"  Periods per cell: median {np.median(db.periods.values):.0f}, "
-        f"mean {db.periods.values.mean():.0f}.",
+           "decide.") + f"  Periods per started cell: median "
+        f"{np.median(db.periods.values[on]):.0f}, mean {db.periods.values[on].mean():.0f}.",
         "",
         f"Where a cell's time goes (a serial {PROFILE_GRID[0]} x {PROFILE_GRID[1]} image "
         f"under cProfile, {prof['wall']:.1f} s): integrator kernel "
