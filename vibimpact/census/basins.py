@@ -297,9 +297,9 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
         such a cell is on no attractor, and the boundary measures take it for a label
         of its own), -2 where it was not started (``everywhere``); ``started``
         ``(row, column)`` and the scalar ``not_started`` (their count); the census'
-        fractions are shares of the started cells; ``failed``, ``failed_fraction`` and ``failure`` (the count and
-        share of those cells, the solver's first reason); the plane variables as coordinates
-        (``<plane[0]> (column)``,
+        fractions are shares of the started cells; ``failed``, ``failed_fraction``
+        and ``failure`` (the count and share of the failed cells, the solver's first
+        reason); the plane variables as coordinates (``<plane[0]> (column)``,
         ``<plane[1]> (row)``); ``boundary (row, column)`` (:func:`boundary_cells`),
         ``periods (row, column)`` and ``decided_by (row, column)`` of the census; the
         census' attractor table (``fraction``, ``fraction_se``, ``name``, ``period``,
