@@ -105,10 +105,12 @@ def _family_init_mode(name):
     (``<family>_init_mode``), or None."""
     from . import registry
 
-    family = name[:-len("_init_mode")] if name.endswith("_init_mode") else None
-    if family is None or family not in registry.families():
+    if not name.endswith("_init_mode"):
         return None
-    return registry.family(family).init_mode
+    try:  # the family's own module, imported once (no scan of the package)
+        return registry.family(name[:-len("_init_mode")]).init_mode
+    except ValueError:  # no built-in family of that name
+        return None
 
 
 def own_dispatcher(name, jit):

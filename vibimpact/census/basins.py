@@ -325,7 +325,7 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
     ...                ranges=((-2, 2), (-2, 2)))  # doctest: +SKIP
     >>> ds.basin.shape, float(ds.basin_entropy)  # doctest: +SKIP
     """
-    from .census import attractors
+    from .census import attractors, census_etas
 
     system = as_system(system)
     model = system.model
@@ -346,25 +346,13 @@ def basins(system: System, eta: float | None = None, grid: tuple[int, int] = (20
     started = np.ones(len(starts), dtype=bool) if everywhere \
         else started_cells(system, starts)
     if not started.any():
-        _check_eta(system, eta)  # a bad eta is said first, as where cells are started
+        census_etas(system, eta)  # a bad eta is said first, as where cells are started
         raise ValueError("ranges: every cell of the grid starts in penetration of the "
                          "model's contact (none would be started); start them with "
                          "everywhere=True (vibimpact basins --everywhere)")
     census = attractors(system, eta, starts[started], settings=settings,
                         execution=execution)
     return basins_dataset(census, model, axes, rng, (rows, cols), base, eps, started)
-
-
-def _check_eta(system, eta):
-    """ValueError naming ``eta`` (or the system's frequency) outside the solver's range,
-    as the census says it."""
-    from ..sweeps.sweep import check_frequency, check_grid
-
-    if eta is None:
-        name = system.model.param_names[system.model.omega_index]
-        check_frequency(np.array([system.omega]), f"system's forcing frequency {name}")
-    else:
-        check_grid([eta])
 
 
 def _on_grid(values, started, fill):

@@ -43,7 +43,7 @@ if TYPE_CHECKING:  # names of the annotations only
 
     from ..engine.execution import Execution
 
-__all__ = ["attractors", "rounds", "census_points"]
+__all__ = ["attractors", "rounds", "census_points", "census_etas"]
 
 #: starts of round 0 (decided by the settling evidence alone); round k > 0 ends at
 #: ``PILOT * 4**k`` starts
@@ -141,6 +141,19 @@ def _tasks(p, etas, states, libraries, cs, span, done):
     return tasks
 
 
+def census_etas(system, eta) -> np.ndarray:
+    """The etas of a census: ``eta`` (a number or a grid) checked for the solver's range,
+    or the system's own forcing frequency; ValueError naming ``eta`` or that frequency."""
+    from ..sweeps.sweep import check_frequency, check_grid
+
+    if eta is None:
+        name = system.model.param_names[system.model.omega_index]
+        etas = np.array([system.omega])
+        check_frequency(etas, f"system's forcing frequency {name}")
+        return etas
+    return check_grid(eta if np.ndim(eta) else [eta])
+
+
 def attractors(system: System, eta: float | ArrayLike | None = None,
                starts: int | ArrayLike = 400, *, seed: int = 0, box: Box | None = None,
                settings: CensusSettings | None = None,
@@ -195,7 +208,6 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     """
     from ..engine import progress as prog
     from ..engine.compute import compute
-    from ..sweeps.sweep import check_frequency, check_grid
     from .dataset import census_dataset
 
     system = as_system(system)
@@ -212,12 +224,7 @@ def attractors(system: System, eta: float | ArrayLike | None = None,
     if box.lo.size != d:
         raise ValueError(f"box must have {d} components, got {box.lo.size}")
     seed = _v.count("seed", seed, 0)
-    if eta is None:
-        name = system.model.param_names[system.model.omega_index]
-        etas = np.array([system.omega])
-        check_frequency(etas, f"system's forcing frequency {name}")
-    else:
-        etas = check_grid(eta if np.ndim(eta) else [eta])
+    etas = census_etas(system, eta)
     states = as_starts(starts, d, box, seed)
     level = _until(until_unseen, starts)
     execution = as_execution(execution)

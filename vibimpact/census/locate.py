@@ -21,6 +21,13 @@ __all__ = ["locate", "LOCATE_TOL", "unreached_orbits", "name_after", "orbits_nam
 LOCATE_TOL = 0.05
 
 
+def _cloud(census, i, a):
+    """The finite stroboscopic samples of attractor ``a`` of the census at eta index
+    ``i`` (shape (m, d))."""
+    cloud = census.samples.values[i, a]
+    return cloud[np.all(np.isfinite(cloud), axis=1)]
+
+
 def _sweep_points(sweep, names):
     """``(direction, eta, sample, state)`` Poincare samples of every state of a sweep."""
     cols = []
@@ -82,8 +89,7 @@ def locate(census: xr.Dataset, sweep: xr.Dataset, tol: float = LOCATE_TOL) -> xr
                 continue
             best, best_d = -1, np.inf
             for a in range(census.sizes["attractor"]):
-                cloud = census.samples.values[i, a]
-                cloud = cloud[np.all(np.isfinite(cloud), axis=1)]
+                cloud = _cloud(census, i, a)
                 if cloud.size == 0:
                     continue
                 dist = float(nearest_distances(p, cloud).mean())
@@ -147,10 +153,7 @@ def orbits_named_after(orbits: xr.Dataset, census: xr.Dataset,
         return None
     scale = float(census.attrs.get("box_scale", 1.0))
     ids = census.global_id.values[i]
-    clouds = []
-    for a in range(census.sizes["attractor"]):
-        cloud = census.samples.values[i, a]
-        clouds.append(cloud[np.all(np.isfinite(cloud), axis=1)])
+    clouds = [_cloud(census, i, a) for a in range(census.sizes["attractor"])]
     n = orbits.sizes.get("orbit", 0)
     out = np.full(n, -1, dtype=np.int32)
     pairs = []  # (distance, orbit, attractor) within tol, nearest first
@@ -228,13 +231,10 @@ def name_after(basins: xr.Dataset, census: xr.Dataset,
     ValueError
         When ``census`` is no census or holds no point at the image's eta.
     """
-    if census.attrs.get("kind") != "census":
-        raise ValueError("census is not an attractor census (vi.attractors)")
-    eta = round(float(basins["eta"].values), 12) if "eta" in basins.coords else np.nan
-    hit = np.flatnonzero(np.round(census.eta.values.astype(float), 12) == eta)
-    if hit.size == 0:
+    eta = float(basins["eta"].values) if "eta" in basins.coords else np.nan
+    i = _census_point(census, eta)
+    if i is None:
         raise ValueError(f"census holds no point at the basins' eta {eta:g}")
-    i = int(hit[0])
     scale = float(census.attrs.get("box_scale", 1.0))
     ids = census.global_id.values[i]
     taken, new = set(), int(census.global_id.values.max()) + 1
@@ -244,8 +244,7 @@ def name_after(basins: xr.Dataset, census: xr.Dataset,
         mine = mine[np.all(np.isfinite(mine), axis=1)]
         best, best_d = -1, np.inf
         for b in range(census.sizes["attractor"]):
-            cloud = census.samples.values[i, b]
-            cloud = cloud[np.all(np.isfinite(cloud), axis=1)]
+            cloud = _cloud(census, i, b)
             if not (mine.size and cloud.size) or b in taken or \
                     int(census.period.values[i, b]) != int(basins.period.values[a]):
                 continue

@@ -85,13 +85,14 @@ def _system(args):
 
 
 def _seeds(args, system):
+    """``(seeds, dataset)`` of --seeds (``(None, None)`` without one)."""
     if args.seeds is None:
-        return None
+        return None, None
     from ..orbits import seeds_from_dataset
 
     ds = read_input(os.fspath(args.seeds), "--seeds")
     try:
-        return seeds_from_dataset(ds, system.n_state)
+        return seeds_from_dataset(ds, system.n_state), ds
     except ValueError as exc:
         text = error_text(exc)  # the API names its argument ds: here it is the file
         text = text[len("ds "):] if text.startswith("ds ") else text
@@ -109,12 +110,14 @@ def _cmd_orbits(args):
     if not args.window > 0:
         raise UsageError(f"--window must be a finite number > 0, got {args.window:g}")
     system = _system(args)
-    seeds = _seeds(args, system)
+    seeds, seeds_ds = _seeds(args, system)
 
     from ..orbits import hunt_orbits, hunt_to_dataset, write_orbits
 
     hunts = []
-    census = _census_of(args.seeds)
+    # a census as --seeds names the orbits after its attractors
+    census = seeds_ds if seeds_ds is not None and seeds_ds.attrs.get("kind") == "census" \
+        else None
 
     def compute(run):
         hunt = hunt_orbits(system, periods, seeds=seeds, random=args.random,
@@ -144,14 +147,6 @@ def _cmd_orbits(args):
 
     draw(args, ds, out, plot_orbits, opts)
     return 0
-
-
-def _census_of(seeds):
-    """The --seeds file when it is an attractor census (None otherwise)."""
-    if seeds is None:
-        return None
-    census = read_input(os.fspath(seeds), "--seeds")
-    return census if census.attrs.get("kind") == "census" else None
 
 
 def _name_lines(ds, census, seeds):
